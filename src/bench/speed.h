@@ -1,0 +1,15 @@
+/* `pfx bench`: simulation and rendering speed, each next to a reference
+ * measured in the same run. */
+#ifndef PFX_BENCH_SPEED_H
+#define PFX_BENCH_SPEED_H
+
+#include <stdio.h>
+
+/* Prints particle-steps per second of the gravity-only simulation at 10^4,
+ * 10^5 and 10^6 live particles next to a minimal SoA kernel doing the same
+ * arithmetic (the roofline), and frames per second of rendering `fire_path`
+ * (sim + sprites + draw + readback + PNG) next to raw OSMesa drawing of the
+ * same sprites. Returns 0, or 1 with a message when something failed. */
+int pfx_bench_speed(FILE *out, const char *fire_path);
+
+#endif

@@ -1,0 +1,576 @@
+/* pfx_compile: the effect format's keys, defaults and rules. It walks the
+ * node tree once, reports every problem it finds (not only the first), and
+ * fills a pfx_effect in the caller's arena. Pool sizes and the per-emitter
+ * force sums are derived here, so the simulation only reads. */
+#include "compile/compile.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "compile/read.h"
+
+/* Bounds that keep any file's cost finite; each is documented in
+ * man/pfx-effect.5. */
+#define MAX_IMAGE_SIDE 16384
+#define MAX_RATE 1e7
+#define MAX_SIM_RATE 100000.0
+#define MAX_SECONDS 86400.0
+#define MAX_FPS 1000.0
+#define MAX_FRAMES 1000000.0
+
+static const char *const top_keys[] = {"pfx",    "duration", "fps",    "seed",     "sim",
+                                       "camera", "image",    "forces", "emitters", NULL};
+static const char *const sim_keys[] = {"rate", "prewarm", NULL};
+static const char *const camera_keys[] = {"position", "target", "up", "fov", "ortho", NULL};
+static const char *const image_keys[] = {"size", "background", NULL};
+static const char *const force_types[] = {"gravity", NULL};
+static const char *const gravity_keys[] = {"type", "accel", NULL};
+static const char *const emitter_keys[] = {
+    "shape",    "position", "rotation", "rate",   "direction",     "spread", "speed",
+    "lifetime", "size",     "color",    "forces", "gravity_scale", "blend",  NULL};
+static const char *const shape_types[] = {"point", "sphere", "box", "disc", NULL};
+static const char *const size_keys[] = {"start", "end", NULL};
+static const char *const blend_modes[] = {"add", "alpha", NULL};
+
+typedef struct compiler {
+    pfx_reader r;
+    pfx_effect *e;
+    const pfx_compile_options *opt;
+} compiler;
+
+double pfx_value_max(const pfx_value *v) {
+    return v->dist == PFX_DIST_CONST ? v->a : v->dist == PFX_DIST_UNIFORM ? v->b : v->hi;
+}
+
+double pfx_value_min(const pfx_value *v) {
+    return v->dist == PFX_DIST_CONST ? v->a : v->dist == PFX_DIST_UNIFORM ? v->a : v->lo;
+}
+
+long pfx_effect_frame_count(const pfx_effect *e) {
+    long n = lround(e->duration * e->fps);
+    return n < 1 ? 1 : n;
+}
+
+/* Reads an optional number into *out (keeping the default when absent) and
+ * checks it against [lo, hi] (strict bounds where asked). */
+static bool opt_number(compiler *c, const pfx_node *map, const char *key, double *out, double lo,
+                       bool lo_strict, double hi) {
+    const pfx_node *n = pfx_node_get(map, key);
+    if (!n)
+        return true;
+    double v;
+    if (!pfx_read_number(&c->r, n, key, &v))
+        return false;
+    if (!pfx_check_above(&c->r, n, key, v, lo, lo_strict) ||
+        !pfx_check_below(&c->r, n, key, v, hi, false))
+        return false;
+    *out = v;
+    return true;
+}
+
+static bool opt_vec3(compiler *c, const pfx_node *map, const char *key, double out[3]) {
+    const pfx_node *n = pfx_node_get(map, key);
+    return !n || pfx_read_numbers(&c->r, n, key, out, 3);
+}
+
+/* Picks `word` from `names` or reports it with a suggestion. */
+static int read_enum(compiler *c, const pfx_node *n, const char *what, const char *const *names) {
+    const char *s;
+    if (!pfx_read_string(&c->r, n, what, &s))
+        return -1;
+    for (int i = 0; names[i]; i++)
+        if (!strcmp(names[i], s))
+            return i;
+    const char *sug = pfx_suggest(s, names);
+    char list[256] = "";
+    for (int i = 0; names[i]; i++) {
+        strncat(list, i ? ", " : "", sizeof list - strlen(list) - 1);
+        strncat(list, names[i], sizeof list - strlen(list) - 1);
+    }
+    if (sug)
+        pfx_read_error(&c->r, n, "unknown %s '%s'; did you mean '%s'?", what, s, sug);
+    else
+        pfx_read_error(&c->r, n, "unknown %s '%s'; expected one of: %s", what, s, list);
+    return -1;
+}
+
+static void normalize3(double v[3]) {
+    double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (int i = 0; i < 3; i++)
+        v[i] /= len;
+}
+
+/* Rotation degrees (x, y, z) -> row-major R = Rz * Ry * Rx: a point is turned
+ * about X first, then Y, then Z, all about the fixed world axes. */
+static void rotation_matrix(const double deg[3], double m[9]) {
+    double rx = deg[0] * M_PI / 180, ry = deg[1] * M_PI / 180, rz = deg[2] * M_PI / 180;
+    double cx = cos(rx), sx = sin(rx), cy = cos(ry), sy = sin(ry), cz = cos(rz), sz = sin(rz);
+    double r[9] = {cz * cy,
+                   cz * sy * sx - sz * cx,
+                   cz * sy * cx + sz * sx,
+                   sz * cy,
+                   sz * sy * sx + cz * cx,
+                   sz * sy * cx - cz * sx,
+                   -sy,
+                   cy * sx,
+                   cy * cx};
+    memcpy(m, r, sizeof r);
+}
+
+static void compile_sim(compiler *c, const pfx_node *sim) {
+    if (!pfx_read_map(&c->r, sim, "sim"))
+        return;
+    pfx_read_check_keys(&c->r, sim, sim_keys, "'sim'");
+    opt_number(c, sim, "rate", &c->e->sim_rate, 1, false, MAX_SIM_RATE);
+    opt_number(c, sim, "prewarm", &c->e->prewarm, 0, false, MAX_SECONDS);
+}
+
+static void compile_camera(compiler *c, const pfx_node *cam) {
+    pfx_camera *k = &c->e->camera;
+    if (!pfx_read_map(&c->r, cam, "camera"))
+        return;
+    pfx_read_check_keys(&c->r, cam, camera_keys, "'camera'");
+    bool ok = opt_vec3(c, cam, "position", k->position) & opt_vec3(c, cam, "target", k->target) &
+              opt_vec3(c, cam, "up", k->up);
+    const pfx_node *fov = pfx_node_get(cam, "fov"), *ortho = pfx_node_get(cam, "ortho");
+    if (fov && ortho) {
+        pfx_read_error(&c->r, ortho, "'camera' takes either 'fov' or 'ortho', not both");
+        return;
+    }
+    if (fov && pfx_read_number(&c->r, fov, "fov", &k->fov_deg)) {
+        if (!(k->fov_deg > 0 && k->fov_deg < 180))
+            pfx_read_error(&c->r, fov,
+                           "'fov' must be between 0 and 180 degrees (exclusive), got %g",
+                           k->fov_deg);
+    }
+    if (ortho && pfx_read_number(&c->r, ortho, "ortho", &k->ortho_height)) {
+        k->ortho = true;
+        pfx_check_above(&c->r, ortho, "ortho", k->ortho_height, 0, true);
+    }
+    if (!ok)
+        return;
+    double dir[3], cross[3];
+    for (int i = 0; i < 3; i++)
+        dir[i] = k->target[i] - k->position[i];
+    cross[0] = dir[1] * k->up[2] - dir[2] * k->up[1];
+    cross[1] = dir[2] * k->up[0] - dir[0] * k->up[2];
+    cross[2] = dir[0] * k->up[1] - dir[1] * k->up[0];
+    double dlen = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+    double clen = sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
+    if (dlen == 0)
+        pfx_read_error(&c->r, cam, "camera 'position' and 'target' are the same point");
+    else if (clen == 0)
+        pfx_read_error(&c->r, cam, "camera 'up' is parallel to the view direction");
+}
+
+static void compile_image(compiler *c, const pfx_node *img) {
+    if (!pfx_read_map(&c->r, img, "image"))
+        return;
+    pfx_read_check_keys(&c->r, img, image_keys, "'image'");
+    const pfx_node *size = pfx_node_get(img, "size"), *bg = pfx_node_get(img, "background");
+    double wh[2];
+    if (size && pfx_read_numbers(&c->r, size, "size", wh, 2)) {
+        for (int i = 0; i < 2; i++) {
+            const pfx_node *n = size->items[i];
+            if (wh[i] != floor(wh[i]) || wh[i] < 1 || wh[i] > MAX_IMAGE_SIDE)
+                pfx_read_error(&c->r, n,
+                               "image 'size' must be whole numbers of pixels from 1 to %d, got %g",
+                               MAX_IMAGE_SIDE, wh[i]);
+        }
+        c->e->width = (int)fmin(fmax(wh[0], 1), MAX_IMAGE_SIDE);
+        c->e->height = (int)fmin(fmax(wh[1], 1), MAX_IMAGE_SIDE);
+    }
+    if (bg)
+        pfx_read_color(&c->r, bg, "background", c->e->background);
+}
+
+static void compile_forces(compiler *c, const pfx_node *forces) {
+    if (!pfx_read_map(&c->r, forces, "forces"))
+        return;
+    if (forces->count > PFX_MAX_FORCES) {
+        pfx_read_error(&c->r, forces, "an effect has at most %d forces, got %zu", PFX_MAX_FORCES,
+                       forces->count);
+        return;
+    }
+    c->e->forces = pfx_arena_alloc(c->r.arena, (forces->count + 1) * sizeof *c->e->forces);
+    for (size_t i = 0; i < forces->count; i++) {
+        const pfx_node *key = forces->pairs[i].key, *f = forces->pairs[i].value;
+        pfx_force *out = &c->e->forces[c->e->force_count++];
+        out->name = pfx_arena_strndup(c->r.arena, key->text, key->len);
+        char where[160];
+        snprintf(where, sizeof where, "force '%s'", key->text);
+        if (!pfx_read_map(&c->r, f, key->text))
+            continue;
+        const pfx_node *type = pfx_node_get(f, "type");
+        if (!type) {
+            pfx_read_error(&c->r, key, "force '%s' needs a 'type' (gravity)", key->text);
+            continue;
+        }
+        int t = read_enum(c, type, "force type", force_types);
+        if (t < 0)
+            continue;
+        out->type = PFX_FORCE_GRAVITY;
+        pfx_read_check_keys(&c->r, f, gravity_keys, where);
+        out->accel[1] = -9.81;
+        const pfx_node *a = pfx_node_get(f, "accel");
+        if (a && pfx_read_numbers(&c->r, a, "accel", out->accel, 3))
+            for (int k = 0; k < 3; k++)
+                if (fabs(out->accel[k]) > 1e6)
+                    pfx_read_error(&c->r, a->items[k],
+                                   "'accel' components must be within +-1e6 m/s^2, got %g",
+                                   out->accel[k]);
+    }
+}
+
+static int find_force(const pfx_effect *e, const char *name) {
+    for (size_t i = 0; i < e->force_count; i++)
+        if (!strcmp(e->forces[i].name, name))
+            return (int)i;
+    return -1;
+}
+
+static void compile_shape(compiler *c, const pfx_node *n, pfx_shape *s, const char *emitter) {
+    char where[160];
+    snprintf(where, sizeof where, "the shape of emitter '%s'", emitter);
+    if (!pfx_read_map(&c->r, n, "shape"))
+        return;
+    const pfx_node *type = pfx_node_get(n, "type");
+    if (!type) {
+        pfx_read_error(&c->r, n, "a shape needs a 'type' (point, sphere, box or disc)");
+        return;
+    }
+    int t = read_enum(c, type, "shape type", shape_types);
+    if (t < 0)
+        return;
+    s->type = (pfx_shape_type)t;
+    static const char *const point_keys[] = {"type", NULL};
+    static const char *const radius_keys[] = {"type", "radius", NULL};
+    static const char *const box_keys[] = {"type", "size", NULL};
+    const char *const *keys = s->type == PFX_SHAPE_POINT ? point_keys
+                              : s->type == PFX_SHAPE_BOX ? box_keys
+                                                         : radius_keys;
+    pfx_read_check_keys(&c->r, n, keys, where);
+    if (s->type == PFX_SHAPE_SPHERE || s->type == PFX_SHAPE_DISC) {
+        const pfx_node *r = pfx_node_get(n, "radius");
+        if (!r)
+            pfx_read_error(&c->r, type, "a %s shape needs a 'radius'", type->text);
+        else if (pfx_read_number(&c->r, r, "radius", &s->radius))
+            pfx_check_above(&c->r, r, "radius", s->radius, 0, false);
+    } else if (s->type == PFX_SHAPE_BOX) {
+        const pfx_node *sz = pfx_node_get(n, "size");
+        if (!sz)
+            pfx_read_error(&c->r, type, "a box shape needs a 'size' [x, y, z]");
+        else if (pfx_read_numbers(&c->r, sz, "size", s->size, 3))
+            for (int i = 0; i < 3; i++)
+                pfx_check_above(&c->r, sz->items[i], "size", s->size[i], 0, false);
+    }
+}
+
+/* Reads a value and checks every sample it can take against [lo, hi]. */
+static bool range_value(compiler *c, const pfx_node *n, const char *what, pfx_value *v, double lo,
+                        bool lo_strict, double hi) {
+    if (!pfx_read_value(&c->r, n, what, v))
+        return false;
+    return pfx_check_above(&c->r, n, what, pfx_value_min(v), lo, lo_strict) &&
+           pfx_check_below(&c->r, n, what, pfx_value_max(v), hi, false);
+}
+
+static void compile_size(compiler *c, const pfx_node *n, pfx_emitter *em) {
+    const double max_size = 1e6;
+    if (n->kind == PFX_NODE_MAP && (pfx_node_get(n, "start") || pfx_node_get(n, "end"))) {
+        pfx_read_check_keys(&c->r, n, size_keys, "'size'");
+        const pfx_node *s = pfx_node_get(n, "start"), *e = pfx_node_get(n, "end");
+        if (s)
+            range_value(c, s, "size", &em->size_start, 0, false, max_size);
+        em->size_end = em->size_start;
+        if (e)
+            range_value(c, e, "size", &em->size_end, 0, false, max_size);
+        em->size_same = !e;
+    } else {
+        range_value(c, n, "size", &em->size_start, 0, false, max_size);
+        em->size_end = em->size_start;
+        em->size_same = true;
+    }
+}
+
+static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n, pfx_emitter *em) {
+    pfx_effect *e = c->e;
+    em->name = pfx_arena_strndup(c->r.arena, key->text, key->len);
+    /* Defaults: a point emitting 10/s straight up at 1 m/s for 1 s, white,
+     * 0.1 m sprites, additive, feeling every force. */
+    em->rate = 10;
+    em->direction[1] = 1;
+    em->speed = (pfx_value){PFX_DIST_CONST, 1, 0, 0, 0};
+    em->lifetime = (pfx_value){PFX_DIST_CONST, 1, 0, 0, 0};
+    em->size_start = em->size_end = (pfx_value){PFX_DIST_CONST, 0.1, 0, 0, 0};
+    em->size_same = true;
+    em->gravity_scale = (pfx_value){PFX_DIST_CONST, 1, 0, 0, 0};
+    for (int i = 0; i < PFX_GRADIENT_LUT; i++)
+        for (int k = 0; k < 4; k++)
+            em->color.lut[i][k] = 1.0f;
+    em->color.constant = true;
+    em->force_mask = e->force_count >= 32 ? 0xffffffffu : (1u << e->force_count) - 1;
+    em->blend = PFX_BLEND_ADD;
+    double rot_deg[3] = {0, 0, 0};
+    rotation_matrix(rot_deg, em->rotation);
+
+    char where[160];
+    snprintf(where, sizeof where, "emitter '%s'", key->text);
+    if (!pfx_read_map(&c->r, n, key->text))
+        return;
+    pfx_read_check_keys(&c->r, n, emitter_keys, where);
+    const pfx_node *v;
+    if ((v = pfx_node_get(n, "shape")))
+        compile_shape(c, v, &em->shape, key->text);
+    opt_vec3(c, n, "position", em->position);
+    if (opt_vec3(c, n, "rotation", rot_deg))
+        rotation_matrix(rot_deg, em->rotation);
+    opt_number(c, n, "rate", &em->rate, 0, false, MAX_RATE);
+    double dir[3] = {0, 1, 0};
+    if ((v = pfx_node_get(n, "direction")) && pfx_read_numbers(&c->r, v, "direction", dir, 3) &&
+        dir[0] == 0 && dir[1] == 0 && dir[2] == 0) {
+        pfx_read_error(&c->r, v, "'direction' must not be the zero vector");
+        dir[1] = 1;
+    }
+    normalize3(dir);
+    for (int i = 0; i < 3; i++)
+        em->direction[i] = em->rotation[3 * i] * dir[0] + em->rotation[3 * i + 1] * dir[1] +
+                           em->rotation[3 * i + 2] * dir[2];
+    opt_number(c, n, "spread", &em->spread_deg, 0, false, 180);
+    if ((v = pfx_node_get(n, "speed")))
+        range_value(c, v, "speed", &em->speed, -1e6, false, 1e6);
+    if ((v = pfx_node_get(n, "lifetime")))
+        range_value(c, v, "lifetime", &em->lifetime, 0, true, MAX_SECONDS);
+    em->max_lifetime = pfx_value_max(&em->lifetime);
+    if ((v = pfx_node_get(n, "size")))
+        compile_size(c, v, em);
+    if ((v = pfx_node_get(n, "color")))
+        pfx_read_gradient(&c->r, v, "color", &em->color);
+    if ((v = pfx_node_get(n, "gravity_scale")))
+        range_value(c, v, "gravity_scale", &em->gravity_scale, -1e3, false, 1e3);
+    if ((v = pfx_node_get(n, "blend"))) {
+        int b = read_enum(c, v, "blend mode", blend_modes);
+        if (b >= 0)
+            em->blend = b == 0 ? PFX_BLEND_ADD : PFX_BLEND_ALPHA;
+    }
+    if ((v = pfx_node_get(n, "forces"))) {
+        em->force_mask = 0;
+        if (v->kind != PFX_NODE_SEQ) {
+            pfx_read_error(&c->r, v, "'forces' must be a list of force names, got %s",
+                           pfx_node_kind_name(v));
+        } else {
+            const char *names[PFX_MAX_FORCES + 1];
+            for (size_t i = 0; i < e->force_count; i++)
+                names[i] = e->forces[i].name;
+            names[e->force_count] = NULL;
+            for (size_t i = 0; i < v->count; i++) {
+                const char *name;
+                if (!pfx_read_string(&c->r, v->items[i], "forces", &name))
+                    continue;
+                int f = find_force(e, name);
+                if (f >= 0) {
+                    em->force_mask |= 1u << f;
+                    continue;
+                }
+                const char *sug = pfx_suggest(name, names);
+                if (sug)
+                    pfx_read_error(&c->r, v->items[i],
+                                   "unknown force '%s' in emitter '%s'; did you mean '%s'?", name,
+                                   key->text, sug);
+                else
+                    pfx_read_error(&c->r, v->items[i],
+                                   "unknown force '%s' in emitter '%s'; define it under 'forces'",
+                                   name, key->text);
+            }
+        }
+    }
+    for (size_t i = 0; i < e->force_count; i++)
+        if (em->force_mask & (1u << i) && e->forces[i].type == PFX_FORCE_GRAVITY)
+            for (int k = 0; k < 3; k++)
+                em->accel[k] += e->forces[i].accel[k];
+    em->size_varies = em->size_start.dist != PFX_DIST_CONST ||
+                      (!em->size_same && em->size_end.dist != PFX_DIST_CONST);
+}
+
+/* Sizes each emitter's pool from rate x max lifetime. The live count of an
+ * emitter whose births are 1/rate apart never exceeds floor(rate * L) + 1.
+ * When the sum exceeds the particle budget, pools are cut in proportion and
+ * the emitters saturate: a warning says so with the numbers. */
+static void size_pools(compiler *c, const pfx_node *emitters) {
+    pfx_effect *e = c->e;
+    double need_total = 0;
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        pfx_emitter *em = &e->emitters[i];
+        need_total += floor(em->rate * em->max_lifetime) + 1;
+    }
+    double budget = (double)e->max_particles;
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        pfx_emitter *em = &e->emitters[i];
+        double need = floor(em->rate * em->max_lifetime) + 1;
+        double cap = need;
+        if (need_total > budget) {
+            cap = floor(budget * need / need_total);
+            em->saturates = true;
+            const pfx_node *at = pfx_node_get(emitters->pairs[i].value, "rate");
+            if (!at)
+                at = emitters->pairs[i].key;
+            pfx_read_warning(&c->r, at,
+                             "emitter '%s' needs up to %.0f live particles (rate %g x max "
+                             "lifetime %g s) but gets %.0f of the %.0f budget; it will saturate "
+                             "(raise --max-particles or lower 'rate' or 'lifetime')",
+                             em->name, need, em->rate, em->max_lifetime, cap, budget);
+        }
+        em->capacity = (uint32_t)(cap < 1 ? 1 : cap);
+    }
+}
+
+pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compile_options *opt,
+                        pfx_arena *arena, pfx_diags *d) {
+    compiler c = {.r = {d, arena}, .opt = opt};
+    int errors_before = d->errors;
+    if (!root) {
+        pfx_diag_add(d, PFX_SEV_ERROR, 1, 1, 1,
+                     "the file is empty; an effect starts with 'pfx: 1' and lists its 'emitters'");
+        return NULL;
+    }
+    if (root->kind != PFX_NODE_MAP) {
+        pfx_read_error(&c.r, root, "an effect file must be a mapping of keys, got %s",
+                       pfx_node_kind_name(root));
+        return NULL;
+    }
+    pfx_effect *e = pfx_arena_alloc(arena, sizeof *e);
+    if (!e)
+        return NULL;
+    c.e = e;
+    e->path = path;
+    e->duration = 2;
+    e->fps = 30;
+    e->sim_rate = 120;
+    e->width = e->height = 512;
+    e->camera = (pfx_camera){{0, 1, 6}, {0, 1, 0}, {0, 1, 0}, false, 40, 0};
+    e->max_particles = opt && opt->max_particles ? opt->max_particles : PFX_DEFAULT_MAX_PARTICLES;
+
+    pfx_read_check_keys(&c.r, root, top_keys, "the effect");
+    const pfx_node *v = pfx_node_get(root, "pfx");
+    if (!v) {
+        pfx_diag_add(d, PFX_SEV_ERROR, root->line, root->col, 1,
+                     "missing 'pfx: 1' (the format version) at the top of the effect");
+    } else {
+        double version;
+        if (pfx_read_number(&c.r, v, "pfx", &version) && version != PFX_FORMAT_VERSION)
+            pfx_read_error(&c.r, v, "unsupported format version '%s'; this pfx reads version %d",
+                           v->text, PFX_FORMAT_VERSION);
+    }
+    opt_number(&c, root, "duration", &e->duration, 0, true, MAX_SECONDS);
+    opt_number(&c, root, "fps", &e->fps, 0, true, MAX_FPS);
+    if ((v = pfx_node_get(root, "seed")))
+        pfx_read_uint(&c.r, v, "seed", &e->seed);
+    if ((v = pfx_node_get(root, "sim")))
+        compile_sim(&c, v);
+    if ((v = pfx_node_get(root, "camera")))
+        compile_camera(&c, v);
+    if ((v = pfx_node_get(root, "image")))
+        compile_image(&c, v);
+    if ((v = pfx_node_get(root, "forces")))
+        compile_forces(&c, v);
+
+    if (opt && opt->has_seed)
+        e->seed = opt->seed;
+    if (opt && opt->fps > 0)
+        e->fps = opt->fps;
+    if (opt && opt->width > 0) {
+        e->width = opt->width;
+        e->height = opt->height;
+    }
+    if (e->duration * e->fps > MAX_FRAMES)
+        pfx_diag_add(d, PFX_SEV_ERROR, root->line, root->col, 1,
+                     "duration x fps gives %.0f frames; the most is %.0f", e->duration * e->fps,
+                     MAX_FRAMES);
+
+    const pfx_node *emitters = pfx_node_get(root, "emitters");
+    if (!emitters) {
+        pfx_diag_add(d, PFX_SEV_WARNING, root->line, root->col, 1,
+                     "the effect has no 'emitters': every frame will be empty");
+    } else if (pfx_read_map(&c.r, emitters, "emitters")) {
+        e->emitters = pfx_arena_alloc(arena, (emitters->count + 1) * sizeof *e->emitters);
+        if (!e->emitters)
+            return NULL;
+        for (size_t i = 0; i < emitters->count; i++)
+            compile_emitter(&c, emitters->pairs[i].key, emitters->pairs[i].value,
+                            &e->emitters[e->emitter_count++]);
+        if (d->errors == errors_before)
+            size_pools(&c, emitters);
+    }
+    return d->errors == errors_before ? e : NULL;
+}
+
+pfx_effect *pfx_load(pfx_loaded *l, const char *path, const pfx_compile_options *opt) {
+    memset(l, 0, sizeof *l);
+    pfx_diags_init(&l->diags, path, NULL, 0);
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0, "cannot open '%s': %s", path,
+                     strerror(errno));
+        return NULL;
+    }
+    /* Read at most one byte past the limit, so a huge file costs bounded
+     * memory and is reported rather than loaded. */
+    size_t cap = 65536, len = 0;
+    char *buf = malloc(cap + 1);
+    while (buf) {
+        if (len == cap) {
+            if (cap > PFX_MAX_FILE_BYTES)
+                break;
+            cap *= 2;
+            char *nb = realloc(buf, cap + 1);
+            if (!nb) {
+                free(buf);
+                buf = NULL;
+                break;
+            }
+            buf = nb;
+        }
+        size_t got = fread(buf + len, 1, cap - len, f);
+        len += got;
+        if (got == 0)
+            break;
+    }
+    bool read_error = ferror(f);
+    fclose(f);
+    if (!buf || read_error) {
+        pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0, "cannot read '%s'", path);
+        free(buf);
+        return NULL;
+    }
+    buf[len] = 0;
+    l->source = buf;
+    l->source_len = len;
+    l->diags.source = buf;
+    l->diags.source_len = len;
+    if (len > PFX_MAX_FILE_BYTES) {
+        pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0,
+                     "the file is larger than %u MiB; an effect file is a few kilobytes",
+                     PFX_MAX_FILE_BYTES >> 20);
+        return NULL;
+    }
+    if (memchr(buf, 0, len)) {
+        pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0,
+                     "the file contains NUL bytes; an effect file is UTF-8 text");
+        return NULL;
+    }
+    if (!pfx_parse(buf, len, &l->doc, &l->diags))
+        return NULL;
+    l->effect = pfx_compile(l->doc.root, path, opt, &l->arena, &l->diags);
+    return l->effect;
+}
+
+void pfx_loaded_free(pfx_loaded *l) {
+    pfx_doc_free(&l->doc);
+    pfx_arena_free(&l->arena);
+    pfx_diags_free(&l->diags);
+    free(l->source);
+    memset(l, 0, sizeof *l);
+}

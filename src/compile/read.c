@@ -1,0 +1,455 @@
+/* The typed node readers behind pfx_compile. Each reads one kind of value in
+ * every form the format allows and reports anything else at the node, with
+ * what was expected; none of them knows where in the effect the value sits. */
+#include "compile/read.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void report(pfx_reader *r, pfx_severity sev, const pfx_node *n, const char *fmt,
+                   va_list ap) {
+    int span = n->kind == PFX_NODE_SCALAR ? n->span : 1;
+    pfx_diag_vadd(r->d, sev, n->line, n->col, span, fmt, ap);
+}
+
+void pfx_read_error(pfx_reader *r, const pfx_node *n, const char *fmt, ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    report(r, PFX_SEV_ERROR, n, fmt, ap);
+    va_end(ap);
+}
+
+void pfx_read_warning(pfx_reader *r, const pfx_node *n, const char *fmt, ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    report(r, PFX_SEV_WARNING, n, fmt, ap);
+    va_end(ap);
+}
+
+static size_t edit_distance(const char *a, const char *b) {
+    size_t la = strlen(a), lb = strlen(b);
+    if (la > 64 || lb > 64)
+        return (size_t)-1;
+    size_t row[65];
+    for (size_t j = 0; j <= lb; j++)
+        row[j] = j;
+    for (size_t i = 1; i <= la; i++) {
+        size_t diag = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= lb; j++) {
+            size_t up = row[j];
+            size_t cost = tolower((unsigned char)a[i - 1]) != tolower((unsigned char)b[j - 1]);
+            size_t best = diag + cost;
+            if (up + 1 < best)
+                best = up + 1;
+            if (row[j - 1] + 1 < best)
+                best = row[j - 1] + 1;
+            row[j] = best;
+            diag = up;
+        }
+    }
+    return row[lb];
+}
+
+const char *pfx_suggest(const char *word, const char *const *allowed) {
+    const char *best = NULL;
+    size_t best_d = (size_t)-1;
+    for (const char *const *k = allowed; *k; k++) {
+        size_t d = edit_distance(word, *k);
+        if (d < best_d) {
+            best_d = d;
+            best = *k;
+        }
+    }
+    /* Close enough to be a typo: at most a third of the word, and at least 1
+     * edit for short words. */
+    size_t len = strlen(word);
+    size_t limit = len / 3 > 1 ? len / 3 : 1;
+    if (len > 3 && limit < 2)
+        limit = 2;
+    return best_d <= limit ? best : NULL;
+}
+
+bool pfx_read_check_keys(pfx_reader *r, const pfx_node *map, const char *const *allowed,
+                         const char *where) {
+    bool ok = true;
+    for (size_t i = 0; i < map->count; i++) {
+        const pfx_node *k = map->pairs[i].key;
+        bool known = false;
+        for (const char *const *a = allowed; *a && !known; a++)
+            known = strcmp(*a, k->text) == 0;
+        if (known)
+            continue;
+        const char *s = pfx_suggest(k->text, allowed);
+        if (s)
+            pfx_read_error(r, k, "unknown key '%s' in %s; did you mean '%s'?", k->text, where, s);
+        else
+            pfx_read_error(r, k, "unknown key '%s' in %s", k->text, where);
+        ok = false;
+    }
+    return ok;
+}
+
+bool pfx_read_map(pfx_reader *r, const pfx_node *n, const char *what) {
+    if (n->kind == PFX_NODE_MAP)
+        return true;
+    pfx_read_error(r, n, "'%s' must be a mapping, got %s", what, pfx_node_kind_name(n));
+    return false;
+}
+
+/* YAML 1.2 core schema floats, plus integers; anything else is not a number.
+ * Non-finite spellings (.nan, .inf) are numbers but rejected. */
+static bool parse_number(const char *s, double *out, bool *finite) {
+    *finite = true;
+    const char *p = s;
+    if (*p == '+' || *p == '-')
+        p++;
+    if (!strcmp(p, ".inf") || !strcmp(p, ".Inf") || !strcmp(p, ".INF") || !strcmp(s, ".nan") ||
+        !strcmp(s, ".NaN") || !strcmp(s, ".NAN")) {
+        *finite = false;
+        return true;
+    }
+    bool digits = false;
+    while (isdigit((unsigned char)*p)) {
+        p++;
+        digits = true;
+    }
+    if (*p == '.') {
+        p++;
+        while (isdigit((unsigned char)*p)) {
+            p++;
+            digits = true;
+        }
+    }
+    if (!digits)
+        return false;
+    if (*p == 'e' || *p == 'E') {
+        p++;
+        if (*p == '+' || *p == '-')
+            p++;
+        if (!isdigit((unsigned char)*p))
+            return false;
+        while (isdigit((unsigned char)*p))
+            p++;
+    }
+    if (*p)
+        return false;
+    errno = 0;
+    double v = strtod(s, NULL);
+    if (errno == ERANGE && fabs(v) > 1.0) {
+        *finite = false;
+        return true;
+    }
+    *out = errno == ERANGE ? 0.0 : v;
+    return true;
+}
+
+bool pfx_read_number(pfx_reader *r, const pfx_node *n, const char *what, double *out) {
+    if (n->kind != PFX_NODE_SCALAR || !n->plain) {
+        pfx_read_error(r, n, "'%s' must be a number, got %s", what,
+                       n->kind == PFX_NODE_SCALAR ? "a quoted string" : pfx_node_kind_name(n));
+        return false;
+    }
+    bool finite;
+    if (!parse_number(n->text, out, &finite)) {
+        pfx_read_error(r, n, "'%s' must be a number, got '%s'", what, n->text);
+        return false;
+    }
+    if (!finite) {
+        pfx_read_error(r, n, "'%s' must be a finite number, got '%s'", what, n->text);
+        return false;
+    }
+    return true;
+}
+
+bool pfx_read_uint(pfx_reader *r, const pfx_node *n, const char *what, uint64_t *out) {
+    if (n->kind == PFX_NODE_SCALAR && n->plain) {
+        const char *p = n->text;
+        uint64_t v = 0;
+        bool ok = *p != 0;
+        for (; *p && ok; p++) {
+            if (!isdigit((unsigned char)*p) || v > (UINT64_MAX - 9) / 10)
+                ok = false;
+            else
+                v = v * 10 + (uint64_t)(*p - '0');
+        }
+        if (ok) {
+            *out = v;
+            return true;
+        }
+    }
+    pfx_read_error(r, n, "'%s' must be a whole number from 0 to 2^64 - 1, got %s%s%s", what,
+                   n->kind == PFX_NODE_SCALAR ? "'" : "",
+                   n->kind == PFX_NODE_SCALAR ? n->text : pfx_node_kind_name(n),
+                   n->kind == PFX_NODE_SCALAR ? "'" : "");
+    return false;
+}
+
+bool pfx_read_numbers(pfx_reader *r, const pfx_node *n, const char *what, double *out, int count) {
+    if (n->kind != PFX_NODE_SEQ || n->count != (size_t)count) {
+        pfx_read_error(r, n, "'%s' must be a list of %d numbers", what, count);
+        return false;
+    }
+    bool ok = true;
+    for (int i = 0; i < count; i++)
+        ok &= pfx_read_number(r, n->items[i], what, &out[i]);
+    return ok;
+}
+
+bool pfx_read_string(pfx_reader *r, const pfx_node *n, const char *what, const char **out) {
+    if (n->kind != PFX_NODE_SCALAR) {
+        pfx_read_error(r, n, "'%s' must be a name, got %s", what, pfx_node_kind_name(n));
+        return false;
+    }
+    *out = n->text;
+    return true;
+}
+
+static const char *const value_keys[] = {"mean", "var", "normal", "clamp", NULL};
+
+bool pfx_read_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_value *out) {
+    memset(out, 0, sizeof *out);
+    if (n->kind == PFX_NODE_SCALAR) {
+        out->dist = PFX_DIST_CONST;
+        return pfx_read_number(r, n, what, &out->a);
+    }
+    if (n->kind == PFX_NODE_SEQ) {
+        double mm[2];
+        if (n->count != 2) {
+            pfx_read_error(r, n, "'%s' as a list must be [min, max]", what);
+            return false;
+        }
+        if (!pfx_read_numbers(r, n, what, mm, 2))
+            return false;
+        if (mm[0] > mm[1]) {
+            pfx_read_error(r, n, "'%s' range [%g, %g] has min above max", what, mm[0], mm[1]);
+            return false;
+        }
+        *out = (pfx_value){PFX_DIST_UNIFORM, mm[0], mm[1], 0, 0};
+        return true;
+    }
+    char where[128];
+    snprintf(where, sizeof where, "'%s'", what);
+    if (!pfx_read_check_keys(r, n, value_keys, where))
+        return false;
+    const pfx_node *mean = pfx_node_get(n, "mean"), *var = pfx_node_get(n, "var");
+    const pfx_node *normal = pfx_node_get(n, "normal"), *clamp = pfx_node_get(n, "clamp");
+    if (mean && !normal && !clamp) {
+        double m, v = 0;
+        if (!pfx_read_number(r, mean, what, &m) || (var && !pfx_read_number(r, var, what, &v)))
+            return false;
+        if (v < 0) {
+            pfx_read_error(r, var, "'var' of '%s' must be at least 0, got %g", what, v);
+            return false;
+        }
+        *out = (pfx_value){PFX_DIST_UNIFORM, m - v, m + v, 0, 0};
+        return true;
+    }
+    if (normal && !mean && !var) {
+        double ms[2], lohi[2];
+        if (!pfx_read_numbers(r, normal, what, ms, 2))
+            return false;
+        if (ms[1] < 0) {
+            pfx_read_error(r, normal, "standard deviation of '%s' must be at least 0, got %g", what,
+                           ms[1]);
+            return false;
+        }
+        /* Without a clamp the tails are cut at three standard deviations, so
+         * every value has finite bounds for pool sizing. */
+        lohi[0] = ms[0] - 3 * ms[1];
+        lohi[1] = ms[0] + 3 * ms[1];
+        if (clamp && !pfx_read_numbers(r, clamp, what, lohi, 2))
+            return false;
+        if (lohi[0] > lohi[1]) {
+            pfx_read_error(r, clamp, "'clamp' of '%s' has min above max", what);
+            return false;
+        }
+        *out = (pfx_value){PFX_DIST_NORMAL, ms[0], ms[1], lohi[0], lohi[1]};
+        return true;
+    }
+    pfx_read_error(r, n,
+                   "'%s' must be a number, [min, max], {mean: m, var: v} or "
+                   "{normal: [mean, sd], clamp: [lo, hi]}",
+                   what);
+    return false;
+}
+
+static int hex_digit(char c) {
+    if (c >= '0' && c <= '9')
+        return c - '0';
+    c = (char)tolower((unsigned char)c);
+    return c >= 'a' && c <= 'f' ? c - 'a' + 10 : -1;
+}
+
+static bool parse_hex_color(const char *s, float out[4]) {
+    if (s[0] != '#')
+        return false;
+    size_t n = strlen(s + 1);
+    if (n != 3 && n != 4 && n != 6 && n != 8)
+        return false;
+    for (size_t i = 0; i < n; i++)
+        if (hex_digit(s[1 + i]) < 0)
+            return false;
+    out[3] = 1.0f;
+    if (n <= 4) {
+        for (size_t i = 0; i < n; i++)
+            out[i] = (float)(hex_digit(s[1 + i]) * 17) / 255.0f;
+    } else {
+        for (size_t i = 0; i < n / 2; i++)
+            out[i] = (float)(hex_digit(s[1 + 2 * i]) * 16 + hex_digit(s[2 + 2 * i])) / 255.0f;
+    }
+    return true;
+}
+
+static bool is_number_list(const pfx_node *n) {
+    if (n->kind != PFX_NODE_SEQ || n->count == 0)
+        return false;
+    for (size_t i = 0; i < n->count; i++)
+        if (n->items[i]->kind != PFX_NODE_SCALAR || !n->items[i]->plain)
+            return false;
+    return true;
+}
+
+bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, float out[4]) {
+    if (n->kind == PFX_NODE_SCALAR) {
+        if (!strcmp(n->text, "transparent")) {
+            out[0] = out[1] = out[2] = out[3] = 0.0f;
+            return true;
+        }
+        if (parse_hex_color(n->text, out))
+            return true;
+        pfx_read_error(r, n,
+                       "malformed colour '%s' in '%s'; expected \"#rrggbb\", \"#rrggbbaa\", "
+                       "[r, g, b] or [r, g, b, a] in 0..1",
+                       n->text, what);
+        return false;
+    }
+    if (is_number_list(n) && (n->count == 3 || n->count == 4)) {
+        double c[4] = {0, 0, 0, 1};
+        bool ok = true;
+        for (size_t i = 0; i < n->count; i++) {
+            ok &= pfx_read_number(r, n->items[i], what, &c[i]);
+            if (ok && (c[i] < 0 || c[i] > 1)) {
+                pfx_read_error(r, n->items[i], "colour components of '%s' must be in 0..1, got %g",
+                               what, c[i]);
+                ok = false;
+            }
+        }
+        for (int i = 0; i < 4; i++)
+            out[i] = (float)c[i];
+        return ok;
+    }
+    pfx_read_error(r, n,
+                   "malformed colour in '%s'; expected \"#rrggbb\", \"#rrggbbaa\", [r, g, b] or "
+                   "[r, g, b, a] in 0..1",
+                   what);
+    return false;
+}
+
+static const char *const stop_keys[] = {"at", "color", NULL};
+
+bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, pfx_gradient *out) {
+    enum { MAX_STOPS = 64 };
+    float colors[MAX_STOPS][4];
+    double at[MAX_STOPS];
+    size_t count = 0;
+    bool ok = true;
+    if (n->kind == PFX_NODE_SCALAR || is_number_list(n)) {
+        ok = pfx_read_color(r, n, what, colors[0]);
+        at[0] = 0;
+        count = 1;
+    } else if (n->kind == PFX_NODE_SEQ) {
+        if (n->count == 0) {
+            pfx_read_error(r, n, "gradient '%s' needs at least one colour", what);
+            return false;
+        }
+        if (n->count > MAX_STOPS) {
+            pfx_read_error(r, n, "gradient '%s' has %zu stops; the most is %d", what, n->count,
+                           MAX_STOPS);
+            return false;
+        }
+        bool stops = n->items[0]->kind == PFX_NODE_MAP;
+        for (size_t i = 0; i < n->count; i++) {
+            const pfx_node *item = n->items[i];
+            if (!stops) {
+                ok &= pfx_read_color(r, item, what, colors[i]);
+                at[i] = n->count == 1 ? 0.0 : (double)i / (double)(n->count - 1);
+                continue;
+            }
+            if (item->kind != PFX_NODE_MAP) {
+                pfx_read_error(r, item, "gradient stops must all be {at: t, color: c}");
+                ok = false;
+                continue;
+            }
+            ok &= pfx_read_check_keys(r, item, stop_keys, "a gradient stop");
+            const pfx_node *t = pfx_node_get(item, "at"), *c = pfx_node_get(item, "color");
+            if (!t || !c) {
+                pfx_read_error(r, item, "a gradient stop needs both 'at' and 'color'");
+                ok = false;
+                continue;
+            }
+            if (!pfx_read_number(r, t, "at", &at[i]) || !pfx_read_color(r, c, what, colors[i])) {
+                ok = false;
+                continue;
+            }
+            if (at[i] < 0 || at[i] > 1) {
+                pfx_read_error(r, t, "'at' must be in 0..1, got %g", at[i]);
+                ok = false;
+            } else if (i > 0 && at[i] < at[i - 1]) {
+                pfx_read_error(r, t, "gradient stops must be in increasing 'at' order");
+                ok = false;
+            }
+        }
+        count = n->count;
+    } else {
+        pfx_read_error(r, n, "'%s' must be a colour or a list of colours", what);
+        return false;
+    }
+    if (!ok)
+        return false;
+    /* Sample the piecewise-linear gradient once into the lookup table: entry
+     * i is the colour at age fraction i / (LUT - 1). Before the first stop and
+     * after the last, the end colours hold. */
+    out->constant = true;
+    for (int i = 0; i < PFX_GRADIENT_LUT; i++) {
+        double t = (double)i / (PFX_GRADIENT_LUT - 1);
+        size_t k = 0;
+        while (k + 1 < count && at[k + 1] <= t)
+            k++;
+        for (int c = 0; c < 4; c++) {
+            double v;
+            if (k + 1 >= count || t <= at[k]) {
+                v = colors[k][c];
+            } else {
+                double u = (t - at[k]) / (at[k + 1] - at[k]);
+                v = colors[k][c] + (colors[k + 1][c] - colors[k][c]) * u;
+            }
+            out->lut[i][c] = (float)v;
+            if (out->lut[i][c] != out->lut[0][c])
+                out->constant = false;
+        }
+    }
+    return true;
+}
+
+bool pfx_check_above(pfx_reader *r, const pfx_node *n, const char *what, double got, double bound,
+                     bool strict) {
+    if (strict ? got > bound : got >= bound)
+        return true;
+    pfx_read_error(r, n, "'%s' must be %s %g, got %g", what, strict ? "greater than" : "at least",
+                   bound, got);
+    return false;
+}
+
+bool pfx_check_below(pfx_reader *r, const pfx_node *n, const char *what, double got, double bound,
+                     bool strict) {
+    if (strict ? got < bound : got <= bound)
+        return true;
+    pfx_read_error(r, n, "'%s' must be %s %g, got %g", what, strict ? "less than" : "at most",
+                   bound, got);
+    return false;
+}

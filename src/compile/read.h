@@ -1,0 +1,60 @@
+/* Typed readers over parsed nodes, each reporting a located error on a wrong
+ * type or malformed value: numbers, vectors, random values, colours and
+ * gradients, and the unknown-key check with its did-you-mean suggestion. */
+#ifndef PFX_READ_H
+#define PFX_READ_H
+
+#include "arena.h"
+#include "compile/effect.h"
+#include "diag.h"
+#include "parse/node.h"
+
+typedef struct pfx_reader {
+    pfx_diags *d;
+    pfx_arena *arena;
+} pfx_reader;
+
+/* Reports an error at node n (underlining it). */
+void pfx_read_error(pfx_reader *r, const pfx_node *n, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+void pfx_read_warning(pfx_reader *r, const pfx_node *n, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* Checks that every key of map is in the NULL-terminated list `allowed`;
+ * reports the others, suggesting the nearest allowed key. `where` names the
+ * mapping in messages ("emitter 'flame'"). Returns false if any was unknown. */
+bool pfx_read_check_keys(pfx_reader *r, const pfx_node *map, const char *const *allowed,
+                         const char *where);
+/* The allowed name nearest to `word` by edit distance, or NULL if none is
+ * close enough to be a likely misspelling. */
+const char *pfx_suggest(const char *word, const char *const *allowed);
+
+/* Requires n to be a mapping; reports and returns false otherwise. */
+bool pfx_read_map(pfx_reader *r, const pfx_node *n, const char *what);
+
+/* A finite number. `what` names the key in messages. */
+bool pfx_read_number(pfx_reader *r, const pfx_node *n, const char *what, double *out);
+/* A non-negative integer below 2^64. */
+bool pfx_read_uint(pfx_reader *r, const pfx_node *n, const char *what, uint64_t *out);
+/* A list of exactly `count` numbers. */
+bool pfx_read_numbers(pfx_reader *r, const pfx_node *n, const char *what, double *out, int count);
+/* A random value: number, [min, max], {mean, var} or {normal: [m, sd], clamp: [lo, hi]}. */
+bool pfx_read_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_value *out);
+/* A colour: "#rgb", "#rgba", "#rrggbb", "#rrggbbaa", [r, g, b] or [r, g, b, a]
+ * in 0..1. */
+bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, float out[4]);
+/* A colour or a gradient (a list of colours, evenly spaced, or of {at, color}
+ * stops), sampled into the lookup table. */
+bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, pfx_gradient *out);
+/* A plain string. */
+bool pfx_read_string(pfx_reader *r, const pfx_node *n, const char *what, const char **out);
+
+/* Range checks: `got` (a number, or a value's smallest or largest sample)
+ * must be above (below) `bound`, strictly when `strict`. Each reports at n:
+ * "'rate' must be at least 0, got -3". */
+bool pfx_check_above(pfx_reader *r, const pfx_node *n, const char *what, double got, double bound,
+                     bool strict);
+bool pfx_check_below(pfx_reader *r, const pfx_node *n, const char *what, double got, double bound,
+                     bool strict);
+
+#endif

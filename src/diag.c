@@ -1,0 +1,189 @@
+/* Collects and prints diagnostics. The text form follows gcc and clang: the
+ * position, the severity, the message, then the source line and a caret with
+ * tildes under the offending span. It does not decide what is an error. */
+#include "diag.h"
+
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+void pfx_diags_init(pfx_diags *d, const char *file, const char *source, size_t source_len) {
+    memset(d, 0, sizeof *d);
+    d->file = file;
+    d->source = source;
+    d->source_len = source_len;
+}
+
+void pfx_diags_free(pfx_diags *d) {
+    for (size_t i = 0; i < d->count; i++)
+        free(d->items[i].message);
+    free(d->items);
+    d->items = NULL;
+    d->count = d->cap = 0;
+}
+
+void pfx_diag_vadd(pfx_diags *d, pfx_severity sev, int line, int col, int span, const char *fmt,
+                   va_list ap) {
+    if (sev == PFX_SEV_ERROR)
+        d->errors++;
+    else if (sev == PFX_SEV_WARNING)
+        d->warnings++;
+    if (d->count >= PFX_DIAG_MAX) {
+        d->dropped++;
+        return;
+    }
+    if (d->count == d->cap) {
+        size_t cap = d->cap ? d->cap * 2 : 16;
+        pfx_diag *items = realloc(d->items, cap * sizeof *items);
+        if (!items) {
+            d->dropped++;
+            return;
+        }
+        d->items = items;
+        d->cap = cap;
+    }
+    char buf[1024];
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    pfx_diag *g = &d->items[d->count];
+    g->severity = sev;
+    g->line = line;
+    g->col = col;
+    g->span = span > 0 ? span : 1;
+    g->seq = (int)d->count;
+    g->message = strdup(buf);
+    if (g->message)
+        d->count++;
+}
+
+void pfx_diag_add(pfx_diags *d, pfx_severity sev, int line, int col, int span, const char *fmt,
+                  ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    pfx_diag_vadd(d, sev, line, col, span, fmt, ap);
+    va_end(ap);
+}
+
+static const char *severity_name(pfx_severity s) {
+    return s == PFX_SEV_ERROR ? "error" : s == PFX_SEV_WARNING ? "warning" : "note";
+}
+
+/* Notes belong to the diagnostic before them, so a group (one error or
+ * warning and its notes) sorts by the position of its head. */
+typedef struct {
+    int line, col, seq;
+    size_t first, count;
+} diag_group;
+
+static int group_cmp(const void *pa, const void *pb) {
+    const diag_group *a = pa, *b = pb;
+    if (a->line != b->line)
+        return a->line < b->line ? -1 : 1;
+    if (a->col != b->col)
+        return a->col < b->col ? -1 : 1;
+    return a->seq < b->seq ? -1 : a->seq > b->seq;
+}
+
+/* Finds line `line` (1-based) of the source; returns its start and length. */
+static const char *source_line(const pfx_diags *d, int line, size_t *len) {
+    if (!d->source || line < 1)
+        return NULL;
+    const char *p = d->source, *end = d->source + d->source_len;
+    for (int l = 1; l < line; l++) {
+        const char *nl = memchr(p, '\n', (size_t)(end - p));
+        if (!nl)
+            return NULL;
+        p = nl + 1;
+    }
+    const char *nl = memchr(p, '\n', (size_t)(end - p));
+    size_t n = nl ? (size_t)(nl - p) : (size_t)(end - p);
+    if (n && p[n - 1] == '\r')
+        n--;
+    *len = n;
+    return p;
+}
+
+static void print_json_string(FILE *out, const char *s) {
+    fputc('"', out);
+    for (; *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\')
+            fprintf(out, "\\%c", c);
+        else if (c == '\n')
+            fputs("\\n", out);
+        else if (c == '\t')
+            fputs("\\t", out);
+        else if (c < 0x20)
+            fprintf(out, "\\u%04x", c);
+        else
+            fputc(c, out);
+    }
+    fputc('"', out);
+}
+
+static void print_text(const pfx_diags *d, const pfx_diag *g, FILE *out) {
+    if (g->line > 0)
+        fprintf(out, "%s:%d:%d: %s: %s\n", d->file, g->line, g->col, severity_name(g->severity),
+                g->message);
+    else
+        fprintf(out, "%s: %s: %s\n", d->file, severity_name(g->severity), g->message);
+    size_t len = 0;
+    const char *text = source_line(d, g->line, &len);
+    if (!text)
+        return;
+    /* Long lines are cut so a minified file cannot flood the terminal; bytes
+     * that are not printable ASCII are shown as '?' so the caret lines up. */
+    const size_t max_shown = 200;
+    size_t shown = len < max_shown ? len : max_shown;
+    fprintf(out, "%5d | ", g->line);
+    for (size_t i = 0; i < shown; i++) {
+        unsigned char c = (unsigned char)text[i];
+        fputc(c == '\t' ? ' ' : (c >= 0x20 && c < 0x7f) ? c : '?', out);
+    }
+    fputs(shown < len ? " ...\n" : "\n", out);
+    fputs("      | ", out);
+    int col = g->col > 0 ? g->col : 1;
+    if ((size_t)col > shown + 1)
+        col = (int)shown + 1;
+    for (int i = 1; i < col; i++)
+        fputc(' ', out);
+    fputc('^', out);
+    int span = g->span;
+    if ((size_t)(col - 1 + span) > shown)
+        span = (int)shown - (col - 1);
+    for (int i = 1; i < span; i++)
+        fputc('~', out);
+    fputc('\n', out);
+}
+
+void pfx_diags_print(const pfx_diags *d, FILE *out, bool json) {
+    diag_group *groups = malloc((d->count + 1) * sizeof *groups);
+    size_t n = 0;
+    for (size_t i = 0; i < d->count && groups; i++) {
+        const pfx_diag *g = &d->items[i];
+        if (g->severity == PFX_SEV_NOTE && n > 0) {
+            groups[n - 1].count++;
+            continue;
+        }
+        groups[n++] = (diag_group){g->line, g->col, g->seq, i, 1};
+    }
+    if (groups)
+        qsort(groups, n, sizeof *groups, group_cmp);
+    for (size_t k = 0; k < n; k++) {
+        for (size_t i = groups[k].first; i < groups[k].first + groups[k].count; i++) {
+            const pfx_diag *g = &d->items[i];
+            if (json) {
+                fputs("{\"file\":", out);
+                print_json_string(out, d->file);
+                fprintf(out, ",\"line\":%d,\"column\":%d,\"severity\":\"%s\",\"message\":", g->line,
+                        g->col, severity_name(g->severity));
+                print_json_string(out, g->message);
+                fputs("}\n", out);
+            } else {
+                print_text(d, g, out);
+            }
+        }
+    }
+    free(groups);
+    if (d->dropped && !json)
+        fprintf(out, "%s: note: %d more diagnostics not shown\n", d->file, d->dropped);
+}

@@ -1,0 +1,49 @@
+/* Diagnostics: collected per file, sorted by position, printed gcc-style
+ * (file:line:col: severity: message, the source line, a caret) or as JSON
+ * lines. No global state: every stage that can report takes a pfx_diags. */
+#ifndef PFX_DIAG_H
+#define PFX_DIAG_H
+
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdio.h>
+
+typedef enum { PFX_SEV_ERROR, PFX_SEV_WARNING, PFX_SEV_NOTE } pfx_severity;
+
+typedef struct pfx_diag {
+    pfx_severity severity;
+    int line, col; /* 1-based; 0 when the problem has no position */
+    int span;      /* characters to underline, at least 1 */
+    int seq;       /* insertion order, for a stable sort */
+    char *message;
+} pfx_diag;
+
+typedef struct pfx_diags {
+    const char *file;   /* the name printed before each diagnostic */
+    const char *source; /* the file's text, for the quoted line; may be NULL */
+    size_t source_len;
+    pfx_diag *items;
+    size_t count, cap;
+    int errors, warnings;
+    int dropped; /* diagnostics past the cap, counted not stored */
+} pfx_diags;
+
+/* At most this many diagnostics are kept per file: a hostile file cannot
+ * make the report unbounded. */
+#define PFX_DIAG_MAX 200
+
+void pfx_diags_init(pfx_diags *d, const char *file, const char *source, size_t source_len);
+void pfx_diags_free(pfx_diags *d);
+
+void pfx_diag_add(pfx_diags *d, pfx_severity sev, int line, int col, int span, const char *fmt, ...)
+    __attribute__((format(printf, 6, 7)));
+void pfx_diag_vadd(pfx_diags *d, pfx_severity sev, int line, int col, int span, const char *fmt,
+                   va_list ap);
+
+/* Prints every diagnostic sorted by position (notes stay after the error they
+ * follow). json: one object per line with file, line, column, severity and
+ * message. */
+void pfx_diags_print(const pfx_diags *d, FILE *out, bool json);
+
+#endif

@@ -1,0 +1,485 @@
+/* The pfx command: argv -> options, then the stages in order (load, compile,
+ * simulate, render or bake, write), and every failure mapped to an exit
+ * status: 0 success, 1 invalid input or I/O failure, 2 usage error. It is the
+ * only file that knows every stage, and the only one that exits. */
+#include <errno.h>
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#if __has_include("bench/accuracy.h") /* TEMP until the accuracy bench lands */
+#include "bench/accuracy.h"
+#else
+static int pfx_bench_accuracy(const char *d, FILE *f) {
+    (void)d;
+    (void)f;
+    return 1;
+}
+#endif
+#include "bench/speed.h"
+#include "compile/compile.h"
+#include "output/bake_csv.h"
+#include "output/png_write.h"
+#include "render/render.h"
+#include "render/sprites.h"
+#include "sim/sim.h"
+
+#define EXIT_INVALID 1
+#define EXIT_USAGE 2
+
+static const char usage_text[] =
+    "usage: pfx validate [--format text|json] [--max-particles N] FILE...\n"
+    "       pfx render FILE -o DIR [--frames A:B] [--size WxH] [--fps N] [--seed N]\n"
+    "                  [--max-particles N] [-q]\n"
+    "       pfx bake FILE -o OUT.csv [--every N] [--frames A:B] [--fps N] [--seed N]\n"
+    "                  [--max-particles N]\n"
+    "       pfx info FILE [--seed N] [--max-particles N]\n"
+    "       pfx bench\n"
+    "       pfx bench accuracy -o DIR\n"
+    "\n"
+    "commands:\n"
+    "  validate   check effect files like a compiler; exit 1 if any has an error\n"
+    "  render     render the effect to DIR/<name>_0000.png, _0001.png, ...\n"
+    "  bake       write the particle state of every output frame as CSV\n"
+    "  info       show what the compiled effect holds\n"
+    "  bench      measure simulation and rendering speed (or integrator accuracy)\n"
+    "\n"
+    "options:\n"
+    "  -o, --output PATH       output directory (render, bench accuracy) or file (bake)\n"
+    "      --frames A:B        only frames A to B inclusive, numbered as in a full render\n"
+    "      --size WxH          image size in pixels, overriding image.size\n"
+    "      --fps N             output frames per second, overriding fps\n"
+    "      --seed N            random seed, overriding seed\n"
+    "      --max-particles N   particle budget over all emitters (default 1000000)\n"
+    "      --every N           bake every Nth frame (default 1)\n"
+    "      --format FMT        diagnostics as 'text' (default) or 'json' lines\n"
+    "  -q, --quiet             no progress line and no notes\n"
+    "  -h, --help              show this help\n"
+    "      --version           show the version\n";
+
+typedef struct options {
+    const char *output;
+    long first, last; /* --frames; last < 0: to the end */
+    bool has_frames;
+    bool json;
+    bool quiet;
+    long every;
+    pfx_compile_options compile;
+} options;
+
+static int usage_error(const char *fmt, const char *arg) {
+    fputs("pfx: ", stderr);
+    fprintf(stderr, fmt, arg);
+    fputs("\nTry 'pfx --help' for more information.\n", stderr);
+    return EXIT_USAGE;
+}
+
+static bool parse_ulong(const char *s, unsigned long long *out) {
+    if (!s || !*s || *s == '-')
+        return false;
+    char *end;
+    errno = 0;
+    *out = strtoull(s, &end, 10);
+    return errno == 0 && *end == 0;
+}
+
+/* Parses the options after the command; returns -1 on success or the exit
+ * status to stop with. Positional arguments are left in argv[optind..]. */
+static int parse_options(int argc, char **argv, options *o) {
+    enum { OPT_FRAMES = 256, OPT_SIZE, OPT_FPS, OPT_SEED, OPT_MAX, OPT_EVERY, OPT_FORMAT };
+    static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
+                                             {"frames", required_argument, 0, OPT_FRAMES},
+                                             {"size", required_argument, 0, OPT_SIZE},
+                                             {"fps", required_argument, 0, OPT_FPS},
+                                             {"seed", required_argument, 0, OPT_SEED},
+                                             {"max-particles", required_argument, 0, OPT_MAX},
+                                             {"every", required_argument, 0, OPT_EVERY},
+                                             {"format", required_argument, 0, OPT_FORMAT},
+                                             {"quiet", no_argument, 0, 'q'},
+                                             {"help", no_argument, 0, 'h'},
+                                             {0, 0, 0, 0}};
+    memset(o, 0, sizeof *o);
+    o->last = -1;
+    o->every = 1;
+    opterr = 0;
+    optind = 2; /* argv[1] is the command */
+    int c;
+    unsigned long long v;
+    while ((c = getopt_long(argc, argv, ":o:qh", longopts, NULL)) != -1) {
+        switch (c) {
+        case 'o':
+            o->output = optarg;
+            break;
+        case 'q':
+            o->quiet = true;
+            break;
+        case 'h':
+            fputs(usage_text, stdout);
+            return 0;
+        case OPT_FRAMES: {
+            char *colon = strchr(optarg, ':');
+            unsigned long long a, b;
+            if (!colon)
+                return usage_error("--frames takes A:B (first and last frame), got '%s'", optarg);
+            *colon = 0;
+            bool ok = parse_ulong(optarg, &a) && parse_ulong(colon + 1, &b) && a <= b;
+            *colon = ':';
+            if (!ok)
+                return usage_error("--frames takes A:B with 0 <= A <= B, got '%s'", optarg);
+            o->first = (long)a;
+            o->last = (long)b;
+            o->has_frames = true;
+            break;
+        }
+        case OPT_SIZE: {
+            unsigned w, h;
+            char extra;
+            if (sscanf(optarg, "%ux%u%c", &w, &h, &extra) != 2 || w < 1 || h < 1 || w > 16384 ||
+                h > 16384)
+                return usage_error("--size takes WxH with each side from 1 to 16384, got '%s'",
+                                   optarg);
+            o->compile.width = (int)w;
+            o->compile.height = (int)h;
+            break;
+        }
+        case OPT_FPS: {
+            char *end;
+            double fps = strtod(optarg, &end);
+            if (*end || !(fps > 0 && fps <= 1000))
+                return usage_error("--fps takes a number in (0, 1000], got '%s'", optarg);
+            o->compile.fps = fps;
+            break;
+        }
+        case OPT_SEED:
+            if (!parse_ulong(optarg, &v))
+                return usage_error("--seed takes a whole number, got '%s'", optarg);
+            o->compile.seed = v;
+            o->compile.has_seed = true;
+            break;
+        case OPT_MAX:
+            if (!parse_ulong(optarg, &v) || v < 1 || v > 100000000)
+                return usage_error("--max-particles takes a number from 1 to 100000000, got '%s'",
+                                   optarg);
+            o->compile.max_particles = v;
+            break;
+        case OPT_EVERY:
+            if (!parse_ulong(optarg, &v) || v < 1 || v > 1000000)
+                return usage_error("--every takes a whole number from 1, got '%s'", optarg);
+            o->every = (long)v;
+            break;
+        case OPT_FORMAT:
+            if (strcmp(optarg, "text") && strcmp(optarg, "json"))
+                return usage_error("--format takes 'text' or 'json', got '%s'", optarg);
+            o->json = !strcmp(optarg, "json");
+            break;
+        case ':':
+            return usage_error("option '%s' needs a value", argv[optind - 1]);
+        default:
+            return usage_error("unknown option '%s'", argv[optind - 1]);
+        }
+    }
+    return -1;
+}
+
+/* Loads and compiles one file, printing its diagnostics. */
+static pfx_effect *load(pfx_loaded *l, const char *path, const options *o) {
+    pfx_effect *e = pfx_load(l, path, &o->compile);
+    pfx_diags_print(&l->diags, stderr, o->json);
+    return e;
+}
+
+static int cmd_validate(int argc, char **argv, const options *o) {
+    if (optind >= argc)
+        return usage_error("%s", "validate needs at least one FILE");
+    int status = 0;
+    for (int i = optind; i < argc; i++) {
+        pfx_loaded l;
+        if (!load(&l, argv[i], o))
+            status = EXIT_INVALID;
+        pfx_loaded_free(&l);
+    }
+    return status;
+}
+
+/* mkdir -p */
+static bool make_dirs(const char *path, char *err, size_t err_size) {
+    char buf[4096];
+    if (strlen(path) >= sizeof buf) {
+        snprintf(err, err_size, "output path is too long");
+        return false;
+    }
+    strcpy(buf, path);
+    for (char *p = buf + 1;; p++) {
+        if (*p == '/' || *p == 0) {
+            char saved = *p;
+            *p = 0;
+            struct stat st;
+            if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
+                snprintf(err, err_size, "cannot create '%s': %s", buf, strerror(errno));
+                return false;
+            }
+            if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode)) {
+                snprintf(err, err_size, "cannot create '%s': Not a directory", buf);
+                return false;
+            }
+            *p = saved;
+            if (!saved)
+                return true;
+        }
+    }
+}
+
+/* The file's name without directory and extension: out/fire_0000.png. */
+static void file_stem(const char *path, char *out, size_t size) {
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    snprintf(out, size, "%s", base);
+    char *dot = strrchr(out, '.');
+    if (dot && dot != out)
+        *dot = 0;
+}
+
+/* Resolves --frames against the effect's frame count; false if outside. */
+static bool frame_range(const pfx_effect *e, const options *o, long *first, long *last) {
+    long n = pfx_effect_frame_count(e);
+    *first = o->has_frames ? o->first : 0;
+    *last = o->has_frames ? o->last : n - 1;
+    if (*last >= n) {
+        fprintf(stderr, "pfx: --frames %ld:%ld is outside the effect's frames 0:%ld\n", o->first,
+                o->last, n - 1);
+        return false;
+    }
+    return true;
+}
+
+static void report_dropped(const pfx_sim *s, const options *o) {
+    if (o->quiet)
+        return;
+    for (size_t i = 0; i < s->effect->emitter_count; i++)
+        if (s->emitters[i].dropped)
+            fprintf(stderr,
+                    "pfx: note: emitter '%s' dropped %llu births: its pool of %u particles was "
+                    "full\n",
+                    s->effect->emitters[i].name, (unsigned long long)s->emitters[i].dropped,
+                    s->effect->emitters[i].capacity);
+}
+
+static int cmd_render(int argc, char **argv, const options *o) {
+    if (optind != argc - 1)
+        return usage_error("%s", "render takes one FILE and -o DIR");
+    if (!o->output)
+        return usage_error("%s", "render needs -o DIR");
+    const char *path = argv[optind];
+    pfx_loaded l;
+    pfx_effect *e = load(&l, path, o);
+    int status = EXIT_INVALID;
+    pfx_sim *sim = NULL, *view = NULL;
+    pfx_renderer *r = NULL;
+    pfx_png_queue *q = NULL;
+    pfx_sprite *sprites = NULL;
+    char err[512] = "", stem[256], name[4600];
+    long first, last;
+    if (!e)
+        goto done;
+    if (!frame_range(e, o, &first, &last)) {
+        status = EXIT_USAGE;
+        goto done;
+    }
+    if (!make_dirs(o->output, err, sizeof err))
+        goto fail;
+    sim = pfx_sim_create(e);
+    view = pfx_sim_create(e);
+    sprites = malloc((pfx_sprites_capacity(e) + 1) * sizeof *sprites);
+    if (!sim || !view || !sprites) {
+        snprintf(err, sizeof err, "out of memory for %zu particles", pfx_sprites_capacity(e));
+        goto fail;
+    }
+    r = pfx_renderer_create(e->width, e->height, err, sizeof err);
+    if (!r)
+        goto fail;
+    q = pfx_png_queue_create(e->width, e->height);
+    if (!q) {
+        snprintf(err, sizeof err, "cannot start the PNG writer");
+        goto fail;
+    }
+    file_stem(path, stem, sizeof stem);
+    const bool sort = pfx_sprites_need_sort(e);
+    const bool progress = !o->quiet && isatty(2);
+    for (long f = first; f <= last; f++) {
+        const pfx_sim *state = pfx_sim_frame(sim, view, f);
+        size_t n = pfx_sprites_build(state, sprites);
+        uint8_t *pixels = pfx_png_queue_buffer(q);
+        if (!pfx_renderer_draw(r, &e->camera, e->background, sprites, n, sort, pixels, err,
+                               sizeof err))
+            goto fail;
+        snprintf(name, sizeof name, "%s/%s_%04ld.png", o->output, stem, f);
+        pfx_png_queue_submit(q, name);
+        if (pfx_png_queue_failed(q))
+            break;
+        if (progress)
+            fprintf(stderr, "\rpfx: frame %ld of %ld-%ld (%zu particles)   ", f, first, last, n);
+    }
+    if (progress)
+        fputc('\n', stderr);
+    bool ok = pfx_png_queue_finish(q, err, sizeof err);
+    q = NULL;
+    if (!ok)
+        goto fail;
+    report_dropped(sim, o);
+    status = 0;
+    goto done;
+fail:
+    fprintf(stderr, "pfx: %s\n", err);
+done:
+    if (q)
+        pfx_png_queue_finish(q, err, sizeof err);
+    pfx_renderer_destroy(r);
+    free(sprites);
+    pfx_sim_destroy(view);
+    pfx_sim_destroy(sim);
+    pfx_loaded_free(&l);
+    return status;
+}
+
+static int cmd_bake(int argc, char **argv, const options *o) {
+    if (optind != argc - 1)
+        return usage_error("%s", "bake takes one FILE and -o OUT.csv");
+    if (!o->output)
+        return usage_error("%s", "bake needs -o OUT.csv");
+    pfx_loaded l;
+    pfx_effect *e = load(&l, argv[optind], o);
+    int status = EXIT_INVALID;
+    char err[512] = "";
+    long first, last;
+    pfx_sim *sim = NULL, *view = NULL;
+    pfx_bake *b = NULL;
+    if (!e)
+        goto done;
+    if (!frame_range(e, o, &first, &last)) {
+        status = EXIT_USAGE;
+        goto done;
+    }
+    sim = pfx_sim_create(e);
+    view = pfx_sim_create(e);
+    if (!sim || !view) {
+        fprintf(stderr, "pfx: out of memory\n");
+        goto done;
+    }
+    b = pfx_bake_open(o->output, err, sizeof err);
+    if (!b) {
+        fprintf(stderr, "pfx: %s\n", err);
+        goto done;
+    }
+    bool ok = true;
+    for (long f = first; f <= last && ok; f++) {
+        const pfx_sim *state = pfx_sim_frame(sim, view, f);
+        if ((f - first) % o->every == 0)
+            ok = pfx_bake_frame(b, state, f, pfx_sim_frame_time(e, f));
+    }
+    if (!pfx_bake_close(b, ok, err, sizeof err) || !ok) {
+        fprintf(stderr, "pfx: %s\n", err[0] ? err : "cannot write the bake");
+        goto done;
+    }
+    report_dropped(sim, o);
+    status = 0;
+done:
+    pfx_sim_destroy(view);
+    pfx_sim_destroy(sim);
+    pfx_loaded_free(&l);
+    return status;
+}
+
+static const char *shape_name(pfx_shape_type t) {
+    static const char *const names[] = {"point", "sphere", "box", "disc"};
+    return names[t];
+}
+
+static int cmd_info(int argc, char **argv, const options *o) {
+    if (optind != argc - 1)
+        return usage_error("%s", "info takes one FILE");
+    pfx_loaded l;
+    pfx_effect *e = load(&l, argv[optind], o);
+    if (!e) {
+        pfx_loaded_free(&l);
+        return EXIT_INVALID;
+    }
+    double steps_per_frame = e->sim_rate / e->fps;
+    printf("effect %s\n", e->path);
+    printf("  frames %ld (%g s at %g fps), image %dx%d\n", pfx_effect_frame_count(e), e->duration,
+           e->fps, e->width, e->height);
+    printf("  simulation %g steps/s (dt %.6g s), %.4g steps per frame, prewarm %g s, seed %llu\n",
+           e->sim_rate, 1.0 / e->sim_rate, steps_per_frame, e->prewarm,
+           (unsigned long long)e->seed);
+    printf("  forces %zu\n", e->force_count);
+    for (size_t i = 0; i < e->force_count; i++)
+        printf("    %s: gravity [%g, %g, %g] m/s^2\n", e->forces[i].name, e->forces[i].accel[0],
+               e->forces[i].accel[1], e->forces[i].accel[2]);
+    size_t total = 0, bytes = 0;
+    printf("  emitters %zu\n", e->emitter_count);
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        const pfx_emitter *em = &e->emitters[i];
+        size_t bpp = pfx_sim_bytes_per_particle(e, i);
+        printf("    %s: %s shape, %g particles/s, lifetime up to %g s, %s blend\n", em->name,
+               shape_name(em->shape.type), em->rate, em->max_lifetime,
+               em->blend == PFX_BLEND_ADD ? "additive" : "alpha");
+        printf("      pool %u particles x %zu bytes = %zu bytes%s\n", em->capacity, bpp,
+               em->capacity * bpp, em->saturates ? " (saturates: cut by the budget)" : "");
+        printf("      integrator: exact constant acceleration [%g, %g, %g] m/s^2%s\n", em->accel[0],
+               em->accel[1], em->accel[2],
+               em->gravity_scale.dist == PFX_DIST_CONST ? "" : " x per-particle gravity_scale");
+        total += em->capacity;
+        bytes += em->capacity * bpp;
+    }
+    printf("  particles at most %zu of the %llu budget, %zu bytes\n", total,
+           (unsigned long long)e->max_particles, bytes);
+    printf("  depth sort: %s\n",
+           pfx_sprites_need_sort(e) ? "yes (an emitter blends by alpha)" : "no (additive only)");
+    pfx_loaded_free(&l);
+    return 0;
+}
+
+static int cmd_bench(int argc, char **argv, const options *o) {
+    if (optind < argc && !strcmp(argv[optind], "accuracy")) {
+        if (!o->output)
+            return usage_error("%s", "bench accuracy needs -o DIR");
+        return pfx_bench_accuracy(o->output, stdout) == 0 ? 0 : EXIT_INVALID;
+    }
+    if (optind < argc)
+        return usage_error("unknown benchmark '%s'; try 'accuracy'", argv[optind]);
+    /* The rendering half draws the fire example: from the source tree, or
+     * PFX_FIRE_EFFECT. */
+    const char *fire = getenv("PFX_FIRE_EFFECT");
+    return pfx_bench_speed(stdout, fire ? fire : "effects/fire.yaml") == 0 ? 0 : EXIT_INVALID;
+}
+
+int main(int argc, char **argv) {
+    if (argc < 2)
+        return usage_error("%s", "no command given");
+    const char *cmd = argv[1];
+    if (!strcmp(cmd, "-h") || !strcmp(cmd, "--help") || !strcmp(cmd, "help")) {
+        fputs(usage_text, stdout);
+        return 0;
+    }
+    if (!strcmp(cmd, "--version")) {
+        puts("pfx 0.1.0");
+        return 0;
+    }
+    options o;
+    int stop = parse_options(argc, argv, &o);
+    if (stop >= 0)
+        return stop;
+    if (!strcmp(cmd, "validate"))
+        return cmd_validate(argc, argv, &o);
+    if (!strcmp(cmd, "render"))
+        return cmd_render(argc, argv, &o);
+    if (!strcmp(cmd, "bake"))
+        return cmd_bake(argc, argv, &o);
+    if (!strcmp(cmd, "info"))
+        return cmd_info(argc, argv, &o);
+    if (!strcmp(cmd, "bench"))
+        return cmd_bench(argc, argv, &o);
+    return usage_error("unknown command '%s'", cmd);
+}

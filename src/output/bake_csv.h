@@ -1,0 +1,27 @@
+/* The particle cache as CSV: one row per live particle per baked frame, the
+ * ground truth users and tests check physics against. Written whole or not
+ * at all (a temporary file renamed into place). */
+#ifndef PFX_BAKE_CSV_H
+#define PFX_BAKE_CSV_H
+
+#include <stdbool.h>
+#include <stdio.h>
+
+#include "sim/sim.h"
+
+#define PFX_BAKE_HEADER "frame,time,emitter,id,x,y,z,vx,vy,vz,age,lifetime,size,r,g,b,a"
+
+typedef struct pfx_bake pfx_bake;
+
+/* Opens a temporary file beside `path` and writes the header. Returns NULL
+ * with a message in err. */
+pfx_bake *pfx_bake_open(const char *path, char *err, size_t err_size);
+/* Appends frame `frame` at time `time`: every live particle of `s`, by
+ * emitter in file order, then by id. Floats are printed with 9 significant
+ * digits, enough to round-trip. */
+bool pfx_bake_frame(pfx_bake *b, const pfx_sim *s, long frame, double time);
+/* commit: flush and rename into place; otherwise remove the temporary file.
+ * Returns false with err on failure (and nothing left at path). Frees b. */
+bool pfx_bake_close(pfx_bake *b, bool commit, char *err, size_t err_size);
+
+#endif

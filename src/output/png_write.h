@@ -1,0 +1,42 @@
+/* PNG output through libpng (the only part of pfx that includes <png.h>).
+ * Files appear whole or not at all: each is written to a temporary name in
+ * the same directory and renamed into place. */
+#ifndef PFX_PNG_WRITE_H
+#define PFX_PNG_WRITE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+/* Writes width*height 8-bit straight-alpha RGBA pixels (top row first) to
+ * `path` atomically. On failure returns false with a message in err and
+ * leaves no file at `path` or at the temporary name. */
+bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height, char *err,
+                   size_t err_size);
+
+/* Reads an 8-bit RGBA PNG (for tests). Returns a malloc'd buffer the caller
+ * frees, or NULL. */
+uint8_t *pfx_png_read(const char *path, int *width, int *height);
+
+/* A background writer so PNG encoding overlaps rendering: the renderer fills
+ * one buffer while the writer thread encodes the previous one. */
+typedef struct pfx_png_queue pfx_png_queue;
+
+/* Creates a queue for frames of width x height and starts its thread; the
+ * caller owns it and ends it with pfx_png_queue_finish. NULL if the size is
+ * invalid or memory or a thread is unavailable. */
+pfx_png_queue *pfx_png_queue_create(int width, int height);
+/* A buffer to render the next frame into; blocks while both are in use. */
+uint8_t *pfx_png_queue_buffer(pfx_png_queue *q);
+/* Hands the buffer last returned by pfx_png_queue_buffer to the writer thread
+ * to be written to `path` (copied). Frames are written in submission order;
+ * after the first failure later frames are not written. */
+void pfx_png_queue_submit(pfx_png_queue *q, const char *path);
+/* True once a frame has failed; later frames are dropped, so the caller
+ * may stop rendering early. The error itself comes from finish. */
+bool pfx_png_queue_failed(pfx_png_queue *q);
+/* Waits for every submitted frame, stops the thread and frees the queue.
+ * Returns false with the first write error in err. */
+bool pfx_png_queue_finish(pfx_png_queue *q, char *err, size_t err_size);
+
+#endif

@@ -1,0 +1,632 @@
+/* Draws sprites with OSMesa (llvmpipe) into an offscreen float framebuffer and
+ * reads the result back as 8-bit straight-alpha RGBA. One core-profile 3.3
+ * context per renderer, one instanced draw per frame. It does not simulate,
+ * choose colours or write files; it only turns sprites and a camera into
+ * pixels. */
+#include "render/render.h"
+
+#include <GL/osmesa.h> /* includes GL/gl.h, which includes GL/glext.h */
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+/* Clip planes. The depth test is off, so these only decide what is cut away:
+ * nothing nearer than 1 cm or farther than 1 km is drawn, in either
+ * projection. */
+#define PFX_NEAR 0.01
+#define PFX_FAR 1000.0
+#define PFX_PI 3.14159265358979323846 /* M_PI is not in strict C11 + POSIX */
+
+/* GL entry points above 1.1. The Linux ABI only promises the 1.x functions as
+ * exported symbols (those we call directly); everything newer is fetched
+ * through OSMesaGetProcAddress, which works whether or not this libOSMesa
+ * also happens to export it. */
+#define PFX_GL_FUNCS(X)                                                                            \
+    X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                                                   \
+    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                                             \
+    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                                                   \
+    X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)                                   \
+    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)                                     \
+    X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)                                                 \
+    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                                           \
+    X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                                                 \
+    X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)                                           \
+    X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                                                   \
+    X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                                             \
+    X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                                                   \
+    X(PFNGLGENBUFFERSPROC, GenBuffers)                                                             \
+    X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                                                       \
+    X(PFNGLBINDBUFFERPROC, BindBuffer)                                                             \
+    X(PFNGLBUFFERDATAPROC, BufferData)                                                             \
+    X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)                                           \
+    X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)                                   \
+    X(PFNGLVERTEXATTRIBDIVISORPROC, VertexAttribDivisor)                                           \
+    X(PFNGLDRAWARRAYSINSTANCEDPROC, DrawArraysInstanced)                                           \
+    X(PFNGLCREATESHADERPROC, CreateShader)                                                         \
+    X(PFNGLDELETESHADERPROC, DeleteShader)                                                         \
+    X(PFNGLSHADERSOURCEPROC, ShaderSource)                                                         \
+    X(PFNGLCOMPILESHADERPROC, CompileShader)                                                       \
+    X(PFNGLGETSHADERIVPROC, GetShaderiv)                                                           \
+    X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)                                                 \
+    X(PFNGLCREATEPROGRAMPROC, CreateProgram)                                                       \
+    X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                                                       \
+    X(PFNGLATTACHSHADERPROC, AttachShader)                                                         \
+    X(PFNGLLINKPROGRAMPROC, LinkProgram)                                                           \
+    X(PFNGLGETPROGRAMIVPROC, GetProgramiv)                                                         \
+    X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)                                               \
+    X(PFNGLUSEPROGRAMPROC, UseProgram)                                                             \
+    X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                                             \
+    X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)
+
+typedef struct pfx_gl {
+#define PFX_GL_FIELD(type, name) type name;
+    PFX_GL_FUNCS(PFX_GL_FIELD)
+#undef PFX_GL_FIELD
+} pfx_gl;
+
+struct pfx_renderer {
+    int width, height;
+    OSMesaContext ctx;
+    unsigned char os_buffer[4]; /* OSMesa insists on a colour buffer; we draw to the FBO */
+    pfx_gl gl;
+    GLuint fbo, colour_rb, vao, quad_vbo, instance_vbo, program;
+    GLint view_loc, proj_loc;
+    float *pixels; /* width * height * 4 floats read back from the FBO */
+    /* Sort scratch, grown to the largest count seen: two key and two index
+     * arrays for the radix ping-pong, and a sprite copy for the permutation. */
+    size_t scratch_cap;
+    uint32_t *keys;
+    uint32_t *index;
+    pfx_sprite *sorted;
+};
+
+static void set_err(char *err, size_t err_size, const char *fmt, ...) {
+    if (!err || err_size == 0)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, err_size, fmt, ap);
+    va_end(ap);
+}
+
+/* The sprite shader. Each instance is a unit quad with corners (+-1, +-1),
+ * placed in view space at the sprite's centre and scaled by its radius
+ * size/2, so it always faces the camera and shrinks with distance under
+ * perspective. The quad lies in a plane of constant view depth, so the
+ * interpolated corner coordinate is exact (no perspective distortion).
+ *
+ * Soft round falloff (documented in the man page): with d = distance from the
+ * sprite centre divided by its radius, all four premultiplied components
+ * (r, g, b, a) are multiplied by
+ *     f(d) = (1 - d^2)^2   for d < 1,
+ *     f(d) = 0             for d >= 1 (the fragment is discarded).
+ * f is 1 at the centre, 0.5625 at half the radius, and reaches 0 with zero
+ * slope at the rim, so sprites have no hard edge. It is a polynomial in d^2,
+ * so no square root is needed. */
+static const char *vertex_src = "#version 330 core\n"
+                                "layout(location = 0) in vec2 corner;\n"
+                                "layout(location = 1) in vec4 centre_size;\n"
+                                "layout(location = 2) in vec4 colour;\n"
+                                "uniform mat4 view;\n"
+                                "uniform mat4 proj;\n"
+                                "out vec2 v_corner;\n"
+                                "out vec4 v_colour;\n"
+                                "void main() {\n"
+                                "    vec4 c = view * vec4(centre_size.xyz, 1.0);\n"
+                                "    c.xy += corner * (0.5 * centre_size.w);\n"
+                                "    gl_Position = proj * c;\n"
+                                "    v_corner = corner;\n"
+                                "    v_colour = colour;\n"
+                                "}\n";
+
+static const char *fragment_src = "#version 330 core\n"
+                                  "in vec2 v_corner;\n"
+                                  "in vec4 v_colour;\n"
+                                  "layout(location = 0) out vec4 frag;\n"
+                                  "void main() {\n"
+                                  "    float d2 = dot(v_corner, v_corner);\n"
+                                  "    if (d2 >= 1.0) discard;\n"
+                                  "    float k = 1.0 - d2;\n"
+                                  "    frag = v_colour * (k * k);\n"
+                                  "}\n";
+
+/* The cast goes through void (*)(void), the generic function pointer type
+ * GCC accepts without -Wcast-function-type complaints. */
+static bool load_gl(pfx_gl *gl, char *err, size_t err_size) {
+#define PFX_GL_LOAD(type, name)                                                                    \
+    gl->name = (type)(void (*)(void))OSMesaGetProcAddress("gl" #name);                             \
+    if (!gl->name) {                                                                               \
+        set_err(err, err_size, "OSMesa does not provide 'gl%s'", #name);                           \
+        return false;                                                                              \
+    }
+    PFX_GL_FUNCS(PFX_GL_LOAD)
+#undef PFX_GL_LOAD
+    return true;
+}
+
+static GLuint compile_shader(pfx_renderer *r, GLenum type, const char *src, char *err,
+                             size_t err_size) {
+    GLuint s = r->gl.CreateShader(type);
+    r->gl.ShaderSource(s, 1, &src, NULL);
+    r->gl.CompileShader(s);
+    GLint ok = GL_FALSE;
+    r->gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[512] = "";
+        r->gl.GetShaderInfoLog(s, sizeof log, NULL, log);
+        set_err(err, err_size, "cannot compile %s shader: %s",
+                type == GL_VERTEX_SHADER ? "vertex" : "fragment", log);
+        r->gl.DeleteShader(s);
+        return 0;
+    }
+    return s;
+}
+
+static bool build_program(pfx_renderer *r, char *err, size_t err_size) {
+    GLuint vs = compile_shader(r, GL_VERTEX_SHADER, vertex_src, err, err_size);
+    if (!vs)
+        return false;
+    GLuint fs = compile_shader(r, GL_FRAGMENT_SHADER, fragment_src, err, err_size);
+    if (!fs) {
+        r->gl.DeleteShader(vs);
+        return false;
+    }
+    r->program = r->gl.CreateProgram();
+    r->gl.AttachShader(r->program, vs);
+    r->gl.AttachShader(r->program, fs);
+    r->gl.LinkProgram(r->program);
+    r->gl.DeleteShader(vs); /* flagged; freed with the program */
+    r->gl.DeleteShader(fs);
+    GLint ok = GL_FALSE;
+    r->gl.GetProgramiv(r->program, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[512] = "";
+        r->gl.GetProgramInfoLog(r->program, sizeof log, NULL, log);
+        set_err(err, err_size, "cannot link sprite shader: %s", log);
+        return false;
+    }
+    r->view_loc = r->gl.GetUniformLocation(r->program, "view");
+    r->proj_loc = r->gl.GetUniformLocation(r->program, "proj");
+    return true;
+}
+
+/* The float framebuffer: RGBA32F, so additive sums and many faint alpha
+ * layers are not quantised to 8 bits between draws. No depth buffer: sprites
+ * never occlude by depth, only by the order they are blended in. */
+static bool build_framebuffer(pfx_renderer *r, char *err, size_t err_size) {
+    r->gl.GenRenderbuffers(1, &r->colour_rb);
+    r->gl.BindRenderbuffer(GL_RENDERBUFFER, r->colour_rb);
+    r->gl.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA32F, r->width, r->height);
+    r->gl.GenFramebuffers(1, &r->fbo);
+    r->gl.BindFramebuffer(GL_FRAMEBUFFER, r->fbo);
+    r->gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                                  r->colour_rb);
+    GLenum status = r->gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+        set_err(err, err_size, "float framebuffer %dx%d is incomplete (status 0x%04x)", r->width,
+                r->height, (unsigned)status);
+        return false;
+    }
+    return true;
+}
+
+/* Vertex layout: attribute 0 is the quad corner (per vertex); attributes 1
+ * and 2 read a pfx_sprite as two vec4s, (x, y, z, size) and (r, g, b, a),
+ * advancing once per instance. The sprite array is uploaded as it is. */
+static void build_vertex_arrays(pfx_renderer *r) {
+    static const float corners[8] = {-1, -1, 1, -1, -1, 1, 1, 1}; /* triangle strip */
+    r->gl.GenVertexArrays(1, &r->vao);
+    r->gl.BindVertexArray(r->vao);
+    r->gl.GenBuffers(1, &r->quad_vbo);
+    r->gl.BindBuffer(GL_ARRAY_BUFFER, r->quad_vbo);
+    r->gl.BufferData(GL_ARRAY_BUFFER, sizeof corners, corners, GL_STATIC_DRAW);
+    r->gl.VertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), (const void *)0);
+    r->gl.EnableVertexAttribArray(0);
+    r->gl.GenBuffers(1, &r->instance_vbo);
+    r->gl.BindBuffer(GL_ARRAY_BUFFER, r->instance_vbo);
+    r->gl.VertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, sizeof(pfx_sprite),
+                              (const void *)offsetof(pfx_sprite, x));
+    r->gl.VertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(pfx_sprite),
+                              (const void *)offsetof(pfx_sprite, r));
+    r->gl.EnableVertexAttribArray(1);
+    r->gl.EnableVertexAttribArray(2);
+    r->gl.VertexAttribDivisor(1, 1);
+    r->gl.VertexAttribDivisor(2, 1);
+}
+
+pfx_renderer *pfx_renderer_create(int width, int height, char *err, size_t err_size) {
+    if (width <= 0 || height <= 0) {
+        set_err(err, err_size, "invalid image size %dx%d", width, height);
+        return NULL;
+    }
+    pfx_renderer *r = calloc(1, sizeof *r);
+    float *pixels = malloc((size_t)width * (size_t)height * 4 * sizeof(float));
+    if (!r || !pixels) {
+        free(r);
+        free(pixels);
+        set_err(err, err_size, "out of memory for a %dx%d renderer", width, height);
+        return NULL;
+    }
+    r->width = width;
+    r->height = height;
+    r->pixels = pixels;
+
+    const int attribs[] = {OSMESA_FORMAT,
+                           OSMESA_RGBA,
+                           OSMESA_DEPTH_BITS,
+                           0,
+                           OSMESA_STENCIL_BITS,
+                           0,
+                           OSMESA_ACCUM_BITS,
+                           0,
+                           OSMESA_PROFILE,
+                           OSMESA_CORE_PROFILE,
+                           OSMESA_CONTEXT_MAJOR_VERSION,
+                           3,
+                           OSMESA_CONTEXT_MINOR_VERSION,
+                           3,
+                           0};
+    r->ctx = OSMesaCreateContextAttribs(attribs, NULL);
+    if (!r->ctx) {
+        set_err(err, err_size, "cannot create an OSMesa OpenGL 3.3 core profile context");
+        goto fail;
+    }
+    /* The context needs a buffer to be made current; a 1x1 one is enough
+     * because every draw goes to our own framebuffer object. */
+    if (!OSMesaMakeCurrent(r->ctx, r->os_buffer, GL_UNSIGNED_BYTE, 1, 1)) {
+        set_err(err, err_size, "cannot make the OSMesa context current");
+        goto fail;
+    }
+    if (!load_gl(&r->gl, err, err_size))
+        goto fail;
+    GLint max_rb = 0;
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_rb);
+    if (width > max_rb || height > max_rb) {
+        set_err(err, err_size, "image size %dx%d exceeds the renderer limit of %d", width, height,
+                (int)max_rb);
+        goto fail;
+    }
+    if (!build_framebuffer(r, err, err_size) || !build_program(r, err, err_size))
+        goto fail;
+    build_vertex_arrays(r);
+
+    /* Fixed state for every draw: premultiplied "over", which is additive
+     * when the sprite's alpha is 0. */
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glViewport(0, 0, width, height);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) {
+        set_err(err, err_size, "OpenGL error 0x%04x while setting up the renderer", (unsigned)e);
+        goto fail;
+    }
+    return r;
+fail:
+    pfx_renderer_destroy(r);
+    return NULL;
+}
+
+void pfx_renderer_destroy(pfx_renderer *r) {
+    if (!r)
+        return;
+    if (r->ctx) {
+        /* Destroying the context frees every GL object it owns; unbind it
+         * first so the thread is not left with a dangling current context. */
+        if (OSMesaGetCurrentContext() == r->ctx)
+            OSMesaMakeCurrent(NULL, NULL, 0, 0, 0);
+        OSMesaDestroyContext(r->ctx);
+    }
+    free(r->pixels);
+    free(r->keys);
+    free(r->index);
+    free(r->sorted);
+    free(r);
+}
+
+/* Camera matrices, column-major (m[col * 4 + row]) as GL expects. The view
+ * matrix is gluLookAt's: forward f = normalize(target - position), side
+ * s = normalize(f x up), true up u = s x f; the camera looks down -z. */
+typedef struct pfx_view {
+    double m[16];
+    double proj[16];
+    double forward[3], eye[3];
+} pfx_view;
+
+static bool normalize3(double v[3]) {
+    double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (!(len > 1e-12))
+        return false;
+    v[0] /= len;
+    v[1] /= len;
+    v[2] /= len;
+    return true;
+}
+
+static bool camera_matrices(const pfx_camera *cam, int width, int height, pfx_view *v, char *err,
+                            size_t err_size) {
+    double f[3] = {cam->target[0] - cam->position[0], cam->target[1] - cam->position[1],
+                   cam->target[2] - cam->position[2]};
+    if (!normalize3(f)) {
+        set_err(err, err_size, "camera position and target coincide");
+        return false;
+    }
+    const double *up = cam->up;
+    double s[3] = {f[1] * up[2] - f[2] * up[1], f[2] * up[0] - f[0] * up[2],
+                   f[0] * up[1] - f[1] * up[0]};
+    if (!normalize3(s)) {
+        set_err(err, err_size, "camera up vector is parallel to the view direction");
+        return false;
+    }
+    double u[3] = {s[1] * f[2] - s[2] * f[1], s[2] * f[0] - s[0] * f[2], s[0] * f[1] - s[1] * f[0]};
+    const double *e = cam->position;
+    double *m = v->m;
+    memset(m, 0, sizeof v->m);
+    for (int i = 0; i < 3; i++) {
+        m[i * 4 + 0] = s[i];
+        m[i * 4 + 1] = u[i];
+        m[i * 4 + 2] = -f[i];
+    }
+    m[12] = -(s[0] * e[0] + s[1] * e[1] + s[2] * e[2]);
+    m[13] = -(u[0] * e[0] + u[1] * e[1] + u[2] * e[2]);
+    m[14] = f[0] * e[0] + f[1] * e[1] + f[2] * e[2];
+    m[15] = 1.0;
+    memcpy(v->forward, f, sizeof f);
+    memcpy(v->eye, e, sizeof v->eye);
+
+    double aspect = (double)width / (double)height;
+    double n = PFX_NEAR, fa = PFX_FAR;
+    double *p = v->proj;
+    memset(p, 0, sizeof v->proj);
+    if (cam->ortho) {
+        if (!(cam->ortho_height > 0)) {
+            set_err(err, err_size, "camera ortho_height must be positive, got %g",
+                    cam->ortho_height);
+            return false;
+        }
+        double half_h = 0.5 * cam->ortho_height, half_w = half_h * aspect;
+        p[0] = 1.0 / half_w;
+        p[5] = 1.0 / half_h;
+        p[10] = -2.0 / (fa - n);
+        p[14] = -(fa + n) / (fa - n);
+        p[15] = 1.0;
+    } else {
+        if (!(cam->fov_deg > 0 && cam->fov_deg < 180)) {
+            set_err(err, err_size, "camera fov must be in (0, 180) degrees, got %g", cam->fov_deg);
+            return false;
+        }
+        double t = 1.0 / tan(0.5 * cam->fov_deg * (PFX_PI / 180.0));
+        p[0] = t / aspect;
+        p[5] = t;
+        p[10] = -(fa + n) / (fa - n);
+        p[11] = -1.0;
+        p[14] = -2.0 * fa * n / (fa - n);
+    }
+    return true;
+}
+
+static bool grow_scratch(pfx_renderer *r, size_t count, char *err, size_t err_size) {
+    if (count <= r->scratch_cap)
+        return true;
+    size_t cap = r->scratch_cap ? r->scratch_cap : 1024;
+    while (cap < count)
+        cap *= 2;
+    uint32_t *keys = realloc(r->keys, 2 * cap * sizeof *keys);
+    if (keys)
+        r->keys = keys;
+    uint32_t *index = realloc(r->index, 2 * cap * sizeof *index);
+    if (index)
+        r->index = index;
+    pfx_sprite *sorted = realloc(r->sorted, cap * sizeof *sorted);
+    if (sorted)
+        r->sorted = sorted;
+    if (!keys || !index || !sorted) {
+        set_err(err, err_size, "out of memory sorting %zu sprites", count);
+        return false;
+    }
+    r->scratch_cap = cap;
+    return true;
+}
+
+/* Maps a float to a uint32 whose unsigned order is the float's order
+ * (negative floats have all bits flipped, positive ones only the sign). */
+static uint32_t float_order_key(float x) {
+    uint32_t b;
+    memcpy(&b, &x, sizeof b);
+    return (b & 0x80000000u) ? ~b : (b | 0x80000000u);
+}
+
+/* Back-to-front sort by view depth (distance along the camera's forward
+ * axis), farthest first. LSD radix sort on 32-bit keys, 8 bits per pass:
+ * O(n), stable by construction (equal depths keep input order), and exactly
+ * reproducible. Keys are inverted so that ascending key = descending depth.
+ * Passes where every key has the same digit are skipped. */
+static bool sort_back_to_front(pfx_renderer *r, const pfx_view *v, pfx_sprite *sprites,
+                               size_t count, char *err, size_t err_size) {
+    if (count < 2)
+        return true;
+    if (count > UINT32_MAX) {
+        set_err(err, err_size, "too many sprites to sort: %zu", count);
+        return false;
+    }
+    if (!grow_scratch(r, count, err, err_size))
+        return false;
+    uint32_t *key = r->keys, *key_tmp = r->keys + r->scratch_cap;
+    uint32_t *idx = r->index, *idx_tmp = r->index + r->scratch_cap;
+    const double fx = v->forward[0], fy = v->forward[1], fz = v->forward[2];
+    const double ex = v->eye[0], ey = v->eye[1], ez = v->eye[2];
+    for (size_t i = 0; i < count; i++) {
+        double depth =
+            (sprites[i].x - ex) * fx + (sprites[i].y - ey) * fy + (sprites[i].z - ez) * fz;
+        key[i] = ~float_order_key((float)depth);
+        idx[i] = (uint32_t)i;
+    }
+    for (int shift = 0; shift < 32; shift += 8) {
+        size_t hist[256] = {0};
+        for (size_t i = 0; i < count; i++)
+            hist[(key[i] >> shift) & 0xff]++;
+        if (hist[(key[0] >> shift) & 0xff] == count)
+            continue; /* all keys share this digit: the pass would not move anything */
+        size_t sum = 0;
+        for (int d = 0; d < 256; d++) {
+            size_t c = hist[d];
+            hist[d] = sum;
+            sum += c;
+        }
+        for (size_t i = 0; i < count; i++) {
+            size_t dst = hist[(key[i] >> shift) & 0xff]++;
+            key_tmp[dst] = key[i];
+            idx_tmp[dst] = idx[i];
+        }
+        uint32_t *t = key;
+        key = key_tmp;
+        key_tmp = t;
+        t = idx;
+        idx = idx_tmp;
+        idx_tmp = t;
+    }
+    for (size_t i = 0; i < count; i++)
+        r->sorted[i] = sprites[idx[i]];
+    memcpy(sprites, r->sorted, count * sizeof *sprites);
+    return true;
+}
+
+static void upload_uniforms(pfx_renderer *r, const pfx_view *v) {
+    float view[16], proj[16];
+    for (int i = 0; i < 16; i++) {
+        view[i] = (float)v->m[i];
+        proj[i] = (float)v->proj[i];
+    }
+    r->gl.UniformMatrix4fv(r->view_loc, 1, GL_FALSE, view);
+    r->gl.UniformMatrix4fv(r->proj_loc, 1, GL_FALSE, proj);
+}
+
+/* Another renderer in this thread may have made its own context current. */
+static bool make_current(pfx_renderer *r, char *err, size_t err_size) {
+    if (OSMesaGetCurrentContext() == r->ctx)
+        return true;
+    if (!OSMesaMakeCurrent(r->ctx, r->os_buffer, GL_UNSIGNED_BYTE, 1, 1)) {
+        set_err(err, err_size, "cannot make the OSMesa context current");
+        return false;
+    }
+    return true;
+}
+
+/* Clear, upload, one instanced draw. The sprite array goes up whole with
+ * glBufferData every frame: respecifying the store orphans last frame's, so
+ * the driver never waits on it. */
+static void submit_frame(pfx_renderer *r, const pfx_view *v, const float clear[4],
+                         const pfx_sprite *sprites, size_t count) {
+    r->gl.BindFramebuffer(GL_FRAMEBUFFER, r->fbo);
+    glViewport(0, 0, r->width, r->height);
+    glClearColor(clear[0], clear[1], clear[2], clear[3]);
+    glClear(GL_COLOR_BUFFER_BIT);
+    if (count > 0) {
+        r->gl.UseProgram(r->program);
+        upload_uniforms(r, v);
+        r->gl.BindVertexArray(r->vao);
+        r->gl.BindBuffer(GL_ARRAY_BUFFER, r->instance_vbo);
+        r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(count * sizeof *sprites), sprites,
+                         GL_STREAM_DRAW);
+        r->gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)count);
+    }
+}
+
+static void read_frame(pfx_renderer *r) {
+    glReadPixels(0, 0, r->width, r->height, GL_RGBA, GL_FLOAT, r->pixels);
+}
+
+static uint8_t to_byte(double x) {
+    if (!(x > 0))
+        return 0; /* also NaN */
+    if (x >= 1)
+        return 255;
+    return (uint8_t)lround(255.0 * x);
+}
+
+/* Premultiplied float framebuffer -> 8-bit straight alpha, top row first.
+ *
+ * A pixel holds premultiplied colour P = (r, g, b) and coverage A. Additive
+ * particles add light with zero coverage, so P can exceed A (on a transparent
+ * background A may even be 0 under a bright glow). Dividing by A would blow
+ * up, and storing A alone would drop the glow. So the output alpha is
+ *     A' = min(1, max(A, r, g, b)),
+ * and the output colour is clamp(P / A', 0, 1) (or all zero when A' = 0).
+ * Composited over black the result is colour * A' = P whenever P <= 1: an
+ * additive particle on a transparent background then looks, placed over
+ * black, exactly as it rendered over black, and where alpha blending
+ * dominates (A >= every channel) this is the ordinary un-premultiply. Bytes
+ * are lround(255 * x). */
+static void convert_pixels(const pfx_renderer *r, uint8_t *rgba) {
+    const size_t w = (size_t)r->width;
+    for (int y = 0; y < r->height; y++) {
+        const float *src = r->pixels + (size_t)(r->height - 1 - y) * w * 4;
+        uint8_t *dst = rgba + (size_t)y * w * 4;
+        for (size_t x = 0; x < w; x++, src += 4, dst += 4) {
+            double cr = src[0], cg = src[1], cb = src[2], a = src[3];
+            double ap = fmax(fmax(a, cr), fmax(cg, cb));
+            if (ap > 1)
+                ap = 1;
+            if (!(ap > 0)) {
+                dst[0] = dst[1] = dst[2] = dst[3] = 0;
+                continue;
+            }
+            dst[0] = to_byte(cr / ap);
+            dst[1] = to_byte(cg / ap);
+            dst[2] = to_byte(cb / ap);
+            dst[3] = to_byte(ap);
+        }
+    }
+}
+
+bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4],
+                       pfx_sprite *sprites, size_t count, bool sort, uint8_t *rgba, char *err,
+                       size_t err_size) {
+    if (count > (size_t)INT32_MAX) {
+        set_err(err, err_size, "too many sprites to draw: %zu", count);
+        return false;
+    }
+    pfx_view v;
+    if (!camera_matrices(cam, r->width, r->height, &v, err, err_size))
+        return false;
+    if (!make_current(r, err, err_size))
+        return false;
+    if (sort && !sort_back_to_front(r, &v, sprites, count, err, err_size))
+        return false;
+    const float clear[4] = {bg[0] * bg[3], bg[1] * bg[3], bg[2] * bg[3], bg[3]};
+    submit_frame(r, &v, clear, sprites, count);
+    read_frame(r);
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) {
+        set_err(err, err_size, "OpenGL error 0x%04x while drawing %zu sprites", (unsigned)e, count);
+        return false;
+    }
+    convert_pixels(r, rgba);
+    return true;
+}
+
+double pfx_renderer_bench_raw(pfx_renderer *r, const pfx_camera *cam, const pfx_sprite *sprites,
+                              size_t count, int frames) {
+    pfx_view v;
+    if (frames <= 0 || count > (size_t)INT32_MAX ||
+        !camera_matrices(cam, r->width, r->height, &v, NULL, 0) || !make_current(r, NULL, 0))
+        return -1.0;
+    const float clear[4] = {0, 0, 0, 0};
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    for (int i = 0; i < frames; i++) {
+        submit_frame(r, &v, clear, sprites, count);
+        glFinish();
+        read_frame(r);
+    }
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    if (glGetError() != GL_NO_ERROR)
+        return -1.0;
+    double s = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    return s > 0 ? frames / s : -1.0;
+}

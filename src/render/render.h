@@ -1,0 +1,55 @@
+/* Offscreen rendering of particle sprites through OSMesa (Mesa llvmpipe): no
+ * GPU, no window. This is the only part of pfx that includes GL or OSMesa
+ * headers. It knows sprites and a camera, not emitters or the simulation. */
+#ifndef PFX_RENDER_H
+#define PFX_RENDER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "compile/effect.h"
+
+/* One particle as drawn: a camera-facing soft round sprite of world-space
+ * diameter `size` centred at (x, y, z). Colour is premultiplied:
+ * (r, g, b) = colour * alpha. `a` is the alpha that occludes what is behind:
+ * the particle's alpha for alpha blending, 0 for additive blending. With the
+ * single blend function (ONE, ONE_MINUS_SRC_ALPHA) this draws both modes in
+ * one pass (premultiplied alpha; additive is "emission with zero coverage"). */
+typedef struct pfx_sprite {
+    float x, y, z, size;
+    float r, g, b, a;
+} pfx_sprite;
+
+typedef struct pfx_renderer pfx_renderer;
+
+/* Creates an OSMesa core-profile context drawing into a width x height float
+ * framebuffer. Returns NULL and writes a message into err on failure. The
+ * caller owns the result and frees it with pfx_renderer_destroy. Each call on
+ * a renderer makes its context current in the calling thread, so several
+ * renderers may coexist, but one renderer must be used by one thread at a
+ * time. */
+pfx_renderer *pfx_renderer_create(int width, int height, char *err, size_t err_size);
+/* Frees the context, its GL objects and scratch memory; NULL is a no-op. */
+void pfx_renderer_destroy(pfx_renderer *r);
+
+/* Draws `count` sprites seen from `cam` over the straight-alpha background
+ * `bg` and writes width*height*4 bytes of 8-bit straight-alpha RGBA, top row
+ * first, into rgba. When `sort` is true the sprites are drawn back to front by
+ * view depth (one sort over all of them, stable, so ties keep input order);
+ * the sprites array is reordered in place (sprites may be NULL when count is
+ * 0). Returns false (with err) on a GL failure, a degenerate camera or when
+ * the sort scratch cannot be grown; rgba is then unspecified. */
+bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4],
+                       pfx_sprite *sprites, size_t count, bool sort, uint8_t *rgba, char *err,
+                       size_t err_size);
+
+/* The reference the pfx bench measures full rendering against: `frames`
+ * times clears, uploads the sprites, makes the one instanced draw, glFinish
+ * and reads the float framebuffer back; no sort and no 8-bit conversion.
+ * Does not modify sprites. Returns frames per second (CLOCK_MONOTONIC), or a
+ * negative value if frames <= 0, the camera is degenerate or GL fails. */
+double pfx_renderer_bench_raw(pfx_renderer *r, const pfx_camera *cam, const pfx_sprite *sprites,
+                              size_t count, int frames);
+
+#endif

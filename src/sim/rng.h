@@ -1,0 +1,45 @@
+/* PCG32 (O'Neill, 2014): a 64-bit LCG state with a permuted 32-bit output.
+ * Small, fast, statistically strong, and its streams let every emitter own
+ * an independent sequence derived from the effect's seed and its name. */
+#ifndef PFX_RNG_H
+#define PFX_RNG_H
+
+#include <stdint.h>
+
+typedef struct pfx_rng {
+    uint64_t state, inc;
+} pfx_rng;
+
+/* Seeds `r` for stream `stream` of seed `seed` (pcg32_srandom_r). */
+static inline uint32_t pfx_rng_next(pfx_rng *r) {
+    uint64_t old = r->state;
+    r->state = old * 6364136223846793005ULL + r->inc;
+    uint32_t xorshifted = (uint32_t)(((old >> 18u) ^ old) >> 27u);
+    uint32_t rot = (uint32_t)(old >> 59u);
+    return (xorshifted >> rot) | (xorshifted << ((-rot) & 31));
+}
+
+static inline void pfx_rng_seed(pfx_rng *r, uint64_t seed, uint64_t stream) {
+    r->state = 0;
+    r->inc = (stream << 1u) | 1u;
+    pfx_rng_next(r);
+    r->state += seed;
+    pfx_rng_next(r);
+}
+
+/* Uniform double in [0, 1) with 53 random bits (two draws). */
+static inline double pfx_rng_unit(pfx_rng *r) {
+    uint64_t hi = pfx_rng_next(r) >> 5, lo = pfx_rng_next(r) >> 6; /* 27 + 26 bits */
+    return (double)(hi * 67108864.0 + lo) * (1.0 / 9007199254740992.0);
+}
+
+/* Uniform double in [a, b). */
+static inline double pfx_rng_range(pfx_rng *r, double a, double b) {
+    return a + (b - a) * pfx_rng_unit(r);
+}
+
+/* The stream of an emitter: a hash of its name, so adding, removing or
+ * reordering other emitters never changes its particles. */
+uint64_t pfx_rng_stream_for(const char *name);
+
+#endif

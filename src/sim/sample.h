@@ -1,0 +1,27 @@
+/* Random sampling for emission: values (constant, uniform, clamped normal),
+ * points uniform over shapes, and directions uniform over spherical caps.
+ * Every sampler consumes a fixed number of draws for a given input, so the
+ * stream stays aligned whatever the values drawn. */
+#ifndef PFX_SAMPLE_H
+#define PFX_SAMPLE_H
+
+#include "compile/effect.h"
+#include "sim/rng.h"
+
+/* One sample of v. Constant: no draw. Uniform: one. Normal: two
+ * (Box-Muller), clamped to [lo, hi]. */
+double pfx_sample_value(const pfx_value *v, pfx_rng *r);
+
+/* A point uniform over the shape in its local frame: sphere volume, box
+ * volume, disc area in the XZ plane (normal +Y), or the origin. */
+void pfx_sample_shape(const pfx_shape *s, pfx_rng *r, double out[3]);
+
+/* A unit vector uniform over the spherical cap of half-angle `spread_deg`
+ * around unit `axis`: cos(theta) uniform in [cos(spread), 1], azimuth
+ * uniform. (Drawing theta itself uniformly would crowd the axis.) */
+void pfx_sample_cone(const double axis[3], double spread_deg, pfx_rng *r, double out[3]);
+
+/* A unit vector uniform over the whole sphere: z uniform in [-1, 1]. */
+void pfx_sample_direction(pfx_rng *r, double out[3]);
+
+#endif

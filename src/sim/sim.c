@@ -1,0 +1,313 @@
+/* The fixed-step simulation of pfx_sim.h. Per step and emitter, one pass
+ * each: integrate the live particles, remove the dead by swap-remove, then
+ * emit the births due in the step at their exact times. It allocates only
+ * in pfx_sim_create. Gravity is the only force here: with a constant
+ * acceleration the update x += v dt + a dt^2/2, v += a dt is exact. */
+#include "sim/sim.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sim/sample.h"
+
+/* Every column is 4 bytes (float or uint32_t), so swap-remove and copies
+ * treat a pool as a list of 4-byte columns, moved with memcpy: writing a
+ * float column through a uint32_t pointer would break strict aliasing (the
+ * optimiser then keeps stale ages in registers). */
+#define MAX_COLUMNS 12
+typedef struct column_list {
+    unsigned char *col[MAX_COLUMNS];
+    int count;
+} column_list;
+
+static column_list pool_columns(const pfx_pool *p) {
+    column_list c = {{(unsigned char *)p->px, (unsigned char *)p->py, (unsigned char *)p->pz,
+                      (unsigned char *)p->vx, (unsigned char *)p->vy, (unsigned char *)p->vz,
+                      (unsigned char *)p->age, (unsigned char *)p->lifetime,
+                      (unsigned char *)p->id},
+                     9};
+    if (p->gravity_scale)
+        c.col[c.count++] = (unsigned char *)p->gravity_scale;
+    if (p->size0)
+        c.col[c.count++] = (unsigned char *)p->size0;
+    if (p->size1)
+        c.col[c.count++] = (unsigned char *)p->size1;
+    return c;
+}
+
+static bool needs_gravity_scale(const pfx_emitter *em) {
+    return em->gravity_scale.dist != PFX_DIST_CONST;
+}
+static bool needs_size0(const pfx_emitter *em) { return em->size_varies; }
+static bool needs_size1(const pfx_emitter *em) { return em->size_varies && !em->size_same; }
+
+size_t pfx_sim_bytes_per_particle(const pfx_effect *e, size_t i) {
+    const pfx_emitter *em = &e->emitters[i];
+    return 4 * (9 + needs_gravity_scale(em) + needs_size0(em) + needs_size1(em));
+}
+
+pfx_sim *pfx_sim_create(const pfx_effect *e) {
+    pfx_sim *s = calloc(1, sizeof *s);
+    if (!s)
+        return NULL;
+    s->effect = e;
+    s->dt = 1.0 / e->sim_rate;
+    s->pools = calloc(e->emitter_count + 1, sizeof *s->pools);
+    s->emitters = calloc(e->emitter_count + 1, sizeof *s->emitters);
+    size_t bytes = 0;
+    for (size_t i = 0; i < e->emitter_count; i++)
+        bytes += pfx_sim_bytes_per_particle(e, i) * e->emitters[i].capacity;
+    s->storage = malloc(bytes ? bytes : 1);
+    if (!s->pools || !s->emitters || !s->storage) {
+        pfx_sim_destroy(s);
+        return NULL;
+    }
+    s->bytes = bytes;
+    float *next = s->storage;
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        const pfx_emitter *em = &e->emitters[i];
+        pfx_pool *p = &s->pools[i];
+        uint32_t n = em->capacity;
+        p->capacity = n;
+        float **fixed[] = {&p->px, &p->py, &p->pz, &p->vx, &p->vy, &p->vz, &p->age, &p->lifetime};
+        for (size_t k = 0; k < sizeof fixed / sizeof *fixed; k++, next += n)
+            *fixed[k] = next;
+        p->id = (uint32_t *)next;
+        next += n;
+        if (needs_gravity_scale(em))
+            p->gravity_scale = next, next += n;
+        if (needs_size0(em))
+            p->size0 = next, next += n;
+        if (needs_size1(em))
+            p->size1 = next, next += n;
+        pfx_rng_seed(&s->emitters[i].rng, e->seed, pfx_rng_stream_for(em->name));
+    }
+    return s;
+}
+
+void pfx_sim_destroy(pfx_sim *s) {
+    if (!s)
+        return;
+    free(s->storage);
+    free(s->pools);
+    free(s->emitters);
+    free(s);
+}
+
+/* Exact constant-acceleration motion over dt for every live particle. The
+ * per-emitter acceleration is hoisted; a random gravity_scale makes it per
+ * particle (a column), still one multiply-add chain per component. */
+static void integrate_gravity(const pfx_emitter *em, pfx_pool *p, float dt) {
+    const uint32_t n = p->count;
+    float *restrict px = p->px, *restrict py = p->py, *restrict pz = p->pz;
+    float *restrict vx = p->vx, *restrict vy = p->vy, *restrict vz = p->vz;
+    float *restrict age = p->age;
+    const float h = 0.5f * dt * dt;
+    if (!p->gravity_scale) {
+        const double gs = em->gravity_scale.a;
+        const float ax = (float)(em->accel[0] * gs), ay = (float)(em->accel[1] * gs),
+                    az = (float)(em->accel[2] * gs);
+        const float hx = ax * h, hy = ay * h, hz = az * h;
+        const float kx = ax * dt, ky = ay * dt, kz = az * dt;
+        for (uint32_t i = 0; i < n; i++) {
+            px[i] += vx[i] * dt + hx;
+            py[i] += vy[i] * dt + hy;
+            pz[i] += vz[i] * dt + hz;
+            vx[i] += kx;
+            vy[i] += ky;
+            vz[i] += kz;
+            age[i] += dt;
+        }
+        return;
+    }
+    const float *restrict gs = p->gravity_scale;
+    const float ax = (float)em->accel[0], ay = (float)em->accel[1], az = (float)em->accel[2];
+    for (uint32_t i = 0; i < n; i++) {
+        const float g = gs[i];
+        px[i] += vx[i] * dt + g * ax * h;
+        py[i] += vy[i] * dt + g * ay * h;
+        pz[i] += vz[i] * dt + g * az * h;
+        vx[i] += g * ax * dt;
+        vy[i] += g * ay * dt;
+        vz[i] += g * az * dt;
+        age[i] += dt;
+    }
+}
+
+/* Death at age >= lifetime; the last live particle fills the hole. */
+static void kill_expired(pfx_pool *p) {
+    column_list c = pool_columns(p);
+    uint32_t i = 0;
+    while (i < p->count) {
+        if (p->age[i] < p->lifetime[i]) {
+            i++;
+            continue;
+        }
+        uint32_t last = --p->count;
+        for (int k = 0; k < c.count; k++)
+            memcpy(c.col[k] + 4 * (size_t)i, c.col[k] + 4 * (size_t)last, 4);
+    }
+}
+
+/* Index of the last birth due by time t: births are at k / rate, k = 1, 2,
+ * ... (one every 1/rate seconds, the first one period after the start).
+ * `due` is t * rate, computed by the caller as exactly as it can. */
+static uint64_t births_due(double due) { return due <= 0 ? 0 : (uint64_t)floor(due + 1e-9); }
+
+/* Emits the births k in (born, last] of emitter i that are still alive at
+ * t1: each drawn in a fixed order, placed at its birth, and advanced to t1
+ * by its own age. Births that cannot be alive at t1 (born more than the
+ * maximum lifetime ago) are skipped without drawing, and a full pool drops
+ * the rest of the step's births (counted), so a step costs at most
+ * O(rate * max lifetime) whatever the rate and step. */
+static void emit(pfx_sim *s, size_t i, double t1, uint64_t last) {
+    const pfx_emitter *em = &s->effect->emitters[i];
+    pfx_emitter_state *st = &s->emitters[i];
+    pfx_pool *p = &s->pools[i];
+    if (last <= st->born)
+        return;
+    double oldest = ceil((t1 - em->max_lifetime) * em->rate);
+    uint64_t k = st->born + 1;
+    if (oldest > (double)k)
+        k = (uint64_t)oldest;
+    const double gs_const = em->gravity_scale.a;
+    for (; k <= last; k++) {
+        if (p->count == p->capacity) {
+            st->dropped += last - k + 1;
+            break;
+        }
+        double local[3], dir[3], pos[3];
+        pfx_sample_shape(&em->shape, &st->rng, local);
+        pfx_sample_cone(em->direction, em->spread_deg, &st->rng, dir);
+        double speed = pfx_sample_value(&em->speed, &st->rng);
+        double life = pfx_sample_value(&em->lifetime, &st->rng);
+        double s0 = needs_size0(em) ? pfx_sample_value(&em->size_start, &st->rng) : 0;
+        double s1 = needs_size1(em) ? pfx_sample_value(&em->size_end, &st->rng) : 0;
+        double gs =
+            needs_gravity_scale(em) ? pfx_sample_value(&em->gravity_scale, &st->rng) : gs_const;
+        double age = t1 - (double)k / em->rate;
+        if (age < 0)
+            age = 0;
+        if (age >= life)
+            continue; /* would already be dead: never created */
+        const double *R = em->rotation;
+        for (int a = 0; a < 3; a++)
+            pos[a] = em->position[a] + R[3 * a] * local[0] + R[3 * a + 1] * local[1] +
+                     R[3 * a + 2] * local[2];
+        uint32_t j = p->count++;
+        double v[3], x[3];
+        for (int a = 0; a < 3; a++) {
+            double acc = em->accel[a] * gs;
+            v[a] = dir[a] * speed;
+            x[a] = pos[a] + v[a] * age + 0.5 * acc * age * age;
+            v[a] += acc * age;
+        }
+        p->px[j] = (float)x[0], p->py[j] = (float)x[1], p->pz[j] = (float)x[2];
+        p->vx[j] = (float)v[0], p->vy[j] = (float)v[1], p->vz[j] = (float)v[2];
+        p->age[j] = (float)age;
+        p->lifetime[j] = (float)life;
+        p->id[j] = (uint32_t)(k - 1);
+        if (p->gravity_scale)
+            p->gravity_scale[j] = (float)gs;
+        if (p->size0)
+            p->size0[j] = (float)s0;
+        if (p->size1)
+            p->size1[j] = (float)s1;
+    }
+    st->born = last;
+}
+
+/* Advances every emitter from s->time to t1. `due[i]` is t1 * rate_i. */
+static void advance(pfx_sim *s, double t1, bool exact_step) {
+    const pfx_effect *e = s->effect;
+    const float dt = (float)(t1 - s->time);
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        const pfx_emitter *em = &e->emitters[i];
+        pfx_pool *p = &s->pools[i];
+        if (dt > 0) {
+            integrate_gravity(em, p, dt);
+            kill_expired(p);
+        }
+        /* For a fixed step, step * rate / sim_rate is exact when the rates
+         * divide evenly, so births on step boundaries land in one step. */
+        double due = exact_step ? (double)s->step * em->rate / e->sim_rate : t1 * em->rate;
+        emit(s, i, t1, births_due(due));
+    }
+    s->time = t1;
+}
+
+void pfx_sim_step(pfx_sim *s) {
+    s->step++;
+    advance(s, (double)s->step / s->effect->sim_rate, true);
+}
+
+void pfx_sim_run_to(pfx_sim *s, double t) {
+    const double rate = s->effect->sim_rate;
+    /* Compare in steps: (step + 1) <= t * rate, with a tolerance for a time
+     * that is a whole number of steps but not exactly representable. */
+    while ((double)(s->step + 1) <= t * rate + 1e-7)
+        pfx_sim_step(s);
+}
+
+void pfx_sim_view_at(const pfx_sim *s, pfx_sim *view, double t) {
+    const pfx_effect *e = s->effect;
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        const pfx_pool *src = &s->pools[i];
+        pfx_pool *dst = &view->pools[i];
+        column_list a = pool_columns(src), b = pool_columns(dst);
+        for (int k = 0; k < a.count; k++)
+            memcpy(b.col[k], a.col[k], src->count * (size_t)4);
+        dst->count = src->count;
+        view->emitters[i] = s->emitters[i];
+    }
+    view->step = s->step;
+    view->time = s->time;
+    if (t > s->time + 1e-12)
+        advance(view, t, false);
+}
+
+double pfx_sim_frame_time(const pfx_effect *e, long frame) {
+    return e->prewarm + (double)frame / e->fps;
+}
+
+float pfx_particle_size(const pfx_emitter *em, const pfx_pool *p, uint32_t i) {
+    float s0 = p->size0 ? p->size0[i] : (float)em->size_start.a;
+    float s1 = p->size1 ? p->size1[i] : em->size_same ? s0 : (float)em->size_end.a;
+    float u = p->age[i] / p->lifetime[i];
+    return s0 + (s1 - s0) * u;
+}
+
+const float *pfx_particle_color(const pfx_emitter *em, float age, float lifetime) {
+    float u = age / lifetime;
+    int k = (int)(u * (PFX_GRADIENT_LUT - 1) + 0.5f);
+    k = k < 0 ? 0 : k >= PFX_GRADIENT_LUT ? PFX_GRADIENT_LUT - 1 : k;
+    return em->color.lut[k];
+}
+
+uint64_t pfx_sim_hash(const pfx_sim *s) {
+    uint64_t h = 1469598103934665603ULL;
+    for (size_t i = 0; i < s->effect->emitter_count; i++) {
+        const pfx_pool *p = &s->pools[i];
+        column_list c = pool_columns(p);
+        for (int k = 0; k < c.count; k++) {
+            const unsigned char *b = (const unsigned char *)c.col[k];
+            for (size_t j = 0; j < (size_t)p->count * 4; j++) {
+                h ^= b[j];
+                h *= 1099511628211ULL;
+            }
+        }
+        h ^= p->count;
+        h *= 1099511628211ULL;
+    }
+    return h;
+}
+
+const pfx_sim *pfx_sim_frame(pfx_sim *s, pfx_sim *view, long frame) {
+    double t = pfx_sim_frame_time(s->effect, frame);
+    pfx_sim_run_to(s, t);
+    if (t <= s->time + 1e-12)
+        return s;
+    pfx_sim_view_at(s, view, t);
+    return view;
+}

@@ -1,0 +1,79 @@
+/* The particle simulation: one Struct-of-Arrays pool per emitter, stepped at
+ * the effect's fixed rate. Births happen at their exact times inside a step;
+ * a frame's state is the fixed-step state advanced by the remainder on a
+ * scratch copy, so the stepping never depends on the output frame rate. */
+#ifndef PFX_SIM_H
+#define PFX_SIM_H
+
+#include <stdint.h>
+
+#include "compile/effect.h"
+#include "sim/rng.h"
+
+/* Live particles of one emitter, dense: indices [0, count). Columns that the
+ * emitter does not use are NULL (gravity_scale when constant; size0/size1
+ * when the size is constant). Bytes per particle: 36 for the fixed columns
+ * (position, velocity, age, lifetime, id) plus 4 per optional column. */
+typedef struct pfx_pool {
+    uint32_t count, capacity;
+    float *px, *py, *pz;
+    float *vx, *vy, *vz;
+    float *age, *lifetime;
+    uint32_t *id; /* birth index within the emitter, from 0 */
+    float *gravity_scale;
+    float *size0, *size1;
+} pfx_pool;
+
+typedef struct pfx_emitter_state {
+    pfx_rng rng;
+    uint64_t born;    /* births so far (each drawn, alive or not) */
+    uint64_t dropped; /* births lost to a full pool */
+} pfx_emitter_state;
+
+typedef struct pfx_sim {
+    const pfx_effect *effect;
+    double dt;
+    uint64_t step; /* steps taken; the simulation time is step * dt */
+    double time;   /* time of the state (after a partial step on a snapshot) */
+    pfx_pool *pools;
+    pfx_emitter_state *emitters;
+    void *storage; /* one allocation behind every pool */
+    size_t bytes;
+} pfx_sim;
+
+/* Allocates every pool once (sized by the compiler) and seeds every emitter.
+ * Returns NULL when out of memory. Free with pfx_sim_destroy. */
+pfx_sim *pfx_sim_create(const pfx_effect *e);
+void pfx_sim_destroy(pfx_sim *s);
+
+/* Bytes each particle of emitter i occupies (the columns it keeps). */
+size_t pfx_sim_bytes_per_particle(const pfx_effect *e, size_t i);
+
+/* Advances by one fixed step. Never allocates. */
+void pfx_sim_step(pfx_sim *s);
+
+/* Steps until the next step would pass simulation time t. */
+void pfx_sim_run_to(pfx_sim *s, double t);
+
+/* Copies s into view (created from the same effect) and advances the copy
+ * from s's time to t (t >= s->time, less than one step later) by a partial
+ * step: the state at exact time t, without disturbing the fixed stepping. */
+void pfx_sim_view_at(const pfx_sim *s, pfx_sim *view, double t);
+
+/* Runs s up to output frame `frame` (frames must come in increasing order)
+ * and returns the state at the frame's exact time: s itself when the frame
+ * falls on a step, otherwise `view` advanced by the remainder. */
+const pfx_sim *pfx_sim_frame(pfx_sim *s, pfx_sim *view, long frame);
+
+/* The simulation time of output frame f: prewarm + f / fps. */
+double pfx_sim_frame_time(const pfx_effect *e, long frame);
+
+/* Per-particle appearance at normalised age u in [0, 1]. */
+float pfx_particle_size(const pfx_emitter *em, const pfx_pool *p, uint32_t i);
+const float *pfx_particle_color(const pfx_emitter *em, float age, float lifetime);
+
+/* FNV-1a over every live particle's columns, in pool order: the state hash
+ * the determinism test pins. */
+uint64_t pfx_sim_hash(const pfx_sim *s);
+
+#endif

@@ -1,0 +1,433 @@
+/* Unit tests of src/output/png_write.c: exact round trips, byte-identical
+ * output, no file (final or temporary) left behind by any failure, the
+ * reader's conversions, and the queue's order and first-error reporting.
+ * Everything happens in a fresh directory under $TMPDIR, removed at the end. */
+#include "output/png_write.h"
+#include "test.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <png.h>
+#include <signal.h>
+#include <stdint.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static char test_dir[256];
+
+static void path_in(char *out, size_t size, const char *name) {
+    snprintf(out, size, "%s/%s", test_dir, name);
+}
+
+/* A deterministic image with a transparent background whose colour bytes are
+ * not zero, so a writer that drops or premultiplies them is caught. */
+static uint8_t *make_image(int width, int height, uint32_t seed) {
+    uint8_t *rgba = malloc((size_t)width * (size_t)height * 4);
+    uint32_t x = seed * 2654435761u + 1u;
+    for (size_t i = 0; i < (size_t)width * (size_t)height; i++) {
+        x ^= x << 13;
+        x ^= x >> 17;
+        x ^= x << 5;
+        uint8_t *p = rgba + i * 4;
+        p[0] = (uint8_t)x;
+        p[1] = (uint8_t)(x >> 8);
+        p[2] = (uint8_t)(x >> 16);
+        /* Mostly alpha 0, some partial, some opaque, like a particle frame. */
+        uint8_t pick = (uint8_t)(x >> 24);
+        p[3] = pick < 160 ? 0 : pick < 230 ? (uint8_t)(pick * 7) : 255;
+    }
+    return rgba;
+}
+
+static uint8_t *read_file_bytes(const char *path, size_t *size) {
+    FILE *f = fopen(path, "rb");
+    if (f == NULL)
+        return NULL;
+    uint8_t *data = NULL;
+    size_t used = 0, cap = 0;
+    for (;;) {
+        if (used == cap) {
+            cap = cap ? cap * 2 : 4096;
+            data = realloc(data, cap);
+        }
+        size_t n = fread(data + used, 1, cap - used, f);
+        used += n;
+        if (n == 0)
+            break;
+    }
+    fclose(f);
+    *size = used;
+    return data;
+}
+
+/* Number of entries in dir other than . and .., listing them if asked. */
+static int count_entries(const char *dir, bool show) {
+    DIR *d = opendir(dir);
+    if (d == NULL)
+        return -1;
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) {
+        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
+            continue;
+        if (show)
+            fprintf(stderr, "  found '%s/%s'\n", dir, e->d_name);
+        n++;
+    }
+    closedir(d);
+    return n;
+}
+
+/* Checks that dir holds exactly `expected` entries: no stray temporary. */
+static void check_entries(const char *dir, int expected) {
+    int n = count_entries(dir, false);
+    CHECK(n == expected);
+    if (n != expected)
+        count_entries(dir, true);
+}
+
+static bool file_exists(const char *path) {
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+/* Removes the regular files in dir, then dir itself. */
+static void remove_dir(const char *dir) {
+    DIR *d = opendir(dir);
+    if (d == NULL)
+        return;
+    struct dirent *e;
+    char path[512];
+    while ((e = readdir(d)) != NULL) {
+        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
+            continue;
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        unlink(path);
+    }
+    closedir(d);
+    rmdir(dir);
+}
+
+static void test_round_trip(void) {
+    char path[512];
+    path_in(path, sizeof path, "round.png");
+    int w = 37, h = 23; /* odd sizes catch stride mistakes */
+    uint8_t *rgba = make_image(w, h, 1);
+    char err[512] = "";
+    CHECK(pfx_png_write(path, rgba, w, h, err, sizeof err));
+    CHECK(err[0] == '\0');
+    int rw = 0, rh = 0;
+    uint8_t *back = pfx_png_read(path, &rw, &rh);
+    CHECK(back != NULL);
+    CHECK(rw == w && rh == h);
+    if (back != NULL && rw == w && rh == h)
+        CHECK(memcmp(back, rgba, (size_t)w * h * 4) == 0);
+    /* Only the file itself: the temporary was renamed, not copied. */
+    check_entries(test_dir, 1);
+    free(back);
+    free(rgba);
+    unlink(path);
+}
+
+static void test_deterministic_bytes(void) {
+    char a[512], b[512];
+    path_in(a, sizeof a, "same_a.png");
+    path_in(b, sizeof b, "same_b.png");
+    int w = 64, h = 40;
+    uint8_t *rgba = make_image(w, h, 2);
+    char err[512];
+    CHECK(pfx_png_write(a, rgba, w, h, err, sizeof err));
+    CHECK(pfx_png_write(b, rgba, w, h, err, sizeof err));
+    size_t na = 0, nb = 0;
+    uint8_t *da = read_file_bytes(a, &na);
+    uint8_t *db = read_file_bytes(b, &nb);
+    CHECK(da != NULL && db != NULL && na > 0);
+    CHECK(na == nb);
+    if (da != NULL && db != NULL && na == nb)
+        CHECK(memcmp(da, db, na) == 0);
+    /* Overwriting an existing file replaces it with the same bytes. */
+    CHECK(pfx_png_write(a, rgba, w, h, err, sizeof err));
+    size_t nc = 0;
+    uint8_t *dc = read_file_bytes(a, &nc);
+    CHECK(dc != NULL && nc == na);
+    if (dc != NULL && da != NULL && nc == na)
+        CHECK(memcmp(dc, da, na) == 0);
+    free(da);
+    free(db);
+    free(dc);
+    free(rgba);
+    unlink(a);
+    unlink(b);
+}
+
+/* A failed write returns false, names the path, and leaves dir as it was. */
+static void check_write_fails(const char *path, const char *dir, int entries_before) {
+    uint8_t *rgba = make_image(16, 16, 3);
+    char err[512] = "";
+    CHECK(!pfx_png_write(path, rgba, 16, 16, err, sizeof err));
+    CHECK(strstr(err, path) != NULL);
+    if (strstr(err, path) == NULL)
+        fprintf(stderr, "  message was: %s\n", err);
+    struct stat st;
+    CHECK(stat(path, &st) != 0 || !S_ISREG(st.st_mode));
+    check_entries(dir, entries_before);
+    free(rgba);
+}
+
+static void test_missing_directory(void) {
+    char path[512];
+    path_in(path, sizeof path, "no/such/dir/a.png");
+    check_write_fails(path, test_dir, 0);
+    char err[512] = "";
+    uint8_t px[4] = {1, 2, 3, 4};
+    CHECK(!pfx_png_write(path, px, 1, 1, err, sizeof err));
+    CHECK(strstr(err, "No such file or directory") != NULL);
+}
+
+static void test_read_only_directory(void) {
+    if (geteuid() == 0) {
+        fprintf(stderr, "  skipped: root ignores directory permissions\n");
+        return;
+    }
+    char dir[512], path[600];
+    path_in(dir, sizeof dir, "readonly");
+    CHECK(mkdir(dir, 0700) == 0);
+    CHECK(chmod(dir, 0500) == 0);
+    snprintf(path, sizeof path, "%s/a.png", dir);
+    check_write_fails(path, dir, 0);
+    char err[512] = "";
+    uint8_t px[4] = {1, 2, 3, 4};
+    CHECK(!pfx_png_write(path, px, 1, 1, err, sizeof err));
+    CHECK(strstr(err, "Permission denied") != NULL);
+    chmod(dir, 0700);
+    rmdir(dir);
+}
+
+/* rename() onto a directory fails after the temporary is complete, so this
+ * checks the temporary is removed on the last possible failure. */
+static void test_rename_failure_cleans_up(void) {
+    char dir[512];
+    path_in(dir, sizeof dir, "is_a_dir.png");
+    CHECK(mkdir(dir, 0700) == 0);
+    check_write_fails(dir, test_dir, 1);
+    rmdir(dir);
+}
+
+/* A file size limit makes fwrite fail in the middle of encoding, which
+ * exercises the longjmp out of libpng and the removal of a partial file. */
+static void test_write_error_mid_file(void) {
+    struct rlimit old;
+    CHECK(getrlimit(RLIMIT_FSIZE, &old) == 0);
+    void (*old_handler)(int) = signal(SIGXFSZ, SIG_IGN);
+    struct rlimit small = old;
+    small.rlim_cur = 10000;
+    CHECK(setrlimit(RLIMIT_FSIZE, &small) == 0);
+
+    char path[512];
+    path_in(path, sizeof path, "too_big.png");
+    int w = 256, h = 256; /* random pixels: well over 10000 bytes compressed */
+    uint8_t *rgba = make_image(w, h, 4);
+    for (size_t i = 0; i < (size_t)w * h; i++)
+        rgba[i * 4 + 3] = rgba[i * 4];
+    char err[512] = "";
+    bool ok = pfx_png_write(path, rgba, w, h, err, sizeof err);
+
+    CHECK(setrlimit(RLIMIT_FSIZE, &old) == 0);
+    signal(SIGXFSZ, old_handler);
+    CHECK(!ok);
+    CHECK(strstr(err, path) != NULL);
+    CHECK(strstr(err, "File too large") != NULL);
+    if (strstr(err, "File too large") == NULL)
+        fprintf(stderr, "  message was: %s\n", err);
+    CHECK(!file_exists(path));
+    check_entries(test_dir, 0);
+    free(rgba);
+}
+
+static void test_invalid_size(void) {
+    char path[512], err[512] = "";
+    path_in(path, sizeof path, "empty.png");
+    uint8_t px[4] = {0};
+    CHECK(!pfx_png_write(path, px, 0, 5, err, sizeof err));
+    CHECK(strstr(err, path) != NULL);
+    CHECK(!file_exists(path));
+    check_entries(test_dir, 0);
+}
+
+static void test_read_rejects_bad_files(void) {
+    char path[512];
+    path_in(path, sizeof path, "missing.png");
+    int w = -1, h = -1;
+    CHECK(pfx_png_read(path, &w, &h) == NULL);
+
+    path_in(path, sizeof path, "not_a.png");
+    FILE *f = fopen(path, "wb");
+    fputs("this is not a PNG file, not even close", f);
+    fclose(f);
+    CHECK(pfx_png_read(path, &w, &h) == NULL);
+    unlink(path);
+
+    /* Truncated in the middle of the image data: fails inside
+     * png_read_image, after the buffers were allocated. */
+    path_in(path, sizeof path, "truncated.png");
+    uint8_t *rgba = make_image(64, 64, 5);
+    char err[512];
+    CHECK(pfx_png_write(path, rgba, 64, 64, err, sizeof err));
+    size_t n = 0;
+    uint8_t *bytes = read_file_bytes(path, &n);
+    CHECK(bytes != NULL && n > 200);
+    f = fopen(path, "wb");
+    fwrite(bytes, 1, n / 2, f);
+    fclose(f);
+    CHECK(pfx_png_read(path, &w, &h) == NULL);
+    unlink(path);
+    free(bytes);
+    free(rgba);
+}
+
+/* Files pfx does not write itself: gray, 16-bit and palette with tRNS must
+ * all come back as 8-bit RGBA. */
+static void test_read_converts(void) {
+    char path[512];
+    path_in(path, sizeof path, "convert.png");
+    int w = 0, h = 0;
+
+    uint8_t gray[6] = {0, 1, 127, 128, 254, 255};
+    png_image img = {
+        .version = PNG_IMAGE_VERSION, .width = 3, .height = 2, .format = PNG_FORMAT_GRAY};
+    CHECK(png_image_write_to_file(&img, path, 0, gray, 0, NULL));
+    uint8_t *back = pfx_png_read(path, &w, &h);
+    CHECK(back != NULL && w == 3 && h == 2);
+    for (int i = 0; back != NULL && i < 6; i++) {
+        CHECK(back[i * 4] == gray[i] && back[i * 4 + 1] == gray[i]);
+        CHECK(back[i * 4 + 2] == gray[i] && back[i * 4 + 3] == 255);
+    }
+    free(back);
+
+    /* 16-bit multiples of 257 scale to 8 bits exactly. */
+    uint16_t rgb16[6] = {0, 257 * 10, 257 * 200, 65535, 257 * 1, 257 * 99};
+    png_image img16 = {
+        .version = PNG_IMAGE_VERSION, .width = 2, .height = 1, .format = PNG_FORMAT_LINEAR_RGB};
+    CHECK(png_image_write_to_file(&img16, path, 0, rgb16, 0, NULL));
+    back = pfx_png_read(path, &w, &h);
+    CHECK(back != NULL && w == 2 && h == 1);
+    uint8_t want16[8] = {0, 10, 200, 255, 255, 1, 99, 255};
+    if (back != NULL)
+        CHECK(memcmp(back, want16, 8) == 0);
+    free(back);
+
+    uint8_t map[3 * 4] = {255, 0, 0, 255, 0, 255, 0, 128, 0, 0, 255, 255};
+    uint8_t index[4] = {0, 1, 2, 1};
+    png_image pal = {.version = PNG_IMAGE_VERSION,
+                     .width = 2,
+                     .height = 2,
+                     .format = PNG_FORMAT_RGBA_COLORMAP,
+                     .colormap_entries = 3};
+    CHECK(png_image_write_to_file(&pal, path, 0, index, 0, map));
+    back = pfx_png_read(path, &w, &h);
+    CHECK(back != NULL && w == 2 && h == 2);
+    for (int i = 0; back != NULL && i < 4; i++)
+        CHECK(memcmp(back + i * 4, map + index[i] * 4, 4) == 0);
+    free(back);
+    unlink(path);
+}
+
+static void test_queue_order(void) {
+    enum { frames = 5, w = 48, h = 32 };
+    pfx_png_queue *q = pfx_png_queue_create(w, h);
+    CHECK(q != NULL);
+    if (q == NULL)
+        return;
+    uint8_t *sent[frames];
+    char path[frames][512];
+    for (int i = 0; i < frames; i++) {
+        char name[32];
+        snprintf(name, sizeof name, "frame_%d.png", i);
+        path_in(path[i], sizeof path[i], name);
+        sent[i] = make_image(w, h, 100 + (uint32_t)i);
+        uint8_t *buffer = pfx_png_queue_buffer(q);
+        memcpy(buffer, sent[i], (size_t)w * h * 4);
+        pfx_png_queue_submit(q, path[i]);
+    }
+    CHECK(!pfx_png_queue_failed(q));
+    char err[512] = "";
+    CHECK(pfx_png_queue_finish(q, err, sizeof err));
+    CHECK(err[0] == '\0');
+    for (int i = 0; i < frames; i++) {
+        int rw = 0, rh = 0;
+        uint8_t *back = pfx_png_read(path[i], &rw, &rh);
+        CHECK(back != NULL && rw == w && rh == h);
+        if (back != NULL && rw == w && rh == h)
+            CHECK(memcmp(back, sent[i], (size_t)w * h * 4) == 0);
+        free(back);
+        free(sent[i]);
+        unlink(path[i]);
+    }
+    check_entries(test_dir, 0);
+}
+
+/* The first error is the one reported, and frames after it are dropped. */
+static void test_queue_first_error(void) {
+    enum { w = 8, h = 8 };
+    char good[512], bad1[512], bad2[512], after[512];
+    path_in(good, sizeof good, "q_good.png");
+    path_in(bad1, sizeof bad1, "missing_dir/q_bad1.png");
+    path_in(bad2, sizeof bad2, "missing_dir/q_bad2.png");
+    path_in(after, sizeof after, "q_after.png");
+    const char *paths[4] = {good, bad1, bad2, after};
+    pfx_png_queue *q = pfx_png_queue_create(w, h);
+    CHECK(q != NULL);
+    if (q == NULL)
+        return;
+    for (int i = 0; i < 4; i++) {
+        memset(pfx_png_queue_buffer(q), i, (size_t)w * h * 4);
+        pfx_png_queue_submit(q, paths[i]);
+    }
+    char err[512] = "";
+    CHECK(!pfx_png_queue_finish(q, err, sizeof err));
+    CHECK(strstr(err, bad1) != NULL);
+    if (strstr(err, bad1) == NULL)
+        fprintf(stderr, "  message was: %s\n", err);
+    CHECK(file_exists(good));
+    CHECK(!file_exists(after));
+    unlink(good);
+    check_entries(test_dir, 0);
+}
+
+/* Finishing with nothing submitted, or with a buffer taken but never
+ * submitted, succeeds and frees everything. */
+static void test_queue_empty(void) {
+    pfx_png_queue *q = pfx_png_queue_create(4, 4);
+    CHECK(q != NULL);
+    CHECK(pfx_png_queue_finish(q, NULL, 0));
+    q = pfx_png_queue_create(4, 4);
+    CHECK(q != NULL);
+    CHECK(pfx_png_queue_buffer(q) != NULL);
+    CHECK(pfx_png_queue_finish(q, NULL, 0));
+    CHECK(pfx_png_queue_create(0, 4) == NULL);
+}
+
+int main(void) {
+    const char *tmp = getenv("TMPDIR");
+    snprintf(test_dir, sizeof test_dir, "%s/pfx_test_png_XXXXXX", tmp && *tmp ? tmp : "/tmp");
+    if (mkdtemp(test_dir) == NULL) {
+        fprintf(stderr, "cannot create '%s': %s\n", test_dir, strerror(errno));
+        return 1;
+    }
+    RUN(test_round_trip);
+    RUN(test_deterministic_bytes);
+    RUN(test_missing_directory);
+    RUN(test_read_only_directory);
+    RUN(test_rename_failure_cleans_up);
+    RUN(test_write_error_mid_file);
+    RUN(test_invalid_size);
+    RUN(test_read_rejects_bad_files);
+    RUN(test_read_converts);
+    RUN(test_queue_order);
+    RUN(test_queue_first_error);
+    RUN(test_queue_empty);
+    remove_dir(test_dir);
+    return TEST_EXIT();
+}

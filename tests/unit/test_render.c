@@ -1,0 +1,403 @@
+/* Unit tests of the OSMesa sprite renderer: blending sums and order, the
+ * falloff shape, background handling, orientation, perspective size, the
+ * stable depth sort and determinism. Expected pixels are computed here from
+ * the documented formulas, never taken from the renderer's own output. */
+#include "render/render.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "test.h"
+
+/* An odd image size puts a pixel centre exactly on the image centre. With
+ * 65 pixels over an ortho view 6.5 m high, one pixel is 0.1 m, so offsets in
+ * pixels convert exactly to offsets in metres. */
+#define W 65
+#define H 65
+#define MID 32
+
+static const float transparent[4] = {0, 0, 0, 0};
+
+static pfx_camera ortho_camera(double view_height) {
+    pfx_camera c = {.position = {0, 0, 10},
+                    .target = {0, 0, 0},
+                    .up = {0, 1, 0},
+                    .ortho = true,
+                    .ortho_height = view_height};
+    return c;
+}
+
+static const uint8_t *px(const uint8_t *img, int width, int x, int y) {
+    return img + ((size_t)y * (size_t)width + (size_t)x) * 4;
+}
+
+/* The renderer's byte conversion, restated from its contract: premultiplied
+ * (c, a) -> straight alpha with A' = min(1, max(a, c...)). */
+static void expect_straight(const double c[3], double a, int out[4]) {
+    double ap = fmin(1.0, fmax(fmax(a, c[0]), fmax(c[1], c[2])));
+    for (int i = 0; i < 3; i++)
+        out[i] = ap > 0 ? (int)lround(255.0 * fmin(1.0, c[i] / ap)) : 0;
+    out[3] = (int)lround(255.0 * ap);
+}
+
+static void check_pixel(const uint8_t *p, const int want[4], int tol) {
+    for (int i = 0; i < 4; i++)
+        CHECK_NEAR(p[i], want[i], tol);
+}
+
+static pfx_renderer *make(int width, int height) {
+    char err[256] = "";
+    pfx_renderer *r = pfx_renderer_create(width, height, err, sizeof err);
+    if (!r)
+        fprintf(stderr, "pfx_renderer_create: %s\n", err);
+    CHECK(r != NULL);
+    return r;
+}
+
+static bool draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4], pfx_sprite *s, size_t n,
+                 bool sort, uint8_t *img) {
+    char err[256] = "";
+    bool ok = pfx_renderer_draw(r, cam, bg, s, n, sort, img, err, sizeof err);
+    if (!ok)
+        fprintf(stderr, "pfx_renderer_draw: %s\n", err);
+    CHECK(ok);
+    return ok;
+}
+
+/* Additive sprites (a = 0) add light with no coverage: two give the sum, and
+ * the stored alpha is the brightest channel so that compositing over black
+ * reproduces the sum. */
+static void test_additive_overlap_sums(void) {
+    pfx_renderer *r = make(W, H);
+    if (!r)
+        return;
+    uint8_t img[W * H * 4];
+    pfx_camera cam = ortho_camera(6.5);
+    pfx_sprite s[2] = {{0, 0, 0, 2, 0.2f, 0.1f, 0, 0}, {0, 0, 0, 2, 0.2f, 0.1f, 0, 0}};
+
+    if (draw(r, &cam, transparent, s, 2, false, img)) {
+        const uint8_t *p = px(img, W, MID, MID);
+        CHECK_NEAR(p[3], 102, 1); /* alpha = max channel = 0.4 */
+        CHECK_NEAR(p[0], 255, 1); /* 0.4 / 0.4 */
+        CHECK_NEAR(p[1], 128, 1); /* 0.2 / 0.4 */
+        CHECK(p[2] == 0);
+        /* Over black: colour * alpha = the premultiplied sum. */
+        CHECK_NEAR(p[0] * p[3] / 255.0, 102, 1);
+        CHECK_NEAR(p[1] * p[3] / 255.0, 51, 1);
+    }
+    if (draw(r, &cam, transparent, s, 1, false, img)) {
+        const uint8_t *p = px(img, W, MID, MID);
+        CHECK_NEAR(p[3], 51, 1);
+        CHECK_NEAR(p[0] * p[3] / 255.0, 51, 1);
+        CHECK_NEAR(p[1] * p[3] / 255.0, 25.5, 1);
+    }
+    pfx_renderer_destroy(r);
+}
+
+/* Red (far) and blue (near), both half transparent, given near first. Sorted,
+ * blue is composited over red: C = a_n c_n + (1 - a_n) a_f c_f,
+ * A = a_n + (1 - a_n) a_f. Unsorted, red lands over blue instead. */
+static void test_alpha_order(void) {
+    pfx_renderer *r = make(W, H);
+    if (!r)
+        return;
+    uint8_t img[W * H * 4];
+    pfx_camera cam = ortho_camera(6.5);
+    const double an = 0.5, af = 0.5;
+    const pfx_sprite blue_near = {0, 0, 1, 2, 0, 0, (float)an, (float)an};
+    const pfx_sprite red_far = {0, 0, -1, 2, (float)af, 0, 0, (float)af};
+
+    double c_sorted[3] = {(1 - an) * af * 1.0, 0, an * 1.0};
+    int want_sorted[4];
+    expect_straight(c_sorted, an + (1 - an) * af, want_sorted);
+    CHECK(want_sorted[0] == 85 && want_sorted[2] == 170 && want_sorted[3] == 191);
+
+    pfx_sprite s[2] = {blue_near, red_far};
+    if (draw(r, &cam, transparent, s, 2, true, img)) {
+        check_pixel(px(img, W, MID, MID), want_sorted, 1);
+        CHECK(s[0].r > 0 && s[1].b > 0); /* reordered in place: far first */
+    }
+
+    double c_unsorted[3] = {af * 1.0, 0, (1 - af) * an * 1.0};
+    int want_unsorted[4];
+    expect_straight(c_unsorted, af + (1 - af) * an, want_unsorted);
+    pfx_sprite u[2] = {blue_near, red_far};
+    if (draw(r, &cam, transparent, u, 2, false, img)) {
+        const uint8_t *p = px(img, W, MID, MID);
+        check_pixel(p, want_unsorted, 1);
+        CHECK(abs(p[0] - want_sorted[0]) > 40);
+        CHECK(u[0].b > 0 && u[1].r > 0); /* not reordered */
+    }
+    pfx_renderer_destroy(r);
+}
+
+/* Equal depths keep their input order: sorting must then draw exactly what
+ * the unsorted call draws. */
+static void test_sort_ties_keep_order(void) {
+    pfx_renderer *r = make(W, H);
+    if (!r)
+        return;
+    uint8_t a[W * H * 4], b[W * H * 4];
+    pfx_camera cam = ortho_camera(6.5);
+    pfx_sprite s[2] = {{0, 0, 0, 2, 0.5f, 0, 0, 0.5f}, {0.3f, 0, 0, 2, 0, 0, 0.5f, 0.5f}};
+    pfx_sprite t[2];
+    memcpy(t, s, sizeof s);
+    if (draw(r, &cam, transparent, s, 2, true, a) && draw(r, &cam, transparent, t, 2, false, b)) {
+        CHECK(memcmp(a, b, sizeof a) == 0);
+        CHECK(s[0].r > 0 && s[1].b > 0);
+    }
+    pfx_renderer_destroy(r);
+}
+
+/* Many sprites on a few depth levels, tagged with their input position in
+ * `r` (size 0, so nothing is rasterised): after the sort, depth never increases (the camera looks
+ * down -z, so z never decreases) and within a level the tags increase. Uses n above 65536 so every
+ * radix pass that can move sprites does. */
+static void test_sort_is_stable_back_to_front(void) {
+    pfx_renderer *r = make(W, H);
+    if (!r)
+        return;
+    static uint8_t img[W * H * 4];
+    /* The camera sits among the sprites, so depths have both signs. */
+    pfx_camera cam = ortho_camera(6.5);
+    cam.position[2] = 0.5;
+    const size_t n = 70000;
+    pfx_sprite *s = malloc(n * sizeof *s);
+    CHECK(s != NULL);
+    if (!s) {
+        pfx_renderer_destroy(r);
+        return;
+    }
+    uint32_t state = 12345;
+    for (size_t i = 0; i < n; i++) {
+        state = state * 1664525u + 1013904223u;
+        float z = (float)((state >> 16) % 7) - 3.0f + ((state >> 8) & 1 ? -0.001f : 0.0f);
+        s[i] = (pfx_sprite){0, 0, z, 0, (float)i, 0, 0, 0};
+    }
+    if (draw(r, &cam, transparent, s, n, true, img)) {
+        size_t bad = 0;
+        for (size_t i = 1; i < n; i++) {
+            if (s[i].z < s[i - 1].z || (s[i].z == s[i - 1].z && s[i].r <= s[i - 1].r))
+                bad++;
+        }
+        CHECK(bad == 0);
+    }
+    free(s);
+    pfx_renderer_destroy(r);
+}
+
+/* f(d) = (1 - d^2)^2: 1 at the centre, 0.5625 at half radius, 0.4096 at
+ * d = 0.6, 0.25 at d = sqrt(0.5), nothing at or beyond the radius. One pixel
+ * is 0.1 m and the radius 1 m, so an offset of k pixels is d = k / 10. */
+static void test_falloff(void) {
+    pfx_renderer *r = make(W, H);
+    if (!r)
+        return;
+    uint8_t img[W * H * 4];
+    pfx_camera cam = ortho_camera(6.5);
+    pfx_sprite s = {0, 0, 0, 2, 1, 1, 1, 1};
+    if (draw(r, &cam, transparent, &s, 1, false, img)) {
+        const uint8_t *c = px(img, W, MID, MID);
+        CHECK(c[0] == 255 && c[1] == 255 && c[2] == 255 && c[3] == 255);
+        const int half[4][2] = {{MID + 5, MID}, {MID - 5, MID}, {MID, MID + 5}, {MID, MID - 5}};
+        for (int i = 0; i < 4; i++) {
+            const uint8_t *p = px(img, W, half[i][0], half[i][1]);
+            CHECK_NEAR(p[3] / 255.0, 0.5625, 1.0 / 255);
+            CHECK(p[0] == 255); /* straight colour stays white */
+        }
+        /* d = 0.6 (6 pixels): (1 - 0.36)^2 = 0.4096 */
+        CHECK_NEAR(px(img, W, MID + 6, MID)[3] / 255.0, 0.4096, 1.0 / 255);
+        /* d = 0.5 * sqrt(2) on the diagonal: (1 - 0.5)^2 = 0.25 */
+        CHECK_NEAR(px(img, W, MID + 5, MID + 5)[3] / 255.0, 0.25, 1.0 / 255);
+        const uint8_t *out = px(img, W, MID + 11, MID);
+        CHECK(out[0] == 0 && out[1] == 0 && out[2] == 0 && out[3] == 0);
+        const uint8_t *rim = px(img, W, MID + 10, MID); /* d = 1: discarded */
+        CHECK(rim[3] == 0);
+    }
+    pfx_renderer_destroy(r);
+}
+
+/* World +y is up in the image (top row first) and +x is right. */
+static void test_orientation(void) {
+    pfx_renderer *r = make(W, H);
+    if (!r)
+        return;
+    uint8_t img[W * H * 4];
+    pfx_camera cam = ortho_camera(6.5);
+    pfx_sprite s[2] = {{0, 2, 0, 1, 1, 0, 0, 1}, {2, 0, 0, 1, 0, 1, 0, 1}};
+    if (draw(r, &cam, transparent, s, 2, false, img)) {
+        CHECK(px(img, W, MID, MID - 20)[3] == 255);
+        CHECK(px(img, W, MID, MID - 20)[0] == 255);
+        CHECK(px(img, W, MID, MID + 20)[3] == 0);
+        CHECK(px(img, W, MID + 20, MID)[1] == 255);
+        CHECK(px(img, W, MID - 20, MID)[3] == 0);
+    }
+    pfx_renderer_destroy(r);
+}
+
+static void test_backgrounds(void) {
+    pfx_renderer *r = make(W, H);
+    if (!r)
+        return;
+    uint8_t img[W * H * 4];
+    pfx_camera cam = ortho_camera(6.5);
+
+    const float opaque[4] = {0.2f, 0.4f, 0.6f, 1};
+    if (draw(r, &cam, opaque, NULL, 0, true, img)) {
+        size_t bad = 0;
+        for (int i = 0; i < W * H; i++) {
+            const uint8_t *p = img + 4 * i;
+            bad += !(p[0] == 51 && p[1] == 102 && p[2] == 153 && p[3] == 255);
+        }
+        CHECK(bad == 0);
+    }
+    /* An additive sprite adds to an opaque background and keeps alpha 255. */
+    pfx_sprite s = {0, 0, 0, 2, 0.3f, 0.1f, 0, 0};
+    if (draw(r, &cam, opaque, &s, 1, false, img)) {
+        const int centre[4] = {128, 128, 153, 255}; /* (0.5, 0.5, 0.6) */
+        check_pixel(px(img, W, MID, MID), centre, 1);
+        const int bg[4] = {51, 102, 153, 255};
+        check_pixel(px(img, W, 0, 0), bg, 0);
+        check_pixel(px(img, W, W - 1, H - 1), bg, 0);
+    }
+    /* A half transparent background comes back as it went in. */
+    const float half_red[4] = {1, 0, 0, 0.5f};
+    if (draw(r, &cam, half_red, NULL, 0, false, img)) {
+        const int want[4] = {255, 0, 0, 128};
+        check_pixel(px(img, W, 3, 7), want, 0);
+    }
+    pfx_renderer_destroy(r);
+}
+
+/* Diameter in pixels of the sprite along the centre row. */
+static int row_coverage(const uint8_t *img, int width, int y) {
+    int n = 0;
+    for (int x = 0; x < width; x++)
+        n += px(img, width, x, y)[3] > 0;
+    return n;
+}
+
+/* Under perspective a sprite of world size s at distance D spans
+ * s / (2 D tan(fov / 2)) of the image height. */
+static void test_perspective_size(void) {
+    enum { P = 257 };
+    pfx_renderer *r = make(P, P);
+    if (!r)
+        return;
+    static uint8_t img[P * P * 4];
+    pfx_camera cam = {.position = {0, 0, 0}, .target = {0, 0, -1}, .up = {0, 1, 0}, .fov_deg = 60};
+    const double t = tan(30.0 * 3.14159265358979323846 / 180.0);
+    int diam[2] = {0, 0};
+    const double dist[2] = {5, 10};
+    for (int i = 0; i < 2; i++) {
+        pfx_sprite s = {0, 0, (float)-dist[i], 1, 1, 1, 1, 1};
+        if (draw(r, &cam, transparent, &s, 1, false, img)) {
+            diam[i] = row_coverage(img, P, P / 2);
+            CHECK_NEAR(diam[i], 1.0 / (2 * dist[i] * t) * P, 2);
+        }
+    }
+    CHECK(diam[1] > 0);
+    if (diam[1] > 0)
+        CHECK_NEAR((double)diam[0] / diam[1], 2.0, 0.1);
+    pfx_renderer_destroy(r);
+}
+
+static void random_sprites(pfx_sprite *s, size_t n, uint32_t seed) {
+    uint32_t state = seed;
+#define NEXT() (state = state * 1664525u + 1013904223u, (float)(state >> 8) / 16777216.0f)
+    for (size_t i = 0; i < n; i++) {
+        float a = NEXT() < 0.5f ? 0 : NEXT();
+        s[i] = (pfx_sprite){NEXT() * 4 - 2, NEXT() * 4 - 2, NEXT() * 4 - 2, NEXT() * 0.5f,
+                            NEXT() * 0.3f,  NEXT() * 0.3f,  NEXT() * 0.3f,  a};
+        if (a > 0) { /* premultiply alpha sprites */
+            s[i].r *= a;
+            s[i].g *= a;
+            s[i].b *= a;
+        }
+    }
+#undef NEXT
+}
+
+/* Same input, byte-identical output: twice in one renderer and once in a
+ * second renderer alive at the same time. */
+static void test_determinism(void) {
+    enum { D = 128, N = 5000 };
+    pfx_renderer *r1 = make(D, D), *r2 = make(D, D);
+    static uint8_t a[D * D * 4], b[D * D * 4], c[D * D * 4];
+    static pfx_sprite src[N], s[N];
+    random_sprites(src, N, 99);
+    pfx_camera cam = {.position = {1, 2, 8}, .target = {0, 0, 0}, .up = {0, 1, 0}, .fov_deg = 45};
+    const float bg[4] = {0.05f, 0.05f, 0.1f, 0.5f};
+    if (r1 && r2) {
+        memcpy(s, src, sizeof s);
+        bool ok = draw(r1, &cam, bg, s, N, true, a);
+        memcpy(s, src, sizeof s);
+        ok = ok && draw(r2, &cam, bg, s, N, true, b);
+        memcpy(s, src, sizeof s);
+        ok = ok && draw(r1, &cam, bg, s, N, true, c);
+        CHECK(ok);
+        CHECK(memcmp(a, b, sizeof a) == 0);
+        CHECK(memcmp(a, c, sizeof a) == 0);
+        size_t lit = 0;
+        for (size_t i = 0; i < sizeof a; i += 4)
+            lit += a[i + 3] > 128;
+        CHECK(lit > 100); /* the scene really drew something */
+    }
+    pfx_renderer_destroy(r1);
+    pfx_renderer_destroy(r2);
+}
+
+static void test_errors(void) {
+    char err[256] = "";
+    CHECK(pfx_renderer_create(0, 10, err, sizeof err) == NULL);
+    CHECK(strlen(err) > 0);
+    pfx_renderer *r = make(8, 8);
+    if (!r)
+        return;
+    uint8_t img[8 * 8 * 4];
+    pfx_camera cam = ortho_camera(1);
+    cam.target[2] = cam.position[2]; /* position == target */
+    err[0] = 0;
+    CHECK(!pfx_renderer_draw(r, &cam, transparent, NULL, 0, true, img, err, sizeof err));
+    CHECK(strlen(err) > 0);
+    cam = ortho_camera(1);
+    cam.up[1] = 0;
+    cam.up[2] = 1; /* up along the view direction */
+    err[0] = 0;
+    CHECK(!pfx_renderer_draw(r, &cam, transparent, NULL, 0, true, img, err, sizeof err));
+    CHECK(strlen(err) > 0);
+    pfx_renderer_destroy(NULL);
+    pfx_renderer_destroy(r);
+}
+
+static void test_bench_raw(void) {
+    pfx_renderer *r = make(64, 64);
+    if (!r)
+        return;
+    pfx_sprite s[100];
+    random_sprites(s, 100, 7);
+    pfx_sprite copy[100];
+    memcpy(copy, s, sizeof s);
+    pfx_camera cam = {.position = {0, 0, 8}, .target = {0, 0, 0}, .up = {0, 1, 0}, .fov_deg = 45};
+    CHECK(pfx_renderer_bench_raw(r, &cam, s, 100, 3) > 0);
+    CHECK(pfx_renderer_bench_raw(r, &cam, s, 100, 0) < 0);
+    CHECK(memcmp(copy, s, sizeof s) == 0);
+    pfx_renderer_destroy(r);
+}
+
+int main(void) {
+    RUN(test_additive_overlap_sums);
+    RUN(test_alpha_order);
+    RUN(test_sort_ties_keep_order);
+    RUN(test_sort_is_stable_back_to_front);
+    RUN(test_falloff);
+    RUN(test_orientation);
+    RUN(test_backgrounds);
+    RUN(test_perspective_size);
+    RUN(test_determinism);
+    RUN(test_errors);
+    RUN(test_bench_raw);
+    return TEST_EXIT();
+}
