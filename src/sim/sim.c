@@ -138,15 +138,31 @@ static void integrate_gravity(const pfx_emitter *em, pfx_pool *p, float dt) {
 /* Death at age >= lifetime; the last live particle fills the hole. */
 static void kill_expired(pfx_pool *p) {
     column_list c = pool_columns(p);
+    const float *age = p->age, *lifetime = p->lifetime;
+    /* Most blocks hold no death: a branch-free scan (vectorised) skips them,
+     * and only a block with a death runs the swap-remove loop. */
+    enum { BLOCK = 64 };
     uint32_t i = 0;
     while (i < p->count) {
-        if (p->age[i] < p->lifetime[i]) {
-            i++;
+        uint32_t end = p->count - i > BLOCK ? i + BLOCK : p->count;
+        int dead = 0;
+        for (uint32_t j = i; j < end; j++)
+            dead |= age[j] >= lifetime[j];
+        if (!dead) {
+            i = end;
             continue;
         }
-        uint32_t last = --p->count;
-        for (int k = 0; k < c.count; k++)
-            memcpy(c.col[k] + 4 * (size_t)i, c.col[k] + 4 * (size_t)last, 4);
+        while (i < end) {
+            if (age[i] < lifetime[i]) {
+                i++;
+                continue;
+            }
+            uint32_t last = --p->count;
+            for (int k = 0; k < c.count; k++)
+                memcpy(c.col[k] + 4 * (size_t)i, c.col[k] + 4 * (size_t)last, 4);
+            if (end > p->count)
+                end = p->count;
+        }
     }
 }
 
