@@ -10,15 +10,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#if __has_include("bench/accuracy.h") /* TEMP until the accuracy bench lands */
 #include "bench/accuracy.h"
-#else
-static int pfx_bench_accuracy(const char *d, FILE *f) {
-    (void)d;
-    (void)f;
-    return 1;
-}
-#endif
 #include "bench/speed.h"
 #include "compile/compile.h"
 #include "output/bake_csv.h"

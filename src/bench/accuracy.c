@@ -1,0 +1,572 @@
+/* `pfx bench accuracy`: every integrator on problems with exact solutions,
+ * over dt = T/2^j, error at the end time against cost (force evaluations
+ * per simulated second, and measured ns per particle-step in the float
+ * kernel), plus stability limits measured by bisection. Writes CSV and SVG.
+ * It judges nothing: the tests assert; this shows. */
+#include "bench/accuracy.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+#include "output/svg_chart.h"
+
+#define TWO_PI 6.283185307179586
+#define G 9.81
+#define J_MIN 2
+#define J_MAX 14
+#define NJ (J_MAX - J_MIN + 1)
+#define TIMING_PARTICLES 4096
+
+typedef struct st {
+    double x, y, z, u, v, w;
+} st;
+
+static pfx_motion_force *add(pfx_motion *m, pfx_motion_kind kind) {
+    pfx_motion_force *f = &m->forces[m->force_count++];
+    memset(f, 0, sizeof *f);
+    f->kind = kind;
+    f->name = "f";
+    return f;
+}
+
+/* ---- The problems and their exact solutions ---- */
+
+static void projectile_setup(pfx_motion *m, st *s) {
+    add(m, PFX_MOTION_GRAVITY)->accel[1] = -G;
+    *s = (st){0, 0, 0, 3, 10, 0};
+}
+static void projectile_exact(double t, st *e) {
+    *e = (st){3 * t, 10 * t - 0.5 * G * t * t, 0, 3, 10 - G * t, 0};
+}
+
+/* v' = g - k (v - w): see motion_impl.h's drift for the closed form. */
+static const double DK = 0.7, DW[3] = {2, 0, 1};
+static void drag_setup(pfx_motion *m, st *s) {
+    add(m, PFX_MOTION_GRAVITY)->accel[1] = -G;
+    pfx_motion_force *d = add(m, PFX_MOTION_DRAG);
+    d->k = DK;
+    memcpy(d->wind, DW, sizeof DW);
+    *s = (st){0, 0, 0, 3, 10, -1};
+}
+static void drag_exact(double t, st *e) {
+    double g[3] = {0, -G, 0}, v0[3] = {3, 10, -1}, x[3], v[3];
+    double ek = exp(-DK * t), E1 = (1 - ek) / DK, E2 = (t - E1) / DK;
+    for (int a = 0; a < 3; a++) {
+        double u0 = v0[a] - DW[a];
+        v[a] = DW[a] + u0 * ek + g[a] * E1;
+        x[a] = DW[a] * t + u0 * E1 + g[a] * E2;
+    }
+    *e = (st){x[0], x[1], x[2], v[0], v[1], v[2]};
+}
+
+/* Quadratic drag c from rest: v = -v_t tanh(g t / v_t), v_t = sqrt(g/c),
+ * y = -(v_t^2/g) ln cosh(g t / v_t). */
+static const double QC = 0.2;
+static void quad_setup(pfx_motion *m, st *s) {
+    add(m, PFX_MOTION_GRAVITY)->accel[1] = -G;
+    add(m, PFX_MOTION_DRAG)->c = QC;
+    *s = (st){0, 0, 0, 0, 0, 0};
+}
+static void quad_exact(double t, st *e) {
+    double vt = sqrt(G / QC), a = G * t / vt;
+    *e = (st){0, -(vt * vt / G) * log(cosh(a)), 0, 0, -vt * tanh(a), 0};
+}
+
+/* Springs, omega = 2: x = cos 2t; damped zeta = 0.1 as in the tests. */
+static void spring_setup(pfx_motion *m, st *s) {
+    add(m, PFX_MOTION_SPRING)->k = 4;
+    *s = (st){1, 0, 0, 0, 0, 0};
+}
+static void spring_exact(double t, st *e) { *e = (st){cos(2 * t), 0, 0, -2 * sin(2 * t), 0, 0}; }
+static void dspring_setup(pfx_motion *m, st *s) {
+    pfx_motion_force *f = add(m, PFX_MOTION_SPRING);
+    f->k = 4, f->zeta = 0.1;
+    *s = (st){1, 0, 0, 0, 0, 0};
+}
+static void dspring_exact(double t, st *e) {
+    double w = 2, z = 0.1, wd = w * sqrt(1 - z * z), B = z * w / wd, d = exp(-z * w * t);
+    double c = cos(wd * t), sn = sin(wd * t);
+    *e = (st){d * (c + B * sn), 0, 0, d * ((-z * w + wd * B) * c + (-z * w * B - wd) * sn), 0, 0};
+}
+
+/* q/m = 1, B = z: v = (cos t, -sin t, 0.2), x = (sin t, cos t - 1, 0.2 t). */
+static void gyro_setup(pfx_motion *m, st *s) {
+    pfx_motion_force *f = add(m, PFX_MOTION_MAGNETIC);
+    f->field[2] = 1, f->charge = 1, f->mass = 1;
+    *s = (st){0, 0, 0, 1, 0, 0.2};
+}
+static void gyro_exact(double t, st *e) {
+    *e = (st){sin(t), cos(t) - 1, 0.2 * t, cos(t), -sin(t), 0.2};
+}
+
+/* Kepler e = 0.5, mu = a = 1 from perihelion: after one period 2 pi the
+ * exact state is the start state. */
+static void kepler_setup(pfx_motion *m, st *s) {
+    pfx_motion_force *f = add(m, PFX_MOTION_ATTRACTOR);
+    f->strength = 1, f->ref_radius = 0.5;
+    *s = (st){0.5, 0, 0, 0, sqrt(3.0), 0};
+}
+static void kepler_exact(double t, st *e) {
+    (void)t;
+    *e = (st){0.5, 0, 0, 0, sqrt(3.0), 0};
+}
+
+/* Bounce: dropped from h0 = 1 at rest onto y = 0 with resilience 0.7. */
+static const double H0 = 1, EPS = 0.7;
+static void bounce_setup(pfx_motion *m, st *s) {
+    add(m, PFX_MOTION_GRAVITY)->accel[1] = -G;
+    *s = (st){0, H0, 0, 0, 0, 0};
+}
+static void bounce_exact(double t, st *e) {
+    double t1 = sqrt(2 * H0 / G), u = G * t1;
+    if (t < t1) {
+        *e = (st){0, H0 - 0.5 * G * t * t, 0, 0, -G * t, 0};
+        return;
+    }
+    t -= t1;
+    u *= EPS;
+    while (t > 2 * u / G) { /* apex heights eps^(2n) h0 */
+        t -= 2 * u / G;
+        u *= EPS;
+    }
+    *e = (st){0, u * t - 0.5 * G * t * t, 0, 0, u - G * t, 0};
+}
+
+/* Earliest root in (0, h] of y + v t - g t^2/2 = 0, without cancellation:
+ * q = -(b + sign(b) sqrt(b^2 - 4ac))/2, roots q/a and c/q. */
+static double impact_time(double y, double v, double h) {
+    double a = -0.5 * G, b = v, c = y, disc = b * b - 4 * a * c;
+    if (disc < 0)
+        return -1;
+    double q = -0.5 * (b + (b >= 0 ? 1 : -1) * sqrt(disc));
+    double r1 = q / a, r2 = q != 0 ? c / q : -1, best = -1;
+    if (r1 > 0 && r1 <= h)
+        best = r1;
+    if (r2 > 0 && r2 <= h && (best < 0 || r2 < best))
+        best = r2;
+    return best;
+}
+
+typedef struct problem {
+    const char *name;
+    void (*setup)(pfx_motion *, st *);
+    void (*exact)(double, st *);
+    double T;
+    bool closed_form; /* `exact` applies */
+    bool magnetic;    /* `boris` applies */
+    bool bounce;
+} problem;
+
+static const problem problems[] = {
+    {"projectile", projectile_setup, projectile_exact, 2, true, false, false},
+    {"linear drag + wind + gravity", drag_setup, drag_exact, 2, true, false, false},
+    {"quadratic drag from rest", quad_setup, quad_exact, 3, false, false, false},
+    {"undamped spring", spring_setup, spring_exact, TWO_PI, false, false, false},
+    {"damped spring", dspring_setup, dspring_exact, TWO_PI, false, false, false},
+    {"charge in uniform B", gyro_setup, gyro_exact, TWO_PI, false, true, false},
+    {"Kepler e = 0.5", kepler_setup, kepler_exact, TWO_PI, false, false, false},
+    {"bounce, eps = 0.7", bounce_setup, bounce_exact, 1.3, false, false, true},
+};
+#define NPROB (sizeof problems / sizeof problems[0])
+
+static const pfx_integrator integrators[] = {
+    PFX_INTEGRATOR_EULER,  PFX_INTEGRATOR_SYMPLECTIC, PFX_INTEGRATOR_MIDPOINT, PFX_INTEGRATOR_RK4,
+    PFX_INTEGRATOR_VERLET, PFX_INTEGRATOR_EXACT,      PFX_INTEGRATOR_BORIS,    PFX_INTEGRATOR_AUTO};
+static const char *const colors[] = {"#d62728", "#ff7f0e", "#2ca02c", "#1f77b4",
+                                     "#9467bd", "#000000", "#17becf", "#8c564b"};
+#define NINT (sizeof integrators / sizeof integrators[0])
+
+static bool applies(const problem *p, pfx_integrator i) {
+    if (i == PFX_INTEGRATOR_EXACT)
+        return p->closed_form;
+    if (i == PFX_INTEGRATOR_BORIS)
+        return p->magnetic;
+    return true;
+}
+
+static void pool_of(st *s, pfx_motion_pool_d *p) {
+    *p = (pfx_motion_pool_d){
+        .count = 1, .px = &s->x, .py = &s->y, .pz = &s->z, .vx = &s->u, .vy = &s->v, .vz = &s->w};
+}
+
+/* Run problem p with integrator i at dt = T/steps; returns the position
+ * error at T (INFINITY when the state blew up). */
+static double run(const problem *pr, pfx_integrator integ, long steps, pfx_motion *m) {
+    st s;
+    memset(m, 0, sizeof *m);
+    m->integrator = integ;
+    pr->setup(m, &s);
+    const double dt = pr->T / (double)steps;
+    pfx_motion_prepare(m, dt);
+    pfx_motion_pool_d pool;
+    pool_of(&s, &pool);
+    for (long i = 0; i < steps; i++) {
+        st before = s;
+        double t = (double)i * dt;
+        pfx_motion_step_d(m, &pool, t);
+        if (pr->bounce && s.y < 0) {
+            /* redo the step: integrate to the hit, reflect, finish */
+            double tau = impact_time(before.y, before.v, dt);
+            if (tau > 0) {
+                s = before;
+                pfx_motion_prepare(m, tau);
+                pfx_motion_step_d(m, &pool, t);
+                s.y = 0;
+                s.v = -EPS * s.v;
+                pfx_motion_prepare(m, dt - tau);
+                pfx_motion_step_d(m, &pool, t + tau);
+                pfx_motion_prepare(m, dt);
+            }
+        }
+        if (!(fabs(s.x) + fabs(s.y) + fabs(s.z) < 1e12))
+            return INFINITY;
+    }
+    st e;
+    pr->exact(pr->T, &e);
+    double dx = s.x - e.x, dy = s.y - e.y, dz = s.z - e.z;
+    return sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+/* ns per particle-step: TIMING_PARTICLES copies of the problem's start
+ * state in the float kernel, stepped at the given dt. */
+static double time_float(const problem *pr, pfx_integrator integ, double dt, float *buf) {
+    pfx_motion m;
+    st s;
+    memset(&m, 0, sizeof m);
+    m.integrator = integ;
+    pr->setup(&m, &s);
+    pfx_motion_prepare(&m, dt);
+    const size_t n = TIMING_PARTICLES;
+    float *c[6];
+    double init[6] = {s.x, s.y, s.z, s.u, s.v, s.w};
+    for (int k = 0; k < 6; k++) {
+        c[k] = buf + k * n;
+        for (size_t i = 0; i < n; i++)
+            c[k][i] = (float)(init[k] * (1 + 1e-4 * (double)i / n));
+    }
+    pfx_motion_pool_f pool = {
+        .count = n, .px = c[0], .py = c[1], .pz = c[2], .vx = c[3], .vy = c[4], .vz = c[5]};
+    struct timespec a, b;
+    int steps = 0;
+    double elapsed = 0;
+    clock_gettime(CLOCK_MONOTONIC, &a);
+    do { /* at least 20 ms and 16 steps */
+        for (int r = 0; r < 16; r++, steps++)
+            pfx_motion_step_f(&m, &pool, steps * dt);
+        clock_gettime(CLOCK_MONOTONIC, &b);
+        elapsed = (double)(b.tv_sec - a.tv_sec) * 1e9 + (double)(b.tv_nsec - a.tv_nsec);
+    } while (elapsed < 2e7);
+    return elapsed / ((double)steps * (double)n);
+}
+
+/* Largest unstable rate among the warnings, for the label; 0 if stable. */
+static double unstable_rate(const pfx_motion *m, const char **what, bool *always) {
+    *always = false;
+    pfx_stability_warning w[8];
+    size_t n = pfx_motion_check_stability(m, w, 8);
+    for (size_t i = 0; i < n && i < 8; i++) {
+        if (w[i].kind == PFX_STABILITY_UNSTABLE) {
+            const pfx_motion_force *f = w[i].force >= 0 ? &m->forces[w[i].force] : NULL;
+            *what = f && f->kind == PFX_MOTION_DRAG ? "k*dt" : "omega*dt";
+            *always = w[i].limit == 0;
+            return w[i].number;
+        }
+        if (w[i].kind == PFX_STABILITY_DRIFT && w[i].number > 0) {
+            const pfx_motion_force *f = &m->forces[w[i].force];
+            *what = "Omega*dt";
+            *always = true;
+            return fabs(f->charge) / (f->mass > 0 ? f->mass : 1) *
+                   sqrt(f->field[0] * f->field[0] + f->field[1] * f->field[1] +
+                        f->field[2] * f->field[2]) *
+                   m->dt / m->steps;
+        }
+    }
+    return 0;
+}
+
+/* ---- Stability limits, measured ---- */
+
+static bool grows(pfx_integrator integ, int oscillator, double z) {
+    pfx_motion m;
+    memset(&m, 0, sizeof m);
+    m.integrator = integ;
+    m.substeps = 1;
+    st s = {0, 0, 0, 0, 0, 0};
+    if (oscillator) {
+        add(&m, PFX_MOTION_SPRING)->k = 1; /* omega = 1, so omega*h = h = z */
+        s.x = 1;
+    } else {
+        add(&m, PFX_MOTION_DRAG)->k = 1;
+        s.u = 1;
+    }
+    pfx_motion_prepare(&m, z);
+    pfx_motion_pool_d p;
+    pool_of(&s, &p);
+    for (int i = 0; i < 20000; i++) {
+        pfx_motion_step_d(&m, &p, i * z);
+        /* bounded orbits near omega h = 2 reach 1/sqrt(1 - (omega h)^2/4) */
+        double a = oscillator ? fmax(fabs(s.x), fabs(s.u)) : fabs(s.u);
+        if (!(a < (oscillator ? 1e3 : 1.5)))
+            return true;
+    }
+    return false;
+}
+
+double pfx_bench_stability_limit(pfx_integrator integ, int oscillator) {
+    double lo = 1e-3, hi = 1e3;
+    if (!grows(integ, oscillator, hi))
+        return INFINITY;
+    if (grows(integ, oscillator, lo))
+        return 0;
+    for (int i = 0; i < 60; i++) { /* geometric bisection */
+        double mid = sqrt(lo * hi);
+        if (grows(integ, oscillator, mid))
+            hi = mid;
+        else
+            lo = mid;
+    }
+    return lo;
+}
+
+/* ---- Output ---- */
+
+typedef struct result {
+    double dt, cost, err, ns, rate;
+    bool always; /* unstable at any dt (no stability region) */
+    int steps;
+    const char *rate_name;
+} result;
+
+static int write_work_precision(const char *dir, result (*res)[NINT][NJ], FILE *log) {
+    char path[1024];
+    snprintf(path, sizeof path, "%s/work-precision.csv", dir);
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        fprintf(log, "pfx: cannot open '%s': %s\n", path, strerror(errno));
+        return 1;
+    }
+    fprintf(f, "problem,integrator,dt,substeps,evals_per_s,error,ns_per_particle_step,"
+               "unstable_rate_name,unstable_rate\n");
+    for (size_t p = 0; p < NPROB; p++)
+        for (size_t i = 0; i < NINT; i++) {
+            if (!applies(&problems[p], integrators[i]))
+                continue;
+            for (int j = 0; j < NJ; j++) {
+                const result *r = &res[p][i][j];
+                fprintf(f, "\"%s\",%s,%.9g,%d,%.6g,%.6g,%.3f,%s,%.4g\n", problems[p].name,
+                        pfx_integrator_name(integrators[i]), r->dt, r->steps, r->cost, r->err,
+                        r->ns, r->rate > 0 ? r->rate_name : "", r->rate);
+            }
+        }
+    fclose(f);
+
+    snprintf(path, sizeof path, "%s/work-precision.svg", dir);
+    if (!(f = fopen(path, "w"))) {
+        fprintf(log, "pfx: cannot open '%s': %s\n", path, strerror(errno));
+        return 1;
+    }
+    const int cols = 2, pw = 400, ph = 260, mx = 80, my = 70;
+    const int W = cols * (pw + mx) + 160, H = (int)((NPROB + cols - 1) / cols) * (ph + my) + 90;
+    pfx_svg_begin(f, W, H);
+    pfx_svg_text(f, W / 2.0, 24, 16, "middle", "#000",
+                 "Work-precision: position error at the end time vs force evaluations per "
+                 "simulated second");
+    pfx_svg_text(f, W / 2.0, 42, 11, "middle", "#555",
+                 "dt = T/2^j; X = outside the stability region (labelled with its k*dt or "
+                 "omega*dt); errors below 1e-15 drawn at 1e-15");
+    for (size_t p = 0; p < NPROB; p++) {
+        pfx_chart c = {.left = mx + (double)(p % cols) * (pw + mx),
+                       .top = 80 + (double)(p / cols) * (ph + my),
+                       .width = pw,
+                       .height = ph,
+                       .log_x = true,
+                       .log_y = true,
+                       .y0 = 1e-15,
+                       .y1 = 1e3};
+        c.x0 = INFINITY, c.x1 = 0;
+        for (size_t i = 0; i < NINT; i++)
+            for (int j = 0; j < NJ; j++)
+                if (applies(&problems[p], integrators[i])) {
+                    c.x0 = fmin(c.x0, res[p][i][j].cost);
+                    c.x1 = fmax(c.x1, res[p][i][j].cost);
+                }
+        c.x0 = pow(10, floor(log10(c.x0)));
+        c.x1 = pow(10, ceil(log10(c.x1)));
+        pfx_chart_axes(f, &c, problems[p].name, "force evaluations per simulated second",
+                       "position error (m)");
+        for (size_t i = 0; i < NINT; i++) {
+            if (!applies(&problems[p], integrators[i]))
+                continue;
+            double x[NJ], y[NJ];
+            bool skip[NJ];
+            for (int j = 0; j < NJ; j++) {
+                x[j] = res[p][i][j].cost;
+                y[j] = fmax(fmin(res[p][i][j].err, 1e3), 1e-15);
+                skip[j] = false;
+            }
+            pfx_chart_line(f, &c, NJ, x, y, skip, colors[i], integrators[i] == PFX_INTEGRATOR_AUTO);
+            int labelled = 0, unstable = 0;
+            for (int j = 0; j < NJ; j++)
+                unstable += res[p][i][j].rate > 0;
+            for (int j = NJ - 1; j >= 0; j--) { /* smallest unstable dt first */
+                const result *r = &res[p][i][j];
+                if (r->rate > 0) {
+                    pfx_chart_mark(f, &c, x[j], y[j], PFX_MARK_CROSS, colors[i]);
+                    if (!labelled++) {
+                        char lab[48];
+                        if (r->always && unstable == NJ)
+                            snprintf(lab, sizeof lab, "unstable at every dt");
+                        else
+                            snprintf(lab, sizeof lab, "%s=%.2g", r->rate_name, r->rate);
+                        pfx_svg_text(f, pfx_chart_px(&c, x[j]) + 6, pfx_chart_py(&c, y[j]) + 12, 9,
+                                     "start", colors[i], lab);
+                    }
+                } else {
+                    pfx_chart_mark(f, &c, x[j], y[j], PFX_MARK_DOT, colors[i]);
+                }
+            }
+        }
+    }
+    const char *labels[NINT];
+    for (size_t i = 0; i < NINT; i++)
+        labels[i] = pfx_integrator_name(integrators[i]);
+    pfx_svg_legend(f, W - 130, 90, (int)NINT, labels, (const char *const *)colors);
+    pfx_svg_end(f);
+    fclose(f);
+    return 0;
+}
+
+static int write_stability(const char *dir, FILE *log) {
+    static const pfx_integrator si[] = {PFX_INTEGRATOR_EULER,    PFX_INTEGRATOR_SYMPLECTIC,
+                                        PFX_INTEGRATOR_MIDPOINT, PFX_INTEGRATOR_RK4,
+                                        PFX_INTEGRATOR_VERLET,   PFX_INTEGRATOR_EXACT};
+    enum { NS = sizeof si / sizeof si[0] };
+    double meas[NS][2], theo[NS][2];
+    for (int i = 0; i < NS; i++)
+        for (int o = 0; o < 2; o++) {
+            meas[i][o] = pfx_bench_stability_limit(si[i], o);
+            pfx_scheme s = pfx_integrator_scheme(si[i]);
+            theo[i][o] = o ? pfx_stability_oscillator_limit(s) : pfx_stability_decay_limit(s);
+            fprintf(log, "  stability %-10s %s: measured %.5g, theory %.5g\n",
+                    pfx_integrator_name(si[i]), o ? "omega*dt" : "k*dt    ", meas[i][o],
+                    theo[i][o]);
+        }
+    char path[1024];
+    snprintf(path, sizeof path, "%s/stability.csv", dir);
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        fprintf(log, "pfx: cannot open '%s': %s\n", path, strerror(errno));
+        return 1;
+    }
+    fprintf(f, "integrator,decay_kdt_measured,decay_kdt_theory,oscillator_wdt_measured,"
+               "oscillator_wdt_theory\n");
+    for (int i = 0; i < NS; i++)
+        fprintf(f, "%s,%.6g,%.6g,%.6g,%.6g\n", pfx_integrator_name(si[i]), meas[i][0], theo[i][0],
+                meas[i][1], theo[i][1]);
+    fclose(f);
+
+    snprintf(path, sizeof path, "%s/stability.svg", dir);
+    if (!(f = fopen(path, "w"))) {
+        fprintf(log, "pfx: cannot open '%s': %s\n", path, strerror(errno));
+        return 1;
+    }
+    const int W = 900, H = 360;
+    pfx_svg_begin(f, W, H);
+    pfx_svg_text(f, W / 2.0, 24, 16, "middle", "#000",
+                 "Largest stable step: measured by bisection (bar) vs theory (black tick)");
+    pfx_svg_text(f, W / 2.0, 42, 11, "middle", "#555",
+                 "20,000 steps of one particle in double; theory 0 = unstable at any step (the "
+                 "measured bar is where growth shows within 20,000 steps)");
+    const char *titles[2] = {"decay v' = -k v: largest k*dt",
+                             "oscillator x'' = -w^2 x: largest omega*dt"};
+    for (int o = 0; o < 2; o++) {
+        pfx_chart c = {.left = 110 + o * 440,
+                       .top = 80,
+                       .width = 320,
+                       .height = 230,
+                       .x0 = 0,
+                       .x1 = 4,
+                       .y0 = 0,
+                       .y1 = NS,
+                       .no_y_ticks = true};
+        pfx_chart_axes(f, &c, titles[o], o ? "omega*dt" : "k*dt", NULL);
+        for (int i = 0; i < NS; i++) {
+            double yb = NS - i - 0.8, yt = NS - i - 0.2, m = meas[i][o], t = theo[i][o];
+            const char *col = colors[i];
+            pfx_chart_rect(f, &c, 0, yb, fmin(m, 4), yt, col);
+            char lab[64];
+            if (isinf(m))
+                snprintf(lab, sizeof lab, "stable at any step");
+            else if (t == 0)
+                snprintf(lab, sizeof lab, "%.3g (theory 0: grows at any step)", m);
+            else
+                snprintf(lab, sizeof lab, "%.4g (theory %.4g)", m, t);
+            double lx = pfx_chart_px(&c, fmin(m, 4)) + 4;
+            if (isinf(m) || m > 3)
+                lx = pfx_chart_px(&c, 0) + 4;
+            pfx_svg_text(f, lx, pfx_chart_py(&c, 0.5 * (yb + yt)) + 4, 10, "start",
+                         isinf(m) || m > 3 ? "#fff" : "#000", lab);
+            if (!isinf(t)) {
+                double x = pfx_chart_px(&c, t);
+                fprintf(f,
+                        "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#000\" "
+                        "stroke-width=\"2.5\"/>\n",
+                        x, pfx_chart_py(&c, yb) + 3, x, pfx_chart_py(&c, yt) - 3);
+            }
+            pfx_svg_text(f, c.left - 6, pfx_chart_py(&c, 0.5 * (yb + yt)) + 4, 11, "end", "#000",
+                         i == NS - 1 ? "exact/boris" : pfx_integrator_name(si[i]));
+        }
+    }
+    pfx_svg_end(f);
+    fclose(f);
+    return 0;
+}
+
+int pfx_bench_accuracy(const char *out_dir, FILE *log) {
+    if (mkdir(out_dir, 0777) != 0 && errno != EEXIST) {
+        fprintf(log, "pfx: cannot create '%s': %s\n", out_dir, strerror(errno));
+        return 1;
+    }
+    result(*res)[NINT][NJ] = calloc(NPROB, sizeof *res);
+    float *buf = malloc(6 * TIMING_PARTICLES * sizeof *buf);
+    if (!res || !buf) {
+        free(res);
+        free(buf);
+        fprintf(log, "pfx: out of memory\n");
+        return 1;
+    }
+    for (size_t p = 0; p < NPROB; p++) {
+        const problem *pr = &problems[p];
+        for (size_t i = 0; i < NINT; i++) {
+            if (!applies(pr, integrators[i]))
+                continue;
+            for (int j = 0; j < NJ; j++) {
+                pfx_motion m;
+                long steps = 1L << (J_MIN + j);
+                result *r = &res[p][i][j];
+                r->err = run(pr, integrators[i], steps, &m);
+                r->dt = pr->T / (double)steps;
+                r->steps = m.steps;
+                r->cost = pfx_motion_evals_per_step(&m) / r->dt;
+                r->rate = unstable_rate(&m, &r->rate_name, &r->always);
+            }
+            /* time at the middle of the sweep: the kernel cost per substep
+             * does not depend on dt */
+            double ns = time_float(pr, integrators[i], pr->T / 256, buf);
+            for (int j = 0; j < NJ; j++)
+                res[p][i][j].ns = ns;
+            fprintf(log, "  %-30s %-10s error at dt=T/256: %.3g, %.1f ns/particle-step\n", pr->name,
+                    pfx_integrator_name(integrators[i]), res[p][i][6].err, ns);
+        }
+    }
+    int rc = write_work_precision(out_dir, res, log);
+    if (rc == 0)
+        rc = write_stability(out_dir, log);
+    free(res);
+    free(buf);
+    return rc;
+}

@@ -1,0 +1,525 @@
+/* The integrators and force loops, written once over a real type. Not a
+ * public header: integrators.c includes it twice, with PFX_REAL = float,
+ * PFX_SUFFIX = _f, PFX_POOL = pfx_motion_pool_f, and again for double, so
+ * the float pool and the double accuracy harness run the same arithmetic.
+ * <tgmath.h> picks sqrtf/sqrt etc. by argument type. */
+
+#define R PFX_REAL
+#define FN(name) PFX_CAT(name, PFX_SUFFIX)
+#define BLK PFX_MOTION_BLOCK
+
+/* Region weight per particle: 1 inside, 1 - d/falloff at distance d
+ * outside, 0 beyond. */
+static void FN(region_weight)(const pfx_motion_region *g, size_t n, const R *x, const R *y,
+                              const R *z, R *w) {
+    if (g->kind == PFX_REGION_NONE) {
+        for (size_t j = 0; j < n; j++)
+            w[j] = 1;
+        return;
+    }
+    const R cx = (R)g->center[0], cy = (R)g->center[1], cz = (R)g->center[2];
+    const R rad = (R)g->radius, fall = (R)g->falloff;
+    const R hx = (R)g->half[0], hy = (R)g->half[1], hz = (R)g->half[2];
+    const int sphere = g->kind == PFX_REGION_SPHERE;
+    for (size_t j = 0; j < n; j++) {
+        R dx = x[j] - cx, dy = y[j] - cy, dz = z[j] - cz, out;
+        if (sphere) {
+            out = sqrt(dx * dx + dy * dy + dz * dz) - rad;
+        } else {
+            R qx = fabs(dx) - hx, qy = fabs(dy) - hy, qz = fabs(dz) - hz;
+            qx = qx > 0 ? qx : 0;
+            qy = qy > 0 ? qy : 0;
+            qz = qz > 0 ? qz : 0;
+            out = sqrt(qx * qx + qy * qy + qz * qz);
+        }
+        R wj = out <= 0 ? (R)1 : (fall > 0 ? (R)1 - out / fall : (R)0);
+        w[j] = wj > 0 ? wj : 0;
+    }
+}
+
+/* a = sum of the ODE forces at (x, v, t) for pool particles i0 .. i0+n-1
+ * (n <= BLK). split: leave out what the split step handles itself (the
+ * folded linear parts, which its drift integrates exactly, and q v x B,
+ * which its rotation does). */
+static void FN(accel)(const pfx_motion *m, const PFX_POOL *p, size_t i0, size_t n, const R *x,
+                      const R *y, const R *z, const R *vx, const R *vy, const R *vz, double t,
+                      int split, R *ax, R *ay, R *az) {
+    R w[BLK];
+    for (size_t j = 0; j < n; j++)
+        ax[j] = ay[j] = az[j] = 0;
+    for (size_t f = 0; f < m->force_count; f++) {
+        const pfx_motion_force *F = &m->forces[f];
+        const int folded = split && m->folded[f];
+        switch (F->kind) {
+        case PFX_MOTION_GRAVITY: {
+            if (folded)
+                break;
+            FN(region_weight)(&F->region, n, x, y, z, w);
+            const R gx = (R)F->accel[0], gy = (R)F->accel[1], gz = (R)F->accel[2];
+            const R *gs = p->gravity_scale ? p->gravity_scale + i0 : NULL;
+            for (size_t j = 0; j < n; j++) {
+                R s = (gs ? gs[j] : (R)1) * w[j];
+                ax[j] += gx * s;
+                ay[j] += gy * s;
+                az[j] += gz * s;
+            }
+            break;
+        }
+        case PFX_MOTION_ATTRACTOR: {
+            /* Plummer softening e: a = s d / (r^2 + e^2)^(3/2) (inverse
+             * square); s d / (L (r^2 + e^2)) (linear); s d / (L^2 sqrt(r^2 +
+             * e^2)) (constant); d = centre - x, so s > 0 attracts. All three
+             * agree at r = L when e = 0. */
+            FN(region_weight)(&F->region, n, x, y, z, w);
+            const R cx = (R)F->center[0], cy = (R)F->center[1], cz = (R)F->center[2];
+            const R s = (R)F->strength, e2 = (R)(F->softening * F->softening);
+            const double Ld = F->ref_radius > 0 ? F->ref_radius : 1.0;
+            const R L = (R)Ld, L2 = (R)(Ld * Ld);
+            const R cut2 = F->radius > 0 ? (R)(F->radius * F->radius) : (R)INFINITY;
+            const pfx_falloff fo = F->falloff;
+            for (size_t j = 0; j < n; j++) {
+                R dx = cx - x[j], dy = cy - y[j], dz = cz - z[j];
+                R r2 = dx * dx + dy * dy + dz * dz, q = r2 + e2, g;
+                if (fo == PFX_FALLOFF_INVERSE_SQUARE)
+                    g = s / (q * sqrt(q));
+                else if (fo == PFX_FALLOFF_LINEAR)
+                    g = s / (L * q);
+                else
+                    g = s / (L2 * sqrt(q));
+                if (!(q > 0) || r2 > cut2)
+                    g = 0; /* at the unsoftened centre the direction is undefined */
+                g *= w[j];
+                ax[j] += g * dx;
+                ay[j] += g * dy;
+                az[j] += g * dz;
+            }
+            break;
+        }
+        case PFX_MOTION_DRAG: {
+            /* a = -(k + c |u|) u, u = v - wind. */
+            FN(region_weight)(&F->region, n, x, y, z, w);
+            const R k = folded ? (R)0 : (R)F->k, c = (R)F->c;
+            const R wx = (R)F->wind[0], wy = (R)F->wind[1], wz = (R)F->wind[2];
+            for (size_t j = 0; j < n; j++) {
+                R ux = vx[j] - wx, uy = vy[j] - wy, uz = vz[j] - wz;
+                R g = (k + c * sqrt(ux * ux + uy * uy + uz * uz)) * w[j];
+                ax[j] -= g * ux;
+                ay[j] -= g * uy;
+                az[j] -= g * uz;
+            }
+            break;
+        }
+        case PFX_MOTION_MAGNETIC: {
+            /* a = (q/m)(E + v x B); the split step rotates by B itself. */
+            FN(region_weight)(&F->region, n, x, y, z, w);
+            const R Ex = (R)F->electric[0], Ey = (R)F->electric[1], Ez = (R)F->electric[2];
+            const R Bx = split ? (R)0 : (R)F->field[0], By = split ? (R)0 : (R)F->field[1],
+                    Bz = split ? (R)0 : (R)F->field[2];
+            const R q0 = (R)F->charge, m0 = (R)(F->mass > 0 ? F->mass : 1.0);
+            const R *qc = p->charge ? p->charge + i0 : NULL;
+            const R *mc = p->mass ? p->mass + i0 : NULL;
+            for (size_t j = 0; j < n; j++) {
+                R qm = (qc ? qc[j] : q0) / (mc ? mc[j] : m0) * w[j];
+                ax[j] += qm * (Ex + vy[j] * Bz - vz[j] * By);
+                ay[j] += qm * (Ey + vz[j] * Bx - vx[j] * Bz);
+                az[j] += qm * (Ez + vx[j] * By - vy[j] * Bx);
+            }
+            break;
+        }
+        case PFX_MOTION_SPRING: {
+            /* a = -k (x - anchor) - 2 zeta sqrt(k) v: zeta = 1 is critical. */
+            FN(region_weight)(&F->region, n, x, y, z, w);
+            const R k = (R)F->k, cd = folded ? (R)0 : (R)(2.0 * F->zeta * sqrt(F->k));
+            const R cx = (R)F->center[0], cy = (R)F->center[1], cz = (R)F->center[2];
+            const int birth = F->use_birth;
+            const R *bx = birth ? p->bx + i0 : NULL, *by = birth ? p->by + i0 : NULL,
+                    *bz = birth ? p->bz + i0 : NULL;
+            for (size_t j = 0; j < n; j++) {
+                R qx = birth ? bx[j] : cx, qy = birth ? by[j] : cy, qz = birth ? bz[j] : cz;
+                ax[j] -= (k * (x[j] - qx) + cd * vx[j]) * w[j];
+                ay[j] -= (k * (y[j] - qy) + cd * vy[j]) * w[j];
+                az[j] -= (k * (z[j] - qz) + cd * vz[j]) * w[j];
+            }
+            break;
+        }
+        case PFX_MOTION_TURBULENCE: {
+            FN(region_weight)(&F->region, n, x, y, z, w);
+            const double inv = 1.0 / F->scale, shift = F->speed * t * inv;
+            const R s = (R)F->strength;
+            for (size_t j = 0; j < n; j++) {
+                double pt[3] = {(double)x[j] * inv, (double)y[j] * inv, (double)z[j] * inv}, c[3];
+                pfx_curl_noise(pt, shift, F->octaves, F->seed, c);
+                ax[j] += s * w[j] * (R)c[0];
+                ay[j] += s * w[j] * (R)c[1];
+                az[j] += s * w[j] * (R)c[2];
+            }
+            break;
+        }
+        default: /* vortex, spiral, speed_limit: operators, not forces */
+            break;
+        }
+    }
+}
+
+/* ---- The schemes, each on one block of n particles in place ---- */
+
+#define BLOCK_ARGS                                                                                 \
+    const pfx_motion *m, const PFX_POOL *p, size_t i0, size_t n, R *X, R *Y, R *Z, R *U, R *V,     \
+        R *W, double t, double h
+
+/* Explicit Euler: x1 = x0 + h v0, v1 = v0 + h a(x0, v0). Order 1; energy
+ * grows every step on any oscillator. */
+static void FN(step_euler)(BLOCK_ARGS) {
+    R ax[BLK], ay[BLK], az[BLK];
+    FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t, 0, ax, ay, az);
+    const R hr = (R)h;
+    for (size_t j = 0; j < n; j++) {
+        X[j] += hr * U[j];
+        Y[j] += hr * V[j];
+        Z[j] += hr * W[j];
+        U[j] += hr * ax[j];
+        V[j] += hr * ay[j];
+        W[j] += hr * az[j];
+    }
+}
+
+/* Semi-implicit (symplectic) Euler: v1 = v0 + h a(x0, v0), x1 = x0 + h v1.
+ * Order 1, but symplectic for position forces: orbits stay bounded. */
+static void FN(step_symplectic)(BLOCK_ARGS) {
+    R ax[BLK], ay[BLK], az[BLK];
+    FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t, 0, ax, ay, az);
+    const R hr = (R)h;
+    for (size_t j = 0; j < n; j++) {
+        U[j] += hr * ax[j];
+        V[j] += hr * ay[j];
+        W[j] += hr * az[j];
+        X[j] += hr * U[j];
+        Y[j] += hr * V[j];
+        Z[j] += hr * W[j];
+    }
+}
+
+/* Explicit midpoint (RK2): half an Euler step to the middle, then the full
+ * step with the midpoint's slope. Order 2. */
+static void FN(step_midpoint)(BLOCK_ARGS) {
+    R ax[BLK], ay[BLK], az[BLK], mx[BLK], my[BLK], mz[BLK], mu[BLK], mv[BLK], mw[BLK];
+    FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t, 0, ax, ay, az);
+    const R hr = (R)h, h2 = (R)(0.5 * h);
+    for (size_t j = 0; j < n; j++) {
+        mx[j] = X[j] + h2 * U[j];
+        my[j] = Y[j] + h2 * V[j];
+        mz[j] = Z[j] + h2 * W[j];
+        mu[j] = U[j] + h2 * ax[j];
+        mv[j] = V[j] + h2 * ay[j];
+        mw[j] = W[j] + h2 * az[j];
+    }
+    FN(accel)(m, p, i0, n, mx, my, mz, mu, mv, mw, t + 0.5 * h, 0, ax, ay, az);
+    for (size_t j = 0; j < n; j++) {
+        X[j] += hr * mu[j];
+        Y[j] += hr * mv[j];
+        Z[j] += hr * mw[j];
+        U[j] += hr * ax[j];
+        V[j] += hr * ay[j];
+        W[j] += hr * az[j];
+    }
+}
+
+/* Velocity Verlet (kick-drift-kick): v' = v0 + h/2 a0, x1 = x0 + h v',
+ * v1 = v' + h/2 a(x1, vp). For position forces vp does not matter and this
+ * is the textbook symplectic scheme; for velocity forces vp = v' + h/2 a0
+ * predicts v1 to O(h^2), which keeps the method second order. 2 evaluations
+ * (a cached a1 would make it 1, at 3 more columns per particle). */
+static void FN(step_verlet)(BLOCK_ARGS) {
+    R ax[BLK], ay[BLK], az[BLK], pu[BLK], pv[BLK], pw[BLK];
+    FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t, 0, ax, ay, az);
+    const R hr = (R)h, h2 = (R)(0.5 * h);
+    for (size_t j = 0; j < n; j++) {
+        U[j] += h2 * ax[j];
+        V[j] += h2 * ay[j];
+        W[j] += h2 * az[j];
+        X[j] += hr * U[j];
+        Y[j] += hr * V[j];
+        Z[j] += hr * W[j];
+        pu[j] = U[j] + h2 * ax[j];
+        pv[j] = V[j] + h2 * ay[j];
+        pw[j] = W[j] + h2 * az[j];
+    }
+    FN(accel)(m, p, i0, n, X, Y, Z, pu, pv, pw, t + h, 0, ax, ay, az);
+    for (size_t j = 0; j < n; j++) {
+        U[j] += h2 * ax[j];
+        V[j] += h2 * ay[j];
+        W[j] += h2 * az[j];
+    }
+}
+
+/* Classical RK4 on q' = (v, a(x, v, t)). The pool holds the start state
+ * until the end; t* is the stage state, s* the weighted slope sum
+ * k1 + 2 k2 + 2 k3 + k4. Order 4. */
+static void FN(step_rk4)(BLOCK_ARGS) {
+    R ax[BLK], ay[BLK], az[BLK];
+    R tx[BLK], ty[BLK], tz[BLK], tu[BLK], tv[BLK], tw[BLK];
+    R sx[BLK], sy[BLK], sz[BLK], su[BLK], sv[BLK], sw[BLK];
+    const R hr = (R)h, h2 = (R)(0.5 * h), h6 = (R)(h / 6.0);
+    FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t, 0, ax, ay, az);
+    for (size_t j = 0; j < n; j++) {
+        sx[j] = U[j], sy[j] = V[j], sz[j] = W[j];
+        su[j] = ax[j], sv[j] = ay[j], sw[j] = az[j];
+        tx[j] = X[j] + h2 * U[j], ty[j] = Y[j] + h2 * V[j], tz[j] = Z[j] + h2 * W[j];
+        tu[j] = U[j] + h2 * ax[j], tv[j] = V[j] + h2 * ay[j], tw[j] = W[j] + h2 * az[j];
+    }
+    for (int stage = 2; stage <= 3; stage++) {
+        FN(accel)(m, p, i0, n, tx, ty, tz, tu, tv, tw, t + 0.5 * h, 0, ax, ay, az);
+        const R c = stage == 2 ? h2 : hr; /* k3's state is a half step, k4's a full one */
+        for (size_t j = 0; j < n; j++) {
+            sx[j] += 2 * tu[j], sy[j] += 2 * tv[j], sz[j] += 2 * tw[j];
+            su[j] += 2 * ax[j], sv[j] += 2 * ay[j], sw[j] += 2 * az[j];
+            tx[j] = X[j] + c * tu[j], ty[j] = Y[j] + c * tv[j], tz[j] = Z[j] + c * tw[j];
+            tu[j] = U[j] + c * ax[j], tv[j] = V[j] + c * ay[j], tw[j] = W[j] + c * az[j];
+        }
+    }
+    FN(accel)(m, p, i0, n, tx, ty, tz, tu, tv, tw, t + h, 0, ax, ay, az);
+    for (size_t j = 0; j < n; j++) {
+        X[j] += h6 * (sx[j] + tu[j]);
+        Y[j] += h6 * (sy[j] + tv[j]);
+        Z[j] += h6 * (sz[j] + tw[j]);
+        U[j] += h6 * (su[j] + ax[j]);
+        V[j] += h6 * (sv[j] + ay[j]);
+        W[j] += h6 * (sw[j] + az[j]);
+    }
+}
+
+/* The exact flow of v' = s g - k (v - w) for time h (s = gravity_scale):
+ *   u0 = v0 - w,  e = exp(-k h),  E1 = (1 - e)/k,  E2 = (h - E1)/k,
+ *   v = w + u0 e + s g E1,  x = x0 + w h + u0 E1 + s g E2.
+ * E1 = -expm1(-kh)/k and E2 by its series h^2 sum (-kh)^n/(n+2)! when kh <
+ * 0.5, so k -> 0 gives E1 = h, E2 = h^2/2: the exact projectile, without
+ * the cancellation of v_inf = w + g/k. Scalars in double, once per call. */
+static void FN(drift)(const pfx_motion *m, const PFX_POOL *p, size_t i0, size_t n, R *X, R *Y, R *Z,
+                      R *U, R *V, R *W, double h) {
+    const double k = m->drift_k, zk = k * h;
+    double e = 1, E1 = h, E2 = 0.5 * h * h;
+    if (k > 0) {
+        e = exp(-zk);
+        E1 = -expm1(-zk) / k;
+        if (zk < 0.5) {
+            double term = 0.5, sum = 0; /* (-z)^n / (n+2)! */
+            for (int i = 0; i < 16; i++) {
+                sum += term;
+                term *= -zk / (double)(i + 3);
+            }
+            E2 = h * h * sum;
+        } else {
+            E2 = (h - E1) / k;
+        }
+    }
+    const R re = (R)e, r1 = (R)E1, r2 = (R)E2, hr = (R)h;
+    const R wx = (R)m->drift_wind[0], wy = (R)m->drift_wind[1], wz = (R)m->drift_wind[2];
+    const R gx = (R)m->drift_g[0], gy = (R)m->drift_g[1], gz = (R)m->drift_g[2];
+    const R *gs = p->gravity_scale ? p->gravity_scale + i0 : NULL;
+    for (size_t j = 0; j < n; j++) {
+        R s = gs ? gs[j] : (R)1;
+        R ux = U[j] - wx, uy = V[j] - wy, uz = W[j] - wz;
+        X[j] += wx * hr + ux * r1 + s * gx * r2;
+        Y[j] += wy * hr + uy * r1 + s * gy * r2;
+        Z[j] += wz * hr + uz * r1 + s * gz * r2;
+        U[j] = wx + ux * re + s * gx * r1;
+        V[j] = wy + uy * re + s * gy * r1;
+        W[j] = wz + uz * re + s * gz * r1;
+    }
+}
+
+/* Boris rotation of v by the magnetic forces for time h: v' = Omega x v with
+ * Omega = -(q/m) B summed over the fields. With t = tan(theta/2) Omega_hat
+ * and s = 2t/(1 + t^2): v- = v + v x t, v = v + v- x s, a rotation by
+ * exactly theta = |Omega| h, so |v| is kept to round-off. (Boris's
+ * t = qB h/(2m) rotates by 2 atan(theta/2), a phase error of theta^3/12 per
+ * step; the tangent removes it at one tan per particle.) */
+static void FN(rotate)(const pfx_motion *m, const PFX_POOL *p, size_t i0, size_t n, const R *X,
+                       const R *Y, const R *Z, R *U, R *V, R *W, double h) {
+    R ox[BLK], oy[BLK], oz[BLK], w[BLK];
+    if (m->uniform_rotation && !p->charge && !p->mass) {
+        /* one Omega for every particle: the tangent once per block */
+        double om =
+            sqrt(m->omega[0] * m->omega[0] + m->omega[1] * m->omega[1] + m->omega[2] * m->omega[2]);
+        double c = tan(0.5 * om * h) / om;
+        const R tx = (R)(m->omega[0] * c), ty = (R)(m->omega[1] * c), tz = (R)(m->omega[2] * c);
+        const R sc = (R)(2 / (1 + (double)tx * tx + (double)ty * ty + (double)tz * tz));
+        const R sx = tx * sc, sy = ty * sc, sz = tz * sc;
+        for (size_t j = 0; j < n; j++) {
+            R au = U[j] + (ty * W[j] - tz * V[j]);
+            R av = V[j] + (tz * U[j] - tx * W[j]);
+            R aw = W[j] + (tx * V[j] - ty * U[j]);
+            U[j] += sy * aw - sz * av;
+            V[j] += sz * au - sx * aw;
+            W[j] += sx * av - sy * au;
+        }
+        return;
+    }
+    for (size_t j = 0; j < n; j++)
+        ox[j] = oy[j] = oz[j] = 0;
+    for (size_t f = 0; f < m->force_count; f++) {
+        const pfx_motion_force *F = &m->forces[f];
+        if (F->kind != PFX_MOTION_MAGNETIC)
+            continue;
+        FN(region_weight)(&F->region, n, X, Y, Z, w);
+        const R Bx = (R)F->field[0], By = (R)F->field[1], Bz = (R)F->field[2];
+        const R q0 = (R)F->charge, m0 = (R)(F->mass > 0 ? F->mass : 1.0);
+        const R *qc = p->charge ? p->charge + i0 : NULL;
+        const R *mc = p->mass ? p->mass + i0 : NULL;
+        for (size_t j = 0; j < n; j++) {
+            R qm = (qc ? qc[j] : q0) / (mc ? mc[j] : m0) * w[j];
+            ox[j] -= qm * Bx;
+            oy[j] -= qm * By;
+            oz[j] -= qm * Bz;
+        }
+    }
+    for (size_t j = 0; j < n; j++) {
+        double om = sqrt((double)ox[j] * ox[j] + (double)oy[j] * oy[j] + (double)oz[j] * oz[j]);
+        if (!(om > 0))
+            continue;
+        double th = om * h;
+        R c = (R)(tan(0.5 * th) / om);
+        R tx = ox[j] * c, ty = oy[j] * c, tz = oz[j] * c;
+        R sc = 2 / (1 + tx * tx + ty * ty + tz * tz);
+        R sx = tx * sc, sy = ty * sc, sz = tz * sc;
+        /* v x t for v' = Omega x v: the rotation sense is Omega's, so
+         * use t x v (= -(v x t)). */
+        R au = U[j] + (ty * W[j] - tz * V[j]);
+        R av = V[j] + (tz * U[j] - tx * W[j]);
+        R aw = W[j] + (tx * V[j] - ty * U[j]);
+        U[j] += sy * aw - sz * av;
+        V[j] += sz * au - sx * aw;
+        W[j] += sx * av - sy * au;
+    }
+}
+
+/* The split step: K(h/2) R(h/2) D(h) R(h/2) K(h/2) - kicks by the forces
+ * that are not folded, the Boris rotation, the exact drift of gravity and
+ * linear drag. Symmetric, hence second order; exact when only gravity and
+ * linear drag act; symplectic (kick-drift-kick) for position forces. */
+static void FN(step_split)(BLOCK_ARGS) {
+    R ax[BLK], ay[BLK], az[BLK];
+    const R h2 = (R)(0.5 * h);
+    if (m->has_kick) {
+        FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t, 1, ax, ay, az);
+        for (size_t j = 0; j < n; j++) {
+            U[j] += h2 * ax[j];
+            V[j] += h2 * ay[j];
+            W[j] += h2 * az[j];
+        }
+    }
+    if (m->has_rotation)
+        FN(rotate)(m, p, i0, n, X, Y, Z, U, V, W, 0.5 * h);
+    FN(drift)(m, p, i0, n, X, Y, Z, U, V, W, h);
+    if (m->has_rotation)
+        FN(rotate)(m, p, i0, n, X, Y, Z, U, V, W, 0.5 * h);
+    if (m->has_kick) {
+        FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t + h, 1, ax, ay, az);
+        for (size_t j = 0; j < n; j++) {
+            U[j] += h2 * ax[j];
+            V[j] += h2 * ay[j];
+            W[j] += h2 * az[j];
+        }
+    }
+}
+
+/* Operators that are rotations or clamps rather than forces, applied after
+ * each (sub)step: the Sims vortex turns the position about its axis by
+ * strength f(r) h (and pulls it in by inflow f(r) h); the spiral turns the
+ * velocity by rate h (Rodrigues); speed_limit scales |v| down. */
+static void FN(operators)(const pfx_motion *m, size_t n, R *X, R *Y, R *Z, R *U, R *V, R *W,
+                          double h) {
+    R w[BLK];
+    for (size_t f = 0; f < m->force_count; f++) {
+        const pfx_motion_force *F = &m->forces[f];
+        if (F->kind == PFX_MOTION_VORTEX) {
+            FN(region_weight)(&F->region, n, X, Y, Z, w);
+            const double ux = F->axis[0], uy = F->axis[1], uz = F->axis[2];
+            const double inv_rad = 1.0 / F->radius, d = F->sims_d;
+            for (size_t j = 0; j < n; j++) {
+                double rx = X[j] - F->center[0], ry = Y[j] - F->center[1], rz = Z[j] - F->center[2];
+                double al = rx * ux + ry * uy + rz * uz;
+                double qx = rx - al * ux, qy = ry - al * uy, qz = rz - al * uz;
+                double rp = sqrt(qx * qx + qy * qy + qz * qz), rn = rp * inv_rad;
+                if (!(rn < 1))
+                    continue;
+                double r2 = rn * rn, fr = (r2 * r2 - 2 * r2 + 1) / (1 + d * r2);
+                double th = F->strength * fr * (double)w[j] * h, c = cos(th), s = sin(th);
+                double cx = uy * qz - uz * qy, cy = uz * qx - ux * qz, cz = ux * qy - uy * qx;
+                double nx = qx * c + cx * s, ny = qy * c + cy * s, nz = qz * c + cz * s;
+                if (F->inflow != 0 && rp > 0) {
+                    double g = 1 - F->inflow * fr * (double)w[j] * h / rp;
+                    g = g > 0 ? g : 0;
+                    nx *= g, ny *= g, nz *= g;
+                }
+                X[j] = (R)(F->center[0] + al * ux + nx);
+                Y[j] = (R)(F->center[1] + al * uy + ny);
+                Z[j] = (R)(F->center[2] + al * uz + nz);
+            }
+        } else if (F->kind == PFX_MOTION_SPIRAL) {
+            FN(region_weight)(&F->region, n, X, Y, Z, w);
+            const R ux = (R)F->axis[0], uy = (R)F->axis[1], uz = (R)F->axis[2];
+            for (size_t j = 0; j < n; j++) {
+                double th = F->rate * (double)w[j] * h;
+                R c = (R)cos(th), s = (R)sin(th);
+                R dot = ux * U[j] + uy * V[j] + uz * W[j];
+                R cx = uy * W[j] - uz * V[j], cy = uz * U[j] - ux * W[j],
+                  cz = ux * V[j] - uy * U[j];
+                R oc = dot * (1 - c);
+                U[j] = U[j] * c + cx * s + ux * oc;
+                V[j] = V[j] * c + cy * s + uy * oc;
+                W[j] = W[j] * c + cz * s + uz * oc;
+            }
+        } else if (F->kind == PFX_MOTION_SPEED_LIMIT) {
+            FN(region_weight)(&F->region, n, X, Y, Z, w);
+            const R vmax = (R)F->max_speed;
+            for (size_t j = 0; j < n; j++) {
+                R sp = sqrt(U[j] * U[j] + V[j] * V[j] + W[j] * W[j]);
+                if (sp > vmax) {
+                    R g = 1 - w[j] + w[j] * vmax / sp;
+                    U[j] *= g, V[j] *= g, W[j] *= g;
+                }
+            }
+        }
+    }
+}
+
+void FN(pfx_motion_step)(const pfx_motion *m, PFX_POOL *p, double t) {
+    const int steps = m->steps > 0 ? m->steps : 1;
+    const double h = m->dt / steps;
+    for (size_t i0 = 0; i0 < p->count; i0 += BLK) {
+        size_t n = p->count - i0 < BLK ? p->count - i0 : BLK;
+        R *X = p->px + i0, *Y = p->py + i0, *Z = p->pz + i0;
+        R *U = p->vx + i0, *V = p->vy + i0, *W = p->vz + i0;
+        for (int s = 0; s < steps; s++) {
+            double ts = t + s * h;
+            switch (m->scheme) {
+            case PFX_SCHEME_EULER:
+                FN(step_euler)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
+                break;
+            case PFX_SCHEME_SYMPLECTIC:
+                FN(step_symplectic)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
+                break;
+            case PFX_SCHEME_MIDPOINT:
+                FN(step_midpoint)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
+                break;
+            case PFX_SCHEME_RK4:
+                FN(step_rk4)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
+                break;
+            case PFX_SCHEME_VERLET:
+                FN(step_verlet)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
+                break;
+            case PFX_SCHEME_SPLIT:
+                FN(step_split)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
+                break;
+            }
+            if (m->has_operators)
+                FN(operators)(m, n, X, Y, Z, U, V, W, h);
+        }
+    }
+}
+
+#undef BLOCK_ARGS
+#undef BLK
+#undef FN
+#undef R
