@@ -259,6 +259,14 @@ static void report_dropped(const pfx_sim *s, const options *o) {
                     s->effect->emitters[i].capacity);
 }
 
+/* A simulation that went non-finite stops the command with its message. */
+static bool sim_failed(const pfx_sim *sim, const pfx_sim *view, char *err, size_t size) {
+    const pfx_sim *bad = sim->failed ? sim : view->failed ? view : NULL;
+    if (bad)
+        snprintf(err, size, "%.200s: %.300s", sim->effect->path, bad->error);
+    return bad != NULL;
+}
+
 static int cmd_render(int argc, char **argv, const options *o) {
     if (optind != argc - 1)
         return usage_error("%s", "render takes one FILE and -o DIR");
@@ -302,6 +310,8 @@ static int cmd_render(int argc, char **argv, const options *o) {
     const bool progress = !o->quiet && isatty(2);
     for (long f = first; f <= last; f++) {
         const pfx_sim *state = pfx_sim_frame(sim, view, f);
+        if (sim_failed(sim, view, err, sizeof err))
+            goto fail;
         size_t n = pfx_sprites_build(state, sprites);
         uint8_t *pixels = pfx_png_queue_buffer(q);
         if (!pfx_renderer_draw(r, &e->camera, e->background, sprites, n, sort, pixels, err,
@@ -368,6 +378,10 @@ static int cmd_bake(int argc, char **argv, const options *o) {
     bool ok = true;
     for (long f = first; f <= last && ok; f++) {
         const pfx_sim *state = pfx_sim_frame(sim, view, f);
+        if (sim_failed(sim, view, err, sizeof err)) {
+            ok = false;
+            break;
+        }
         if ((f - first) % o->every == 0)
             ok = pfx_bake_frame(b, state, f, pfx_sim_frame_time(e, f));
     }
@@ -406,9 +420,12 @@ static int cmd_info(int argc, char **argv, const options *o) {
            e->sim_rate, 1.0 / e->sim_rate, steps_per_frame, e->prewarm,
            (unsigned long long)e->seed);
     printf("  forces %zu\n", e->force_count);
+    static const char *const kinds[] = {"gravity", "attractor",  "drag",
+                                        "vortex",  "magnetic",   "spiral",
+                                        "spring",  "turbulence", "speed_limit"};
     for (size_t i = 0; i < e->force_count; i++)
-        printf("    %s: gravity [%g, %g, %g] m/s^2\n", e->forces[i].name, e->forces[i].accel[0],
-               e->forces[i].accel[1], e->forces[i].accel[2]);
+        printf("    %s: %s%s\n", e->forces[i].name, kinds[e->forces[i].spec.kind],
+               e->forces[i].spec.region.kind ? " (in a region)" : "");
     size_t total = 0, bytes = 0;
     printf("  emitters %zu\n", e->emitter_count);
     for (size_t i = 0; i < e->emitter_count; i++) {
@@ -419,9 +436,13 @@ static int cmd_info(int argc, char **argv, const options *o) {
                em->blend == PFX_BLEND_ADD ? "additive" : "alpha");
         printf("      pool %u particles x %zu bytes = %zu bytes%s\n", em->capacity, bpp,
                em->capacity * bpp, em->saturates ? " (saturates: cut by the budget)" : "");
-        printf("      integrator: exact constant acceleration [%g, %g, %g] m/s^2%s\n", em->accel[0],
-               em->accel[1], em->accel[2],
-               em->gravity_scale.dist == PFX_DIST_CONST ? "" : " x per-particle gravity_scale");
+        if (em->motion)
+            printf("      integrator: %s\n", pfx_motion_explain(em->motion));
+        else
+            printf("      integrator: exact (only gravity, [%g, %g, %g] m/s^2%s: the "
+                   "constant-acceleration closed form, exact at any step)\n",
+                   em->accel[0], em->accel[1], em->accel[2],
+                   em->gravity_scale.dist == PFX_DIST_CONST ? "" : " x gravity_scale");
         total += em->capacity;
         bytes += em->capacity * bpp;
     }

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "compile/compile_forces.h"
 #include "compile/read.h"
 
 /* Bounds that keep any file's cost finite; each is documented in
@@ -23,14 +24,14 @@
 
 static const char *const top_keys[] = {"pfx",    "duration", "fps",    "seed",     "sim",
                                        "camera", "image",    "forces", "emitters", NULL};
-static const char *const sim_keys[] = {"rate", "prewarm", NULL};
+static const char *const sim_keys[] = {"rate",      "prewarm",  "integrator",
+                                       "tolerance", "substeps", NULL};
 static const char *const camera_keys[] = {"position", "target", "up", "fov", "ortho", NULL};
 static const char *const image_keys[] = {"size", "background", NULL};
-static const char *const force_types[] = {"gravity", NULL};
-static const char *const gravity_keys[] = {"type", "accel", NULL};
 static const char *const emitter_keys[] = {
-    "shape",    "position", "rotation", "rate",   "direction",     "spread", "speed",
-    "lifetime", "size",     "color",    "forces", "gravity_scale", "blend",  NULL};
+    "shape",  "position", "rotation",   "rate",  "direction", "spread",
+    "speed",  "lifetime", "size",       "color", "forces",    "gravity_scale",
+    "charge", "mass",     "integrator", "blend", NULL};
 static const char *const shape_types[] = {"point", "sphere", "box", "disc", NULL};
 static const char *const size_keys[] = {"start", "end", NULL};
 static const char *const blend_modes[] = {"add", "alpha", NULL};
@@ -120,12 +121,30 @@ static void rotation_matrix(const double deg[3], double m[9]) {
     memcpy(m, r, sizeof r);
 }
 
+static const char *const integrator_names[] = {"auto",   "euler", "symplectic", "midpoint", "rk4",
+                                               "verlet", "exact", "boris",      NULL};
+
+static void read_integrator(compiler *c, const pfx_node *n, pfx_integrator *out) {
+    int i = read_enum(c, n, "integrator", integrator_names);
+    if (i >= 0)
+        pfx_integrator_parse(integrator_names[i], out);
+}
+
 static void compile_sim(compiler *c, const pfx_node *sim) {
     if (!pfx_read_map(&c->r, sim, "sim"))
         return;
     pfx_read_check_keys(&c->r, sim, sim_keys, "'sim'");
     opt_number(c, sim, "rate", &c->e->sim_rate, 1, false, MAX_SIM_RATE);
     opt_number(c, sim, "prewarm", &c->e->prewarm, 0, false, MAX_SECONDS);
+    opt_number(c, sim, "tolerance", &c->e->tolerance, 1e-12, false, 1e6);
+    double substeps = 0;
+    const pfx_node *n = pfx_node_get(sim, "substeps");
+    if (opt_number(c, sim, "substeps", &substeps, 1, false, PFX_MOTION_MAX_SUBSTEPS) && n &&
+        substeps != floor(substeps))
+        pfx_read_error(&c->r, n, "'substeps' must be a whole number, got %g", substeps);
+    c->e->substeps = (int)substeps;
+    if ((n = pfx_node_get(sim, "integrator")))
+        read_integrator(c, n, &c->e->integrator);
 }
 
 static void compile_camera(compiler *c, const pfx_node *cam) {
@@ -196,33 +215,11 @@ static void compile_forces(compiler *c, const pfx_node *forces) {
         return;
     }
     c->e->forces = pfx_arena_alloc(c->r.arena, (forces->count + 1) * sizeof *c->e->forces);
-    for (size_t i = 0; i < forces->count; i++) {
-        const pfx_node *key = forces->pairs[i].key, *f = forces->pairs[i].value;
-        pfx_force *out = &c->e->forces[c->e->force_count++];
-        out->name = pfx_arena_strndup(c->r.arena, key->text, key->len);
-        char where[160];
-        snprintf(where, sizeof where, "force '%s'", key->text);
-        if (!pfx_read_map(&c->r, f, key->text))
-            continue;
-        const pfx_node *type = pfx_node_get(f, "type");
-        if (!type) {
-            pfx_read_error(&c->r, key, "force '%s' needs a 'type' (gravity)", key->text);
-            continue;
-        }
-        int t = read_enum(c, type, "force type", force_types);
-        if (t < 0)
-            continue;
-        out->type = PFX_FORCE_GRAVITY;
-        pfx_read_check_keys(&c->r, f, gravity_keys, where);
-        out->accel[1] = -9.81;
-        const pfx_node *a = pfx_node_get(f, "accel");
-        if (a && pfx_read_numbers(&c->r, a, "accel", out->accel, 3))
-            for (int k = 0; k < 3; k++)
-                if (fabs(out->accel[k]) > 1e6)
-                    pfx_read_error(&c->r, a->items[k],
-                                   "'accel' components must be within +-1e6 m/s^2, got %g",
-                                   out->accel[k]);
-    }
+    if (!c->e->forces)
+        return;
+    for (size_t i = 0; i < forces->count; i++)
+        pfx_compile_force(&c->r, forces->pairs[i].key, forces->pairs[i].value, c->e->seed,
+                          &c->e->forces[c->e->force_count++]);
 }
 
 static int find_force(const pfx_effect *e, const char *name) {
@@ -294,6 +291,59 @@ static void compile_size(compiler *c, const pfx_node *n, pfx_emitter *em) {
         em->size_end = em->size_start;
         em->size_same = true;
     }
+}
+
+/* Decides how the emitter moves. Only unregioned gravity under `auto`: the
+ * exact constant-acceleration kernel, no motion model (the fast path).
+ * Anything else: a pfx_motion holding just the forces this emitter feels,
+ * prepared for the step, and checked against its integrator's stability
+ * region; each problem is a warning at `at` with the numbers and a fix. */
+static void build_motion(compiler *c, pfx_emitter *em, pfx_integrator integrator,
+                         const pfx_node *at) {
+    const pfx_effect *e = c->e;
+    bool simple = integrator == PFX_INTEGRATOR_AUTO && e->substeps == 0;
+    for (size_t i = 0; i < e->force_count; i++) {
+        const pfx_motion_force *f = &e->forces[i].spec;
+        if (!(em->force_mask & (1u << i)))
+            continue;
+        if (f->kind == PFX_MOTION_GRAVITY && f->region.kind == PFX_REGION_NONE)
+            for (int k = 0; k < 3; k++)
+                em->accel[k] += f->accel[k];
+        else
+            simple = false;
+    }
+    if (simple)
+        return;
+    pfx_motion *m = pfx_arena_alloc(c->r.arena, sizeof *m);
+    if (!m)
+        return;
+    m->integrator = integrator;
+    m->substeps = e->substeps;
+    m->tolerance = e->tolerance;
+    double speed_max = fmax(fabs(pfx_value_max(&em->speed)), fabs(pfx_value_min(&em->speed)));
+    double q_max = fmax(fabs(pfx_value_max(&em->charge)), fabs(pfx_value_min(&em->charge)));
+    for (size_t i = 0; i < e->force_count; i++) {
+        if (!(em->force_mask & (1u << i)))
+            continue;
+        pfx_motion_force *f = &m->forces[m->force_count++];
+        *f = e->forces[i].spec;
+        /* Stability is judged at the worst case of the per-particle values:
+         * the largest charge, the smallest mass, the fastest emission. */
+        f->charge = q_max;
+        f->mass = pfx_value_min(&em->mass);
+        if (f->kind == PFX_MOTION_DRAG)
+            f->speed_hint = speed_max;
+        /* A constant gravity_scale is folded in; a random one is a column. */
+        if (f->kind == PFX_MOTION_GRAVITY && em->gravity_scale.dist == PFX_DIST_CONST)
+            for (int k = 0; k < 3; k++)
+                f->accel[k] *= em->gravity_scale.a;
+    }
+    pfx_motion_prepare(m, 1.0 / e->sim_rate);
+    em->motion = m;
+    pfx_stability_warning w[8];
+    size_t n = pfx_motion_check_stability(m, w, 8);
+    for (size_t i = 0; i < n && i < 8; i++)
+        pfx_read_warning(&c->r, at, "emitter '%s': %s", em->name, w[i].message);
 }
 
 static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n, pfx_emitter *em) {
@@ -387,10 +437,17 @@ static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n,
             }
         }
     }
-    for (size_t i = 0; i < e->force_count; i++)
-        if (em->force_mask & (1u << i) && e->forces[i].type == PFX_FORCE_GRAVITY)
-            for (int k = 0; k < 3; k++)
-                em->accel[k] += e->forces[i].accel[k];
+    em->charge = (pfx_value){PFX_DIST_CONST, 1, 0, 0, 0};
+    em->mass = (pfx_value){PFX_DIST_CONST, 1, 0, 0, 0};
+    if ((v = pfx_node_get(n, "charge")))
+        range_value(c, v, "charge", &em->charge, -1e6, false, 1e6);
+    if ((v = pfx_node_get(n, "mass")))
+        range_value(c, v, "mass", &em->mass, 0, true, 1e6);
+    pfx_integrator integrator = e->integrator;
+    const pfx_node *integrator_node = pfx_node_get(n, "integrator");
+    if (integrator_node)
+        read_integrator(c, integrator_node, &integrator);
+    build_motion(c, em, integrator, integrator_node ? integrator_node : key);
     em->size_varies = em->size_start.dist != PFX_DIST_CONST ||
                       (!em->size_same && em->size_end.dist != PFX_DIST_CONST);
 }
@@ -474,11 +531,11 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
         compile_camera(&c, v);
     if ((v = pfx_node_get(root, "image")))
         compile_image(&c, v);
+    if (opt && opt->has_seed)
+        e->seed = opt->seed;
     if ((v = pfx_node_get(root, "forces")))
         compile_forces(&c, v);
 
-    if (opt && opt->has_seed)
-        e->seed = opt->seed;
     if (opt && opt->fps > 0)
         e->fps = opt->fps;
     if (opt && opt->width > 0) {

@@ -9,6 +9,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "sim/motion.h"
+
 #define PFX_FORMAT_VERSION 1
 #define PFX_MAX_FORCES 32 /* an emitter's force set is a 32-bit mask */
 #define PFX_GRADIENT_LUT 256
@@ -37,11 +39,10 @@ typedef struct pfx_shape {
     double size[3]; /* box: full edge lengths */
 } pfx_shape;
 
-typedef enum { PFX_FORCE_GRAVITY } pfx_force_type;
+/* A named force: its motion-model entry in SI units (radians, m, s). */
 typedef struct pfx_force {
     const char *name;
-    pfx_force_type type;
-    double accel[3]; /* gravity, m/s^2 */
+    pfx_motion_force spec;
 } pfx_force;
 
 typedef enum { PFX_BLEND_ADD, PFX_BLEND_ALPHA } pfx_blend;
@@ -64,7 +65,13 @@ typedef struct pfx_emitter {
     pfx_gradient color;
     uint32_t force_mask; /* bit i: feels effect->forces[i] */
     pfx_value gravity_scale;
-    double accel[3]; /* sum of the gravities it feels (before gravity_scale) */
+    pfx_value charge; /* coulomb, for magnetic forces */
+    pfx_value mass;   /* kg, for magnetic forces (others are per unit mass) */
+    double accel[3];  /* sum of the gravities it feels (before gravity_scale) */
+    /* NULL when the emitter feels only gravity under the `auto` integrator:
+     * then the exact constant-acceleration kernel runs. Otherwise the forces
+     * it feels and the integrator, prepared for dt = 1 / sim.rate. */
+    pfx_motion *motion;
     pfx_blend blend;
     uint32_t capacity; /* pool size: floor(rate * max_lifetime) + 1, budget-capped */
     bool saturates;    /* capacity was cut by the particle budget */
@@ -86,6 +93,9 @@ typedef struct pfx_effect {
     uint64_t seed;
     double sim_rate; /* steps per second */
     double prewarm;
+    pfx_integrator integrator; /* sim.integrator; emitters may override */
+    double tolerance;          /* sim.tolerance, m per simulated second */
+    int substeps;              /* sim.substeps; 0: auto */
     pfx_camera camera;
     int width, height;
     float background[4]; /* straight RGBA 0..1 */

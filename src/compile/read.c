@@ -172,10 +172,11 @@ bool pfx_read_uint(pfx_reader *r, const pfx_node *n, const char *what, uint64_t 
         uint64_t v = 0;
         bool ok = *p != 0;
         for (; *p && ok; p++) {
-            if (!isdigit((unsigned char)*p) || v > (UINT64_MAX - 9) / 10)
+            uint64_t digit = (uint64_t)(*p - '0');
+            if (!isdigit((unsigned char)*p) || v > (UINT64_MAX - digit) / 10)
                 ok = false;
             else
-                v = v * 10 + (uint64_t)(*p - '0');
+                v = v * 10 + digit;
         }
         if (ok) {
             *out = v;

@@ -61,13 +61,28 @@ bool pfx_bake_frame(pfx_bake *b, const pfx_sim *s, long frame, double time) {
             b->order[j] = j;
         sort_ids = p->id; /* single-threaded: qsort has no context argument in C11 */
         qsort(b->order, p->count, sizeof *b->order, by_id);
+        /* RFC 4180: a name with a comma, quote or line break is quoted. */
+        char name[512];
+        if (strpbrk(em->name, ",\"\r\n")) {
+            size_t o = 0;
+            name[o++] = '"';
+            for (const char *c = em->name; *c && o < sizeof name - 3; c++) {
+                if (*c == '"')
+                    name[o++] = '"';
+                name[o++] = *c;
+            }
+            name[o++] = '"';
+            name[o] = 0;
+        } else {
+            snprintf(name, sizeof name, "%s", em->name);
+        }
         for (uint32_t k = 0; k < p->count; k++) {
             uint32_t j = b->order[k];
             const float *c = pfx_particle_color(em, p->age[j], p->lifetime[j]);
             fprintf(
                 b->f,
                 "%ld,%.9g,%s,%u,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n",
-                frame, time, em->name, p->id[j], p->px[j], p->py[j], p->pz[j], p->vx[j], p->vy[j],
+                frame, time, name, p->id[j], p->px[j], p->py[j], p->pz[j], p->vx[j], p->vy[j],
                 p->vz[j], p->age[j], p->lifetime[j], pfx_particle_size(em, p, j), c[0], c[1], c[2],
                 c[3]);
         }

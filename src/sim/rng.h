@@ -8,12 +8,14 @@
 
 typedef struct pfx_rng {
     uint64_t state, inc;
+    uint64_t draws; /* outputs taken, so a caller can measure a fixed draw count */
 } pfx_rng;
 
 /* Seeds `r` for stream `stream` of seed `seed` (pcg32_srandom_r). */
 static inline uint32_t pfx_rng_next(pfx_rng *r) {
     uint64_t old = r->state;
     r->state = old * 6364136223846793005ULL + r->inc;
+    r->draws++;
     uint32_t xorshifted = (uint32_t)(((old >> 18u) ^ old) >> 27u);
     uint32_t rot = (uint32_t)(old >> 59u);
     return (xorshifted >> rot) | (xorshifted << ((-rot) & 31));
@@ -21,6 +23,7 @@ static inline uint32_t pfx_rng_next(pfx_rng *r) {
 
 static inline void pfx_rng_seed(pfx_rng *r, uint64_t seed, uint64_t stream) {
     r->state = 0;
+    r->draws = 0;
     r->inc = (stream << 1u) | 1u;
     pfx_rng_next(r);
     r->state += seed;
@@ -37,6 +40,11 @@ static inline double pfx_rng_unit(pfx_rng *r) {
 static inline double pfx_rng_range(pfx_rng *r, double a, double b) {
     return a + (b - a) * pfx_rng_unit(r);
 }
+
+/* Skips the next `delta` outputs in O(log delta) steps (Brown, "Random
+ * number generation with arbitrary strides", 1994), as if pfx_rng_next had
+ * been called delta times. */
+void pfx_rng_advance(pfx_rng *r, uint64_t delta);
 
 /* The stream of an emitter: a hash of its name, so adding, removing or
  * reordering other emitters never changes its particles. */

@@ -6,6 +6,7 @@
 #include "sim/sim.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -15,7 +16,7 @@
  * treat a pool as a list of 4-byte columns, moved with memcpy: writing a
  * float column through a uint32_t pointer would break strict aliasing (the
  * optimiser then keeps stale ages in registers). */
-#define MAX_COLUMNS 12
+#define MAX_COLUMNS 16
 typedef struct column_list {
     unsigned char *col[MAX_COLUMNS];
     int count;
@@ -33,6 +34,10 @@ static column_list pool_columns(const pfx_pool *p) {
         c.col[c.count++] = (unsigned char *)p->size0;
     if (p->size1)
         c.col[c.count++] = (unsigned char *)p->size1;
+    float *optional[] = {p->charge, p->mass, p->bx, p->by, p->bz};
+    for (size_t k = 0; k < sizeof optional / sizeof *optional; k++)
+        if (optional[k])
+            c.col[c.count++] = (unsigned char *)optional[k];
     return c;
 }
 
@@ -41,10 +46,43 @@ static bool needs_gravity_scale(const pfx_emitter *em) {
 }
 static bool needs_size0(const pfx_emitter *em) { return em->size_varies; }
 static bool needs_size1(const pfx_emitter *em) { return em->size_varies && !em->size_same; }
+static unsigned motion_columns(const pfx_emitter *em) {
+    return em->motion ? pfx_motion_columns(em->motion) : 0;
+}
+static bool needs_charge(const pfx_emitter *em) {
+    return (motion_columns(em) & PFX_COLUMN_CHARGE) && em->charge.dist != PFX_DIST_CONST;
+}
+static bool needs_mass(const pfx_emitter *em) {
+    return (motion_columns(em) & PFX_COLUMN_MASS) && em->mass.dist != PFX_DIST_CONST;
+}
+static bool needs_birth(const pfx_emitter *em) {
+    return (motion_columns(em) & PFX_COLUMN_BIRTH) != 0;
+}
+
+/* Everything drawn for one birth, in a fixed order and a fixed number of
+ * generator outputs for the emitter (no rejection sampling anywhere), so a
+ * skipped birth can be jumped over with pfx_rng_advance. */
+typedef struct birth_draws {
+    double local[3], dir[3];
+    double speed, life, s0, s1, gs, q, mass;
+} birth_draws;
+
+static void draw_birth(const pfx_emitter *em, pfx_rng *r, birth_draws *b) {
+    pfx_sample_shape(&em->shape, r, b->local);
+    pfx_sample_cone(em->direction, em->spread_deg, r, b->dir);
+    b->speed = pfx_sample_value(&em->speed, r);
+    b->life = pfx_sample_value(&em->lifetime, r);
+    b->s0 = needs_size0(em) ? pfx_sample_value(&em->size_start, r) : 0;
+    b->s1 = needs_size1(em) ? pfx_sample_value(&em->size_end, r) : 0;
+    b->gs = needs_gravity_scale(em) ? pfx_sample_value(&em->gravity_scale, r) : em->gravity_scale.a;
+    b->q = needs_charge(em) ? pfx_sample_value(&em->charge, r) : em->charge.a;
+    b->mass = needs_mass(em) ? pfx_sample_value(&em->mass, r) : em->mass.a;
+}
 
 size_t pfx_sim_bytes_per_particle(const pfx_effect *e, size_t i) {
     const pfx_emitter *em = &e->emitters[i];
-    return 4 * (9 + needs_gravity_scale(em) + needs_size0(em) + needs_size1(em));
+    return 4 * (9 + needs_gravity_scale(em) + needs_size0(em) + needs_size1(em) + needs_charge(em) +
+                needs_mass(em) + 3 * needs_birth(em));
 }
 
 pfx_sim *pfx_sim_create(const pfx_effect *e) {
@@ -55,11 +93,12 @@ pfx_sim *pfx_sim_create(const pfx_effect *e) {
     s->dt = 1.0 / e->sim_rate;
     s->pools = calloc(e->emitter_count + 1, sizeof *s->pools);
     s->emitters = calloc(e->emitter_count + 1, sizeof *s->emitters);
+    s->motions = calloc(e->emitter_count + 1, sizeof *s->motions);
     size_t bytes = 0;
     for (size_t i = 0; i < e->emitter_count; i++)
         bytes += pfx_sim_bytes_per_particle(e, i) * e->emitters[i].capacity;
     s->storage = malloc(bytes ? bytes : 1);
-    if (!s->pools || !s->emitters || !s->storage) {
+    if (!s->pools || !s->emitters || !s->motions || !s->storage) {
         pfx_sim_destroy(s);
         return NULL;
     }
@@ -81,7 +120,23 @@ pfx_sim *pfx_sim_create(const pfx_effect *e) {
             p->size0 = next, next += n;
         if (needs_size1(em))
             p->size1 = next, next += n;
-        pfx_rng_seed(&s->emitters[i].rng, e->seed, pfx_rng_stream_for(em->name));
+        if (needs_charge(em))
+            p->charge = next, next += n;
+        if (needs_mass(em))
+            p->mass = next, next += n;
+        if (needs_birth(em)) {
+            p->bx = next, next += n;
+            p->by = next, next += n;
+            p->bz = next, next += n;
+        }
+        if (em->motion)
+            s->motions[i] = *em->motion;
+        pfx_emitter_state *st = &s->emitters[i];
+        pfx_rng_seed(&st->rng, e->seed, pfx_rng_stream_for(em->name));
+        pfx_rng probe = st->rng;
+        birth_draws b;
+        draw_birth(em, &probe, &b);
+        st->draws_per_birth = probe.draws - st->rng.draws;
     }
     return s;
 }
@@ -92,6 +147,7 @@ void pfx_sim_destroy(pfx_sim *s) {
     free(s->storage);
     free(s->pools);
     free(s->emitters);
+    free(s->motions);
     free(s);
 }
 
@@ -135,6 +191,49 @@ static void integrate_gravity(const pfx_emitter *em, pfx_pool *p, float dt) {
     }
 }
 
+/* Any other force set: the emitter's motion model (prepared for this dt;
+ * a view's partial step prepares its own copy for the remainder), then the
+ * ages, then a scan for a non-finite or exploding state, which stops the
+ * simulation with the emitter, the time and the likely cause. */
+static void integrate_motion(pfx_sim *s, size_t i, float dt) {
+    const pfx_emitter *em = &s->effect->emitters[i];
+    pfx_motion *m = &s->motions[i];
+    pfx_pool *p = &s->pools[i];
+    if (m->dt != (double)dt)
+        pfx_motion_prepare(m, (double)dt);
+    pfx_motion_pool_f view = {.count = p->count,
+                              .px = p->px,
+                              .py = p->py,
+                              .pz = p->pz,
+                              .vx = p->vx,
+                              .vy = p->vy,
+                              .vz = p->vz,
+                              .gravity_scale = p->gravity_scale,
+                              .charge = p->charge,
+                              .mass = p->mass,
+                              .bx = p->bx,
+                              .by = p->by,
+                              .bz = p->bz};
+    pfx_motion_step_f(m, &view, s->time);
+    float *restrict age = p->age;
+    for (uint32_t j = 0; j < p->count; j++)
+        age[j] += dt;
+    pfx_bad_kind why;
+    size_t bad = pfx_motion_find_bad_f(&view, &why);
+    if (bad < p->count && !s->failed) {
+        char cause[256];
+        pfx_motion_blame(m, why, cause, sizeof cause);
+        s->failed = true;
+        snprintf(s->error, sizeof s->error,
+                 "emitter '%s': particle %u became %s at t = %.4g s; likely cause: %s", em->name,
+                 p->id[bad],
+                 why == PFX_BAD_NONFINITE ? "non-finite"
+                 : why == PFX_BAD_SPEED   ? "faster than 1e6 m/s"
+                                          : "farther than 1e7 m",
+                 s->time + dt, cause);
+    }
+}
+
 /* Death at age >= lifetime; the last live particle fills the hole. */
 static void kill_expired(pfx_pool *p) {
     column_list c = pool_columns(p);
@@ -166,6 +265,28 @@ static void kill_expired(pfx_pool *p) {
     }
 }
 
+/* The acceleration of one particle at birth from the emitter's forces (the
+ * ODE forces; the vortex, spiral and speed-limit operators act from the
+ * first full step on). */
+static void newborn_accel(const pfx_motion *m, const double x[3], const double v[3], double t,
+                          double gs, double q, double mass, double out[3]) {
+    double px = x[0], py = x[1], pz = x[2], vx = v[0], vy = v[1], vz = v[2];
+    pfx_motion_pool_d one = {.count = 1,
+                             .px = &px,
+                             .py = &py,
+                             .pz = &pz,
+                             .vx = &vx,
+                             .vy = &vy,
+                             .vz = &vz,
+                             .gravity_scale = &gs,
+                             .charge = &q,
+                             .mass = &mass,
+                             .bx = &x[0],
+                             .by = &x[1],
+                             .bz = &x[2]};
+    pfx_motion_accel_d(m, &one, 0, 1, &px, &py, &pz, &vx, &vy, &vz, t, &out[0], &out[1], &out[2]);
+}
+
 /* Index of the last birth due by time t: births are at k / rate, k = 1, 2,
  * ... (one every 1/rate seconds, the first one period after the start).
  * `due` is t * rate, computed by the caller as exactly as it can. */
@@ -185,23 +306,23 @@ static void emit(pfx_sim *s, size_t i, double t1, uint64_t last) {
         return;
     double oldest = ceil((t1 - em->max_lifetime) * em->rate);
     uint64_t k = st->born + 1;
-    if (oldest > (double)k)
+    if (oldest > (double)k) {
+        /* Skipped births still own their draws: jump the stream past them,
+         * so every particle gets the same values whatever the step rate. */
+        pfx_rng_advance(&st->rng, ((uint64_t)oldest - k) * st->draws_per_birth);
         k = (uint64_t)oldest;
-    const double gs_const = em->gravity_scale.a;
+    }
     for (; k <= last; k++) {
         if (p->count == p->capacity) {
             st->dropped += last - k + 1;
+            pfx_rng_advance(&st->rng, (last - k + 1) * st->draws_per_birth);
             break;
         }
-        double local[3], dir[3], pos[3];
-        pfx_sample_shape(&em->shape, &st->rng, local);
-        pfx_sample_cone(em->direction, em->spread_deg, &st->rng, dir);
-        double speed = pfx_sample_value(&em->speed, &st->rng);
-        double life = pfx_sample_value(&em->lifetime, &st->rng);
-        double s0 = needs_size0(em) ? pfx_sample_value(&em->size_start, &st->rng) : 0;
-        double s1 = needs_size1(em) ? pfx_sample_value(&em->size_end, &st->rng) : 0;
-        double gs =
-            needs_gravity_scale(em) ? pfx_sample_value(&em->gravity_scale, &st->rng) : gs_const;
+        birth_draws b;
+        draw_birth(em, &st->rng, &b);
+        double local[3], pos[3], life = b.life, speed = b.speed, gs = b.gs, q = b.q, mass = b.mass,
+                                 s0 = b.s0, s1 = b.s1, *dir = b.dir;
+        memcpy(local, b.local, sizeof local);
         double age = t1 - (double)k / em->rate;
         if (age < 0)
             age = 0;
@@ -212,12 +333,19 @@ static void emit(pfx_sim *s, size_t i, double t1, uint64_t last) {
             pos[a] = em->position[a] + R[3 * a] * local[0] + R[3 * a + 1] * local[1] +
                      R[3 * a + 2] * local[2];
         uint32_t j = p->count++;
-        double v[3], x[3];
+        double v[3], x[3], acc[3];
         for (int a = 0; a < 3; a++) {
-            double acc = em->accel[a] * gs;
             v[a] = dir[a] * speed;
-            x[a] = pos[a] + v[a] * age + 0.5 * acc * age * age;
-            v[a] += acc * age;
+            acc[a] = em->accel[a] * gs;
+        }
+        if (em->motion)
+            newborn_accel(em->motion, pos, v, t1 - age, gs, q, mass, acc);
+        /* The rest of the step after the birth: exact under constant
+         * acceleration; under other forces a second-order Taylor step with
+         * the acceleration at birth (the remainder is less than one step). */
+        for (int a = 0; a < 3; a++) {
+            x[a] = pos[a] + v[a] * age + 0.5 * acc[a] * age * age;
+            v[a] += acc[a] * age;
         }
         p->px[j] = (float)x[0], p->py[j] = (float)x[1], p->pz[j] = (float)x[2];
         p->vx[j] = (float)v[0], p->vy[j] = (float)v[1], p->vz[j] = (float)v[2];
@@ -230,6 +358,12 @@ static void emit(pfx_sim *s, size_t i, double t1, uint64_t last) {
             p->size0[j] = (float)s0;
         if (p->size1)
             p->size1[j] = (float)s1;
+        if (p->charge)
+            p->charge[j] = (float)q;
+        if (p->mass)
+            p->mass[j] = (float)mass;
+        if (p->bx)
+            p->bx[j] = (float)pos[0], p->by[j] = (float)pos[1], p->bz[j] = (float)pos[2];
     }
     st->born = last;
 }
@@ -242,7 +376,10 @@ static void advance(pfx_sim *s, double t1, bool exact_step) {
         const pfx_emitter *em = &e->emitters[i];
         pfx_pool *p = &s->pools[i];
         if (dt > 0) {
-            integrate_gravity(em, p, dt);
+            if (em->motion)
+                integrate_motion(s, i, dt);
+            else
+                integrate_gravity(em, p, dt);
             kill_expired(p);
         }
         /* For a fixed step, step * rate / sim_rate is exact when the rates
@@ -254,6 +391,8 @@ static void advance(pfx_sim *s, double t1, bool exact_step) {
 }
 
 void pfx_sim_step(pfx_sim *s) {
+    if (s->failed)
+        return;
     s->step++;
     advance(s, (double)s->step / s->effect->sim_rate, true);
 }
@@ -262,7 +401,7 @@ void pfx_sim_run_to(pfx_sim *s, double t) {
     const double rate = s->effect->sim_rate;
     /* Compare in steps: (step + 1) <= t * rate, with a tolerance for a time
      * that is a whole number of steps but not exactly representable. */
-    while ((double)(s->step + 1) <= t * rate + 1e-7)
+    while (!s->failed && (double)(s->step + 1) <= t * rate + 1e-7)
         pfx_sim_step(s);
 }
 

@@ -5,6 +5,7 @@
 #ifndef PFX_SIM_H
 #define PFX_SIM_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "compile/effect.h"
@@ -13,7 +14,8 @@
 /* Live particles of one emitter, dense: indices [0, count). Columns that the
  * emitter does not use are NULL (gravity_scale when constant; size0/size1
  * when the size is constant). Bytes per particle: 36 for the fixed columns
- * (position, velocity, age, lifetime, id) plus 4 per optional column. */
+ * (position, velocity, age, lifetime, id) plus 4 per optional column; an
+ * emitter keeps only the columns its attributes and forces need. */
 typedef struct pfx_pool {
     uint32_t count, capacity;
     float *px, *py, *pz;
@@ -22,12 +24,15 @@ typedef struct pfx_pool {
     uint32_t *id; /* birth index within the emitter, from 0 */
     float *gravity_scale;
     float *size0, *size1;
+    float *charge, *mass; /* random charge / mass under a magnetic force */
+    float *bx, *by, *bz;  /* birth position, for springs anchored there */
 } pfx_pool;
 
 typedef struct pfx_emitter_state {
     pfx_rng rng;
-    uint64_t born;    /* births so far (each drawn, alive or not) */
-    uint64_t dropped; /* births lost to a full pool */
+    uint64_t born;            /* births so far (each drawn, alive or not) */
+    uint64_t dropped;         /* births lost to a full pool */
+    uint64_t draws_per_birth; /* generator outputs one birth takes (fixed) */
 } pfx_emitter_state;
 
 typedef struct pfx_sim {
@@ -39,6 +44,10 @@ typedef struct pfx_sim {
     pfx_emitter_state *emitters;
     void *storage; /* one allocation behind every pool */
     size_t bytes;
+    pfx_motion *motions; /* per emitter, a copy of its motion model prepared
+                            for this sim's step (unused where NULL in the effect) */
+    bool failed;         /* a state went non-finite or exploded: stop */
+    char error[512];     /* what, where, when and the likely cause */
 } pfx_sim;
 
 /* Allocates every pool once (sized by the compiler) and seeds every emitter.
@@ -49,7 +58,9 @@ void pfx_sim_destroy(pfx_sim *s);
 /* Bytes each particle of emitter i occupies (the columns it keeps). */
 size_t pfx_sim_bytes_per_particle(const pfx_effect *e, size_t i);
 
-/* Advances by one fixed step. Never allocates. */
+/* Advances by one fixed step. Never allocates. After a step that left a
+ * non-finite or exploding state, s->failed is set with s->error and further
+ * steps do nothing. */
 void pfx_sim_step(pfx_sim *s);
 
 /* Steps until the next step would pass simulation time t. */
