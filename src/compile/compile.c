@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "compile/compile_forces.h"
+#include "compile/compile_shape.h"
 #include "compile/read.h"
 
 /* Bounds that keep any file's cost finite; each is documented in
@@ -32,7 +33,6 @@ static const char *const emitter_keys[] = {
     "shape",  "position", "rotation",   "rate",  "direction", "spread",
     "speed",  "lifetime", "size",       "color", "forces",    "gravity_scale",
     "charge", "mass",     "integrator", "blend", NULL};
-static const char *const shape_types[] = {"point", "sphere", "box", "disc", NULL};
 static const char *const size_keys[] = {"start", "end", NULL};
 static const char *const blend_modes[] = {"add", "alpha", NULL};
 
@@ -77,25 +77,8 @@ static bool opt_vec3(compiler *c, const pfx_node *map, const char *key, double o
     return !n || pfx_read_numbers(&c->r, n, key, out, 3);
 }
 
-/* Picks `word` from `names` or reports it with a suggestion. */
 static int read_enum(compiler *c, const pfx_node *n, const char *what, const char *const *names) {
-    const char *s;
-    if (!pfx_read_string(&c->r, n, what, &s))
-        return -1;
-    for (int i = 0; names[i]; i++)
-        if (!strcmp(names[i], s))
-            return i;
-    const char *sug = pfx_suggest(s, names);
-    char list[256] = "";
-    for (int i = 0; names[i]; i++) {
-        strncat(list, i ? ", " : "", sizeof list - strlen(list) - 1);
-        strncat(list, names[i], sizeof list - strlen(list) - 1);
-    }
-    if (sug)
-        pfx_read_error(&c->r, n, "unknown %s '%s'; did you mean '%s'?", what, s, sug);
-    else
-        pfx_read_error(&c->r, n, "unknown %s '%s'; expected one of: %s", what, s, list);
-    return -1;
+    return pfx_read_enum(&c->r, n, what, names);
 }
 
 static void normalize3(double v[3]) {
@@ -229,43 +212,6 @@ static int find_force(const pfx_effect *e, const char *name) {
     return -1;
 }
 
-static void compile_shape(compiler *c, const pfx_node *n, pfx_shape *s, const char *emitter) {
-    char where[160];
-    snprintf(where, sizeof where, "the shape of emitter '%s'", emitter);
-    if (!pfx_read_map(&c->r, n, "shape"))
-        return;
-    const pfx_node *type = pfx_node_get(n, "type");
-    if (!type) {
-        pfx_read_error(&c->r, n, "a shape needs a 'type' (point, sphere, box or disc)");
-        return;
-    }
-    int t = read_enum(c, type, "shape type", shape_types);
-    if (t < 0)
-        return;
-    s->type = (pfx_shape_type)t;
-    static const char *const point_keys[] = {"type", NULL};
-    static const char *const radius_keys[] = {"type", "radius", NULL};
-    static const char *const box_keys[] = {"type", "size", NULL};
-    const char *const *keys = s->type == PFX_SHAPE_POINT ? point_keys
-                              : s->type == PFX_SHAPE_BOX ? box_keys
-                                                         : radius_keys;
-    pfx_read_check_keys(&c->r, n, keys, where);
-    if (s->type == PFX_SHAPE_SPHERE || s->type == PFX_SHAPE_DISC) {
-        const pfx_node *r = pfx_node_get(n, "radius");
-        if (!r)
-            pfx_read_error(&c->r, type, "a %s shape needs a 'radius'", type->text);
-        else if (pfx_read_number(&c->r, r, "radius", &s->radius))
-            pfx_check_above(&c->r, r, "radius", s->radius, 0, false);
-    } else if (s->type == PFX_SHAPE_BOX) {
-        const pfx_node *sz = pfx_node_get(n, "size");
-        if (!sz)
-            pfx_read_error(&c->r, type, "a box shape needs a 'size' [x, y, z]");
-        else if (pfx_read_numbers(&c->r, sz, "size", s->size, 3))
-            for (int i = 0; i < 3; i++)
-                pfx_check_above(&c->r, sz->items[i], "size", s->size[i], 0, false);
-    }
-}
-
 /* Reads a value and checks every sample it can take against [lo, hi]. */
 static bool range_value(compiler *c, const pfx_node *n, const char *what, pfx_value *v, double lo,
                         bool lo_strict, double hi) {
@@ -374,7 +320,7 @@ static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n,
     pfx_read_check_keys(&c->r, n, emitter_keys, where);
     const pfx_node *v;
     if ((v = pfx_node_get(n, "shape")))
-        compile_shape(c, v, &em->shape, key->text);
+        pfx_compile_shape(&c->r, v, &em->shape, em->name, e->path);
     opt_vec3(c, n, "position", em->position);
     if (opt_vec3(c, n, "rotation", rot_deg))
         rotation_matrix(rot_deg, em->rotation);

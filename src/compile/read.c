@@ -454,3 +454,24 @@ bool pfx_check_below(pfx_reader *r, const pfx_node *n, const char *what, double 
                    bound, got);
     return false;
 }
+
+/* Picks `word` from `names` or reports it with a suggestion. */
+int pfx_read_enum(pfx_reader *r, const pfx_node *n, const char *what, const char *const *names) {
+    const char *s;
+    if (!pfx_read_string(r, n, what, &s))
+        return -1;
+    for (int i = 0; names[i]; i++)
+        if (!strcmp(names[i], s))
+            return i;
+    const char *sug = pfx_suggest(s, names);
+    char list[256] = "";
+    for (int i = 0; names[i]; i++) {
+        strncat(list, i ? ", " : "", sizeof list - strlen(list) - 1);
+        strncat(list, names[i], sizeof list - strlen(list) - 1);
+    }
+    if (sug)
+        pfx_read_error(r, n, "unknown %s '%s'; did you mean '%s'?", what, s, sug);
+    else
+        pfx_read_error(r, n, "unknown %s '%s'; expected one of: %s", what, s, list);
+    return -1;
+}

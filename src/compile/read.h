@@ -46,6 +46,9 @@ bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, float ou
 /* A colour or a gradient (a list of colours, evenly spaced, or of {at, color}
  * stops), sampled into the lookup table. */
 bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, pfx_gradient *out);
+/* One of the NULL-terminated `names`: its index, or -1 after reporting the
+ * unknown word with a suggestion or the list of choices. */
+int pfx_read_enum(pfx_reader *r, const pfx_node *n, const char *what, const char *const *names);
 /* A plain string. */
 bool pfx_read_string(pfx_reader *r, const pfx_node *n, const char *what, const char **out);
 
