@@ -10,14 +10,15 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "compile/compile_emission.h"
 #include "compile/compile_forces.h"
 #include "compile/compile_shape.h"
 #include "compile/read.h"
+#include "sim/schedule.h"
 
 /* Bounds that keep any file's cost finite; each is documented in
  * man/pfx-effect.5. */
 #define MAX_IMAGE_SIDE 16384
-#define MAX_RATE 1e7
 #define MAX_SIM_RATE 100000.0
 #define MAX_SECONDS 86400.0
 #define MAX_FPS 1000.0
@@ -30,9 +31,10 @@ static const char *const sim_keys[] = {"rate",      "prewarm",  "integrator",
 static const char *const camera_keys[] = {"position", "target", "up", "fov", "ortho", NULL};
 static const char *const image_keys[] = {"size", "background", NULL};
 static const char *const emitter_keys[] = {
-    "shape",  "position", "rotation",   "rate",  "direction", "spread",
-    "speed",  "lifetime", "size",       "color", "forces",    "gravity_scale",
-    "charge", "mass",     "integrator", "blend", NULL};
+    "shape",      "position", "rotation",  "rate",   "interval",      "bursts",           "start",
+    "duration",   "loop",     "direction", "spread", "distance",      "inherit_velocity", "speed",
+    "lifetime",   "size",     "color",     "forces", "gravity_scale", "charge",           "mass",
+    "integrator", "blend",    NULL};
 static const char *const size_keys[] = {"start", "end", NULL};
 static const char *const blend_modes[] = {"add", "alpha", NULL};
 
@@ -239,6 +241,46 @@ static void compile_size(compiler *c, const pfx_node *n, pfx_emitter *em) {
     }
 }
 
+/* `direction` (a vector, or normal | radial | inward), `spread` (a cone
+ * half-angle, or the thesis's [alpha, beta]), `distance` and
+ * `inherit_velocity`. The direction stays in the emitter's frame: the
+ * emitter's rotation at each birth turns it. */
+static void compile_direction(compiler *c, const pfx_node *n, pfx_emitter *em) {
+    static const char *const modes[] = {"normal", "radial", "inward", NULL};
+    const pfx_node *v;
+    double dir[3] = {0, 1, 0};
+    if ((v = pfx_node_get(n, "direction"))) {
+        if (v->kind == PFX_NODE_SCALAR) {
+            int m = read_enum(c, v, "direction", modes);
+            if (m >= 0)
+                em->direction_mode = (pfx_direction_mode)(m + 1);
+        } else if (pfx_read_numbers(&c->r, v, "direction", dir, 3) && dir[0] == 0 && dir[1] == 0 &&
+                   dir[2] == 0) {
+            pfx_read_error(&c->r, v, "'direction' must not be the zero vector");
+            dir[1] = 1;
+        }
+    }
+    normalize3(dir);
+    memcpy(em->direction, dir, sizeof dir);
+    if ((v = pfx_node_get(n, "spread"))) {
+        double ab[2];
+        if (v->kind == PFX_NODE_SEQ) {
+            if (pfx_read_numbers(&c->r, v, "spread", ab, 2) &&
+                pfx_check_above(&c->r, v, "spread", fmin(ab[0], ab[1]), 0, false) &&
+                pfx_check_below(&c->r, v, "spread", fmax(ab[0], ab[1]), 360, false)) {
+                em->spread_two_angle = true;
+                em->spread_alpha_deg = ab[0];
+                em->spread_beta_deg = ab[1];
+            }
+        } else {
+            opt_number(c, n, "spread", &em->spread_deg, 0, false, 180);
+        }
+    }
+    if ((v = pfx_node_get(n, "distance")))
+        range_value(c, v, "distance", &em->distance, -1e6, false, 1e6);
+    opt_number(c, n, "inherit_velocity", &em->inherit_velocity, -100, false, 100);
+}
+
 /* Decides how the emitter moves. Only unregioned gravity under `auto`: the
  * exact constant-acceleration kernel, no motion model (the fast path).
  * Anything else: a pfx_motion holding just the forces this emitter feels,
@@ -297,7 +339,6 @@ static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n,
     em->name = pfx_arena_strndup(c->r.arena, key->text, key->len);
     /* Defaults: a point emitting 10/s straight up at 1 m/s for 1 s, white,
      * 0.1 m sprites, additive, feeling every force. */
-    em->rate = 10;
     em->direction[1] = 1;
     em->speed = (pfx_value){PFX_DIST_CONST, 1, 0, 0, 0};
     em->lifetime = (pfx_value){PFX_DIST_CONST, 1, 0, 0, 0};
@@ -321,21 +362,13 @@ static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n,
     const pfx_node *v;
     if ((v = pfx_node_get(n, "shape")))
         pfx_compile_shape(&c->r, v, &em->shape, em->name, e->path);
-    opt_vec3(c, n, "position", em->position);
-    if (opt_vec3(c, n, "rotation", rot_deg))
+    if ((v = pfx_node_get(n, "position")))
+        pfx_read_keys3(&c->r, v, "position", em->position, &em->position_keys);
+    if ((v = pfx_node_get(n, "rotation")) &&
+        pfx_read_keys3(&c->r, v, "rotation", rot_deg, &em->rotation_keys))
         rotation_matrix(rot_deg, em->rotation);
-    opt_number(c, n, "rate", &em->rate, 0, false, MAX_RATE);
-    double dir[3] = {0, 1, 0};
-    if ((v = pfx_node_get(n, "direction")) && pfx_read_numbers(&c->r, v, "direction", dir, 3) &&
-        dir[0] == 0 && dir[1] == 0 && dir[2] == 0) {
-        pfx_read_error(&c->r, v, "'direction' must not be the zero vector");
-        dir[1] = 1;
-    }
-    normalize3(dir);
-    for (int i = 0; i < 3; i++)
-        em->direction[i] = em->rotation[3 * i] * dir[0] + em->rotation[3 * i + 1] * dir[1] +
-                           em->rotation[3 * i + 2] * dir[2];
-    opt_number(c, n, "spread", &em->spread_deg, 0, false, 180);
+    pfx_compile_emission(&c->r, n, em);
+    compile_direction(c, n, em);
     if ((v = pfx_node_get(n, "speed")))
         range_value(c, v, "speed", &em->speed, -1e6, false, 1e6);
     if ((v = pfx_node_get(n, "lifetime")))
@@ -407,12 +440,12 @@ static void size_pools(compiler *c, const pfx_node *emitters) {
     double need_total = 0;
     for (size_t i = 0; i < e->emitter_count; i++) {
         pfx_emitter *em = &e->emitters[i];
-        need_total += floor(em->rate * em->max_lifetime) + 1;
+        need_total += pfx_schedule_peak(em);
     }
     double budget = (double)e->max_particles;
     for (size_t i = 0; i < e->emitter_count; i++) {
         pfx_emitter *em = &e->emitters[i];
-        double need = floor(em->rate * em->max_lifetime) + 1;
+        double need = pfx_schedule_peak(em);
         double cap = need;
         if (need_total > budget) {
             cap = floor(budget * need / need_total);
@@ -421,10 +454,12 @@ static void size_pools(compiler *c, const pfx_node *emitters) {
             if (!at)
                 at = emitters->pairs[i].key;
             pfx_read_warning(&c->r, at,
-                             "emitter '%s' needs up to %.0f live particles (rate %g x max "
-                             "lifetime %g s) but gets %.0f of the %.0f budget; it will saturate "
-                             "(raise --max-particles or lower 'rate' or 'lifetime')",
-                             em->name, need, em->rate, em->max_lifetime, cap, budget);
+                             "emitter '%s' needs up to %.0f live particles (%g births/s x max "
+                             "lifetime %g s, plus bursts) but gets %.0f of the %.0f budget; it "
+                             "will saturate (raise --max-particles or lower 'rate' or "
+                             "'lifetime')",
+                             em->name, need, pfx_schedule_max_rate(em), em->max_lifetime, cap,
+                             budget);
         }
         em->capacity = (uint32_t)(cap < 1 ? 1 : cap);
     }

@@ -32,11 +32,45 @@ typedef struct pfx_gradient {
     bool constant; /* every entry equal: no per-particle lookup needed */
 } pfx_gradient;
 
-typedef enum { PFX_SHAPE_POINT, PFX_SHAPE_SPHERE, PFX_SHAPE_BOX, PFX_SHAPE_DISC } pfx_shape_type;
+/* Emitter shapes, in the emitter's local frame (src/compile/compile_shape.c
+ * states each one's placement; src/sim/sample.c samples them). The first
+ * four keep their values; new types are appended. */
+typedef enum {
+    PFX_SHAPE_POINT,
+    PFX_SHAPE_SPHERE,
+    PFX_SHAPE_BOX,
+    PFX_SHAPE_DISC,
+    PFX_SHAPE_LINE,
+    PFX_SHAPE_RECT,
+    PFX_SHAPE_ELLIPSE,
+    PFX_SHAPE_HEMISPHERE,
+    PFX_SHAPE_CYLINDER,
+    PFX_SHAPE_CONE,
+    PFX_SHAPE_MESH
+} pfx_shape_type;
+/* Where on the shape births are: the solid (area for flat shapes), its
+ * surface, or its rim. Zero, volume, is the default. */
+typedef enum { PFX_EMIT_VOLUME, PFX_EMIT_SURFACE, PFX_EMIT_EDGE } pfx_emit_from;
+/* Zero in a field means its default (full turn, solid, no table), so a
+ * shape built as {type, radius, size} is still a whole solid shape. */
 typedef struct pfx_shape {
     pfx_shape_type type;
-    double radius;  /* sphere, disc */
-    double size[3]; /* box: full edge lengths */
+    double radius;  /* sphere, disc, hemisphere, cylinder, cone: outer radius */
+    double size[3]; /* box: full edge lengths; rect: [w (X), h (Z), 0] */
+    pfx_emit_from from;
+    double inner;     /* disc, sphere, hemisphere: inner radius, 0 <= inner < radius */
+    double arc_turns; /* disc: the arc as a fraction of a turn, in (0, 1]; 0: full */
+    double radii[2];  /* ellipse: semi-axes a (X), b (Z) */
+    double line_from[3], line_to[3];
+    double height;    /* cylinder, cone: along +Y from the base at y = 0 */
+    double angle_deg; /* cone: tilt of the volume normal at the rim */
+    /* Ellipse edge: cum[i] = arc length from t = 0 to t = 2 pi i / (count - 1).
+     * Mesh: cum[i] = total area of triangles 0..i. In the compile arena. */
+    const double *cum;
+    uint32_t cum_count;
+    /* Mesh: vertices (x, y, z) and three vertex indices per triangle. */
+    const double *verts;
+    const uint32_t *tris;
 } pfx_shape;
 
 /* A named force: its motion-model entry in SI units (radians, m, s). */
@@ -47,14 +81,71 @@ typedef struct pfx_force {
 
 typedef enum { PFX_BLEND_ADD, PFX_BLEND_ALPHA } pfx_blend;
 
+/* A piecewise-linear function through (t[i], v[i]), t increasing; held
+ * constant before the first key and after the last. */
+typedef struct pfx_curve {
+    size_t count;
+    double *t, *v;
+    double *integral; /* integral from t[0] to t[i] (rate curves only) */
+} pfx_curve;
+
+/* How an emitter spaces its births in its own time tau (seconds since its
+ * start, within the period when it loops). */
+typedef enum {
+    PFX_RATE_CONSTANT, /* rate per second: births at k / rate */
+    PFX_RATE_CURVE,    /* rate(tau) piecewise linear: births where its integral crosses k */
+    PFX_RATE_RAMP,     /* Reeves: rate = initial + delta * tau (stops at 0) */
+    PFX_RATE_RANDOM,   /* Reeves mean +- var: each whole second has its own rate */
+    PFX_RATE_INTERVAL  /* the time to the next birth is a random value */
+} pfx_rate_kind;
+
+typedef struct pfx_burst {
+    double time;        /* emitter time of the first burst */
+    pfx_value count;    /* particles per burst */
+    uint32_t cycles;    /* bursts, >= 1 */
+    double interval;    /* seconds between cycles */
+    double probability; /* each cycle fires with this probability */
+} pfx_burst;
+
+/* Keyframed vectors (position, rotation degrees), linear between keys. */
+typedef struct pfx_keys3 {
+    size_t count; /* 0: not animated */
+    double *t;
+    double (*v)[3];
+} pfx_keys3;
+
+typedef enum {
+    PFX_DIRECTION_VECTOR, /* `direction: [x, y, z]` */
+    PFX_DIRECTION_NORMAL, /* the shape's outward surface normal at the birth point */
+    PFX_DIRECTION_RADIAL, /* away from the shape's centre */
+    PFX_DIRECTION_INWARD  /* towards the shape's centre */
+} pfx_direction_mode;
+
 typedef struct pfx_emitter {
     const char *name;
     pfx_shape shape;
     double position[3];
-    double rotation[9];  /* row-major, from rotation degrees X then Y then Z */
-    double rate;         /* particles per second */
-    double direction[3]; /* unit, already rotated into world space */
-    double spread_deg;   /* cone half-angle */
+    double rotation[9]; /* row-major, from rotation degrees X then Y then Z */
+    pfx_rate_kind rate_kind;
+    double rate;                     /* CONSTANT: per second; RANDOM: the mean */
+    double rate_var;                 /* RANDOM: rates are uniform in rate +- rate_var */
+    double ramp_initial, ramp_delta; /* RAMP: per second, per second^2 */
+    pfx_curve rate_curve;            /* CURVE: per second over emitter time */
+    pfx_value interval;              /* INTERVAL: seconds */
+    size_t burst_count;
+    pfx_burst *bursts;
+    double start;        /* effect time the emitter starts */
+    double duration;     /* seconds it emits (INFINITY: to the end); the period when looping */
+    bool loop;           /* repeat the emission pattern every `duration` */
+    double direction[3]; /* unit, in the emitter's frame (rotated at birth) */
+    pfx_direction_mode direction_mode;
+    double spread_deg;     /* cone half-angle */
+    bool spread_two_angle; /* `spread: [alpha, beta]`: the thesis's two angles */
+    double spread_alpha_deg, spread_beta_deg;
+    pfx_value distance;      /* birth offset along the direction, metres */
+    double inherit_velocity; /* fraction of the emitter's velocity added */
+    pfx_keys3 position_keys; /* animated `position` (else `position` holds) */
+    pfx_keys3 rotation_keys; /* animated `rotation` degrees */
     pfx_value speed;
     pfx_value lifetime;
     double max_lifetime; /* upper bound of `lifetime` */

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "sim/sample.h"
+#include "sim/schedule.h"
 
 /* Every column is 4 bytes (float or uint32_t), so swap-remove and copies
  * treat a pool as a list of 4-byte columns, moved with memcpy: writing a
@@ -59,24 +60,130 @@ static bool needs_birth(const pfx_emitter *em) {
     return (motion_columns(em) & PFX_COLUMN_BIRTH) != 0;
 }
 
-/* Everything drawn for one birth, in a fixed order and a fixed number of
- * generator outputs for the emitter (no rejection sampling anywhere), so a
- * skipped birth can be jumped over with pfx_rng_advance. */
+/* The emitter's placement at effect time t: position, rotation matrix
+ * (degrees X then Y then Z about fixed axes) and velocity (the slope of the
+ * position keyframes; zero when fixed). Keyframes interpolate linearly and
+ * hold before the first and after the last. */
+typedef struct emitter_pose {
+    double position[3], rotation[9], velocity[3];
+} emitter_pose;
+
+static size_t key_segment(const pfx_keys3 *k, double t, double *u) {
+    size_t i = 0;
+    while (i + 2 < k->count && k->t[i + 1] <= t)
+        i++;
+    double span = k->t[i + 1] - k->t[i];
+    double x = (t - k->t[i]) / span;
+    *u = x < 0 ? 0 : x > 1 ? 1 : x;
+    return i;
+}
+
+static void rotation_from_degrees(const double deg[3], double m[9]) {
+    const double k = M_PI / 180;
+    double cx = cos(deg[0] * k), sx = sin(deg[0] * k), cy = cos(deg[1] * k), sy = sin(deg[1] * k),
+           cz = cos(deg[2] * k), sz = sin(deg[2] * k);
+    double r[9] = {cz * cy,
+                   cz * sy * sx - sz * cx,
+                   cz * sy * cx + sz * sx,
+                   sz * cy,
+                   sz * sy * sx + cz * cx,
+                   sz * sy * cx - cz * sx,
+                   -sy,
+                   cy * sx,
+                   cy * cx};
+    memcpy(m, r, sizeof r);
+}
+
+static void pose_at(const pfx_emitter *em, double t, emitter_pose *p) {
+    memcpy(p->position, em->position, sizeof p->position);
+    memcpy(p->rotation, em->rotation, sizeof p->rotation);
+    p->velocity[0] = p->velocity[1] = p->velocity[2] = 0;
+    double u;
+    if (em->position_keys.count > 1) {
+        const pfx_keys3 *k = &em->position_keys;
+        size_t i = key_segment(k, t, &u);
+        bool moving = t > k->t[0] && t < k->t[k->count - 1];
+        for (int a = 0; a < 3; a++) {
+            p->position[a] = k->v[i][a] + (k->v[i + 1][a] - k->v[i][a]) * u;
+            if (moving)
+                p->velocity[a] = (k->v[i + 1][a] - k->v[i][a]) / (k->t[i + 1] - k->t[i]);
+        }
+    }
+    if (em->rotation_keys.count > 1) {
+        const pfx_keys3 *k = &em->rotation_keys;
+        size_t i = key_segment(k, t, &u);
+        double deg[3];
+        for (int a = 0; a < 3; a++)
+            deg[a] = k->v[i][a] + (k->v[i + 1][a] - k->v[i][a]) * u;
+        rotation_from_degrees(deg, p->rotation);
+    }
+}
+
+static void rotate(const double m[9], const double v[3], double out[3]) {
+    for (int a = 0; a < 3; a++)
+        out[a] = m[3 * a] * v[0] + m[3 * a + 1] * v[1] + m[3 * a + 2] * v[2];
+}
+
+/* The thesis's two-angle spread: alpha_r uniform in [-alpha/2, alpha/2]
+ * about Z, then beta_r in [-beta/2, beta/2] about X (two draws, like the
+ * cone). Not uniform over any cap: it is what the thesis specifies. */
+static void two_angle_spread(const pfx_emitter *em, const double d[3], pfx_rng *r, double out[3]) {
+    const double k = M_PI / 180;
+    double a = (pfx_rng_unit(r) - 0.5) * em->spread_alpha_deg * k;
+    double b = (pfx_rng_unit(r) - 0.5) * em->spread_beta_deg * k;
+    double x = d[0] * cos(a) - d[1] * sin(a), y = d[0] * sin(a) + d[1] * cos(a), z = d[2];
+    out[0] = x;
+    out[1] = y * cos(b) - z * sin(b);
+    out[2] = y * sin(b) + z * cos(b);
+}
+
+/* Everything drawn for one birth at effect time t, in a fixed order and a
+ * fixed number of generator outputs for the emitter (no rejection sampling
+ * anywhere), so a skipped birth can be jumped over with pfx_rng_advance. */
 typedef struct birth_draws {
-    double local[3], dir[3];
-    double speed, life, s0, s1, gs, q, mass;
+    double pos[3], vel[3];
+    double life, s0, s1, gs, q, mass;
 } birth_draws;
 
-static void draw_birth(const pfx_emitter *em, pfx_rng *r, birth_draws *b) {
-    pfx_sample_shape(&em->shape, r, b->local);
-    pfx_sample_cone(em->direction, em->spread_deg, r, b->dir);
-    b->speed = pfx_sample_value(&em->speed, r);
+static void draw_birth(const pfx_emitter *em, double t, pfx_rng *r, birth_draws *b) {
+    emitter_pose pose;
+    pose_at(em, t, &pose);
+    double local[3], normal[3], base[3], dir[3];
+    pfx_sample_shape(&em->shape, r, local, normal);
+    double len = sqrt(local[0] * local[0] + local[1] * local[1] + local[2] * local[2]);
+    switch (em->direction_mode) {
+    case PFX_DIRECTION_NORMAL:
+        memcpy(base, normal, sizeof base);
+        break;
+    case PFX_DIRECTION_RADIAL:
+    case PFX_DIRECTION_INWARD: {
+        double sign = em->direction_mode == PFX_DIRECTION_INWARD ? -1 : 1;
+        for (int a = 0; a < 3; a++)
+            base[a] = len > 0 ? sign * local[a] / len : sign * normal[a];
+        break;
+    }
+    default:
+        memcpy(base, em->direction, sizeof base);
+    }
+    if (em->spread_two_angle)
+        two_angle_spread(em, base, r, dir);
+    else
+        pfx_sample_cone(base, em->spread_deg, r, dir);
+    double speed = pfx_sample_value(&em->speed, r);
     b->life = pfx_sample_value(&em->lifetime, r);
+    double distance = pfx_sample_value(&em->distance, r);
     b->s0 = needs_size0(em) ? pfx_sample_value(&em->size_start, r) : 0;
     b->s1 = needs_size1(em) ? pfx_sample_value(&em->size_end, r) : 0;
     b->gs = needs_gravity_scale(em) ? pfx_sample_value(&em->gravity_scale, r) : em->gravity_scale.a;
     b->q = needs_charge(em) ? pfx_sample_value(&em->charge, r) : em->charge.a;
     b->mass = needs_mass(em) ? pfx_sample_value(&em->mass, r) : em->mass.a;
+    double world_local[3], world_dir[3];
+    rotate(pose.rotation, local, world_local);
+    rotate(pose.rotation, dir, world_dir);
+    for (int a = 0; a < 3; a++) {
+        b->pos[a] = pose.position[a] + world_local[a] + world_dir[a] * distance;
+        b->vel[a] = world_dir[a] * speed + em->inherit_velocity * pose.velocity[a];
+    }
 }
 
 size_t pfx_sim_bytes_per_particle(const pfx_effect *e, size_t i) {
@@ -135,8 +242,9 @@ pfx_sim *pfx_sim_create(const pfx_effect *e) {
         pfx_rng_seed(&st->rng, e->seed, pfx_rng_stream_for(em->name));
         pfx_rng probe = st->rng;
         birth_draws b;
-        draw_birth(em, &probe, &b);
+        draw_birth(em, 0, &probe, &b);
         st->draws_per_birth = probe.draws - st->rng.draws;
+        pfx_schedule_init(&st->sched, em, e->seed, pfx_rng_stream_for(em->name));
     }
     return s;
 }
@@ -287,89 +395,72 @@ static void newborn_accel(const pfx_motion *m, const double x[3], const double v
     pfx_motion_accel_d(m, &one, 0, 1, &px, &py, &pz, &vx, &vy, &vz, t, &out[0], &out[1], &out[2]);
 }
 
-/* Index of the last birth due by time t: births are at k / rate, k = 1, 2,
- * ... (one every 1/rate seconds, the first one period after the start).
- * `due` is t * rate, computed by the caller as exactly as it can. */
-static uint64_t births_due(double due) { return due <= 0 ? 0 : (uint64_t)floor(due + 1e-9); }
-
-/* Emits the births k in (born, last] of emitter i that are still alive at
- * t1: each drawn in a fixed order, placed at its birth, and advanced to t1
- * by its own age. Births that cannot be alive at t1 (born more than the
- * maximum lifetime ago) are skipped without drawing, and a full pool drops
- * the rest of the step's births (counted), so a step costs at most
- * O(rate * max lifetime) whatever the rate and step. */
-static void emit(pfx_sim *s, size_t i, double t1, uint64_t last) {
+/* Emits the births due up to t1 that are still alive at t1: each drawn in
+ * a fixed order, placed at its birth, and advanced to t1 by its own age.
+ * Births that cannot be alive at t1 (older than the maximum lifetime) are
+ * skipped in closed form where the rate allows and their draws jumped over;
+ * a full pool drops births (counted, draws jumped), so a step's cost is
+ * bounded by the births due in it, whatever they are. */
+static void emit(pfx_sim *s, size_t i, double t1) {
     const pfx_emitter *em = &s->effect->emitters[i];
     pfx_emitter_state *st = &s->emitters[i];
     pfx_pool *p = &s->pools[i];
-    if (last <= st->born)
-        return;
-    double oldest = ceil((t1 - em->max_lifetime) * em->rate);
-    uint64_t k = st->born + 1;
-    if (oldest > (double)k) {
-        /* Skipped births still own their draws: jump the stream past them,
-         * so every particle gets the same values whatever the step rate. */
-        pfx_rng_advance(&st->rng, ((uint64_t)oldest - k) * st->draws_per_birth);
-        k = (uint64_t)oldest;
+    uint64_t skipped = pfx_schedule_skip_before(&st->sched, em, t1 - em->max_lifetime);
+    if (skipped) {
+        pfx_rng_advance(&st->rng, skipped * st->draws_per_birth);
+        st->born += skipped;
     }
-    for (; k <= last; k++) {
-        if (p->count == p->capacity) {
-            st->dropped += last - k + 1;
-            pfx_rng_advance(&st->rng, (last - k + 1) * st->draws_per_birth);
+    for (;;) {
+        double tb = pfx_schedule_peek(&st->sched, em);
+        if (!(tb <= t1))
             break;
+        pfx_schedule_pop(&st->sched, em);
+        uint64_t k = st->born++;
+        double age = t1 - tb;
+        if (p->count == p->capacity || age >= em->max_lifetime) {
+            st->dropped += p->count == p->capacity && age < em->max_lifetime;
+            pfx_rng_advance(&st->rng, st->draws_per_birth);
+            continue;
         }
         birth_draws b;
-        draw_birth(em, &st->rng, &b);
-        double local[3], pos[3], life = b.life, speed = b.speed, gs = b.gs, q = b.q, mass = b.mass,
-                                 s0 = b.s0, s1 = b.s1, *dir = b.dir;
-        memcpy(local, b.local, sizeof local);
-        double age = t1 - (double)k / em->rate;
-        if (age < 0)
-            age = 0;
-        if (age >= life)
+        draw_birth(em, tb, &st->rng, &b);
+        if (age >= b.life)
             continue; /* would already be dead: never created */
-        const double *R = em->rotation;
-        for (int a = 0; a < 3; a++)
-            pos[a] = em->position[a] + R[3 * a] * local[0] + R[3 * a + 1] * local[1] +
-                     R[3 * a + 2] * local[2];
         uint32_t j = p->count++;
-        double v[3], x[3], acc[3];
-        for (int a = 0; a < 3; a++) {
-            v[a] = dir[a] * speed;
-            acc[a] = em->accel[a] * gs;
-        }
+        double x[3], acc[3];
+        for (int a = 0; a < 3; a++)
+            acc[a] = em->accel[a] * b.gs;
         if (em->motion)
-            newborn_accel(em->motion, pos, v, t1 - age, gs, q, mass, acc);
+            newborn_accel(em->motion, b.pos, b.vel, tb, b.gs, b.q, b.mass, acc);
         /* The rest of the step after the birth: exact under constant
          * acceleration; under other forces a second-order Taylor step with
          * the acceleration at birth (the remainder is less than one step). */
         for (int a = 0; a < 3; a++) {
-            x[a] = pos[a] + v[a] * age + 0.5 * acc[a] * age * age;
-            v[a] += acc[a] * age;
+            x[a] = b.pos[a] + b.vel[a] * age + 0.5 * acc[a] * age * age;
+            b.vel[a] += acc[a] * age;
         }
         p->px[j] = (float)x[0], p->py[j] = (float)x[1], p->pz[j] = (float)x[2];
-        p->vx[j] = (float)v[0], p->vy[j] = (float)v[1], p->vz[j] = (float)v[2];
+        p->vx[j] = (float)b.vel[0], p->vy[j] = (float)b.vel[1], p->vz[j] = (float)b.vel[2];
         p->age[j] = (float)age;
-        p->lifetime[j] = (float)life;
-        p->id[j] = (uint32_t)(k - 1);
+        p->lifetime[j] = (float)b.life;
+        p->id[j] = (uint32_t)k;
         if (p->gravity_scale)
-            p->gravity_scale[j] = (float)gs;
+            p->gravity_scale[j] = (float)b.gs;
         if (p->size0)
-            p->size0[j] = (float)s0;
+            p->size0[j] = (float)b.s0;
         if (p->size1)
-            p->size1[j] = (float)s1;
+            p->size1[j] = (float)b.s1;
         if (p->charge)
-            p->charge[j] = (float)q;
+            p->charge[j] = (float)b.q;
         if (p->mass)
-            p->mass[j] = (float)mass;
+            p->mass[j] = (float)b.mass;
         if (p->bx)
-            p->bx[j] = (float)pos[0], p->by[j] = (float)pos[1], p->bz[j] = (float)pos[2];
+            p->bx[j] = (float)b.pos[0], p->by[j] = (float)b.pos[1], p->bz[j] = (float)b.pos[2];
     }
-    st->born = last;
 }
 
-/* Advances every emitter from s->time to t1. `due[i]` is t1 * rate_i. */
-static void advance(pfx_sim *s, double t1, bool exact_step) {
+/* Advances every emitter from s->time to t1. */
+static void advance(pfx_sim *s, double t1) {
     const pfx_effect *e = s->effect;
     const float dt = (float)(t1 - s->time);
     for (size_t i = 0; i < e->emitter_count; i++) {
@@ -382,10 +473,7 @@ static void advance(pfx_sim *s, double t1, bool exact_step) {
                 integrate_gravity(em, p, dt);
             kill_expired(p);
         }
-        /* For a fixed step, step * rate / sim_rate is exact when the rates
-         * divide evenly, so births on step boundaries land in one step. */
-        double due = exact_step ? (double)s->step * em->rate / e->sim_rate : t1 * em->rate;
-        emit(s, i, t1, births_due(due));
+        emit(s, i, t1);
     }
     s->time = t1;
 }
@@ -394,7 +482,7 @@ void pfx_sim_step(pfx_sim *s) {
     if (s->failed)
         return;
     s->step++;
-    advance(s, (double)s->step / s->effect->sim_rate, true);
+    advance(s, (double)s->step / s->effect->sim_rate);
 }
 
 void pfx_sim_run_to(pfx_sim *s, double t) {
@@ -419,7 +507,7 @@ void pfx_sim_view_at(const pfx_sim *s, pfx_sim *view, double t) {
     view->step = s->step;
     view->time = s->time;
     if (t > s->time + 1e-12)
-        advance(view, t, false);
+        advance(view, t);
 }
 
 double pfx_sim_frame_time(const pfx_effect *e, long frame) {

@@ -10,6 +10,7 @@
 
 #include "compile/effect.h"
 #include "sim/rng.h"
+#include "sim/schedule.h"
 
 /* Live particles of one emitter, dense: indices [0, count). Columns that the
  * emitter does not use are NULL (gravity_scale when constant; size0/size1
@@ -29,7 +30,8 @@ typedef struct pfx_pool {
 } pfx_pool;
 
 typedef struct pfx_emitter_state {
-    pfx_rng rng;
+    pfx_rng rng;              /* the particles' attributes */
+    pfx_schedule sched;       /* when they are born */
     uint64_t born;            /* births so far (each drawn, alive or not) */
     uint64_t dropped;         /* births lost to a full pool */
     uint64_t draws_per_birth; /* generator outputs one birth takes (fixed) */

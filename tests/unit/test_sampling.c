@@ -314,7 +314,8 @@ static int bin_sphere(const void *ctx, const double p[3]) {
 }
 
 static void shape_sampler(const void *ctx, pfx_rng *r, double out[3]) {
-    pfx_sample_shape(ctx, r, out);
+    double normal[3];
+    pfx_sample_shape(ctx, r, out, normal);
 }
 
 /* Biased: r = R u instead of R cbrt(u) (crowds the centre). */
@@ -328,7 +329,7 @@ static void sphere_linear_radius(const void *ctx, pfx_rng *r, double out[3]) {
 }
 
 static void test_chi2_sphere(void) {
-    pfx_shape s = {PFX_SHAPE_SPHERE, 1.7, {0, 0, 0}};
+    pfx_shape s = {.type = PFX_SHAPE_SPHERE, .radius = 1.7};
     int bins = SPH_R * SPH_Z * SPH_P;
     CHECK(uniform_test("sphere volume", shape_sampler, &s, bin_sphere, &s.radius, bins));
     CHECK(!uniform_test("sphere, biased r = R u", sphere_linear_radius, &s, bin_sphere, &s.radius,
@@ -357,7 +358,7 @@ static void box_triangular(const void *ctx, pfx_rng *r, double out[3]) {
 }
 
 static void test_chi2_box(void) {
-    pfx_shape s = {PFX_SHAPE_BOX, 0, {1.0, 2.5, 0.4}};
+    pfx_shape s = {.type = PFX_SHAPE_BOX, .size = {1.0, 2.5, 0.4}};
     int bins = BOX_N * BOX_N * BOX_N;
     CHECK(uniform_test("box volume", shape_sampler, &s, bin_box, s.size, bins));
     CHECK(!uniform_test("box, biased triangular", box_triangular, &s, bin_box, s.size, bins));
@@ -394,7 +395,7 @@ static void disc_linear_radius(const void *ctx, pfx_rng *r, double out[3]) {
 }
 
 static void test_chi2_disc(void) {
-    pfx_shape s = {PFX_SHAPE_DISC, 0.6, {0, 0, 0}};
+    pfx_shape s = {.type = PFX_SHAPE_DISC, .radius = 0.6};
     int bins = DISC_R * DISC_A;
     CHECK(uniform_test("disc area", shape_sampler, &s, bin_disc, &s.radius, bins));
     CHECK(!uniform_test("disc, biased thesis ellipse", disc_thesis_ellipse, &s, bin_disc, &s.radius,

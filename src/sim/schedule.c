@@ -1,0 +1,261 @@
+/* Birth times. A continuous rate r(tau) makes births where its integral
+ * Lambda(tau) crosses 1, 2, 3, ...: tau_k = Lambda^-1(k), solved in closed
+ * form (linear pieces give quadratics, solved without cancellation), so no
+ * birth time depends on the step. Bursts are merged in time order. It does
+ * not draw any particle's attributes: that is sim.c's, from its own stream. */
+#include "sim/schedule.h"
+
+#include <math.h>
+
+#include "sim/sample.h"
+
+/* Smallest s >= 0 with a s + b s^2 / 2 = c (c >= 0), for rate a + b s;
+ * INFINITY if the rate reaches 0 first. The form 2c / (a + sqrt(a^2 + 2bc))
+ * avoids the cancellation of (-a + sqrt(...)) / b for small b. */
+static double solve_linear_rate(double a, double b, double c) {
+    if (c <= 0)
+        return 0;
+    double disc = a * a + 2 * b * c;
+    if (disc < 0)
+        return INFINITY;
+    double den = a + sqrt(disc);
+    return den > 0 ? 2 * c / den : INFINITY;
+}
+
+double pfx_schedule_integral(const pfx_emitter *em, double tau) {
+    switch (em->rate_kind) {
+    case PFX_RATE_CONSTANT:
+        return em->rate * tau;
+    case PFX_RATE_RAMP: {
+        double a = em->ramp_initial, b = em->ramp_delta;
+        if (b < 0 && a > 0 && tau > -a / b)
+            tau = -a / b; /* the rate stops at zero */
+        if (a <= 0 && b <= 0)
+            return 0;
+        return a * tau + 0.5 * b * tau * tau;
+    }
+    case PFX_RATE_CURVE: {
+        const pfx_curve *c = &em->rate_curve;
+        if (tau <= c->t[0])
+            return c->v[0] * tau;
+        double base = c->v[0] * c->t[0];
+        size_t i = 0;
+        while (i + 1 < c->count && c->t[i + 1] <= tau)
+            i++;
+        double s = tau - c->t[i];
+        double slope = i + 1 < c->count ? (c->v[i + 1] - c->v[i]) / (c->t[i + 1] - c->t[i]) : 0;
+        return base + c->integral[i] + c->v[i] * s + 0.5 * slope * s * s;
+    }
+    default:
+        return 0;
+    }
+}
+
+/* Lambda^-1(k) within one period for the closed-form kinds. */
+static double inverse_integral(const pfx_emitter *em, double k) {
+    switch (em->rate_kind) {
+    case PFX_RATE_CONSTANT:
+        return em->rate > 0 ? k / em->rate : INFINITY;
+    case PFX_RATE_RAMP:
+        return solve_linear_rate(em->ramp_initial, em->ramp_delta, k);
+    case PFX_RATE_CURVE: {
+        const pfx_curve *c = &em->rate_curve;
+        double before = c->v[0] * c->t[0];
+        if (k <= before)
+            return c->v[0] > 0 ? k / c->v[0] : INFINITY;
+        double left = k - before;
+        size_t i = 0;
+        while (i + 1 < c->count && c->integral[i + 1] < left)
+            i++;
+        double slope = i + 1 < c->count ? (c->v[i + 1] - c->v[i]) / (c->t[i + 1] - c->t[i]) : 0;
+        double s = solve_linear_rate(c->v[i], slope, left - c->integral[i]);
+        return c->t[i] + s;
+    }
+    default:
+        return INFINITY;
+    }
+}
+
+/* The rate of one-second window w under RANDOM: mean + var * R, R uniform
+ * in [-1, 1], drawn from a generator keyed by the window, so any window's
+ * rate is known without visiting the earlier ones. */
+static double window_rate(const pfx_schedule *s, const pfx_emitter *em, uint64_t w) {
+    pfx_rng r = s->period_rng;
+    pfx_rng_advance(&r, 2 * w);
+    double rate = em->rate + em->rate_var * (2 * pfx_rng_unit(&r) - 1);
+    return rate > 0 ? rate : 0;
+}
+
+/* Emitter time of the start of the schedule's current period. */
+static double period_start(const pfx_schedule *s, const pfx_emitter *em) {
+    return em->loop ? (double)s->period * em->duration : 0;
+}
+
+/* Computes s->next: the emitter time (within the period) of continuous
+ * birth j + 1, or INFINITY past the period or the duration. */
+static void find_next(pfx_schedule *s, const pfx_emitter *em) {
+    double k = (double)(s->j + 1), t;
+    switch (em->rate_kind) {
+    case PFX_RATE_INTERVAL:
+        return; /* s->next is advanced by pop */
+    case PFX_RATE_RANDOM: {
+        double limit = fmin(em->duration, 1e9);
+        for (;;) {
+            if ((double)s->window >= limit) {
+                t = INFINITY;
+                break;
+            }
+            double r = window_rate(s, em, s->window);
+            if (s->window_base + r >= k && r > 0) {
+                t = (double)s->window + (k - s->window_base) / r;
+                break;
+            }
+            s->window_base += r;
+            s->window++;
+        }
+        break;
+    }
+    default:
+        t = inverse_integral(em, k);
+    }
+    s->next = t <= em->duration ? t : INFINITY;
+}
+
+/* The next burst event at or after (burst, cycle): its time and count. */
+static void find_burst(pfx_schedule *s, const pfx_emitter *em) {
+    s->burst_left = 0;
+    s->burst_time = INFINITY;
+    while (s->burst < em->burst_count) {
+        const pfx_burst *b = &em->bursts[s->burst];
+        if (s->cycle >= b->cycles) {
+            s->burst++;
+            s->cycle = 0;
+            continue;
+        }
+        double t = b->time + b->interval * s->cycle;
+        /* Fixed draws per event (count, probability) keep the stream aligned. */
+        double count = pfx_sample_value(&b->count, &s->rng);
+        double u = pfx_rng_unit(&s->rng);
+        s->cycle++;
+        if (t >= em->duration)
+            continue;
+        if (u < b->probability && count >= 1) {
+            s->burst_time = t;
+            s->burst_left = (uint64_t)floor(count);
+            return;
+        }
+    }
+}
+
+static void start_period(pfx_schedule *s, const pfx_emitter *em) {
+    s->rng = s->period_rng;
+    pfx_rng_advance(&s->rng, 1u << 20); /* clear of the window-rate draws */
+    s->j = 0;
+    s->window = 0;
+    s->window_base = 0;
+    s->burst = 0;
+    s->cycle = 0;
+    if (em->rate_kind == PFX_RATE_INTERVAL) {
+        double first = pfx_sample_value(&em->interval, &s->rng);
+        s->next = first <= em->duration ? first : INFINITY;
+    } else {
+        find_next(s, em);
+    }
+    find_burst(s, em);
+}
+
+void pfx_schedule_init(pfx_schedule *s, const pfx_emitter *em, uint64_t seed, uint64_t stream) {
+    *s = (pfx_schedule){0};
+    pfx_rng_seed(&s->period_rng, seed, stream ^ 0x5bd1e9955bd1e995ULL);
+    start_period(s, em);
+}
+
+double pfx_schedule_peek(const pfx_schedule *s, const pfx_emitter *em) {
+    double tau = fmin(s->next, s->burst_left ? s->burst_time : INFINITY);
+    if (tau == INFINITY)
+        return INFINITY;
+    return em->start + period_start(s, em) + tau;
+}
+
+void pfx_schedule_pop(pfx_schedule *s, const pfx_emitter *em) {
+    /* Continuous births first when a burst falls at the same instant. */
+    if (s->burst_left && s->burst_time < s->next) {
+        if (--s->burst_left == 0) {
+            find_burst(s, em);
+        }
+    } else {
+        s->j++;
+        if (em->rate_kind == PFX_RATE_INTERVAL) {
+            double next = s->next + pfx_sample_value(&em->interval, &s->rng);
+            s->next = next <= em->duration ? next : INFINITY;
+        } else {
+            find_next(s, em);
+        }
+    }
+    if (em->loop && s->next == INFINITY && !s->burst_left) {
+        s->period++;
+        start_period(s, em);
+    }
+}
+
+uint64_t pfx_schedule_skip_before(pfx_schedule *s, const pfx_emitter *em, double t) {
+    if (em->rate_kind != PFX_RATE_CONSTANT && em->rate_kind != PFX_RATE_CURVE &&
+        em->rate_kind != PFX_RATE_RAMP)
+        return 0;
+    double tau = t - em->start - period_start(s, em);
+    if (em->loop)
+        tau = fmin(tau, em->duration);
+    if (tau <= s->next)
+        return 0;
+    /* Births k with Lambda^-1(k) < tau: k < Lambda(tau). */
+    double count = ceil(pfx_schedule_integral(em, tau)) - 1;
+    if (count <= (double)s->j)
+        return 0;
+    uint64_t skipped = (uint64_t)count - s->j;
+    s->j = (uint64_t)count;
+    find_next(s, em);
+    return skipped;
+}
+
+double pfx_schedule_max_rate(const pfx_emitter *em) {
+    double rate = 0;
+    switch (em->rate_kind) {
+    case PFX_RATE_CONSTANT:
+        rate = em->rate;
+        break;
+    case PFX_RATE_RANDOM:
+        rate = em->rate + em->rate_var;
+        break;
+    case PFX_RATE_RAMP: {
+        double horizon = isfinite(em->duration) ? em->duration : 0;
+        rate = fmax(em->ramp_initial, em->ramp_initial + em->ramp_delta * horizon);
+        break;
+    }
+    case PFX_RATE_CURVE:
+        for (size_t i = 0; i < em->rate_curve.count; i++)
+            rate = fmax(rate, em->rate_curve.v[i]);
+        break;
+    case PFX_RATE_INTERVAL: {
+        double lo = pfx_value_min(&em->interval);
+        rate = lo > 0 ? 1.0 / lo : 0;
+        break;
+    }
+    }
+    return rate;
+}
+
+double pfx_schedule_peak(const pfx_emitter *em) {
+    const double life = em->max_lifetime;
+    /* Continuous births: at most floor(rate * L) + 1 inside any window of
+     * length L when consecutive births are at least 1 / rate apart. */
+    double peak = floor(pfx_schedule_max_rate(em) * life) + 1;
+    /* Bursts: every burst event whose particles can overlap in one window. */
+    for (size_t i = 0; i < em->burst_count; i++) {
+        const pfx_burst *b = &em->bursts[i];
+        double events = b->interval > 0 ? floor(life / b->interval) + 1 : 1;
+        if (events > b->cycles)
+            events = b->cycles;
+        peak += events * floor(pfx_value_max(&b->count));
+    }
+    return peak;
+}

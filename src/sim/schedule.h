@@ -1,0 +1,54 @@
+/* When an emitter's particles are born: the continuous rate (constant,
+ * curve, Reeves ramp, Reeves mean +- var, or random intervals), bursts, the
+ * emitter's start, duration and loop. A schedule yields birth times in
+ * increasing order, exactly, independent of the simulation step. */
+#ifndef PFX_SCHEDULE_H
+#define PFX_SCHEDULE_H
+
+#include <stdint.h>
+
+#include "compile/effect.h"
+#include "sim/rng.h"
+
+/* Plain values only, so a simulation view copies it with the emitter. */
+typedef struct pfx_schedule {
+    uint64_t period; /* loop periods completed (0 when not looping) */
+    uint64_t j;      /* continuous births so far in this period */
+    double next;     /* emitter time of the next continuous birth in the period */
+    /* RANDOM: the current one-second window and the count integral at its start */
+    uint64_t window;
+    double window_base;
+    /* bursts: the next event (burst index, cycle) and births left in it */
+    uint32_t burst, cycle;
+    uint64_t burst_left;
+    double burst_time;
+    pfx_rng rng;        /* intervals, random rates, burst counts and probabilities */
+    pfx_rng period_rng; /* rng at the start of the period (loops repeat it) */
+} pfx_schedule;
+
+/* Starts the schedule of emitter em (stream: the emitter's). */
+void pfx_schedule_init(pfx_schedule *s, const pfx_emitter *em, uint64_t seed, uint64_t stream);
+
+/* Effect time of the next birth, or INFINITY when there is none. */
+double pfx_schedule_peek(const pfx_schedule *s, const pfx_emitter *em);
+/* Consumes the birth pfx_schedule_peek returned. */
+void pfx_schedule_pop(pfx_schedule *s, const pfx_emitter *em);
+
+/* Skips, without visiting each, the births before effect time t where the
+ * schedule allows it (continuous rates with a closed-form count); returns
+ * how many were skipped. Births it cannot skip are left to peek and pop. */
+uint64_t pfx_schedule_skip_before(pfx_schedule *s, const pfx_emitter *em, double t);
+
+/* Births per second the emitter can reach at most (for pool sizing). */
+double pfx_schedule_max_rate(const pfx_emitter *em);
+
+/* The most particles the emitter can have alive at once (pool size before
+ * the budget): continuous births within one maximum lifetime plus every
+ * burst that can overlap them. */
+double pfx_schedule_peak(const pfx_emitter *em);
+
+/* The expected number of continuous births in emitter time [0, tau] of one
+ * period: the integral of the rate (not for INTERVAL or RANDOM). */
+double pfx_schedule_integral(const pfx_emitter *em, double tau);
+
+#endif
