@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "compile/compile_deflectors.h"
 #include "compile/compile_emission.h"
 #include "compile/compile_forces.h"
 #include "compile/compile_shape.h"
@@ -24,8 +25,9 @@
 #define MAX_FPS 1000.0
 #define MAX_FRAMES 1000000.0
 
-static const char *const top_keys[] = {"pfx",    "duration", "fps",    "seed",     "sim",
-                                       "camera", "image",    "forces", "emitters", NULL};
+static const char *const top_keys[] = {"pfx",        "duration", "fps",   "seed",
+                                       "sim",        "camera",   "image", "forces",
+                                       "deflectors", "emitters", NULL};
 static const char *const sim_keys[] = {"rate",      "prewarm",  "integrator",
                                        "tolerance", "substeps", NULL};
 static const char *const camera_keys[] = {"position", "target", "up", "fov", "ortho", NULL};
@@ -205,6 +207,76 @@ static void compile_forces(compiler *c, const pfx_node *forces) {
     for (size_t i = 0; i < forces->count; i++)
         pfx_compile_force(&c->r, forces->pairs[i].key, forces->pairs[i].value, c->e->seed,
                           &c->e->forces[c->e->force_count++]);
+}
+
+static void compile_deflectors(compiler *c, const pfx_node *defl) {
+    if (!pfx_read_map(&c->r, defl, "deflectors"))
+        return;
+    if (defl->count > PFX_COLLIDE_MAX_DEFLECTORS) {
+        pfx_read_error(&c->r, defl, "an effect has at most %d deflectors, got %zu",
+                       PFX_COLLIDE_MAX_DEFLECTORS, defl->count);
+        return;
+    }
+    c->e->deflectors = pfx_arena_alloc(c->r.arena, (defl->count + 1) * sizeof *c->e->deflectors);
+    if (!c->e->deflectors)
+        return;
+    for (size_t i = 0; i < defl->count; i++)
+        pfx_compile_deflector(&c->r, defl->pairs[i].key, defl->pairs[i].value, c->e->seed,
+                              &c->e->deflectors[c->e->deflector_count++]);
+}
+
+/* An emitter's `deflectors: [names]` (default: all of them), copied into
+ * the emitter so the collision pass reads one dense array. */
+static void emitter_deflectors(compiler *c, const pfx_node *n, pfx_emitter *em) {
+    const pfx_effect *e = c->e;
+    const pfx_node *v = pfx_node_get(n, "deflectors");
+    bool use[PFX_COLLIDE_MAX_DEFLECTORS] = {0};
+    for (size_t i = 0; i < e->deflector_count; i++)
+        use[i] = !v;
+    if (v && v->kind != PFX_NODE_SEQ) {
+        pfx_read_error(&c->r, v, "'deflectors' must be a list of deflector names, got %s",
+                       pfx_node_kind_name(v));
+    } else if (v) {
+        const char *names[PFX_COLLIDE_MAX_DEFLECTORS + 1];
+        for (size_t i = 0; i < e->deflector_count; i++)
+            names[i] = e->deflectors[i].name;
+        names[e->deflector_count] = NULL;
+        for (size_t i = 0; i < v->count; i++) {
+            const char *name;
+            if (!pfx_read_string(&c->r, v->items[i], "deflectors", &name))
+                continue;
+            size_t k = 0;
+            while (k < e->deflector_count && strcmp(names[k], name))
+                k++;
+            if (k < e->deflector_count) {
+                use[k] = true;
+                continue;
+            }
+            const char *sug = pfx_suggest(name, names);
+            if (sug)
+                pfx_read_error(&c->r, v->items[i],
+                               "unknown deflector '%s' in emitter '%s'; did you mean '%s'?", name,
+                               em->name, sug);
+            else
+                pfx_read_error(&c->r, v->items[i],
+                               "unknown deflector '%s' in emitter '%s'; define it under "
+                               "'deflectors'",
+                               name, em->name);
+        }
+    }
+    size_t count = 0;
+    for (size_t i = 0; i < e->deflector_count; i++)
+        count += use[i];
+    if (!count)
+        return;
+    em->deflectors = pfx_arena_alloc(c->r.arena, count * sizeof *em->deflectors);
+    if (!em->deflectors)
+        return;
+    for (size_t i = 0; i < e->deflector_count; i++)
+        if (use[i]) {
+            em->deflectors[em->deflector_count++] = e->deflectors[i];
+            em->sticks |= e->deflectors[i].response == PFX_DEFLECT_STICK;
+        }
 }
 
 static int find_force(const pfx_effect *e, const char *name) {
@@ -422,6 +494,7 @@ static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n,
         range_value(c, v, "charge", &em->charge, -1e6, false, 1e6);
     if ((v = pfx_node_get(n, "mass")))
         range_value(c, v, "mass", &em->mass, 0, true, 1e6);
+    emitter_deflectors(c, n, em);
     pfx_integrator integrator = e->integrator;
     const pfx_node *integrator_node = pfx_node_get(n, "integrator");
     if (integrator_node)
@@ -516,6 +589,8 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
         e->seed = opt->seed;
     if ((v = pfx_node_get(root, "forces")))
         compile_forces(&c, v);
+    if ((v = pfx_node_get(root, "deflectors")))
+        compile_deflectors(&c, v);
 
     if (opt && opt->fps > 0)
         e->fps = opt->fps;

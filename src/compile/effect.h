@@ -9,6 +9,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "sim/collide.h"
 #include "sim/motion.h"
 
 #define PFX_FORMAT_VERSION 1
@@ -163,6 +164,9 @@ typedef struct pfx_emitter {
      * then the exact constant-acceleration kernel runs. Otherwise the forces
      * it feels and the integrator, prepared for dt = 1 / sim.rate. */
     pfx_motion *motion;
+    size_t deflector_count; /* the deflectors it hits (`deflectors:`, default all) */
+    pfx_deflector *deflectors;
+    bool sticks; /* some deflector of it sticks: a per-particle stuck flag */
     pfx_blend blend;
     uint32_t capacity; /* pool size: floor(rate * max_lifetime) + 1, budget-capped */
     bool saturates;    /* capacity was cut by the particle budget */
@@ -192,6 +196,8 @@ typedef struct pfx_effect {
     float background[4]; /* straight RGBA 0..1 */
     size_t force_count;
     pfx_force *forces;
+    size_t deflector_count;
+    pfx_deflector *deflectors;
     size_t emitter_count;
     pfx_emitter *emitters;
     uint64_t max_particles;

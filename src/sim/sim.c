@@ -13,32 +13,33 @@
 #include "sim/sample.h"
 #include "sim/schedule.h"
 
-/* Every column is 4 bytes (float or uint32_t), so swap-remove and copies
- * treat a pool as a list of 4-byte columns, moved with memcpy: writing a
- * float column through a uint32_t pointer would break strict aliasing (the
+/* Swap-remove and copies treat a pool as a list of columns of 4-byte (float,
+ * uint32_t) or 1-byte (flag) elements, moved with memcpy: writing a float
+ * column through a uint32_t pointer would break strict aliasing (the
  * optimiser then keeps stale ages in registers). */
-#define MAX_COLUMNS 16
+#define MAX_COLUMNS 20
 typedef struct column_list {
     unsigned char *col[MAX_COLUMNS];
+    size_t size[MAX_COLUMNS];
     int count;
 } column_list;
 
+static void add_column(column_list *c, void *col, size_t size) {
+    if (col) {
+        c->col[c->count] = col;
+        c->size[c->count++] = size;
+    }
+}
+
 static column_list pool_columns(const pfx_pool *p) {
-    column_list c = {{(unsigned char *)p->px, (unsigned char *)p->py, (unsigned char *)p->pz,
-                      (unsigned char *)p->vx, (unsigned char *)p->vy, (unsigned char *)p->vz,
-                      (unsigned char *)p->age, (unsigned char *)p->lifetime,
-                      (unsigned char *)p->id},
-                     9};
-    if (p->gravity_scale)
-        c.col[c.count++] = (unsigned char *)p->gravity_scale;
-    if (p->size0)
-        c.col[c.count++] = (unsigned char *)p->size0;
-    if (p->size1)
-        c.col[c.count++] = (unsigned char *)p->size1;
-    float *optional[] = {p->charge, p->mass, p->bx, p->by, p->bz};
-    for (size_t k = 0; k < sizeof optional / sizeof *optional; k++)
-        if (optional[k])
-            c.col[c.count++] = (unsigned char *)optional[k];
+    column_list c = {.count = 0};
+    void *four[] = {p->px,    p->py,    p->pz,       p->vx,   p->vy,
+                    p->vz,    p->age,   p->lifetime, p->id,   p->gravity_scale,
+                    p->size0, p->size1, p->charge,   p->mass, p->bx,
+                    p->by,    p->bz};
+    for (size_t k = 0; k < sizeof four / sizeof *four && c.count < MAX_COLUMNS; k++)
+        add_column(&c, four[k], 4);
+    add_column(&c, p->stuck, 1);
     return c;
 }
 
@@ -186,10 +187,15 @@ static void draw_birth(const pfx_emitter *em, double t, pfx_rng *r, birth_draws 
     }
 }
 
+/* The collision pass reads each particle's start-of-step state: six float
+ * scratch columns (not moved by swap-remove: rewritten every step). */
+static size_t scratch_floats(const pfx_emitter *em) { return em->deflector_count ? 6 : 0; }
+
 size_t pfx_sim_bytes_per_particle(const pfx_effect *e, size_t i) {
     const pfx_emitter *em = &e->emitters[i];
     return 4 * (9 + needs_gravity_scale(em) + needs_size0(em) + needs_size1(em) + needs_charge(em) +
-                needs_mass(em) + 3 * needs_birth(em));
+                needs_mass(em) + 3 * needs_birth(em) + scratch_floats(em)) +
+           em->sticks;
 }
 
 pfx_sim *pfx_sim_create(const pfx_effect *e) {
@@ -211,6 +217,16 @@ pfx_sim *pfx_sim_create(const pfx_effect *e) {
     }
     s->bytes = bytes;
     float *next = s->storage;
+    /* Flag columns (1 byte) go after every float column, keeping those aligned. */
+    unsigned char *flags = (unsigned char *)s->storage;
+    for (size_t i = 0; i < e->emitter_count; i++)
+        flags +=
+            (pfx_sim_bytes_per_particle(e, i) - e->emitters[i].sticks) * e->emitters[i].capacity;
+    for (size_t i = 0; i < e->emitter_count; i++)
+        if (e->emitters[i].sticks) {
+            s->pools[i].stuck = flags;
+            flags += e->emitters[i].capacity;
+        }
     for (size_t i = 0; i < e->emitter_count; i++) {
         const pfx_emitter *em = &e->emitters[i];
         pfx_pool *p = &s->pools[i];
@@ -236,6 +252,8 @@ pfx_sim *pfx_sim_create(const pfx_effect *e) {
             p->by = next, next += n;
             p->bz = next, next += n;
         }
+        for (size_t k = 0; k < scratch_floats(em); k++, next += n)
+            p->start[k] = next;
         if (em->motion)
             s->motions[i] = *em->motion;
         pfx_emitter_state *st = &s->emitters[i];
@@ -245,6 +263,7 @@ pfx_sim *pfx_sim_create(const pfx_effect *e) {
         draw_birth(em, 0, &probe, &b);
         st->draws_per_birth = probe.draws - st->rng.draws;
         pfx_schedule_init(&st->sched, em, e->seed, pfx_rng_stream_for(em->name));
+        pfx_rng_seed(&st->collide_rng, e->seed, pfx_rng_stream_for(em->name) ^ 0xc011deULL);
     }
     return s;
 }
@@ -342,6 +361,41 @@ static void integrate_motion(pfx_sim *s, size_t i, float dt) {
     }
 }
 
+/* The start-of-step state the collision pass sweeps from. */
+static void save_start(pfx_pool *p) {
+    float *cols[6] = {p->px, p->py, p->pz, p->vx, p->vy, p->vz};
+    for (int k = 0; k < 6; k++)
+        memcpy(p->start[k], cols[k], p->count * sizeof(float));
+}
+
+/* Deflectors for particles [first, first + n) over the step of length dt
+ * just integrated: each path is swept from its start state, so nothing
+ * tunnels, and hits are resolved at their exact times (src/sim/collide.c). */
+static void collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double dt) {
+    const pfx_emitter *em = &s->effect->emitters[i];
+    pfx_pool *p = &s->pools[i];
+    pfx_emitter_state *st = &s->emitters[i];
+    pfx_collide_pool view = {.count = n,
+                             .px0 = p->start[0] + first,
+                             .py0 = p->start[1] + first,
+                             .pz0 = p->start[2] + first,
+                             .vx0 = p->start[3] + first,
+                             .vy0 = p->start[4] + first,
+                             .vz0 = p->start[5] + first,
+                             .px = p->px + first,
+                             .py = p->py + first,
+                             .pz = p->pz + first,
+                             .vx = p->vx + first,
+                             .vy = p->vy + first,
+                             .vz = p->vz + first,
+                             .age = p->age + first,
+                             .lifetime = p->lifetime + first,
+                             .id = p->id + first,
+                             .stuck = p->stuck ? p->stuck + first : NULL};
+    pfx_collide(em->deflectors, em->deflector_count, dt, &view, &st->collide_rng, NULL, NULL,
+                &st->collisions);
+}
+
 /* Death at age >= lifetime; the last live particle fills the hole. */
 static void kill_expired(pfx_pool *p) {
     column_list c = pool_columns(p);
@@ -366,7 +420,7 @@ static void kill_expired(pfx_pool *p) {
             }
             uint32_t last = --p->count;
             for (int k = 0; k < c.count; k++)
-                memcpy(c.col[k] + 4 * (size_t)i, c.col[k] + 4 * (size_t)last, 4);
+                memcpy(c.col[k] + c.size[k] * i, c.col[k] + c.size[k] * last, c.size[k]);
             if (end > p->count)
                 end = p->count;
         }
@@ -435,6 +489,7 @@ static void emit(pfx_sim *s, size_t i, double t1) {
         /* The rest of the step after the birth: exact under constant
          * acceleration; under other forces a second-order Taylor step with
          * the acceleration at birth (the remainder is less than one step). */
+        const double v0[3] = {b.vel[0], b.vel[1], b.vel[2]};
         for (int a = 0; a < 3; a++) {
             x[a] = b.pos[a] + b.vel[a] * age + 0.5 * acc[a] * age * age;
             b.vel[a] += acc[a] * age;
@@ -456,6 +511,15 @@ static void emit(pfx_sim *s, size_t i, double t1) {
             p->mass[j] = (float)b.mass;
         if (p->bx)
             p->bx[j] = (float)b.pos[0], p->by[j] = (float)b.pos[1], p->bz[j] = (float)b.pos[2];
+        if (p->stuck)
+            p->stuck[j] = 0;
+        if (em->deflector_count && age > 0) {
+            /* The newborn's partial step is swept like a full one. */
+            const double start[6] = {b.pos[0], b.pos[1], b.pos[2], v0[0], v0[1], v0[2]};
+            for (int a = 0; a < 6; a++)
+                p->start[a][j] = (float)start[a];
+            collide(s, i, j, 1, age);
+        }
     }
 }
 
@@ -467,10 +531,14 @@ static void advance(pfx_sim *s, double t1) {
         const pfx_emitter *em = &e->emitters[i];
         pfx_pool *p = &s->pools[i];
         if (dt > 0) {
+            if (em->deflector_count)
+                save_start(p);
             if (em->motion)
                 integrate_motion(s, i, dt);
             else
                 integrate_gravity(em, p, dt);
+            if (em->deflector_count)
+                collide(s, i, 0, p->count, dt);
             kill_expired(p);
         }
         emit(s, i, t1);
@@ -500,7 +568,7 @@ void pfx_sim_view_at(const pfx_sim *s, pfx_sim *view, double t) {
         pfx_pool *dst = &view->pools[i];
         column_list a = pool_columns(src), b = pool_columns(dst);
         for (int k = 0; k < a.count; k++)
-            memcpy(b.col[k], a.col[k], src->count * (size_t)4);
+            memcpy(b.col[k], a.col[k], src->count * a.size[k]);
         dst->count = src->count;
         view->emitters[i] = s->emitters[i];
     }
@@ -535,7 +603,7 @@ uint64_t pfx_sim_hash(const pfx_sim *s) {
         column_list c = pool_columns(p);
         for (int k = 0; k < c.count; k++) {
             const unsigned char *b = (const unsigned char *)c.col[k];
-            for (size_t j = 0; j < (size_t)p->count * 4; j++) {
+            for (size_t j = 0; j < (size_t)p->count * c.size[k]; j++) {
                 h ^= b[j];
                 h *= 1099511628211ULL;
             }

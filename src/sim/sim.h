@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "compile/effect.h"
+#include "sim/collide.h"
 #include "sim/rng.h"
 #include "sim/schedule.h"
 
@@ -27,6 +28,9 @@ typedef struct pfx_pool {
     float *size0, *size1;
     float *charge, *mass; /* random charge / mass under a magnetic force */
     float *bx, *by, *bz;  /* birth position, for springs anchored there */
+    uint8_t *stuck;       /* 1 once stuck to a deflector (only with a `stick` one) */
+    float *start[6];      /* scratch: x, y, z, vx, vy, vz at the start of the step,
+                             for the collision pass (only with deflectors) */
 } pfx_pool;
 
 typedef struct pfx_emitter_state {
@@ -35,6 +39,8 @@ typedef struct pfx_emitter_state {
     uint64_t born;            /* births so far (each drawn, alive or not) */
     uint64_t dropped;         /* births lost to a full pool */
     uint64_t draws_per_birth; /* generator outputs one birth takes (fixed) */
+    pfx_rng collide_rng;      /* random resilience and friction per impact */
+    pfx_collide_stats collisions;
 } pfx_emitter_state;
 
 typedef struct pfx_sim {

@@ -16,4 +16,5 @@ cmake --build "$tree" -j2 >/dev/null || { cmake --build "$tree" 2>&1 | tail -30;
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0
 export LSAN_OPTIONS="suppressions=$supp:print_suppressions=0"
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+export PFX_TEST_QUICK=1
 ctest --test-dir "$tree" -L 'unit|cli|diag' --output-on-failure

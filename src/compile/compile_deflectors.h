@@ -1,0 +1,13 @@
+/* Compiling one `deflectors:` entry. */
+#ifndef PFX_COMPILE_DEFLECTORS_H
+#define PFX_COMPILE_DEFLECTORS_H
+
+#include "compile/effect.h"
+#include "compile/read.h"
+
+/* Reads deflector `key: n` into out (name copied into the reader's arena);
+ * `seed` salts its chance hash. Reports problems; false on any error. */
+bool pfx_compile_deflector(pfx_reader *r, const pfx_node *key, const pfx_node *n, uint64_t seed,
+                           pfx_deflector *out);
+
+#endif
