@@ -13,6 +13,7 @@
 #include "bench/accuracy.h"
 #include "bench/speed.h"
 #include "compile/compile.h"
+#include "compile/compile_shape.h"
 #include "output/bake_csv.h"
 #include "output/png_write.h"
 #include "render/render.h"
@@ -398,11 +399,6 @@ done:
     return status;
 }
 
-static const char *shape_name(pfx_shape_type t) {
-    static const char *const names[] = {"point", "sphere", "box", "disc"};
-    return names[t];
-}
-
 static int cmd_info(int argc, char **argv, const options *o) {
     if (optind != argc - 1)
         return usage_error("%s", "info takes one FILE");
@@ -432,7 +428,7 @@ static int cmd_info(int argc, char **argv, const options *o) {
         const pfx_emitter *em = &e->emitters[i];
         size_t bpp = pfx_sim_bytes_per_particle(e, i);
         printf("    %s: %s shape, %g particles/s, lifetime up to %g s, %s blend\n", em->name,
-               shape_name(em->shape.type), em->rate, em->max_lifetime,
+               pfx_shape_type_name(em->shape.type), em->rate, em->max_lifetime,
                em->blend == PFX_BLEND_ADD ? "additive" : "alpha");
         printf("      pool %u particles x %zu bytes = %zu bytes%s\n", em->capacity, bpp,
                em->capacity * bpp, em->saturates ? " (saturates: cut by the budget)" : "");

@@ -37,7 +37,9 @@ static void make_fountain(pfx_effect *e, pfx_emitter *em, double n) {
     em->shape.radius = 0.1;
     for (int i = 0; i < 9; i += 4)
         em->rotation[i] = 1;
+    em->rate_kind = PFX_RATE_CONSTANT;
     em->rate = n / 2.0;
+    em->duration = INFINITY;
     em->direction[1] = 1;
     em->spread_deg = 30;
     em->speed = (pfx_value){PFX_DIST_UNIFORM, 2, 4, 0, 0};

@@ -10,9 +10,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "compile/compile_appearance.h"
 #include "compile/compile_deflectors.h"
 #include "compile/compile_emission.h"
 #include "compile/compile_forces.h"
+#include "compile/compile_kill.h"
 #include "compile/compile_shape.h"
 #include "compile/read.h"
 #include "sim/schedule.h"
@@ -32,12 +34,34 @@ static const char *const sim_keys[] = {"rate",      "prewarm",  "integrator",
                                        "tolerance", "substeps", NULL};
 static const char *const camera_keys[] = {"position", "target", "up", "fov", "ortho", NULL};
 static const char *const image_keys[] = {"size", "background", NULL};
-static const char *const emitter_keys[] = {
-    "shape",      "position", "rotation",  "rate",   "interval",      "bursts",           "start",
-    "duration",   "loop",     "direction", "spread", "distance",      "inherit_velocity", "speed",
-    "lifetime",   "size",     "color",     "forces", "gravity_scale", "charge",           "mass",
-    "integrator", "blend",    NULL};
-static const char *const size_keys[] = {"start", "end", NULL};
+static const char *const emitter_keys[] = {"shape",
+                                           "position",
+                                           "rotation",
+                                           "rate",
+                                           "interval",
+                                           "bursts",
+                                           "start",
+                                           "duration",
+                                           "loop",
+                                           "direction",
+                                           "spread",
+                                           "distance",
+                                           "inherit_velocity",
+                                           "speed",
+                                           "lifetime",
+                                           "size",
+                                           "color",
+                                           "alpha",
+                                           "forces",
+                                           "deflectors",
+                                           "gravity_scale",
+                                           "charge",
+                                           "mass",
+                                           "integrator",
+                                           "kill",
+                                           "bounds",
+                                           "blend",
+                                           NULL};
 static const char *const blend_modes[] = {"add", "alpha", NULL};
 
 typedef struct compiler {
@@ -295,22 +319,33 @@ static bool range_value(compiler *c, const pfx_node *n, const char *what, pfx_va
            pfx_check_below(&c->r, n, what, pfx_value_max(v), hi, false);
 }
 
-static void compile_size(compiler *c, const pfx_node *n, pfx_emitter *em) {
-    const double max_size = 1e6;
-    if (n->kind == PFX_NODE_MAP && (pfx_node_get(n, "start") || pfx_node_get(n, "end"))) {
-        pfx_read_check_keys(&c->r, n, size_keys, "'size'");
-        const pfx_node *s = pfx_node_get(n, "start"), *e = pfx_node_get(n, "end");
-        if (s)
-            range_value(c, s, "size", &em->size_start, 0, false, max_size);
-        em->size_end = em->size_start;
-        if (e)
-            range_value(c, e, "size", &em->size_end, 0, false, max_size);
-        em->size_same = !e;
-    } else {
-        range_value(c, n, "size", &em->size_start, 0, false, max_size);
-        em->size_end = em->size_start;
-        em->size_same = true;
+/* `kill:` rules and `bounds:` (src/sim/kill.c applies them each step).
+ * alpha_below reads the alpha over life: the gradient's (or, for colours
+ * fixed at birth, the colour's largest) times the alpha curve. */
+static void compile_kill(compiler *c, const pfx_node *n, pfx_emitter *em) {
+    const pfx_node *kill_node = pfx_node_get(n, "kill"), *bounds_node = pfx_node_get(n, "bounds");
+    pfx_kill_rules rules;
+    if (!(kill_node || bounds_node) || !pfx_compile_kill(&c->r, kill_node, bounds_node, &rules) ||
+        pfx_kill_rules_empty(&rules) || !(em->kill = pfx_arena_alloc(c->r.arena, sizeof rules)))
+        return;
+    *em->kill = rules;
+    for (int k = 0; k < PFX_GRADIENT_LUT; k++) {
+        float a = em->color.lut[k][3];
+        if (em->color_mode == PFX_COLOR_RANDOM)
+            a = em->color_a[3] > em->color_b[3] ? em->color_a[3] : em->color_b[3];
+        else if (em->color_mode == PFX_COLOR_PICK)
+            for (int j = 0; j < PFX_GRADIENT_LUT; j++)
+                a = em->color.lut[j][3] > a ? em->color.lut[j][3] : a;
+        em->alpha_at_age[k] = a * (em->alpha_curve ? em->alpha_lut[k] : 1.0f);
     }
+    if (pfx_kill_needs_alpha(em->kill))
+        for (size_t i = 0; i < em->kill->count; i++)
+            if (em->kill->rules[i].kind == PFX_KILL_ALPHA_BELOW &&
+                em->alpha_at_age[0] < em->kill->rules[i].threshold)
+                pfx_read_warning(&c->r, kill_node,
+                                 "emitter '%s' is born with alpha %g, below its 'alpha_below' "
+                                 "%g: every particle dies in its first step",
+                                 em->name, em->alpha_at_age[0], em->kill->rules[i].threshold);
 }
 
 /* `direction` (a vector, or normal | radial | inward), `spread` (a cone
@@ -446,10 +481,8 @@ static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n,
     if ((v = pfx_node_get(n, "lifetime")))
         range_value(c, v, "lifetime", &em->lifetime, 0, true, MAX_SECONDS);
     em->max_lifetime = pfx_value_max(&em->lifetime);
-    if ((v = pfx_node_get(n, "size")))
-        compile_size(c, v, em);
-    if ((v = pfx_node_get(n, "color")))
-        pfx_read_gradient(&c->r, v, "color", &em->color);
+    pfx_compile_appearance(&c->r, n, em);
+    compile_kill(c, n, em);
     if ((v = pfx_node_get(n, "gravity_scale")))
         range_value(c, v, "gravity_scale", &em->gravity_scale, -1e3, false, 1e3);
     if ((v = pfx_node_get(n, "blend"))) {

@@ -156,14 +156,13 @@ static void read_mesh(pfx_reader *r, const pfx_node *n, const pfx_node *type, pf
     const char *file;
     double scale = 1;
     const pfx_node *sc = pfx_node_get(n, "scale");
-    if (sc && !(pfx_read_number(r, sc, "scale", &scale) &&
-                pfx_check_above(r, sc, "scale", scale, 0, true)))
-        return;
+    bool scale_ok = !sc || (pfx_read_number(r, sc, "scale", &scale) &&
+                            pfx_check_above(r, sc, "scale", scale, 0, true));
     if (!v) {
         pfx_read_error(r, type, "a mesh shape needs a 'file' (a Wavefront OBJ path)");
         return;
     }
-    if (!pfx_read_string(r, v, "file", &file))
+    if (!pfx_read_string(r, v, "file", &file) || !scale_ok)
         return;
     char path[4096];
     size_t dir = 0;

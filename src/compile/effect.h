@@ -10,6 +10,7 @@
 #include <stdint.h>
 
 #include "sim/collide.h"
+#include "sim/kill.h"
 #include "sim/motion.h"
 
 #define PFX_FORMAT_VERSION 1
@@ -82,6 +83,10 @@ typedef struct pfx_force {
 
 typedef enum { PFX_BLEND_ADD, PFX_BLEND_ALPHA } pfx_blend;
 
+/* How a particle's colour is chosen: from the gradient by its age, or once
+ * at birth (a random mix of two colours, or a random point of a gradient). */
+typedef enum { PFX_COLOR_OVER_LIFE, PFX_COLOR_RANDOM, PFX_COLOR_PICK } pfx_color_mode;
+
 /* A piecewise-linear function through (t[i], v[i]), t increasing; held
  * constant before the first key and after the last. */
 typedef struct pfx_curve {
@@ -152,9 +157,15 @@ typedef struct pfx_emitter {
     double max_lifetime; /* upper bound of `lifetime` */
     pfx_value size_start;
     pfx_value size_end;
-    bool size_same;   /* `size` given as one value: end equals start */
-    bool size_varies; /* start or end random: per-particle columns */
-    pfx_gradient color;
+    bool size_same;     /* `size` given as one value: end equals start */
+    bool size_varies;   /* start or end random: per-particle columns */
+    pfx_gradient color; /* over life (OVER_LIFE), or the gradient PICK draws from */
+    pfx_color_mode color_mode;
+    float color_a[4], color_b[4]; /* RANDOM: each particle is a fixed mix of the two */
+    bool size_curve;              /* size over life from size_lut, not start/end */
+    float size_lut[PFX_GRADIENT_LUT];
+    bool alpha_curve; /* alpha_lut multiplies the colour's alpha */
+    float alpha_lut[PFX_GRADIENT_LUT];
     uint32_t force_mask; /* bit i: feels effect->forces[i] */
     pfx_value gravity_scale;
     pfx_value charge; /* coulomb, for magnetic forces */
@@ -168,6 +179,8 @@ typedef struct pfx_emitter {
     pfx_deflector *deflectors;
     bool sticks; /* some deflector of it sticks: a per-particle stuck flag */
     pfx_blend blend;
+    pfx_kill_rules *kill;                 /* kill rules and bounds; NULL: age alone kills */
+    float alpha_at_age[PFX_GRADIENT_LUT]; /* alpha over life, for alpha_below */
     uint32_t capacity; /* pool size: floor(rate * max_lifetime) + 1, budget-capped */
     bool saturates;    /* capacity was cut by the particle budget */
 } pfx_emitter;

@@ -78,7 +78,8 @@ bool pfx_bake_frame(pfx_bake *b, const pfx_sim *s, long frame, double time) {
         }
         for (uint32_t k = 0; k < p->count; k++) {
             uint32_t j = b->order[k];
-            const float *c = pfx_particle_color(em, p->age[j], p->lifetime[j]);
+            float c[4];
+            pfx_particle_color(em, p, j, c);
             fprintf(
                 b->f,
                 "%ld,%.9g,%s,%u,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n",

@@ -102,7 +102,7 @@ static bool close_container(parser_state *s, const yaml_char_t *anchor_name) {
     if (n->kind == PFX_NODE_SEQ) {
         n->count = o->count;
         n->items = pfx_arena_alloc(&s->doc->arena, (o->count + 1) * sizeof *n->items);
-        if (n->items)
+        if (n->items && o->count) /* memcpy from NULL is undefined even for 0 bytes */
             memcpy(n->items, o->kids, o->count * sizeof *n->items);
     } else {
         size_t pairs = o->count / 2;

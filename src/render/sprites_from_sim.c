@@ -26,7 +26,8 @@ size_t pfx_sprites_build(const pfx_sim *s, pfx_sprite *out) {
         const pfx_pool *p = &s->pools[i];
         const bool additive = em->blend == PFX_BLEND_ADD;
         for (uint32_t j = 0; j < p->count; j++) {
-            const float *c = pfx_particle_color(em, p->age[j], p->lifetime[j]);
+            float c[4];
+            pfx_particle_color(em, p, j, c);
             const float a = c[3];
             out[n++] = (pfx_sprite){p->px[j], p->py[j], p->pz[j], pfx_particle_size(em, p, j),
                                     c[0] * a, c[1] * a, c[2] * a, additive ? 0.0f : a};

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sim/kill.h"
 #include "sim/sample.h"
 #include "sim/schedule.h"
 
@@ -36,7 +37,7 @@ static column_list pool_columns(const pfx_pool *p) {
     void *four[] = {p->px,    p->py,    p->pz,       p->vx,   p->vy,
                     p->vz,    p->age,   p->lifetime, p->id,   p->gravity_scale,
                     p->size0, p->size1, p->charge,   p->mass, p->bx,
-                    p->by,    p->bz};
+                    p->by,    p->bz,    p->tint};
     for (size_t k = 0; k < sizeof four / sizeof *four && c.count < MAX_COLUMNS; k++)
         add_column(&c, four[k], 4);
     add_column(&c, p->stuck, 1);
@@ -48,6 +49,7 @@ static bool needs_gravity_scale(const pfx_emitter *em) {
 }
 static bool needs_size0(const pfx_emitter *em) { return em->size_varies; }
 static bool needs_size1(const pfx_emitter *em) { return em->size_varies && !em->size_same; }
+static bool needs_tint(const pfx_emitter *em) { return em->color_mode != PFX_COLOR_OVER_LIFE; }
 static unsigned motion_columns(const pfx_emitter *em) {
     return em->motion ? pfx_motion_columns(em->motion) : 0;
 }
@@ -143,7 +145,7 @@ static void two_angle_spread(const pfx_emitter *em, const double d[3], pfx_rng *
  * anywhere), so a skipped birth can be jumped over with pfx_rng_advance. */
 typedef struct birth_draws {
     double pos[3], vel[3];
-    double life, s0, s1, gs, q, mass;
+    double life, s0, s1, gs, q, mass, tint;
 } birth_draws;
 
 static void draw_birth(const pfx_emitter *em, double t, pfx_rng *r, birth_draws *b) {
@@ -178,6 +180,7 @@ static void draw_birth(const pfx_emitter *em, double t, pfx_rng *r, birth_draws 
     b->gs = needs_gravity_scale(em) ? pfx_sample_value(&em->gravity_scale, r) : em->gravity_scale.a;
     b->q = needs_charge(em) ? pfx_sample_value(&em->charge, r) : em->charge.a;
     b->mass = needs_mass(em) ? pfx_sample_value(&em->mass, r) : em->mass.a;
+    b->tint = needs_tint(em) ? pfx_rng_unit(r) : 0;
     double world_local[3], world_dir[3];
     rotate(pose.rotation, local, world_local);
     rotate(pose.rotation, dir, world_dir);
@@ -187,15 +190,48 @@ static void draw_birth(const pfx_emitter *em, double t, pfx_rng *r, birth_draws 
     }
 }
 
-/* The collision pass reads each particle's start-of-step state: six float
- * scratch columns (not moved by swap-remove: rewritten every step). */
-static size_t scratch_floats(const pfx_emitter *em) { return em->deflector_count ? 6 : 0; }
+/* Lays out the float columns emitter em needs: each takes n floats from
+ * base (when base is NULL only the count is wanted). Returns the floats per
+ * particle. The one place that decides which columns exist, so the size
+ * pfx_info reports and the allocation cannot disagree. */
+static size_t layout_columns(const pfx_emitter *em, pfx_pool *p, float *base, uint32_t n) {
+    size_t used = 0;
+#define TAKE(field, cond)                                                                          \
+    do {                                                                                           \
+        if (cond) {                                                                                \
+            if (base)                                                                              \
+                p->field = (void *)(base + used * n);                                              \
+            used++;                                                                                \
+        }                                                                                          \
+    } while (0)
+    TAKE(px, true);
+    TAKE(py, true);
+    TAKE(pz, true);
+    TAKE(vx, true);
+    TAKE(vy, true);
+    TAKE(vz, true);
+    TAKE(age, true);
+    TAKE(lifetime, true);
+    TAKE(id, true);
+    TAKE(gravity_scale, needs_gravity_scale(em));
+    TAKE(size0, needs_size0(em));
+    TAKE(size1, needs_size1(em));
+    TAKE(charge, needs_charge(em));
+    TAKE(mass, needs_mass(em));
+    TAKE(tint, needs_tint(em));
+    TAKE(bx, needs_birth(em));
+    TAKE(by, needs_birth(em));
+    TAKE(bz, needs_birth(em));
+    for (int k = 0; k < 6; k++)
+        TAKE(start[k], em->deflector_count > 0);
+#undef TAKE
+    return used;
+}
 
 size_t pfx_sim_bytes_per_particle(const pfx_effect *e, size_t i) {
     const pfx_emitter *em = &e->emitters[i];
-    return 4 * (9 + needs_gravity_scale(em) + needs_size0(em) + needs_size1(em) + needs_charge(em) +
-                needs_mass(em) + 3 * needs_birth(em) + scratch_floats(em)) +
-           em->sticks;
+    pfx_pool unused;
+    return 4 * layout_columns(em, &unused, NULL, 1) + em->sticks;
 }
 
 pfx_sim *pfx_sim_create(const pfx_effect *e) {
@@ -232,28 +268,7 @@ pfx_sim *pfx_sim_create(const pfx_effect *e) {
         pfx_pool *p = &s->pools[i];
         uint32_t n = em->capacity;
         p->capacity = n;
-        float **fixed[] = {&p->px, &p->py, &p->pz, &p->vx, &p->vy, &p->vz, &p->age, &p->lifetime};
-        for (size_t k = 0; k < sizeof fixed / sizeof *fixed; k++, next += n)
-            *fixed[k] = next;
-        p->id = (uint32_t *)next;
-        next += n;
-        if (needs_gravity_scale(em))
-            p->gravity_scale = next, next += n;
-        if (needs_size0(em))
-            p->size0 = next, next += n;
-        if (needs_size1(em))
-            p->size1 = next, next += n;
-        if (needs_charge(em))
-            p->charge = next, next += n;
-        if (needs_mass(em))
-            p->mass = next, next += n;
-        if (needs_birth(em)) {
-            p->bx = next, next += n;
-            p->by = next, next += n;
-            p->bz = next, next += n;
-        }
-        for (size_t k = 0; k < scratch_floats(em); k++, next += n)
-            p->start[k] = next;
+        next += n * layout_columns(em, p, next, n);
         if (em->motion)
             s->motions[i] = *em->motion;
         pfx_emitter_state *st = &s->emitters[i];
@@ -513,6 +528,8 @@ static void emit(pfx_sim *s, size_t i, double t1) {
             p->bx[j] = (float)b.pos[0], p->by[j] = (float)b.pos[1], p->bz[j] = (float)b.pos[2];
         if (p->stuck)
             p->stuck[j] = 0;
+        if (p->tint)
+            p->tint[j] = (float)b.tint;
         if (em->deflector_count && age > 0) {
             /* The newborn's partial step is swept like a full one. */
             const double start[6] = {b.pos[0], b.pos[1], b.pos[2], v0[0], v0[1], v0[2]};
@@ -539,6 +556,11 @@ static void advance(pfx_sim *s, double t1) {
                 integrate_gravity(em, p, dt);
             if (em->deflector_count)
                 collide(s, i, 0, p->count, dt);
+            if (em->kill) {
+                emitter_pose pose;
+                pose_at(em, t1, &pose);
+                pfx_kill_apply(em->kill, p, pose.position, em->alpha_at_age);
+            }
             kill_expired(p);
         }
         emit(s, i, t1);
@@ -582,18 +604,38 @@ double pfx_sim_frame_time(const pfx_effect *e, long frame) {
     return e->prewarm + (double)frame / e->fps;
 }
 
+/* The lookup-table entry for normalised age (or any u in [0, 1]): nearest. */
+static int lut_index(float u) {
+    int k = (int)(u * (PFX_GRADIENT_LUT - 1) + 0.5f);
+    return k < 0 ? 0 : k >= PFX_GRADIENT_LUT ? PFX_GRADIENT_LUT - 1 : k;
+}
+
 float pfx_particle_size(const pfx_emitter *em, const pfx_pool *p, uint32_t i) {
+    float u = p->age[i] / p->lifetime[i];
+    if (em->size_curve)
+        return em->size_lut[lut_index(u)];
     float s0 = p->size0 ? p->size0[i] : (float)em->size_start.a;
     float s1 = p->size1 ? p->size1[i] : em->size_same ? s0 : (float)em->size_end.a;
-    float u = p->age[i] / p->lifetime[i];
     return s0 + (s1 - s0) * u;
 }
 
-const float *pfx_particle_color(const pfx_emitter *em, float age, float lifetime) {
-    float u = age / lifetime;
-    int k = (int)(u * (PFX_GRADIENT_LUT - 1) + 0.5f);
-    k = k < 0 ? 0 : k >= PFX_GRADIENT_LUT ? PFX_GRADIENT_LUT - 1 : k;
-    return em->color.lut[k];
+void pfx_particle_color(const pfx_emitter *em, const pfx_pool *p, uint32_t i, float out[4]) {
+    int k = lut_index(p->age[i] / p->lifetime[i]);
+    switch (em->color_mode) {
+    case PFX_COLOR_RANDOM: {
+        float t = p->tint[i];
+        for (int c = 0; c < 4; c++)
+            out[c] = em->color_a[c] + (em->color_b[c] - em->color_a[c]) * t;
+        break;
+    }
+    case PFX_COLOR_PICK:
+        memcpy(out, em->color.lut[lut_index(p->tint[i])], 4 * sizeof(float));
+        break;
+    default:
+        memcpy(out, em->color.lut[k], 4 * sizeof(float));
+    }
+    if (em->alpha_curve)
+        out[3] *= em->alpha_lut[k];
 }
 
 uint64_t pfx_sim_hash(const pfx_sim *s) {

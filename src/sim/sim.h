@@ -28,6 +28,7 @@ typedef struct pfx_pool {
     float *size0, *size1;
     float *charge, *mass; /* random charge / mass under a magnetic force */
     float *bx, *by, *bz;  /* birth position, for springs anchored there */
+    float *tint;          /* random colour mix or gradient point (colour fixed at birth) */
     uint8_t *stuck;       /* 1 once stuck to a deflector (only with a `stick` one) */
     float *start[6];      /* scratch: x, y, z, vx, vy, vz at the start of the step,
                              for the collision pass (only with deflectors) */
@@ -87,9 +88,9 @@ const pfx_sim *pfx_sim_frame(pfx_sim *s, pfx_sim *view, long frame);
 /* The simulation time of output frame f: prewarm + f / fps. */
 double pfx_sim_frame_time(const pfx_effect *e, long frame);
 
-/* Per-particle appearance at normalised age u in [0, 1]. */
+/* Particle i's size and straight-alpha colour now (by its normalised age). */
 float pfx_particle_size(const pfx_emitter *em, const pfx_pool *p, uint32_t i);
-const float *pfx_particle_color(const pfx_emitter *em, float age, float lifetime);
+void pfx_particle_color(const pfx_emitter *em, const pfx_pool *p, uint32_t i, float out[4]);
 
 /* FNV-1a over every live particle's columns, in pool order: the state hash
  * the determinism test pins. */

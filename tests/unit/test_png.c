@@ -131,6 +131,37 @@ static void test_round_trip(void) {
     unlink(path);
 }
 
+/* The encoder's corner cases: one pixel, one byte value everywhere (a single
+ * literal symbol, so the Huffman code needs a second one), all zero (runs
+ * only), runs longer than deflate's 258 and runs that stop just short of a
+ * word boundary. Each must read back exactly. */
+static void test_round_trip_edges(void) {
+    const int sizes[][2] = {{1, 1}, {1, 9}, {9, 1}, {3, 5}, {65, 3}, {300, 2}};
+    char path[512], err[512];
+    path_in(path, sizeof path, "edge.png");
+    for (size_t k = 0; k < sizeof sizes / sizeof *sizes; k++) {
+        int w = sizes[k][0], h = sizes[k][1];
+        size_t n = (size_t)w * (size_t)h * 4;
+        uint8_t *rgba = malloc(n);
+        for (int mode = 0; mode < 4; mode++) {
+            for (size_t i = 0; i < n; i++) {
+                uint8_t v = mode == 0 ? 0 : mode == 1 ? 255 : (uint8_t)(i / 7);
+                rgba[i] = mode == 3 ? (uint8_t)((i % 11) < 9 ? 0 : i) : v;
+            }
+            err[0] = '\0';
+            CHECK(pfx_png_write(path, rgba, w, h, err, sizeof err));
+            int rw = 0, rh = 0;
+            uint8_t *back = pfx_png_read(path, &rw, &rh);
+            CHECK(back != NULL && rw == w && rh == h);
+            if (back != NULL && rw == w && rh == h)
+                CHECK(memcmp(back, rgba, n) == 0);
+            free(back);
+        }
+        free(rgba);
+    }
+    unlink(path);
+}
+
 static void test_deterministic_bytes(void) {
     char a[512], b[512];
     path_in(a, sizeof a, "same_a.png");
@@ -417,6 +448,7 @@ int main(void) {
         return 1;
     }
     RUN(test_round_trip);
+    RUN(test_round_trip_edges);
     RUN(test_deterministic_bytes);
     RUN(test_missing_directory);
     RUN(test_read_only_directory);

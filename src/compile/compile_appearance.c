@@ -1,0 +1,166 @@
+/* Size, colour and alpha over a particle's life. Curves over normalised age
+ * are sampled once into 256-entry tables (like gradients), so the per-frame
+ * cost is one lookup whatever the number of keys; the two-key {start, end}
+ * size stays a per-particle linear rate. */
+#include "compile/compile_appearance.h"
+
+#include <string.h>
+
+#define MAX_SIZE 1e6
+
+static bool range_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_value *v, double lo,
+                        double hi) {
+    return pfx_read_value(r, n, what, v) &&
+           pfx_check_above(r, n, what, pfx_value_min(v), lo, false) &&
+           pfx_check_below(r, n, what, pfx_value_max(v), hi, false);
+}
+
+/* `[{at: u, value: v}, ...]` with u in [0, 1] increasing, sampled into lut
+ * (linear between keys, held beyond the ends). */
+static bool read_life_curve(pfx_reader *r, const pfx_node *n, const char *what, double lo,
+                            double hi, float lut[PFX_GRADIENT_LUT]) {
+    static const char *const key_names[] = {"at", "value", NULL};
+    enum { MAX_KEYS = 64 };
+    double at[MAX_KEYS], val[MAX_KEYS];
+    if (n->count == 0 || n->count > MAX_KEYS) {
+        pfx_read_error(r, n, "'%s' as a curve needs 1 to %d keys {at, value}", what, MAX_KEYS);
+        return false;
+    }
+    bool ok = true;
+    for (size_t i = 0; i < n->count; i++) {
+        const pfx_node *k = n->items[i];
+        if (!pfx_read_map(r, k, what)) {
+            ok = false;
+            continue;
+        }
+        ok &= pfx_read_check_keys(r, k, key_names, "a curve key");
+        const pfx_node *t = pfx_node_get(k, "at"), *v = pfx_node_get(k, "value");
+        if (!t || !v) {
+            pfx_read_error(r, k, "a curve key needs both 'at' and 'value'");
+            ok = false;
+            continue;
+        }
+        if (!pfx_read_number(r, t, "at", &at[i]) || !pfx_read_number(r, v, what, &val[i])) {
+            ok = false;
+            continue;
+        }
+        if (at[i] < 0 || at[i] > 1) {
+            pfx_read_error(r, t, "'at' must be in 0..1, got %g", at[i]);
+            ok = false;
+        } else if (i > 0 && at[i] < at[i - 1]) {
+            pfx_read_error(r, t, "curve keys must be in increasing 'at' order");
+            ok = false;
+        }
+        ok &= pfx_check_above(r, v, what, val[i], lo, false) &&
+              pfx_check_below(r, v, what, val[i], hi, false);
+    }
+    if (!ok)
+        return false;
+    for (int i = 0; i < PFX_GRADIENT_LUT; i++) {
+        double u = (double)i / (PFX_GRADIENT_LUT - 1);
+        size_t k = 0;
+        while (k + 1 < n->count && at[k + 1] <= u)
+            k++;
+        double v = val[k];
+        if (k + 1 < n->count && u > at[k])
+            v = val[k] + (val[k + 1] - val[k]) * (u - at[k]) / (at[k + 1] - at[k]);
+        lut[i] = (float)v;
+    }
+    return true;
+}
+
+static void compile_size(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
+    static const char *const size_keys[] = {"start", "end", NULL};
+    if (n->kind == PFX_NODE_SEQ && n->count > 0 && n->items[0]->kind == PFX_NODE_MAP) {
+        em->size_curve = read_life_curve(r, n, "size", 0, MAX_SIZE, em->size_lut);
+        return;
+    }
+    if (n->kind == PFX_NODE_MAP && (pfx_node_get(n, "start") || pfx_node_get(n, "end"))) {
+        pfx_read_check_keys(r, n, size_keys, "'size'");
+        const pfx_node *s = pfx_node_get(n, "start"), *e = pfx_node_get(n, "end");
+        if (s)
+            range_value(r, s, "size", &em->size_start, 0, MAX_SIZE);
+        em->size_end = em->size_start;
+        if (e)
+            range_value(r, e, "size", &em->size_end, 0, MAX_SIZE);
+        em->size_same = !e;
+    } else {
+        range_value(r, n, "size", &em->size_start, 0, MAX_SIZE);
+        em->size_end = em->size_start;
+        em->size_same = true;
+    }
+}
+
+static void compile_alpha(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
+    static const char *const alpha_keys[] = {"start", "end", NULL};
+    if (n->kind == PFX_NODE_SEQ) {
+        em->alpha_curve = read_life_curve(r, n, "alpha", 0, 1, em->alpha_lut);
+        return;
+    }
+    double a0 = 1, a1 = 1;
+    if (n->kind == PFX_NODE_MAP) {
+        pfx_read_check_keys(r, n, alpha_keys, "'alpha'");
+        const pfx_node *s = pfx_node_get(n, "start"), *e = pfx_node_get(n, "end");
+        if ((s && !(pfx_read_number(r, s, "alpha", &a0) &&
+                    pfx_check_above(r, s, "alpha", a0, 0, false) &&
+                    pfx_check_below(r, s, "alpha", a0, 1, false))) ||
+            (e && !(pfx_read_number(r, e, "alpha", &a1) &&
+                    pfx_check_above(r, e, "alpha", a1, 0, false) &&
+                    pfx_check_below(r, e, "alpha", a1, 1, false))))
+            return;
+    } else if (!(pfx_read_number(r, n, "alpha", &a0) &&
+                 pfx_check_above(r, n, "alpha", a0, 0, false) &&
+                 pfx_check_below(r, n, "alpha", a0, 1, false))) {
+        return;
+    } else {
+        a1 = a0;
+    }
+    for (int i = 0; i < PFX_GRADIENT_LUT; i++)
+        em->alpha_lut[i] = (float)(a0 + (a1 - a0) * i / (PFX_GRADIENT_LUT - 1));
+    em->alpha_curve = true;
+}
+
+/* `color`: a colour or gradient over life, `{random: [c1, c2]}` (a fixed
+ * random mix per particle) or `{pick: gradient}` (a fixed random point of
+ * the gradient per particle). */
+static void compile_color(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
+    static const char *const color_keys[] = {"random", "pick", NULL};
+    if (n->kind != PFX_NODE_MAP) {
+        pfx_read_gradient(r, n, "color", &em->color);
+        return;
+    }
+    if (!pfx_read_check_keys(r, n, color_keys, "'color'"))
+        return;
+    const pfx_node *rnd = pfx_node_get(n, "random"), *pick = pfx_node_get(n, "pick");
+    if ((rnd != NULL) == (pick != NULL)) {
+        pfx_read_error(r, n,
+                       "'color' as a mapping takes either {random: [c1, c2]} or "
+                       "{pick: gradient}");
+        return;
+    }
+    if (pick) {
+        if (pfx_read_gradient(r, pick, "color", &em->color))
+            em->color_mode = PFX_COLOR_PICK;
+        return;
+    }
+    if (rnd->kind != PFX_NODE_SEQ || rnd->count != 2 ||
+        (rnd->items[0]->kind == PFX_NODE_SCALAR && rnd->items[0]->plain)) {
+        pfx_read_error(r, rnd, "'random' takes two colours [c1, c2]");
+        return;
+    }
+    if (pfx_read_color(r, rnd->items[0], "color", em->color_a) &&
+        pfx_read_color(r, rnd->items[1], "color", em->color_b))
+        em->color_mode = PFX_COLOR_RANDOM;
+}
+
+bool pfx_compile_appearance(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
+    int errors = r->d->errors;
+    const pfx_node *v;
+    if ((v = pfx_node_get(n, "size")))
+        compile_size(r, v, em);
+    if ((v = pfx_node_get(n, "color")))
+        compile_color(r, v, em);
+    if ((v = pfx_node_get(n, "alpha")))
+        compile_alpha(r, v, em);
+    return r->d->errors == errors;
+}

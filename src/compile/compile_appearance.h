@@ -1,0 +1,12 @@
+/* Compiling how a particle looks over its life: `size`, `color`, `alpha`. */
+#ifndef PFX_COMPILE_APPEARANCE_H
+#define PFX_COMPILE_APPEARANCE_H
+
+#include "compile/effect.h"
+#include "compile/read.h"
+
+/* Reads the appearance keys of emitter mapping n into em (keeping em's
+ * defaults for absent keys). Reports problems; false on any error. */
+bool pfx_compile_appearance(pfx_reader *r, const pfx_node *n, pfx_emitter *em);
+
+#endif
