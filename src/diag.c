@@ -43,7 +43,35 @@ void pfx_diag_vadd(pfx_diags *d, pfx_severity sev, int line, int col, int span, 
         d->cap = cap;
     }
     char buf[1024];
-    vsnprintf(buf, sizeof buf, fmt, ap);
+    int n = vsnprintf(buf, sizeof buf, fmt, ap);
+    if (n >= (int)sizeof buf) {
+        /* Cut on a UTF-8 character boundary, so JSON output stays UTF-8. */
+        size_t end = sizeof buf - 1, lead = end;
+        while (lead > 0 && ((unsigned char)buf[lead - 1] & 0xc0) == 0x80)
+            lead--;
+        if (lead > 0) {
+            unsigned char c = (unsigned char)buf[lead - 1];
+            size_t need = c >= 0xf0 ? 4 : c >= 0xe0 ? 3 : c >= 0xc0 ? 2 : 1;
+            if (lead - 1 + need > end)
+                buf[lead - 1] = 0; /* the last character was cut: drop it */
+        }
+    }
+    /* Control characters from the file (an escape in a key) never reach the
+     * terminal raw. */
+    for (char *p = buf; *p; p++)
+        if ((unsigned char)*p < 0x20 || *p == 0x7f)
+            *p = '?';
+    /* A node shared through YAML aliases reports once. */
+    for (size_t i = 0; i < d->count; i++) {
+        const pfx_diag *o = &d->items[i];
+        if (o->line == line && o->col == col && o->severity == sev && !strcmp(o->message, buf)) {
+            if (sev == PFX_SEV_ERROR)
+                d->errors--;
+            else if (sev == PFX_SEV_WARNING)
+                d->warnings--;
+            return;
+        }
+    }
     pfx_diag *g = &d->items[d->count];
     g->severity = sev;
     g->line = line;
@@ -135,21 +163,27 @@ static void print_text(const pfx_diags *d, const pfx_diag *g, FILE *out) {
     const size_t max_shown = 200;
     size_t shown = len < max_shown ? len : max_shown;
     fprintf(out, "%5d | ", g->line);
+    /* libyaml counts columns in characters: a multi-byte UTF-8 character
+     * is one '?', so the caret stays under its column. */
+    size_t cols = 0;
     for (size_t i = 0; i < shown; i++) {
         unsigned char c = (unsigned char)text[i];
+        if ((c & 0xc0) == 0x80)
+            continue;
         fputc(c == '\t' ? ' ' : (c >= 0x20 && c < 0x7f) ? c : '?', out);
+        cols++;
     }
     fputs(shown < len ? " ...\n" : "\n", out);
     fputs("      | ", out);
     int col = g->col > 0 ? g->col : 1;
-    if ((size_t)col > shown + 1)
-        col = (int)shown + 1;
+    if ((size_t)col > cols + 1)
+        col = (int)cols + 1;
     for (int i = 1; i < col; i++)
         fputc(' ', out);
     fputc('^', out);
     int span = g->span;
-    if ((size_t)(col - 1 + span) > shown)
-        span = (int)shown - (col - 1);
+    if ((size_t)(col - 1 + span) > cols)
+        span = (int)cols - (col - 1);
     for (int i = 1; i < span; i++)
         fputc('~', out);
     fputc('\n', out);

@@ -42,12 +42,12 @@ static void make_fountain(pfx_effect *e, pfx_emitter *em, double n) {
     em->duration = INFINITY;
     em->direction[1] = 1;
     em->spread_deg = 30;
-    em->speed = (pfx_value){PFX_DIST_UNIFORM, 2, 4, 0, 0};
-    em->lifetime = (pfx_value){PFX_DIST_CONST, 2, 0, 0, 0};
+    em->speed = (pfx_value){.dist = PFX_DIST_UNIFORM, .a = 2, .b = 4};
+    em->lifetime = pfx_value_const(2);
     em->max_lifetime = 2;
-    em->size_start = em->size_end = (pfx_value){PFX_DIST_CONST, 0.05, 0, 0, 0};
+    em->size_start = em->size_end = pfx_value_const(0.05);
     em->size_same = true;
-    em->gravity_scale = (pfx_value){PFX_DIST_CONST, 1, 0, 0, 0};
+    em->gravity_scale = pfx_value_const(1);
     em->accel[1] = -9.81;
     em->capacity = (uint32_t)(floor(em->rate * 2) + 1);
 }

@@ -26,6 +26,7 @@
 #define MAX_SECONDS 86400.0
 #define MAX_FPS 1000.0
 #define MAX_FRAMES 1000000.0
+#define MAX_STEPS 1e8
 
 static const char *const top_keys[] = {"pfx",        "duration", "fps",   "seed",
                                        "sim",        "camera",   "image", "forces",
@@ -105,8 +106,9 @@ static bool opt_vec3(compiler *c, const pfx_node *map, const char *key, double o
     return !n || pfx_read_numbers(&c->r, n, key, out, 3);
 }
 
-static int read_enum(compiler *c, const pfx_node *n, const char *what, const char *const *names) {
-    return pfx_read_enum(&c->r, n, what, names);
+static int read_enum(compiler *c, const pfx_node *n, const char *key, const char *what,
+                     const char *const *names) {
+    return pfx_read_enum(&c->r, n, key, what, names);
 }
 
 static void normalize3(double v[3]) {
@@ -136,7 +138,7 @@ static const char *const integrator_names[] = {"auto",   "euler", "symplectic", 
                                                "verlet", "exact", "boris",      NULL};
 
 static void read_integrator(compiler *c, const pfx_node *n, pfx_integrator *out) {
-    int i = read_enum(c, n, "integrator", integrator_names);
+    int i = read_enum(c, n, "integrator", "integrator", integrator_names);
     if (i >= 0)
         pfx_integrator_parse(integrator_names[i], out);
 }
@@ -190,10 +192,12 @@ static void compile_camera(compiler *c, const pfx_node *cam) {
     cross[2] = dir[0] * k->up[1] - dir[1] * k->up[0];
     double dlen = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
     double clen = sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
+    const pfx_node *target = pfx_node_get(cam, "target"), *up = pfx_node_get(cam, "up");
     if (dlen == 0)
-        pfx_read_error(&c->r, cam, "camera 'position' and 'target' are the same point");
+        pfx_read_error(&c->r, target ? target : cam,
+                       "camera 'position' and 'target' are the same point");
     else if (clen == 0)
-        pfx_read_error(&c->r, cam, "camera 'up' is parallel to the view direction");
+        pfx_read_error(&c->r, up ? up : cam, "camera 'up' is parallel to the view direction");
 }
 
 static void compile_image(compiler *c, const pfx_node *img) {
@@ -313,10 +317,7 @@ static int find_force(const pfx_effect *e, const char *name) {
 /* Reads a value and checks every sample it can take against [lo, hi]. */
 static bool range_value(compiler *c, const pfx_node *n, const char *what, pfx_value *v, double lo,
                         bool lo_strict, double hi) {
-    if (!pfx_read_value(&c->r, n, what, v))
-        return false;
-    return pfx_check_above(&c->r, n, what, pfx_value_min(v), lo, lo_strict) &&
-           pfx_check_below(&c->r, n, what, pfx_value_max(v), hi, false);
+    return pfx_read_value_in(&c->r, n, what, v, lo, lo_strict, hi);
 }
 
 /* `kill:` rules and `bounds:` (src/sim/kill.c applies them each step).
@@ -358,7 +359,7 @@ static void compile_direction(compiler *c, const pfx_node *n, pfx_emitter *em) {
     double dir[3] = {0, 1, 0};
     if ((v = pfx_node_get(n, "direction"))) {
         if (v->kind == PFX_NODE_SCALAR) {
-            int m = read_enum(c, v, "direction", modes);
+            int m = read_enum(c, v, "direction", "direction", modes);
             if (m >= 0)
                 em->direction_mode = (pfx_direction_mode)(m + 1);
         } else if (pfx_read_numbers(&c->r, v, "direction", dir, 3) && dir[0] == 0 && dir[1] == 0 &&
@@ -447,11 +448,11 @@ static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n,
     /* Defaults: a point emitting 10/s straight up at 1 m/s for 1 s, white,
      * 0.1 m sprites, additive, feeling every force. */
     em->direction[1] = 1;
-    em->speed = (pfx_value){PFX_DIST_CONST, 1, 0, 0, 0};
-    em->lifetime = (pfx_value){PFX_DIST_CONST, 1, 0, 0, 0};
-    em->size_start = em->size_end = (pfx_value){PFX_DIST_CONST, 0.1, 0, 0, 0};
+    em->speed = pfx_value_const(1);
+    em->lifetime = pfx_value_const(1);
+    em->size_start = em->size_end = pfx_value_const(0.1);
     em->size_same = true;
-    em->gravity_scale = (pfx_value){PFX_DIST_CONST, 1, 0, 0, 0};
+    em->gravity_scale = pfx_value_const(1);
     for (int i = 0; i < PFX_GRADIENT_LUT; i++)
         for (int k = 0; k < 4; k++)
             em->color.lut[i][k] = 1.0f;
@@ -486,7 +487,7 @@ static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n,
     if ((v = pfx_node_get(n, "gravity_scale")))
         range_value(c, v, "gravity_scale", &em->gravity_scale, -1e3, false, 1e3);
     if ((v = pfx_node_get(n, "blend"))) {
-        int b = read_enum(c, v, "blend mode", blend_modes);
+        int b = read_enum(c, v, "blend", "blend mode", blend_modes);
         if (b >= 0)
             em->blend = b == 0 ? PFX_BLEND_ADD : PFX_BLEND_ALPHA;
     }
@@ -521,8 +522,8 @@ static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n,
             }
         }
     }
-    em->charge = (pfx_value){PFX_DIST_CONST, 1, 0, 0, 0};
-    em->mass = (pfx_value){PFX_DIST_CONST, 1, 0, 0, 0};
+    em->charge = pfx_value_const(1);
+    em->mass = pfx_value_const(1);
     if ((v = pfx_node_get(n, "charge")))
         range_value(c, v, "charge", &em->charge, -1e6, false, 1e6);
     if ((v = pfx_node_get(n, "mass")))
@@ -631,10 +632,24 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
         e->width = opt->width;
         e->height = opt->height;
     }
+    const pfx_node *at = pfx_node_get(root, "duration");
+    if (!at)
+        at = pfx_node_get(root, "fps");
     if (e->duration * e->fps > MAX_FRAMES)
-        pfx_diag_add(d, PFX_SEV_ERROR, root->line, root->col, 1,
-                     "duration x fps gives %.0f frames; the most is %.0f", e->duration * e->fps,
-                     MAX_FRAMES);
+        pfx_read_error(&c.r, at ? at : root, "duration x fps gives %.0f frames; the most is %.0f",
+                       e->duration * e->fps, MAX_FRAMES);
+    /* Every frame needs the simulation run up to it: bound the steps. */
+    double steps = (e->prewarm + e->duration) * e->sim_rate;
+    if (steps > MAX_STEPS) {
+        const pfx_node *sim = pfx_node_get(root, "sim");
+        const pfx_node *where = pfx_node_get(sim, "prewarm");
+        if (!where)
+            where = at ? at : pfx_node_get(sim, "rate");
+        pfx_read_error(&c.r, where ? where : root,
+                       "'prewarm' + 'duration' at %g steps/s is %.0f simulation steps; the most is "
+                       "%.0f",
+                       e->sim_rate, steps, MAX_STEPS);
+    }
 
     const pfx_node *emitters = pfx_node_get(root, "emitters");
     if (!emitters) {
@@ -702,8 +717,16 @@ pfx_effect *pfx_load(pfx_loaded *l, const char *path, const pfx_compile_options 
                      PFX_MAX_FILE_BYTES >> 20);
         return NULL;
     }
-    if (memchr(buf, 0, len)) {
-        pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0,
+    const char *nul = memchr(buf, 0, len);
+    if (nul) {
+        int line = 1, col = 1;
+        for (const char *p = buf; p < nul; p++) {
+            if (*p == '\n')
+                line++, col = 1;
+            else if (((unsigned char)*p & 0xc0) != 0x80)
+                col++;
+        }
+        pfx_diag_add(&l->diags, PFX_SEV_ERROR, line, col, 1,
                      "the file contains NUL bytes; an effect file is UTF-8 text");
         return NULL;
     }

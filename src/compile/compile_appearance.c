@@ -10,9 +10,7 @@
 
 static bool range_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_value *v, double lo,
                         double hi) {
-    return pfx_read_value(r, n, what, v) &&
-           pfx_check_above(r, n, what, pfx_value_min(v), lo, false) &&
-           pfx_check_below(r, n, what, pfx_value_max(v), hi, false);
+    return pfx_read_value_in(r, n, what, v, lo, false, hi);
 }
 
 /* `[{at: u, value: v}, ...]` with u in [0, 1] increasing, sampled into lut

@@ -88,7 +88,7 @@ bool pfx_compile_deflector(pfx_reader *r, const pfx_node *key, const pfx_node *n
                        key->text);
         return false;
     }
-    int type = pfx_read_enum(r, t, "deflector type", types);
+    int type = pfx_read_enum(r, t, "type", "deflector type", types);
     if (type < 0)
         return false;
     out->shape = (pfx_deflector_shape)type;
@@ -126,7 +126,7 @@ bool pfx_compile_deflector(pfx_reader *r, const pfx_node *key, const pfx_node *n
         out->size[0] = out->size[1] = out->size[2] = 1;
     }
     if ((v = pfx_node_get(n, "response"))) {
-        int resp = pfx_read_enum(r, v, "response", responses);
+        int resp = pfx_read_enum(r, v, "response", "response", responses);
         if (resp >= 0)
             out->response = (pfx_deflect_response)resp;
     }

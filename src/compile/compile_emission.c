@@ -122,7 +122,7 @@ static bool read_bursts(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
     for (size_t i = 0; i < n->count; i++) {
         const pfx_node *b = n->items[i];
         pfx_burst *out = &em->bursts[em->burst_count++];
-        *out = (pfx_burst){0, {PFX_DIST_CONST, 10, 0, 0, 0}, 1, 0, 1};
+        *out = (pfx_burst){0, {.dist = PFX_DIST_CONST, .a = 10}, 1, 0, 1};
         if (!pfx_read_map(r, b, "bursts")) {
             ok = false;
             continue;

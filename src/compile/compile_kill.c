@@ -93,7 +93,7 @@ static void region(pfx_reader *r, const pfx_node *rule_key, const pfx_node *n, p
                        "'%s' takes one region; put '%s' in a kill rule of its own", what,
                        n->pairs[i].key->text);
     const pfx_node *key = n->pairs[0].key, *v = n->pairs[0].value;
-    int t = pfx_read_enum(r, key, "region type", region_names);
+    int t = pfx_read_enum(r, key, "region", "region type", region_names);
     if (t < 0)
         return;
     out->shape = (pfx_kill_shape)t;
@@ -147,7 +147,7 @@ static void rule(pfx_reader *r, const pfx_node *item, pfx_kill_rule *out) {
                        "a kill rule has one key; put '%s' in a list item of its own",
                        item->pairs[i].key->text);
     const pfx_node *key = item->pairs[0].key, *v = item->pairs[0].value;
-    int k = pfx_read_enum(r, key, "kill rule", rule_names);
+    int k = pfx_read_enum(r, key, "kill", "kill rule", rule_names);
     if (k < 0)
         return;
     out->kind = (pfx_kill_kind)k;
@@ -176,7 +176,7 @@ static void bounds(pfx_reader *r, const pfx_node *n, pfx_kill_rules *out) {
     out->bounds = PFX_BOUNDS_KILL;
     const pfx_node *m = pfx_node_get(n, "mode");
     if (m) {
-        int i = pfx_read_enum(r, m, "bounds mode", mode_names);
+        int i = pfx_read_enum(r, m, "mode", "bounds mode", mode_names);
         if (i == 1)
             out->bounds = PFX_BOUNDS_WRAP;
     }

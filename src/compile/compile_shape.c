@@ -202,7 +202,7 @@ bool pfx_compile_shape(pfx_reader *r, const pfx_node *n, pfx_shape *s, const cha
                        "hemisphere, cylinder, cone or mesh)");
         return false;
     }
-    int t = pfx_read_enum(r, type, "shape type", shape_types);
+    int t = pfx_read_enum(r, type, "type", "shape type", shape_types);
     if (t < 0)
         return false;
     memset(s, 0, sizeof *s);
@@ -213,7 +213,7 @@ bool pfx_compile_shape(pfx_reader *r, const pfx_node *n, pfx_shape *s, const cha
     s->from = s->type == PFX_SHAPE_MESH ? PFX_EMIT_SURFACE : PFX_EMIT_VOLUME;
     const pfx_node *v;
     if ((v = pfx_node_get(n, "emit_from"))) {
-        int m = pfx_read_enum(r, v, "emit_from mode", emit_modes);
+        int m = pfx_read_enum(r, v, "emit_from", "emit_from mode", emit_modes);
         if (m >= 0 && !(modes & (1u << m))) {
             char list[64] = "";
             for (int i = 0; emit_modes[i]; i++)

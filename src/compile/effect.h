@@ -21,11 +21,24 @@
 /* A random quantity. Constant: a. Uniform: [a, b]. Normal: mean a, standard
  * deviation b, clamped to [lo, hi]. `{mean, var}` compiles to uniform. */
 typedef enum { PFX_DIST_CONST, PFX_DIST_UNIFORM, PFX_DIST_NORMAL } pfx_dist;
+typedef enum {
+    PFX_FORM_NUMBER,      /* 3 */
+    PFX_FORM_RANGE,       /* [min, max] */
+    PFX_FORM_MEAN_VAR,    /* {mean, var} */
+    PFX_FORM_NORMAL,      /* {normal, clamp} */
+    PFX_FORM_NORMAL_CUT3  /* {normal} without clamp: cut at 3 sd */
+} pfx_value_form;
 typedef struct pfx_value {
     pfx_dist dist;
     double a, b;
-    double lo, hi; /* normal only */
+    double lo, hi;       /* normal only */
+    pfx_value_form form; /* how it was written, for messages about its bounds */
 } pfx_value;
+
+/* A constant value. */
+static inline pfx_value pfx_value_const(double a) {
+    return (pfx_value){.dist = PFX_DIST_CONST, .a = a};
+}
 
 /* Colours are linear 0..1 RGBA, straight alpha. A gradient is sampled once
  * into a lookup table over normalised age [0, 1]. */

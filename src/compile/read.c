@@ -30,29 +30,33 @@ void pfx_read_warning(pfx_reader *r, const pfx_node *n, const char *fmt, ...) {
     va_end(ap);
 }
 
+/* Optimal string alignment distance (Damerau-Levenshtein without repeated
+ * edits of one substring): a swapped pair of letters ('fvo') counts as one
+ * edit, like a wrong letter. Case-insensitive. */
 static size_t edit_distance(const char *a, const char *b) {
     size_t la = strlen(a), lb = strlen(b);
     if (la > 64 || lb > 64)
         return (size_t)-1;
-    size_t row[65];
+    size_t d[65][65];
+    for (size_t i = 0; i <= la; i++)
+        d[i][0] = i;
     for (size_t j = 0; j <= lb; j++)
-        row[j] = j;
+        d[0][j] = j;
     for (size_t i = 1; i <= la; i++) {
-        size_t diag = row[0];
-        row[0] = i;
         for (size_t j = 1; j <= lb; j++) {
-            size_t up = row[j];
-            size_t cost = tolower((unsigned char)a[i - 1]) != tolower((unsigned char)b[j - 1]);
-            size_t best = diag + cost;
-            if (up + 1 < best)
-                best = up + 1;
-            if (row[j - 1] + 1 < best)
-                best = row[j - 1] + 1;
-            row[j] = best;
-            diag = up;
+            int ai = tolower((unsigned char)a[i - 1]), bj = tolower((unsigned char)b[j - 1]);
+            size_t best = d[i - 1][j - 1] + (ai != bj);
+            if (d[i - 1][j] + 1 < best)
+                best = d[i - 1][j] + 1;
+            if (d[i][j - 1] + 1 < best)
+                best = d[i][j - 1] + 1;
+            if (i > 1 && j > 1 && ai == tolower((unsigned char)b[j - 2]) &&
+                tolower((unsigned char)a[i - 2]) == bj && d[i - 2][j - 2] + 1 < best)
+                best = d[i - 2][j - 2] + 1;
+            d[i][j] = best;
         }
     }
-    return row[lb];
+    return d[la][lb];
 }
 
 const char *pfx_suggest(const char *word, const char *const *allowed) {
@@ -81,14 +85,21 @@ bool pfx_read_check_keys(pfx_reader *r, const pfx_node *map, const char *const *
         const pfx_node *k = map->pairs[i].key;
         bool known = false;
         for (const char *const *a = allowed; *a && !known; a++)
-            known = strcmp(*a, k->text) == 0;
+            known = strlen(*a) == k->len && memcmp(*a, k->text, k->len) == 0;
         if (known)
             continue;
+        /* A key may hold an escaped NUL: show every byte (the printer turns
+         * control characters into '?'). */
+        char shown[256];
+        size_t n = k->len < sizeof shown - 1 ? k->len : sizeof shown - 1;
+        for (size_t j = 0; j < n; j++)
+            shown[j] = k->text[j] ? k->text[j] : '?';
+        shown[n] = 0;
         const char *s = pfx_suggest(k->text, allowed);
         if (s)
-            pfx_read_error(r, k, "unknown key '%s' in %s; did you mean '%s'?", k->text, where, s);
+            pfx_read_error(r, k, "unknown key '%s' in %s; did you mean '%s'?", shown, where, s);
         else
-            pfx_read_error(r, k, "unknown key '%s' in %s", k->text, where);
+            pfx_read_error(r, k, "unknown key '%s' in %s", shown, where);
         ok = false;
     }
     return ok;
@@ -206,6 +217,10 @@ bool pfx_read_string(pfx_reader *r, const pfx_node *n, const char *what, const c
         pfx_read_error(r, n, "'%s' must be a name, got %s", what, pfx_node_kind_name(n));
         return false;
     }
+    if (strlen(n->text) != n->len) {
+        pfx_read_error(r, n, "'%s' must not contain a NUL character", what);
+        return false;
+    }
     *out = n->text;
     return true;
 }
@@ -230,7 +245,7 @@ bool pfx_read_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_valu
             pfx_read_error(r, n, "'%s' range [%g, %g] has min above max", what, mm[0], mm[1]);
             return false;
         }
-        *out = (pfx_value){PFX_DIST_UNIFORM, mm[0], mm[1], 0, 0};
+        *out = (pfx_value){PFX_DIST_UNIFORM, mm[0], mm[1], 0, 0, PFX_FORM_RANGE};
         return true;
     }
     char where[128];
@@ -247,7 +262,7 @@ bool pfx_read_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_valu
             pfx_read_error(r, var, "'var' of '%s' must be at least 0, got %g", what, v);
             return false;
         }
-        *out = (pfx_value){PFX_DIST_UNIFORM, m - v, m + v, 0, 0};
+        *out = (pfx_value){PFX_DIST_UNIFORM, m - v, m + v, 0, 0, PFX_FORM_MEAN_VAR};
         return true;
     }
     if (normal && !mean && !var) {
@@ -269,7 +284,9 @@ bool pfx_read_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_valu
             pfx_read_error(r, clamp, "'clamp' of '%s' has min above max", what);
             return false;
         }
-        *out = (pfx_value){PFX_DIST_NORMAL, ms[0], ms[1], lohi[0], lohi[1]};
+        *out =
+            (pfx_value){PFX_DIST_NORMAL, ms[0],   ms[1],
+                        lohi[0],         lohi[1], clamp ? PFX_FORM_NORMAL : PFX_FORM_NORMAL_CUT3};
         return true;
     }
     pfx_read_error(r, n,
@@ -306,13 +323,27 @@ static bool parse_hex_color(const char *s, float out[4]) {
     return true;
 }
 
-static bool is_number_list(const pfx_node *n) {
+/* A list of scalars, quoted or not: an [r, g, b(, a)] colour whose
+ * components are then each read as numbers (a quoted one is reported). */
+static bool is_scalar_list(const pfx_node *n) {
     if (n->kind != PFX_NODE_SEQ || n->count == 0)
         return false;
     for (size_t i = 0; i < n->count; i++)
-        if (n->items[i]->kind != PFX_NODE_SCALAR || !n->items[i]->plain)
+        if (n->items[i]->kind != PFX_NODE_SCALAR)
             return false;
     return true;
+}
+
+/* One colour written as components: a list of scalars, at least one of
+ * them a plain number ([r, g, b], [r, g, b, a], or a malformed [r, g]); a
+ * list of quoted "#hex" strings is a gradient. */
+static bool is_rgb_list(const pfx_node *n) {
+    if (!is_scalar_list(n))
+        return false;
+    for (size_t i = 0; i < n->count; i++)
+        if (n->items[i]->plain && n->items[i]->len && n->items[i]->text[0] != '#')
+            return true;
+    return false;
 }
 
 bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, float out[4]) {
@@ -329,7 +360,7 @@ bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, float ou
                        n->text, what);
         return false;
     }
-    if (is_number_list(n) && (n->count == 3 || n->count == 4)) {
+    if (is_scalar_list(n) && (n->count == 3 || n->count == 4)) {
         double c[4] = {0, 0, 0, 1};
         bool ok = true;
         for (size_t i = 0; i < n->count; i++) {
@@ -359,7 +390,7 @@ bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, pfx_g
     double at[MAX_STOPS];
     size_t count = 0;
     bool ok = true;
-    if (n->kind == PFX_NODE_SCALAR || is_number_list(n)) {
+    if (n->kind == PFX_NODE_SCALAR || is_rgb_list(n)) {
         ok = pfx_read_color(r, n, what, colors[0]);
         at[0] = 0;
         count = 1;
@@ -376,14 +407,15 @@ bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, pfx_g
         bool stops = n->items[0]->kind == PFX_NODE_MAP;
         for (size_t i = 0; i < n->count; i++) {
             const pfx_node *item = n->items[i];
+            if (stops != (item->kind == PFX_NODE_MAP)) {
+                pfx_read_error(r, item,
+                               "a gradient cannot mix plain colours and {at: t, color: c} stops");
+                ok = false;
+                continue;
+            }
             if (!stops) {
                 ok &= pfx_read_color(r, item, what, colors[i]);
                 at[i] = n->count == 1 ? 0.0 : (double)i / (double)(n->count - 1);
-                continue;
-            }
-            if (item->kind != PFX_NODE_MAP) {
-                pfx_read_error(r, item, "gradient stops must all be {at: t, color: c}");
-                ok = false;
                 continue;
             }
             ok &= pfx_read_check_keys(r, item, stop_keys, "a gradient stop");
@@ -456,9 +488,10 @@ bool pfx_check_below(pfx_reader *r, const pfx_node *n, const char *what, double 
 }
 
 /* Picks `word` from `names` or reports it with a suggestion. */
-int pfx_read_enum(pfx_reader *r, const pfx_node *n, const char *what, const char *const *names) {
+int pfx_read_enum(pfx_reader *r, const pfx_node *n, const char *key, const char *what,
+                  const char *const *names) {
     const char *s;
-    if (!pfx_read_string(r, n, what, &s))
+    if (!pfx_read_string(r, n, key, &s))
         return -1;
     for (int i = 0; names[i]; i++)
         if (!strcmp(names[i], s))
@@ -474,4 +507,36 @@ int pfx_read_enum(pfx_reader *r, const pfx_node *n, const char *what, const char
     else
         pfx_read_error(r, n, "unknown %s '%s'; expected one of: %s", what, s, list);
     return -1;
+}
+
+/* Names the bound of a value the user did not write: "mean - var", or the
+ * three-sigma cut of a normal without clamp (with the fix). */
+static bool value_bound_error(pfx_reader *r, const pfx_node *n, const char *what,
+                              const pfx_value *v, bool low, double got, const char *rule) {
+    if (v->form == PFX_FORM_MEAN_VAR)
+        pfx_read_error(r, n, "'%s' must be %s, but mean %s var is %g", what, rule, low ? "-" : "+",
+                       got);
+    else if (v->form == PFX_FORM_NORMAL_CUT3)
+        pfx_read_error(r, n, "'%s' must be %s, but mean %s 3 sd is %g; add a 'clamp'", what, rule,
+                       low ? "-" : "+", got);
+    else
+        pfx_read_error(r, n, "'%s' must be %s, got %g", what, rule, got);
+    return false;
+}
+
+bool pfx_read_value_in(pfx_reader *r, const pfx_node *n, const char *what, pfx_value *v, double lo,
+                       bool lo_strict, double hi) {
+    if (!pfx_read_value(r, n, what, v))
+        return false;
+    double min = pfx_value_min(v), max = pfx_value_max(v);
+    char rule[64];
+    if (lo_strict ? !(min > lo) : !(min >= lo)) {
+        snprintf(rule, sizeof rule, "%s %g", lo_strict ? "greater than" : "at least", lo);
+        return value_bound_error(r, n, what, v, true, min, rule);
+    }
+    if (!(max <= hi)) {
+        snprintf(rule, sizeof rule, "at most %g", hi);
+        return value_bound_error(r, n, what, v, false, max, rule);
+    }
+    return true;
 }

@@ -40,6 +40,11 @@ bool pfx_read_uint(pfx_reader *r, const pfx_node *n, const char *what, uint64_t 
 bool pfx_read_numbers(pfx_reader *r, const pfx_node *n, const char *what, double *out, int count);
 /* A random value: number, [min, max], {mean, var} or {normal: [m, sd], clamp: [lo, hi]}. */
 bool pfx_read_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_value *out);
+/* A value whose every sample lies in [lo, hi] (above lo strictly when
+ * lo_strict); a bound the user did not write (mean - var, a normal's
+ * 3-sigma cut) is named as such. */
+bool pfx_read_value_in(pfx_reader *r, const pfx_node *n, const char *what, pfx_value *v,
+                       double lo, bool lo_strict, double hi);
 /* A colour: "#rgb", "#rgba", "#rrggbb", "#rrggbbaa", [r, g, b] or [r, g, b, a]
  * in 0..1. */
 bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, float out[4]);
@@ -48,7 +53,8 @@ bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, float ou
 bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, pfx_gradient *out);
 /* One of the NULL-terminated `names`: its index, or -1 after reporting the
  * unknown word with a suggestion or the list of choices. */
-int pfx_read_enum(pfx_reader *r, const pfx_node *n, const char *what, const char *const *names);
+int pfx_read_enum(pfx_reader *r, const pfx_node *n, const char *key, const char *what,
+                  const char *const *names);
 /* A plain string. */
 bool pfx_read_string(pfx_reader *r, const pfx_node *n, const char *what, const char **out);
 

@@ -60,7 +60,8 @@ bool pfx_bake_frame(pfx_bake *b, const pfx_sim *s, long frame, double time) {
         for (uint32_t j = 0; j < p->count; j++)
             b->order[j] = j;
         sort_ids = p->id; /* single-threaded: qsort has no context argument in C11 */
-        qsort(b->order, p->count, sizeof *b->order, by_id);
+        if (p->count > 1)
+            qsort(b->order, p->count, sizeof *b->order, by_id);
         /* RFC 4180: a name with a comma, quote or line break is quoted. */
         char name[512];
         if (strpbrk(em->name, ",\"\r\n")) {

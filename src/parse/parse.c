@@ -27,6 +27,8 @@ typedef struct anchor {
 typedef struct parser_state {
     pfx_doc *doc;
     pfx_diags *d;
+    const char *text; /* the source, for looking at the byte an error points at */
+    size_t text_len;
     open_node stack[PFX_MAX_DEPTH + 1];
     int depth;
     anchor *anchors;
@@ -150,6 +152,12 @@ static bool close_container(parser_state *s, const yaml_char_t *anchor_name) {
 static void report_yaml_error(parser_state *s, const yaml_parser_t *p) {
     const char *problem = p->problem ? p->problem : "malformed YAML";
     yaml_mark_t mark = p->problem_mark;
+    /* libyaml's message for a tab in indentation does not name the tab. */
+    if (s->text && mark.index < s->text_len && s->text[mark.index] == '\t') {
+        pfx_diag_add(s->d, PFX_SEV_ERROR, (int)mark.line + 1, (int)mark.column + 1, 1,
+                     "found a tab where indentation is expected; YAML indents with spaces");
+        return;
+    }
     pfx_diag_add(s->d, PFX_SEV_ERROR, (int)mark.line + 1, (int)mark.column + 1, 1, "%s", problem);
     if (p->context)
         pfx_diag_add(s->d, PFX_SEV_NOTE, (int)p->context_mark.line + 1,
@@ -239,7 +247,7 @@ static bool handle_event(parser_state *s, const yaml_event_t *ev) {
 
 bool pfx_parse(const char *text, size_t len, pfx_doc *doc, pfx_diags *d) {
     memset(doc, 0, sizeof *doc);
-    parser_state s = {.doc = doc, .d = d};
+    parser_state s = {.doc = doc, .d = d, .text = text, .text_len = len};
     yaml_parser_t p;
     if (!yaml_parser_initialize(&p))
         return false;
@@ -321,6 +329,7 @@ const char *pfx_node_kind_name(const pfx_node *n) {
     case PFX_NODE_MAP:
         return "a mapping";
     default:
-        return "a scalar";
+        /* `key:` with nothing after it is a plain empty scalar in YAML. */
+        return n->plain && n->len == 0 ? "an empty value" : "a scalar";
     }
 }

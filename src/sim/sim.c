@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sim/birth.h"
 #include "sim/kill.h"
 #include "sim/sample.h"
 #include "sim/schedule.h"
@@ -44,152 +45,6 @@ static column_list pool_columns(const pfx_pool *p) {
     return c;
 }
 
-static bool needs_gravity_scale(const pfx_emitter *em) {
-    return em->gravity_scale.dist != PFX_DIST_CONST;
-}
-static bool needs_size0(const pfx_emitter *em) { return em->size_varies; }
-static bool needs_size1(const pfx_emitter *em) { return em->size_varies && !em->size_same; }
-static bool needs_tint(const pfx_emitter *em) { return em->color_mode != PFX_COLOR_OVER_LIFE; }
-static unsigned motion_columns(const pfx_emitter *em) {
-    return em->motion ? pfx_motion_columns(em->motion) : 0;
-}
-static bool needs_charge(const pfx_emitter *em) {
-    return (motion_columns(em) & PFX_COLUMN_CHARGE) && em->charge.dist != PFX_DIST_CONST;
-}
-static bool needs_mass(const pfx_emitter *em) {
-    return (motion_columns(em) & PFX_COLUMN_MASS) && em->mass.dist != PFX_DIST_CONST;
-}
-static bool needs_birth(const pfx_emitter *em) {
-    return (motion_columns(em) & PFX_COLUMN_BIRTH) != 0;
-}
-
-/* The emitter's placement at effect time t: position, rotation matrix
- * (degrees X then Y then Z about fixed axes) and velocity (the slope of the
- * position keyframes; zero when fixed). Keyframes interpolate linearly and
- * hold before the first and after the last. */
-typedef struct emitter_pose {
-    double position[3], rotation[9], velocity[3];
-} emitter_pose;
-
-static size_t key_segment(const pfx_keys3 *k, double t, double *u) {
-    size_t i = 0;
-    while (i + 2 < k->count && k->t[i + 1] <= t)
-        i++;
-    double span = k->t[i + 1] - k->t[i];
-    double x = (t - k->t[i]) / span;
-    *u = x < 0 ? 0 : x > 1 ? 1 : x;
-    return i;
-}
-
-static void rotation_from_degrees(const double deg[3], double m[9]) {
-    const double k = M_PI / 180;
-    double cx = cos(deg[0] * k), sx = sin(deg[0] * k), cy = cos(deg[1] * k), sy = sin(deg[1] * k),
-           cz = cos(deg[2] * k), sz = sin(deg[2] * k);
-    double r[9] = {cz * cy,
-                   cz * sy * sx - sz * cx,
-                   cz * sy * cx + sz * sx,
-                   sz * cy,
-                   sz * sy * sx + cz * cx,
-                   sz * sy * cx - cz * sx,
-                   -sy,
-                   cy * sx,
-                   cy * cx};
-    memcpy(m, r, sizeof r);
-}
-
-static void pose_at(const pfx_emitter *em, double t, emitter_pose *p) {
-    memcpy(p->position, em->position, sizeof p->position);
-    memcpy(p->rotation, em->rotation, sizeof p->rotation);
-    p->velocity[0] = p->velocity[1] = p->velocity[2] = 0;
-    double u;
-    if (em->position_keys.count > 1) {
-        const pfx_keys3 *k = &em->position_keys;
-        size_t i = key_segment(k, t, &u);
-        bool moving = t > k->t[0] && t < k->t[k->count - 1];
-        for (int a = 0; a < 3; a++) {
-            p->position[a] = k->v[i][a] + (k->v[i + 1][a] - k->v[i][a]) * u;
-            if (moving)
-                p->velocity[a] = (k->v[i + 1][a] - k->v[i][a]) / (k->t[i + 1] - k->t[i]);
-        }
-    }
-    if (em->rotation_keys.count > 1) {
-        const pfx_keys3 *k = &em->rotation_keys;
-        size_t i = key_segment(k, t, &u);
-        double deg[3];
-        for (int a = 0; a < 3; a++)
-            deg[a] = k->v[i][a] + (k->v[i + 1][a] - k->v[i][a]) * u;
-        rotation_from_degrees(deg, p->rotation);
-    }
-}
-
-static void rotate(const double m[9], const double v[3], double out[3]) {
-    for (int a = 0; a < 3; a++)
-        out[a] = m[3 * a] * v[0] + m[3 * a + 1] * v[1] + m[3 * a + 2] * v[2];
-}
-
-/* The thesis's two-angle spread: alpha_r uniform in [-alpha/2, alpha/2]
- * about Z, then beta_r in [-beta/2, beta/2] about X (two draws, like the
- * cone). Not uniform over any cap: it is what the thesis specifies. */
-static void two_angle_spread(const pfx_emitter *em, const double d[3], pfx_rng *r, double out[3]) {
-    const double k = M_PI / 180;
-    double a = (pfx_rng_unit(r) - 0.5) * em->spread_alpha_deg * k;
-    double b = (pfx_rng_unit(r) - 0.5) * em->spread_beta_deg * k;
-    double x = d[0] * cos(a) - d[1] * sin(a), y = d[0] * sin(a) + d[1] * cos(a), z = d[2];
-    out[0] = x;
-    out[1] = y * cos(b) - z * sin(b);
-    out[2] = y * sin(b) + z * cos(b);
-}
-
-/* Everything drawn for one birth at effect time t, in a fixed order and a
- * fixed number of generator outputs for the emitter (no rejection sampling
- * anywhere), so a skipped birth can be jumped over with pfx_rng_advance. */
-typedef struct birth_draws {
-    double pos[3], vel[3];
-    double life, s0, s1, gs, q, mass, tint;
-} birth_draws;
-
-static void draw_birth(const pfx_emitter *em, double t, pfx_rng *r, birth_draws *b) {
-    emitter_pose pose;
-    pose_at(em, t, &pose);
-    double local[3], normal[3], base[3], dir[3];
-    pfx_sample_shape(&em->shape, r, local, normal);
-    double len = sqrt(local[0] * local[0] + local[1] * local[1] + local[2] * local[2]);
-    switch (em->direction_mode) {
-    case PFX_DIRECTION_NORMAL:
-        memcpy(base, normal, sizeof base);
-        break;
-    case PFX_DIRECTION_RADIAL:
-    case PFX_DIRECTION_INWARD: {
-        double sign = em->direction_mode == PFX_DIRECTION_INWARD ? -1 : 1;
-        for (int a = 0; a < 3; a++)
-            base[a] = len > 0 ? sign * local[a] / len : sign * normal[a];
-        break;
-    }
-    default:
-        memcpy(base, em->direction, sizeof base);
-    }
-    if (em->spread_two_angle)
-        two_angle_spread(em, base, r, dir);
-    else
-        pfx_sample_cone(base, em->spread_deg, r, dir);
-    double speed = pfx_sample_value(&em->speed, r);
-    b->life = pfx_sample_value(&em->lifetime, r);
-    double distance = pfx_sample_value(&em->distance, r);
-    b->s0 = needs_size0(em) ? pfx_sample_value(&em->size_start, r) : 0;
-    b->s1 = needs_size1(em) ? pfx_sample_value(&em->size_end, r) : 0;
-    b->gs = needs_gravity_scale(em) ? pfx_sample_value(&em->gravity_scale, r) : em->gravity_scale.a;
-    b->q = needs_charge(em) ? pfx_sample_value(&em->charge, r) : em->charge.a;
-    b->mass = needs_mass(em) ? pfx_sample_value(&em->mass, r) : em->mass.a;
-    b->tint = needs_tint(em) ? pfx_rng_unit(r) : 0;
-    double world_local[3], world_dir[3];
-    rotate(pose.rotation, local, world_local);
-    rotate(pose.rotation, dir, world_dir);
-    for (int a = 0; a < 3; a++) {
-        b->pos[a] = pose.position[a] + world_local[a] + world_dir[a] * distance;
-        b->vel[a] = world_dir[a] * speed + em->inherit_velocity * pose.velocity[a];
-    }
-}
-
 /* Lays out the float columns emitter em needs: each takes n floats from
  * base (when base is NULL only the count is wanted). Returns the floats per
  * particle. The one place that decides which columns exist, so the size
@@ -213,15 +68,15 @@ static size_t layout_columns(const pfx_emitter *em, pfx_pool *p, float *base, ui
     TAKE(age, true);
     TAKE(lifetime, true);
     TAKE(id, true);
-    TAKE(gravity_scale, needs_gravity_scale(em));
-    TAKE(size0, needs_size0(em));
-    TAKE(size1, needs_size1(em));
-    TAKE(charge, needs_charge(em));
-    TAKE(mass, needs_mass(em));
-    TAKE(tint, needs_tint(em));
-    TAKE(bx, needs_birth(em));
-    TAKE(by, needs_birth(em));
-    TAKE(bz, needs_birth(em));
+    TAKE(gravity_scale, pfx_needs_gravity_scale(em));
+    TAKE(size0, pfx_needs_size0(em));
+    TAKE(size1, pfx_needs_size1(em));
+    TAKE(charge, pfx_needs_charge(em));
+    TAKE(mass, pfx_needs_mass(em));
+    TAKE(tint, pfx_needs_tint(em));
+    TAKE(bx, pfx_needs_birth(em));
+    TAKE(by, pfx_needs_birth(em));
+    TAKE(bz, pfx_needs_birth(em));
     for (int k = 0; k < 6; k++)
         TAKE(start[k], em->deflector_count > 0);
 #undef TAKE
@@ -275,7 +130,7 @@ pfx_sim *pfx_sim_create(const pfx_effect *e) {
         pfx_rng_seed(&st->rng, e->seed, pfx_rng_stream_for(em->name));
         pfx_rng probe = st->rng;
         birth_draws b;
-        draw_birth(em, 0, &probe, &b);
+        pfx_birth_draw(em, 0, &probe, NULL, NULL, &b);
         st->draws_per_birth = probe.draws - st->rng.draws;
         pfx_schedule_init(&st->sched, em, e->seed, pfx_rng_stream_for(em->name));
         pfx_rng_seed(&st->collide_rng, e->seed, pfx_rng_stream_for(em->name) ^ 0xc011deULL);
@@ -492,7 +347,7 @@ static void emit(pfx_sim *s, size_t i, double t1) {
             continue;
         }
         birth_draws b;
-        draw_birth(em, tb, &st->rng, &b);
+        pfx_birth_draw(em, tb, &st->rng, NULL, NULL, &b);
         if (age >= b.life)
             continue; /* would already be dead: never created */
         uint32_t j = p->count++;
@@ -558,7 +413,7 @@ static void advance(pfx_sim *s, double t1) {
                 collide(s, i, 0, p->count, dt);
             if (em->kill) {
                 emitter_pose pose;
-                pose_at(em, t1, &pose);
+                pfx_emitter_pose_at(em, t1, &pose);
                 pfx_kill_apply(em->kill, p, pose.position, em->alpha_at_age);
             }
             kill_expired(p);

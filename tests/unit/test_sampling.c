@@ -91,7 +91,7 @@ static void test_pcg32_unit(void) {
 /* ---- Value sampling ---- */
 
 static void test_value_const(void) {
-    pfx_value v = {PFX_DIST_CONST, 2.5, 99, 0, 0};
+    pfx_value v = {.dist = PFX_DIST_CONST, .a = 2.5, .b = 99};
     pfx_rng r, before;
     pfx_rng_seed(&r, 5, 6);
     before = r;
@@ -146,7 +146,7 @@ static double skewed_uniform(const pfx_value *v, pfx_rng *r) {
 }
 
 static void test_value_uniform(void) {
-    pfx_value v = {PFX_DIST_UNIFORM, -1.5, 4.0, 0, 0};
+    pfx_value v = {.dist = PFX_DIST_UNIFORM, .a = -1.5, .b = 4.0};
     double zm, zv;
     CHECK(uniform_ok(pfx_sample_value, &v, &zm, &zv));
     fprintf(stderr, "  uniform: z(mean) = %.2f, z(var) = %.2f (bound 5)\n", zm, zv);
@@ -198,7 +198,8 @@ static double flat_normal(const pfx_value *v, pfx_rng *r) {
 }
 
 static void test_value_normal(void) {
-    pfx_value v = {PFX_DIST_NORMAL, 3.0, 0.75, 3.0 - 20 * 0.75, 3.0 + 20 * 0.75};
+    pfx_value v = {
+        .dist = PFX_DIST_NORMAL, .a = 3.0, .b = 0.75, .lo = 3.0 - 20 * 0.75, .hi = 3.0 + 20 * 0.75};
     double z[3];
     CHECK(normal_ok(pfx_sample_value, &v, z));
     fprintf(stderr, "  normal: z(mean) = %.2f, z(var) = %.2f, z(P|x-m|<sd) = %.2f (bound 5)\n",
@@ -211,7 +212,7 @@ static void test_value_normal(void) {
     /* Clamped to [lo, hi] = [mu - 0.5 sd, mu + 1.5 sd]: nothing outside, and
      * the clamps take the tails: P(x = lo) = Phi(-0.5), P(x = hi) =
      * 1 - Phi(1.5), each within 5 binomial standard errors. */
-    pfx_value c = {PFX_DIST_NORMAL, 0.0, 1.0, -0.5, 1.5};
+    pfx_value c = {.dist = PFX_DIST_NORMAL, .a = 0.0, .b = 1.0, .lo = -0.5, .hi = 1.5};
     pfx_rng r;
     pfx_rng_seed(&r, 8, 9);
     double at_lo = 0, at_hi = 0, n = N_MOMENTS;

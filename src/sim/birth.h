@@ -1,0 +1,54 @@
+/* One birth: the emitter's pose at a time (keyframed position and
+ * rotation), and every random draw of a new particle in a fixed order (shape
+ * point and normal, direction, speed, lifetime, size, ...). Shared by the
+ * scheduled births (sim.c) and sub-emitter births (spawn.c). */
+#ifndef PFX_BIRTH_H
+#define PFX_BIRTH_H
+
+#include "compile/effect.h"
+#include "sim/rng.h"
+
+/* Which optional per-particle values an emitter draws and keeps. */
+static inline bool pfx_needs_gravity_scale(const pfx_emitter *em) {
+    return em->gravity_scale.dist != PFX_DIST_CONST;
+}
+static inline bool pfx_needs_size0(const pfx_emitter *em) { return em->size_varies; }
+static inline bool pfx_needs_size1(const pfx_emitter *em) { return em->size_varies && !em->size_same; }
+static inline bool pfx_needs_tint(const pfx_emitter *em) { return em->color_mode != PFX_COLOR_OVER_LIFE; }
+static inline unsigned pfx_motion_columns_of(const pfx_emitter *em) {
+    return em->motion ? pfx_motion_columns(em->motion) : 0;
+}
+static inline bool pfx_needs_charge(const pfx_emitter *em) {
+    return (pfx_motion_columns_of(em) & PFX_COLUMN_CHARGE) && em->charge.dist != PFX_DIST_CONST;
+}
+static inline bool pfx_needs_mass(const pfx_emitter *em) {
+    return (pfx_motion_columns_of(em) & PFX_COLUMN_MASS) && em->mass.dist != PFX_DIST_CONST;
+}
+static inline bool pfx_needs_birth(const pfx_emitter *em) {
+    return (pfx_motion_columns_of(em) & PFX_COLUMN_BIRTH) != 0;
+}
+
+
+/* The emitter's placement at effect time t: position, rotation matrix and
+ * the velocity of its keyframed motion. */
+typedef struct emitter_pose {
+    double position[3], rotation[9], velocity[3];
+} emitter_pose;
+
+void pfx_emitter_pose_at(const pfx_emitter *em, double t, emitter_pose *p);
+
+/* What one birth draws (see pfx_birth_draw). */
+typedef struct birth_draws {
+    double pos[3], vel[3];
+    double life, s0, s1, gs, q, mass, tint;
+} birth_draws;
+
+/* Draws birth at effect time t from r: a fixed number of generator outputs
+ * for the emitter, so skipped births can be jumped over. `place` overrides
+ * the pose (a sub-emitter's parent particle: position and velocity added,
+ * the emitter's own position is an offset); `normal` overrides the shape's
+ * normal for `direction: normal` (a deflector hit). Both may be NULL. */
+void pfx_birth_draw(const pfx_emitter *em, double t, pfx_rng *r, const double place[3],
+                    const double normal[3], birth_draws *b);
+
+#endif
