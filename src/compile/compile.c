@@ -16,6 +16,7 @@
 #include "compile/compile_forces.h"
 #include "compile/compile_kill.h"
 #include "compile/compile_shape.h"
+#include "compile/compile_spawn.h"
 #include "compile/read.h"
 #include "sim/schedule.h"
 
@@ -35,34 +36,13 @@ static const char *const sim_keys[] = {"rate",      "prewarm",  "integrator",
                                        "tolerance", "substeps", NULL};
 static const char *const camera_keys[] = {"position", "target", "up", "fov", "ortho", NULL};
 static const char *const image_keys[] = {"size", "background", NULL};
-static const char *const emitter_keys[] = {"shape",
-                                           "position",
-                                           "rotation",
-                                           "rate",
-                                           "interval",
-                                           "bursts",
-                                           "start",
-                                           "duration",
-                                           "loop",
-                                           "direction",
-                                           "spread",
-                                           "distance",
-                                           "inherit_velocity",
-                                           "speed",
-                                           "lifetime",
-                                           "size",
-                                           "color",
-                                           "alpha",
-                                           "forces",
-                                           "deflectors",
-                                           "gravity_scale",
-                                           "charge",
-                                           "mass",
-                                           "integrator",
-                                           "kill",
-                                           "bounds",
-                                           "blend",
-                                           NULL};
+/* clang-format off */
+static const char *const emitter_keys[] = {
+    "shape", "position", "rotation", "rate", "interval", "bursts", "start", "duration", "loop",
+    "direction", "spread", "distance", "inherit_velocity", "speed", "lifetime", "size", "color",
+    "alpha", "forces", "deflectors", "gravity_scale", "charge", "mass", "on_birth", "on_death",
+    "on_hit", "trail", "integrator", "kill", "bounds", "blend", NULL};
+/* clang-format on */
 static const char *const blend_modes[] = {"add", "alpha", NULL};
 
 typedef struct compiler {
@@ -425,7 +405,7 @@ static void build_motion(compiler *c, pfx_emitter *em, pfx_integrator integrator
         *f = e->forces[i].spec;
         /* Stability is judged at the worst case of the per-particle values:
          * the largest charge, the smallest mass, the fastest emission. */
-        f->charge = q_max;
+        f->charge = em->charge.dist == PFX_DIST_CONST ? em->charge.a : q_max;
         f->mass = pfx_value_min(&em->mass);
         if (f->kind == PFX_MOTION_DRAG)
             f->speed_hint = speed_max;
@@ -542,17 +522,23 @@ static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n,
  * emitter whose births are 1/rate apart never exceeds floor(rate * L) + 1.
  * When the sum exceeds the particle budget, pools are cut in proportion and
  * the emitters saturate: a warning says so with the numbers. */
+/* Its own births' peak plus what sub-emitters can feed it within one
+ * lifetime. */
+static double pool_need(const pfx_emitter *em) {
+    return pfx_schedule_peak(em) + ceil(em->spawned_rate * em->max_lifetime);
+}
+
 static void size_pools(compiler *c, const pfx_node *emitters) {
     pfx_effect *e = c->e;
     double need_total = 0;
     for (size_t i = 0; i < e->emitter_count; i++) {
         pfx_emitter *em = &e->emitters[i];
-        need_total += pfx_schedule_peak(em);
+        need_total += pool_need(em);
     }
     double budget = (double)e->max_particles;
     for (size_t i = 0; i < e->emitter_count; i++) {
         pfx_emitter *em = &e->emitters[i];
-        double need = pfx_schedule_peak(em);
+        double need = pool_need(em);
         double cap = need;
         if (need_total > budget) {
             cap = floor(budget * need / need_total);
@@ -562,11 +548,11 @@ static void size_pools(compiler *c, const pfx_node *emitters) {
                 at = emitters->pairs[i].key;
             pfx_read_warning(&c->r, at,
                              "emitter '%s' needs up to %.0f live particles (%g births/s x max "
-                             "lifetime %g s, plus bursts) but gets %.0f of the %.0f budget; it "
-                             "will saturate (raise --max-particles or lower 'rate' or "
-                             "'lifetime')",
-                             em->name, need, pfx_schedule_max_rate(em), em->max_lifetime, cap,
-                             budget);
+                             "lifetime %g s, plus bursts and sub-emitters) but gets %.0f of the "
+                             "%.0f budget; it will saturate (raise --max-particles or lower "
+                             "'rate' or 'lifetime')",
+                             em->name, need, pfx_schedule_max_rate(em) + em->spawned_rate,
+                             em->max_lifetime, cap, budget);
         }
         em->capacity = (uint32_t)(cap < 1 ? 1 : cap);
     }
@@ -659,11 +645,23 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
         e->emitters = pfx_arena_alloc(arena, (emitters->count + 1) * sizeof *e->emitters);
         if (!e->emitters)
             return NULL;
-        for (size_t i = 0; i < emitters->count; i++)
+        for (size_t i = 0; i < emitters->count; i++) {
             compile_emitter(&c, emitters->pairs[i].key, emitters->pairs[i].value,
                             &e->emitters[e->emitter_count++]);
-        if (d->errors == errors_before)
+            if (emitters->pairs[i].value->kind == PFX_NODE_MAP)
+                pfx_compile_spawns(&c.r, emitters->pairs[i].value, e, emitters, &e->emitters[i]);
+        }
+        if (d->errors == errors_before && pfx_resolve_spawns(&c.r, e, emitters)) {
+            /* An emitter fed by sub-emitters emits nothing on its own unless
+             * it says so. */
+            for (size_t i = 0; i < e->emitter_count; i++) {
+                const pfx_node *n = emitters->pairs[i].value;
+                if (e->emitters[i].spawned_rate > 0 && !pfx_node_get(n, "rate") &&
+                    !pfx_node_get(n, "interval") && !pfx_node_get(n, "bursts"))
+                    e->emitters[i].rate = 0;
+            }
             size_pools(&c, emitters);
+        }
     }
     return d->errors == errors_before ? e : NULL;
 }

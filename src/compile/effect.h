@@ -22,11 +22,11 @@
  * deviation b, clamped to [lo, hi]. `{mean, var}` compiles to uniform. */
 typedef enum { PFX_DIST_CONST, PFX_DIST_UNIFORM, PFX_DIST_NORMAL } pfx_dist;
 typedef enum {
-    PFX_FORM_NUMBER,      /* 3 */
-    PFX_FORM_RANGE,       /* [min, max] */
-    PFX_FORM_MEAN_VAR,    /* {mean, var} */
-    PFX_FORM_NORMAL,      /* {normal, clamp} */
-    PFX_FORM_NORMAL_CUT3  /* {normal} without clamp: cut at 3 sd */
+    PFX_FORM_NUMBER,     /* 3 */
+    PFX_FORM_RANGE,      /* [min, max] */
+    PFX_FORM_MEAN_VAR,   /* {mean, var} */
+    PFX_FORM_NORMAL,     /* {normal, clamp} */
+    PFX_FORM_NORMAL_CUT3 /* {normal} without clamp: cut at 3 sd */
 } pfx_value_form;
 typedef struct pfx_value {
     pfx_dist dist;
@@ -95,6 +95,19 @@ typedef struct pfx_force {
 } pfx_force;
 
 typedef enum { PFX_BLEND_ADD, PFX_BLEND_ALPHA } pfx_blend;
+
+/* Sub-emitters: an event of a parent particle that makes particles of
+ * another (or the same) emitter at the particle's place and time. */
+typedef enum { PFX_SPAWN_BIRTH, PFX_SPAWN_DEATH, PFX_SPAWN_HIT, PFX_SPAWN_TRAIL } pfx_spawn_event;
+typedef struct pfx_spawn {
+    pfx_spawn_event event;
+    uint32_t target; /* emitter index */
+    pfx_value count; /* particles per event (trail: 1 per birth) */
+    double rate;     /* trail: births per second of the particle's life */
+    double probability;
+    bool inherit_velocity, inherit_color, inherit_size;
+    uint32_t depth; /* generations allowed through it (0: no limit; required in cycles) */
+} pfx_spawn;
 
 /* How a particle's colour is chosen: from the gradient by its age, or once
  * at birth (a random mix of two colours, or a random point of a gradient). */
@@ -190,7 +203,12 @@ typedef struct pfx_emitter {
     pfx_motion *motion;
     size_t deflector_count; /* the deflectors it hits (`deflectors:`, default all) */
     pfx_deflector *deflectors;
-    bool sticks; /* some deflector of it sticks: a per-particle stuck flag */
+    bool sticks;        /* some deflector of it sticks: a per-particle stuck flag */
+    size_t spawn_count; /* its sub-emitters (on_birth, on_death, on_hit, trail) */
+    pfx_spawn *spawns;
+    double spawned_rate;   /* worst-case births per second it receives from parents */
+    bool keeps_generation; /* in a cycle of sub-emitters: a generation column */
+    bool keeps_parent_color, keeps_size_scale; /* some parent passes colour / size */
     pfx_blend blend;
     pfx_kill_rules *kill;                 /* kill rules and bounds; NULL: age alone kills */
     float alpha_at_age[PFX_GRADIENT_LUT]; /* alpha over life, for alpha_below */

@@ -43,8 +43,8 @@ bool pfx_read_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_valu
 /* A value whose every sample lies in [lo, hi] (above lo strictly when
  * lo_strict); a bound the user did not write (mean - var, a normal's
  * 3-sigma cut) is named as such. */
-bool pfx_read_value_in(pfx_reader *r, const pfx_node *n, const char *what, pfx_value *v,
-                       double lo, bool lo_strict, double hi);
+bool pfx_read_value_in(pfx_reader *r, const pfx_node *n, const char *what, pfx_value *v, double lo,
+                       bool lo_strict, double hi);
 /* A colour: "#rgb", "#rgba", "#rrggbb", "#rrggbbaa", [r, g, b] or [r, g, b, a]
  * in 0..1. */
 bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, float out[4]);

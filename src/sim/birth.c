@@ -118,7 +118,8 @@ void pfx_birth_draw(const pfx_emitter *em, double t, pfx_rng *r, const double pl
     double distance = pfx_sample_value(&em->distance, r);
     b->s0 = pfx_needs_size0(em) ? pfx_sample_value(&em->size_start, r) : 0;
     b->s1 = pfx_needs_size1(em) ? pfx_sample_value(&em->size_end, r) : 0;
-    b->gs = pfx_needs_gravity_scale(em) ? pfx_sample_value(&em->gravity_scale, r) : em->gravity_scale.a;
+    b->gs =
+        pfx_needs_gravity_scale(em) ? pfx_sample_value(&em->gravity_scale, r) : em->gravity_scale.a;
     b->q = pfx_needs_charge(em) ? pfx_sample_value(&em->charge, r) : em->charge.a;
     b->mass = pfx_needs_mass(em) ? pfx_sample_value(&em->mass, r) : em->mass.a;
     b->tint = pfx_needs_tint(em) ? pfx_rng_unit(r) : 0;
@@ -130,4 +131,3 @@ void pfx_birth_draw(const pfx_emitter *em, double t, pfx_rng *r, const double pl
         b->vel[a] = world_dir[a] * speed + em->inherit_velocity * pose.velocity[a];
     }
 }
-

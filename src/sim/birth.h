@@ -13,8 +13,12 @@ static inline bool pfx_needs_gravity_scale(const pfx_emitter *em) {
     return em->gravity_scale.dist != PFX_DIST_CONST;
 }
 static inline bool pfx_needs_size0(const pfx_emitter *em) { return em->size_varies; }
-static inline bool pfx_needs_size1(const pfx_emitter *em) { return em->size_varies && !em->size_same; }
-static inline bool pfx_needs_tint(const pfx_emitter *em) { return em->color_mode != PFX_COLOR_OVER_LIFE; }
+static inline bool pfx_needs_size1(const pfx_emitter *em) {
+    return em->size_varies && !em->size_same;
+}
+static inline bool pfx_needs_tint(const pfx_emitter *em) {
+    return em->color_mode != PFX_COLOR_OVER_LIFE;
+}
 static inline unsigned pfx_motion_columns_of(const pfx_emitter *em) {
     return em->motion ? pfx_motion_columns(em->motion) : 0;
 }
@@ -27,7 +31,6 @@ static inline bool pfx_needs_mass(const pfx_emitter *em) {
 static inline bool pfx_needs_birth(const pfx_emitter *em) {
     return (pfx_motion_columns_of(em) & PFX_COLUMN_BIRTH) != 0;
 }
-
 
 /* The emitter's placement at effect time t: position, rotation matrix and
  * the velocity of its keyframed motion. */

@@ -14,12 +14,13 @@
 #include "sim/kill.h"
 #include "sim/sample.h"
 #include "sim/schedule.h"
+#include "sim/spawn.h"
 
 /* Swap-remove and copies treat a pool as a list of columns of 4-byte (float,
  * uint32_t) or 1-byte (flag) elements, moved with memcpy: writing a float
  * column through a uint32_t pointer would break strict aliasing (the
  * optimiser then keeps stale ages in registers). */
-#define MAX_COLUMNS 20
+#define MAX_COLUMNS 26
 typedef struct column_list {
     unsigned char *col[MAX_COLUMNS];
     size_t size[MAX_COLUMNS];
@@ -35,10 +36,11 @@ static void add_column(column_list *c, void *col, size_t size) {
 
 static column_list pool_columns(const pfx_pool *p) {
     column_list c = {.count = 0};
-    void *four[] = {p->px,    p->py,    p->pz,       p->vx,   p->vy,
-                    p->vz,    p->age,   p->lifetime, p->id,   p->gravity_scale,
-                    p->size0, p->size1, p->charge,   p->mass, p->bx,
-                    p->by,    p->bz,    p->tint};
+    void *four[] = {p->px,    p->py,    p->pz,        p->vx,         p->vy,
+                    p->vz,    p->age,   p->lifetime,  p->id,         p->gravity_scale,
+                    p->size0, p->size1, p->charge,    p->mass,       p->bx,
+                    p->by,    p->bz,    p->tint,      p->generation, p->pr,
+                    p->pg,    p->pb,    p->size_scale};
     for (size_t k = 0; k < sizeof four / sizeof *four && c.count < MAX_COLUMNS; k++)
         add_column(&c, four[k], 4);
     add_column(&c, p->stuck, 1);
@@ -74,6 +76,11 @@ static size_t layout_columns(const pfx_emitter *em, pfx_pool *p, float *base, ui
     TAKE(charge, pfx_needs_charge(em));
     TAKE(mass, pfx_needs_mass(em));
     TAKE(tint, pfx_needs_tint(em));
+    TAKE(generation, em->keeps_generation);
+    TAKE(pr, em->keeps_parent_color);
+    TAKE(pg, em->keeps_parent_color);
+    TAKE(pb, em->keeps_parent_color);
+    TAKE(size_scale, em->keeps_size_scale);
     TAKE(bx, pfx_needs_birth(em));
     TAKE(by, pfx_needs_birth(em));
     TAKE(bz, pfx_needs_birth(em));
@@ -102,7 +109,7 @@ pfx_sim *pfx_sim_create(const pfx_effect *e) {
     for (size_t i = 0; i < e->emitter_count; i++)
         bytes += pfx_sim_bytes_per_particle(e, i) * e->emitters[i].capacity;
     s->storage = malloc(bytes ? bytes : 1);
-    if (!s->pools || !s->emitters || !s->motions || !s->storage) {
+    if (!s->pools || !s->emitters || !s->motions || !s->storage || !pfx_spawn_queues_create(s)) {
         pfx_sim_destroy(s);
         return NULL;
     }
@@ -134,6 +141,7 @@ pfx_sim *pfx_sim_create(const pfx_effect *e) {
         st->draws_per_birth = probe.draws - st->rng.draws;
         pfx_schedule_init(&st->sched, em, e->seed, pfx_rng_stream_for(em->name));
         pfx_rng_seed(&st->collide_rng, e->seed, pfx_rng_stream_for(em->name) ^ 0xc011deULL);
+        pfx_rng_seed(&st->spawn_rng, e->seed, pfx_rng_stream_for(em->name) ^ 0x5ba3ULL);
     }
     return s;
 }
@@ -145,6 +153,7 @@ void pfx_sim_destroy(pfx_sim *s) {
     free(s->pools);
     free(s->emitters);
     free(s->motions);
+    pfx_spawn_queues_destroy(s);
     free(s);
 }
 
@@ -192,12 +201,14 @@ static void integrate_gravity(const pfx_emitter *em, pfx_pool *p, float dt) {
  * a view's partial step prepares its own copy for the remainder), then the
  * ages, then a scan for a non-finite or exploding state, which stops the
  * simulation with the emitter, the time and the likely cause. */
-static void integrate_motion(pfx_sim *s, size_t i, float dt) {
+static void integrate_motion(pfx_sim *s, size_t i, double dt) {
     const pfx_emitter *em = &s->effect->emitters[i];
     pfx_motion *m = &s->motions[i];
     pfx_pool *p = &s->pools[i];
-    if (m->dt != (double)dt)
-        pfx_motion_prepare(m, (double)dt);
+    /* Re-prepared only for a different step (a view's remainder), not for
+     * the last-bit differences of t1 - t0 between fixed steps. */
+    if (fabs(m->dt - dt) > 1e-9 * dt)
+        pfx_motion_prepare(m, dt);
     pfx_motion_pool_f view = {.count = p->count,
                               .px = p->px,
                               .py = p->py,
@@ -214,7 +225,7 @@ static void integrate_motion(pfx_sim *s, size_t i, float dt) {
     pfx_motion_step_f(m, &view, s->time);
     float *restrict age = p->age;
     for (uint32_t j = 0; j < p->count; j++)
-        age[j] += dt;
+        age[j] += (float)dt;
     pfx_bad_kind why;
     size_t bad = pfx_motion_find_bad_f(&view, &why);
     if (bad < p->count && !s->failed) {
@@ -238,10 +249,29 @@ static void save_start(pfx_pool *p) {
         memcpy(p->start[k], cols[k], p->count * sizeof(float));
 }
 
+/* A deflector hit of particle `first + index` becomes an on_hit event at
+ * the exact time and place, with the surface normal. */
+typedef struct hit_context {
+    pfx_sim *s;
+    size_t emitter;
+    uint32_t first;
+    double t0;
+} hit_context;
+
+static void on_hit(void *user, uint32_t index, size_t deflector, const double pos[3],
+                   const double normal[3], double t_hit) {
+    (void)deflector;
+    hit_context *h = user;
+    const pfx_pool *p = &h->s->pools[h->emitter];
+    uint32_t j = h->first + index;
+    const double vel[3] = {p->vx[j], p->vy[j], p->vz[j]};
+    pfx_spawn_event_of(h->s, h->emitter, PFX_SPAWN_HIT, j, h->t0 + t_hit, pos, vel, normal);
+}
+
 /* Deflectors for particles [first, first + n) over the step of length dt
  * just integrated: each path is swept from its start state, so nothing
  * tunnels, and hits are resolved at their exact times (src/sim/collide.c). */
-static void collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double dt) {
+static void collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double dt) {
     const pfx_emitter *em = &s->effect->emitters[i];
     pfx_pool *p = &s->pools[i];
     pfx_emitter_state *st = &s->emitters[i];
@@ -262,12 +292,16 @@ static void collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double dt)
                              .lifetime = p->lifetime + first,
                              .id = p->id + first,
                              .stuck = p->stuck ? p->stuck + first : NULL};
-    pfx_collide(em->deflectors, em->deflector_count, dt, &view, &st->collide_rng, NULL, NULL,
-                &st->collisions);
+    hit_context hc = {s, i, first, t0};
+    bool hits = em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_HIT);
+    pfx_collide(em->deflectors, em->deflector_count, dt, &view, &st->collide_rng,
+                hits ? on_hit : NULL, &hc, &st->collisions);
 }
 
 /* Death at age >= lifetime; the last live particle fills the hole. */
-static void kill_expired(pfx_pool *p) {
+static void kill_expired(pfx_sim *s, size_t emitter, double t1) {
+    pfx_pool *p = &s->pools[emitter];
+    const bool deaths = pfx_spawn_has(&s->effect->emitters[emitter], PFX_SPAWN_DEATH);
     column_list c = pool_columns(p);
     const float *age = p->age, *lifetime = p->lifetime;
     /* Most blocks hold no death: a branch-free scan (vectorised) skips them,
@@ -287,6 +321,14 @@ static void kill_expired(pfx_pool *p) {
             if (age[i] < lifetime[i]) {
                 i++;
                 continue;
+            }
+            if (deaths) {
+                /* Died at t1 - (age - lifetime), back along its velocity. */
+                double over = (double)p->age[i] - p->lifetime[i];
+                const double pos[3] = {p->px[i] - p->vx[i] * over, p->py[i] - p->vy[i] * over,
+                                       p->pz[i] - p->vz[i] * over},
+                             vel[3] = {p->vx[i], p->vy[i], p->vz[i]};
+                pfx_spawn_event_of(s, emitter, PFX_SPAWN_DEATH, i, t1 - over, pos, vel, NULL);
             }
             uint32_t last = --p->count;
             for (int k = 0; k < c.count; k++)
@@ -319,16 +361,89 @@ static void newborn_accel(const pfx_motion *m, const double x[3], const double v
     pfx_motion_accel_d(m, &one, 0, 1, &px, &py, &pz, &vx, &vy, &vz, t, &out[0], &out[1], &out[2]);
 }
 
-/* Emits the births due up to t1 that are still alive at t1: each drawn in
- * a fixed order, placed at its birth, and advanced to t1 by its own age.
- * Births that cannot be alive at t1 (older than the maximum lifetime) are
- * skipped in closed form where the rate allows and their draws jumped over;
- * a full pool drops births (counted, draws jumped), so a step's cost is
- * bounded by the births due in it, whatever they are. */
-static void emit(pfx_sim *s, size_t i, double t1) {
+bool pfx_sim_make_particle(pfx_sim *s, size_t i, double tb, double t1, const pfx_parent *parent) {
     const pfx_emitter *em = &s->effect->emitters[i];
     pfx_emitter_state *st = &s->emitters[i];
     pfx_pool *p = &s->pools[i];
+    uint64_t k = st->born++;
+    double age = t1 - tb;
+    if (p->count == p->capacity || age >= em->max_lifetime) {
+        st->dropped += p->count == p->capacity && age < em->max_lifetime;
+        pfx_rng_advance(&st->rng, st->draws_per_birth);
+        return false;
+    }
+    birth_draws b;
+    pfx_birth_draw(em, tb, &st->rng, parent ? parent->pos : NULL,
+                   parent && parent->has_normal ? parent->normal : NULL, &b);
+    if (parent && parent->inherit_velocity)
+        for (int a = 0; a < 3; a++)
+            b.vel[a] += parent->vel[a];
+    if (age >= b.life)
+        return false; /* would already be dead: never created */
+    uint32_t j = p->count++;
+    double x[3], acc[3];
+    for (int a = 0; a < 3; a++)
+        acc[a] = em->accel[a] * b.gs;
+    if (em->motion)
+        newborn_accel(em->motion, b.pos, b.vel, tb, b.gs, b.q, b.mass, acc);
+    /* The rest of the step after the birth: exact under constant
+     * acceleration; under other forces a second-order Taylor step with the
+     * acceleration at birth (the remainder is less than one step). */
+    const double v0[3] = {b.vel[0], b.vel[1], b.vel[2]};
+    for (int a = 0; a < 3; a++) {
+        x[a] = b.pos[a] + b.vel[a] * age + 0.5 * acc[a] * age * age;
+        b.vel[a] += acc[a] * age;
+    }
+    p->px[j] = (float)x[0], p->py[j] = (float)x[1], p->pz[j] = (float)x[2];
+    p->vx[j] = (float)b.vel[0], p->vy[j] = (float)b.vel[1], p->vz[j] = (float)b.vel[2];
+    p->age[j] = (float)age;
+    p->lifetime[j] = (float)b.life;
+    p->id[j] = (uint32_t)k;
+    if (p->gravity_scale)
+        p->gravity_scale[j] = (float)b.gs;
+    if (p->size0)
+        p->size0[j] = (float)b.s0;
+    if (p->size1)
+        p->size1[j] = (float)b.s1;
+    if (p->charge)
+        p->charge[j] = (float)b.q;
+    if (p->mass)
+        p->mass[j] = (float)b.mass;
+    if (p->bx)
+        p->bx[j] = (float)b.pos[0], p->by[j] = (float)b.pos[1], p->bz[j] = (float)b.pos[2];
+    if (p->stuck)
+        p->stuck[j] = 0;
+    if (p->tint)
+        p->tint[j] = (float)b.tint;
+    if (p->generation)
+        p->generation[j] = parent ? parent->generation + 1 : 0;
+    if (p->pr) {
+        bool inherit = parent && parent->inherit_color;
+        p->pr[j] = inherit ? parent->color[0] : 1;
+        p->pg[j] = inherit ? parent->color[1] : 1;
+        p->pb[j] = inherit ? parent->color[2] : 1;
+    }
+    if (p->size_scale)
+        p->size_scale[j] = parent && parent->inherit_size ? parent->size : 1;
+    if (em->deflector_count && age > 0) {
+        /* The newborn's partial step is swept like a full one. */
+        const double start[6] = {b.pos[0], b.pos[1], b.pos[2], v0[0], v0[1], v0[2]};
+        for (int a = 0; a < 6; a++)
+            p->start[a][j] = (float)start[a];
+        collide(s, i, j, 1, tb, age);
+    }
+    if (em->spawn_count)
+        pfx_spawn_event_of(s, i, PFX_SPAWN_BIRTH, j, tb, b.pos, v0, NULL);
+    return true;
+}
+
+/* Emits the scheduled births due up to t1. Births that cannot be alive at
+ * t1 (older than the maximum lifetime) are skipped in closed form where the
+ * rate allows and their draws jumped over, so a step's cost is bounded by
+ * the births due in it, whatever they are. */
+static void emit(pfx_sim *s, size_t i, double t1) {
+    const pfx_emitter *em = &s->effect->emitters[i];
+    pfx_emitter_state *st = &s->emitters[i];
     uint64_t skipped = pfx_schedule_skip_before(&st->sched, em, t1 - em->max_lifetime);
     if (skipped) {
         pfx_rng_advance(&st->rng, skipped * st->draws_per_birth);
@@ -339,59 +454,7 @@ static void emit(pfx_sim *s, size_t i, double t1) {
         if (!(tb <= t1))
             break;
         pfx_schedule_pop(&st->sched, em);
-        uint64_t k = st->born++;
-        double age = t1 - tb;
-        if (p->count == p->capacity || age >= em->max_lifetime) {
-            st->dropped += p->count == p->capacity && age < em->max_lifetime;
-            pfx_rng_advance(&st->rng, st->draws_per_birth);
-            continue;
-        }
-        birth_draws b;
-        pfx_birth_draw(em, tb, &st->rng, NULL, NULL, &b);
-        if (age >= b.life)
-            continue; /* would already be dead: never created */
-        uint32_t j = p->count++;
-        double x[3], acc[3];
-        for (int a = 0; a < 3; a++)
-            acc[a] = em->accel[a] * b.gs;
-        if (em->motion)
-            newborn_accel(em->motion, b.pos, b.vel, tb, b.gs, b.q, b.mass, acc);
-        /* The rest of the step after the birth: exact under constant
-         * acceleration; under other forces a second-order Taylor step with
-         * the acceleration at birth (the remainder is less than one step). */
-        const double v0[3] = {b.vel[0], b.vel[1], b.vel[2]};
-        for (int a = 0; a < 3; a++) {
-            x[a] = b.pos[a] + b.vel[a] * age + 0.5 * acc[a] * age * age;
-            b.vel[a] += acc[a] * age;
-        }
-        p->px[j] = (float)x[0], p->py[j] = (float)x[1], p->pz[j] = (float)x[2];
-        p->vx[j] = (float)b.vel[0], p->vy[j] = (float)b.vel[1], p->vz[j] = (float)b.vel[2];
-        p->age[j] = (float)age;
-        p->lifetime[j] = (float)b.life;
-        p->id[j] = (uint32_t)k;
-        if (p->gravity_scale)
-            p->gravity_scale[j] = (float)b.gs;
-        if (p->size0)
-            p->size0[j] = (float)b.s0;
-        if (p->size1)
-            p->size1[j] = (float)b.s1;
-        if (p->charge)
-            p->charge[j] = (float)b.q;
-        if (p->mass)
-            p->mass[j] = (float)b.mass;
-        if (p->bx)
-            p->bx[j] = (float)b.pos[0], p->by[j] = (float)b.pos[1], p->bz[j] = (float)b.pos[2];
-        if (p->stuck)
-            p->stuck[j] = 0;
-        if (p->tint)
-            p->tint[j] = (float)b.tint;
-        if (em->deflector_count && age > 0) {
-            /* The newborn's partial step is swept like a full one. */
-            const double start[6] = {b.pos[0], b.pos[1], b.pos[2], v0[0], v0[1], v0[2]};
-            for (int a = 0; a < 6; a++)
-                p->start[a][j] = (float)start[a];
-            collide(s, i, j, 1, age);
-        }
+        pfx_sim_make_particle(s, i, tb, t1, NULL);
     }
 }
 
@@ -406,20 +469,25 @@ static void advance(pfx_sim *s, double t1) {
             if (em->deflector_count)
                 save_start(p);
             if (em->motion)
-                integrate_motion(s, i, dt);
+                integrate_motion(s, i, t1 - s->time);
             else
                 integrate_gravity(em, p, dt);
             if (em->deflector_count)
-                collide(s, i, 0, p->count, dt);
+                collide(s, i, 0, p->count, s->time, dt);
             if (em->kill) {
                 emitter_pose pose;
                 pfx_emitter_pose_at(em, t1, &pose);
                 pfx_kill_apply(em->kill, p, pose.position, em->alpha_at_age);
             }
-            kill_expired(p);
+            kill_expired(s, i, t1);
+            if (em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_TRAIL))
+                pfx_spawn_trails(s, i, dt, t1);
         }
         emit(s, i, t1);
     }
+    /* Sub-emitter births after every emitter has moved: file order does not
+     * matter. */
+    pfx_spawn_process(s, t1);
     s->time = t1;
 }
 
@@ -467,11 +535,12 @@ static int lut_index(float u) {
 
 float pfx_particle_size(const pfx_emitter *em, const pfx_pool *p, uint32_t i) {
     float u = p->age[i] / p->lifetime[i];
+    float scale = p->size_scale ? p->size_scale[i] : 1.0f;
     if (em->size_curve)
-        return em->size_lut[lut_index(u)];
+        return em->size_lut[lut_index(u)] * scale;
     float s0 = p->size0 ? p->size0[i] : (float)em->size_start.a;
     float s1 = p->size1 ? p->size1[i] : em->size_same ? s0 : (float)em->size_end.a;
-    return s0 + (s1 - s0) * u;
+    return (s0 + (s1 - s0) * u) * scale;
 }
 
 void pfx_particle_color(const pfx_emitter *em, const pfx_pool *p, uint32_t i, float out[4]) {
@@ -491,6 +560,11 @@ void pfx_particle_color(const pfx_emitter *em, const pfx_pool *p, uint32_t i, fl
     }
     if (em->alpha_curve)
         out[3] *= em->alpha_lut[k];
+    if (p->pr) {
+        out[0] *= p->pr[i];
+        out[1] *= p->pg[i];
+        out[2] *= p->pb[i];
+    }
 }
 
 uint64_t pfx_sim_hash(const pfx_sim *s) {

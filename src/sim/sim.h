@@ -29,6 +29,9 @@ typedef struct pfx_pool {
     float *charge, *mass; /* random charge / mass under a magnetic force */
     float *bx, *by, *bz;  /* birth position, for springs anchored there */
     float *tint;          /* random colour mix or gradient point (colour fixed at birth) */
+    float *generation;    /* sub-emitter generation, in cycles bounded by `depth` */
+    float *pr, *pg, *pb;  /* colour inherited from a parent (multiplies its own) */
+    float *size_scale;    /* size inherited from a parent (multiplies its own) */
     uint8_t *stuck;       /* 1 once stuck to a deflector (only with a `stick` one) */
     float *start[6];      /* scratch: x, y, z, vx, vy, vz at the start of the step,
                              for the collision pass (only with deflectors) */
@@ -41,6 +44,7 @@ typedef struct pfx_emitter_state {
     uint64_t dropped;         /* births lost to a full pool */
     uint64_t draws_per_birth; /* generator outputs one birth takes (fixed) */
     pfx_rng collide_rng;      /* random resilience and friction per impact */
+    pfx_rng spawn_rng;        /* sub-emitter counts and probabilities it receives */
     pfx_collide_stats collisions;
 } pfx_emitter_state;
 
@@ -53,10 +57,11 @@ typedef struct pfx_sim {
     pfx_emitter_state *emitters;
     void *storage; /* one allocation behind every pool */
     size_t bytes;
-    pfx_motion *motions; /* per emitter, a copy of its motion model prepared
-                            for this sim's step (unused where NULL in the effect) */
-    bool failed;         /* a state went non-finite or exploded: stop */
-    char error[512];     /* what, where, when and the likely cause */
+    struct pfx_spawn_queue *queues; /* per emitter: sub-emitter events of the step */
+    pfx_motion *motions;            /* per emitter, a copy of its motion model prepared
+                                       for this sim's step (unused where NULL in the effect) */
+    bool failed;                    /* a state went non-finite or exploded: stop */
+    char error[512];                /* what, where, when and the likely cause */
 } pfx_sim;
 
 /* Allocates every pool once (sized by the compiler) and seeds every emitter.

@@ -1,0 +1,236 @@
+/* Sub-emitters. Each spawn names a target emitter; the graph of spawns may
+ * contain cycles (fireworks whose sparks burst again) only when every spawn
+ * on the cycle has a `depth`, so the number of generations, and with it the
+ * pool sizes, stays finite. Worst-case spawned rates are propagated through
+ * the graph generation by generation for pool sizing. */
+#include "compile/compile_spawn.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "sim/schedule.h"
+
+#define MAX_SPAWNS 16
+#define MAX_DEPTH 16
+/* on_hit has no schedule to bound it: pools assume up to this many hits per
+ * particle (a saturated child counts its drops; see pfx info). */
+#define HITS_PER_PARTICLE 4.0
+
+static const char *const spawn_keys[] = {"emit", "count", "probability", "inherit", "depth", NULL};
+static const char *const trail_keys[] = {"emit", "rate", "probability", "inherit", "depth", NULL};
+static const char *const inherit_names[] = {"velocity", "color", "size", NULL};
+
+static int find_emitter(const pfx_node *emitters, const char *name, size_t len) {
+    for (size_t i = 0; i < emitters->count; i++) {
+        const pfx_node *k = emitters->pairs[i].key;
+        if (k->len == len && !memcmp(k->text, name, len))
+            return (int)i;
+    }
+    return -1;
+}
+
+static bool read_spawn(pfx_reader *r, const pfx_node *n, pfx_spawn_event event,
+                       const pfx_node *emitters, pfx_spawn *out) {
+    const char *key = event == PFX_SPAWN_TRAIL ? "trail" : "sub-emitter";
+    *out = (pfx_spawn){.event = event, .count = pfx_value_const(1), .probability = 1};
+    if (!pfx_read_map(r, n, key))
+        return false;
+    bool ok = pfx_read_check_keys(r, n, event == PFX_SPAWN_TRAIL ? trail_keys : spawn_keys,
+                                  event == PFX_SPAWN_TRAIL ? "a trail" : "a sub-emitter");
+    const pfx_node *v = pfx_node_get(n, "emit");
+    const char *name;
+    if (!v) {
+        pfx_read_error(r, n, "a %s needs 'emit: <emitter name>'", key);
+        return false;
+    }
+    if (!pfx_read_string(r, v, "emit", &name))
+        return false;
+    int t = find_emitter(emitters, name, v->len);
+    if (t < 0) {
+        const char *names[257];
+        size_t count = emitters->count < 256 ? emitters->count : 256;
+        for (size_t i = 0; i < count; i++)
+            names[i] = emitters->pairs[i].key->text;
+        names[count] = NULL;
+        const char *sug = pfx_suggest(name, names);
+        if (sug)
+            pfx_read_error(r, v, "'emit' names no emitter '%s'; did you mean '%s'?", name, sug);
+        else
+            pfx_read_error(r, v, "'emit' names no emitter '%s'", name);
+        return false;
+    }
+    out->target = (uint32_t)t;
+    if ((v = pfx_node_get(n, "count")))
+        ok &= pfx_read_value_in(r, v, "count", &out->count, 0, false, 1e5);
+    if (event == PFX_SPAWN_TRAIL) {
+        out->rate = 10;
+        if ((v = pfx_node_get(n, "rate")))
+            ok &= pfx_read_number(r, v, "rate", &out->rate) &&
+                  pfx_check_above(r, v, "rate", out->rate, 0, true) &&
+                  pfx_check_below(r, v, "rate", out->rate, 1e4, false);
+    }
+    if ((v = pfx_node_get(n, "probability")))
+        ok &= pfx_read_number(r, v, "probability", &out->probability) &&
+              pfx_check_above(r, v, "probability", out->probability, 0, false) &&
+              pfx_check_below(r, v, "probability", out->probability, 1, false);
+    if ((v = pfx_node_get(n, "depth"))) {
+        double d;
+        if (pfx_read_number(r, v, "depth", &d) && pfx_check_above(r, v, "depth", d, 1, false) &&
+            pfx_check_below(r, v, "depth", d, MAX_DEPTH, false)) {
+            if (d != floor(d))
+                pfx_read_error(r, v, "'depth' must be a whole number, got %g", d);
+            out->depth = (uint32_t)d;
+        } else {
+            ok = false;
+        }
+    }
+    if ((v = pfx_node_get(n, "inherit"))) {
+        if (v->kind != PFX_NODE_SEQ) {
+            pfx_read_error(r, v, "'inherit' must be a list of: velocity, color, size");
+            return false;
+        }
+        for (size_t i = 0; i < v->count; i++) {
+            int k = pfx_read_enum(r, v->items[i], "inherit", "inherited attribute", inherit_names);
+            out->inherit_velocity |= k == 0;
+            out->inherit_color |= k == 1;
+            out->inherit_size |= k == 2;
+            ok &= k >= 0;
+        }
+    }
+    return ok;
+}
+
+bool pfx_compile_spawns(pfx_reader *r, const pfx_node *n, const pfx_effect *e,
+                        const pfx_node *emitters, pfx_emitter *em) {
+    (void)e;
+    static const char *const keys[] = {"on_birth", "on_death", "on_hit", "trail"};
+    int errors = r->d->errors;
+    pfx_spawn spawns[MAX_SPAWNS];
+    size_t count = 0;
+    for (int k = 0; k < 4; k++) {
+        const pfx_node *v = pfx_node_get(n, keys[k]);
+        if (!v)
+            continue;
+        size_t items = v->kind == PFX_NODE_SEQ ? v->count : 1;
+        for (size_t i = 0; i < items; i++) {
+            const pfx_node *item = v->kind == PFX_NODE_SEQ ? v->items[i] : v;
+            if (count == MAX_SPAWNS) {
+                pfx_read_error(r, item, "an emitter has at most %d sub-emitters", MAX_SPAWNS);
+                break;
+            }
+            if (read_spawn(r, item, (pfx_spawn_event)k, emitters, &spawns[count]))
+                count++;
+        }
+    }
+    if (count) {
+        em->spawns = pfx_arena_alloc(r->arena, count * sizeof *em->spawns);
+        if (em->spawns) {
+            memcpy(em->spawns, spawns, count * sizeof *spawns);
+            em->spawn_count = count;
+        }
+    }
+    return r->d->errors == errors;
+}
+
+/* The node of spawn s of emitter i (for locating cycle errors). */
+static const pfx_node *spawn_node(const pfx_node *emitters, size_t i, const pfx_spawn *s) {
+    static const char *const keys[] = {"on_birth", "on_death", "on_hit", "trail"};
+    const pfx_node *v = pfx_node_get(emitters->pairs[i].value, keys[s->event]);
+    return v ? v : emitters->pairs[i].key;
+}
+
+/* Depth-first search for a cycle through spawns without depth. */
+static bool undepthed_cycle(const pfx_effect *e, size_t from, size_t at, int steps, bool *seen) {
+    if (steps > (int)e->emitter_count)
+        return false;
+    const pfx_emitter *em = &e->emitters[at];
+    for (size_t k = 0; k < em->spawn_count; k++) {
+        const pfx_spawn *s = &em->spawns[k];
+        if (s->depth)
+            continue;
+        if (s->target == from)
+            return true;
+        if (!seen[s->target]) {
+            seen[s->target] = true;
+            if (undepthed_cycle(e, from, s->target, steps + 1, seen))
+                return true;
+        }
+    }
+    return false;
+}
+
+/* Particles per second a spawn adds to its target for each birth per second
+ * of its parent (the worst case of its count). */
+static double spawn_factor(const pfx_emitter *parent, const pfx_spawn *s) {
+    double per_event = s->probability * floor(pfx_value_max(&s->count));
+    switch (s->event) {
+    case PFX_SPAWN_TRAIL:
+        return s->probability * s->rate * parent->max_lifetime;
+    case PFX_SPAWN_HIT:
+        return per_event * HITS_PER_PARTICLE;
+    default:
+        return per_event;
+    }
+}
+
+bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) {
+    int errors = r->d->errors;
+    size_t n = e->emitter_count;
+    bool seen[1024];
+    if (n > 1024)
+        return true;
+    for (size_t i = 0; i < n; i++) {
+        memset(seen, 0, sizeof seen);
+        if (undepthed_cycle(e, i, i, 0, seen)) {
+            const pfx_emitter *em = &e->emitters[i];
+            const pfx_spawn *s = em->spawn_count ? &em->spawns[0] : NULL;
+            for (size_t k = 0; k < em->spawn_count; k++)
+                if (!em->spawns[k].depth)
+                    s = &em->spawns[k];
+            pfx_read_error(r, s ? spawn_node(emitters, i, s) : emitters->pairs[i].key,
+                           "sub-emitters of '%s' lead back to it; give 'depth' (generations) "
+                           "to bound the cycle",
+                           em->name);
+        }
+    }
+    if (r->d->errors != errors)
+        return false;
+    for (size_t i = 0; i < n; i++)
+        for (size_t k = 0; k < e->emitters[i].spawn_count; k++) {
+            const pfx_spawn *s = &e->emitters[i].spawns[k];
+            pfx_emitter *t = &e->emitters[s->target];
+            t->keeps_generation |= s->depth > 0;
+            t->keeps_parent_color |= s->inherit_color;
+            t->keeps_size_scale |= s->inherit_size;
+        }
+    /* Generation by generation: rate[g + 1][target] += factor * rate[g][i].
+     * Without depth the graph is acyclic, so n generations reach every
+     * emitter; with depth, MAX_DEPTH more bound the cycles. */
+    double rate[1024] = {0}, next[1024], total[1024] = {0};
+    for (size_t i = 0; i < n; i++)
+        rate[i] = pfx_schedule_max_rate(&e->emitters[i]);
+    for (size_t g = 0; g < n + MAX_DEPTH; g++) {
+        memset(next, 0, n * sizeof *next);
+        bool any = false;
+        for (size_t i = 0; i < n; i++) {
+            if (!rate[i])
+                continue;
+            const pfx_emitter *em = &e->emitters[i];
+            for (size_t k = 0; k < em->spawn_count; k++) {
+                const pfx_spawn *s = &em->spawns[k];
+                if (s->depth && g >= s->depth)
+                    continue;
+                next[s->target] += spawn_factor(em, s) * rate[i];
+                any = true;
+            }
+        }
+        for (size_t i = 0; i < n; i++)
+            total[i] += next[i];
+        memcpy(rate, next, n * sizeof *rate);
+        if (!any)
+            break;
+    }
+    for (size_t i = 0; i < n; i++)
+        e->emitters[i].spawned_rate = fmin(total[i], 1e9);
+    return true;
+}

@@ -1,0 +1,19 @@
+/* Compiling sub-emitters: `on_birth`, `on_death`, `on_hit` and `trail`. */
+#ifndef PFX_COMPILE_SPAWN_H
+#define PFX_COMPILE_SPAWN_H
+
+#include "compile/effect.h"
+#include "compile/read.h"
+
+/* Reads the sub-emitter keys of emitter mapping n (emitter index `self` of
+ * e, whose emitter names are all known) into em->spawns. */
+bool pfx_compile_spawns(pfx_reader *r, const pfx_node *n, const pfx_effect *e,
+                        const pfx_node *emitters, pfx_emitter *em);
+
+/* After every emitter is compiled: rejects cycles of sub-emitters without a
+ * `depth`, marks the columns targets need (generation, parent colour, size
+ * scale), and computes each emitter's worst-case spawned birth rate for
+ * pool sizing. `emitters` is the `emitters:` mapping, for locations. */
+bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters);
+
+#endif

@@ -1,0 +1,179 @@
+/* Sub-emitter events. Events are queued during a step (births, deaths at
+ * their exact time and back-extrapolated place, deflector hits with the
+ * surface normal, trail births along the path) and turned into particles
+ * after every emitter has moved, so the result does not depend on the order
+ * of emitters in the file. Queues are allocated once; an event past a full
+ * queue is counted as dropped by its target, never silently lost. */
+#include "sim/spawn.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sim/sample.h"
+
+typedef struct spawn_record {
+    pfx_parent parent;
+    double t;
+    const pfx_spawn *spawn;
+} spawn_record;
+
+typedef struct pfx_spawn_queue {
+    spawn_record *items;
+    uint32_t count, cap;
+} pfx_spawn_queue;
+
+bool pfx_spawn_has(const pfx_emitter *em, pfx_spawn_event event) {
+    for (size_t k = 0; k < em->spawn_count; k++)
+        if (em->spawns[k].event == event)
+            return true;
+    return false;
+}
+
+bool pfx_spawn_queues_create(pfx_sim *s) {
+    const pfx_effect *e = s->effect;
+    s->queues = calloc(e->emitter_count + 1, sizeof *s->queues);
+    if (!s->queues)
+        return false;
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        const pfx_emitter *em = &e->emitters[i];
+        if (em->spawned_rate <= 0)
+            continue;
+        /* Every queued event makes at least one particle of a pool of this
+         * capacity within the step, so more could not be kept anyway. */
+        s->queues[i].cap = em->capacity + 16;
+        s->queues[i].items = malloc(s->queues[i].cap * sizeof *s->queues[i].items);
+        if (!s->queues[i].items)
+            return false;
+    }
+    return true;
+}
+
+void pfx_spawn_queues_destroy(pfx_sim *s) {
+    if (!s->queues)
+        return;
+    for (size_t i = 0; i < s->effect->emitter_count; i++)
+        free(s->queues[i].items);
+    free(s->queues);
+    s->queues = NULL;
+}
+
+void pfx_spawn_event_of(pfx_sim *s, size_t i, pfx_spawn_event event, uint32_t j, double t,
+                        const double pos[3], const double vel[3], const double normal[3]) {
+    const pfx_emitter *em = &s->effect->emitters[i];
+    const pfx_pool *p = &s->pools[i];
+    float generation = p->generation ? p->generation[j] : 0;
+    for (size_t k = 0; k < em->spawn_count; k++) {
+        const pfx_spawn *sp = &em->spawns[k];
+        if (sp->event != event || (sp->depth && generation >= (float)sp->depth))
+            continue;
+        pfx_spawn_queue *q = &s->queues[sp->target];
+        if (q->count == q->cap) {
+            s->emitters[sp->target].dropped++;
+            continue;
+        }
+        spawn_record *r = &q->items[q->count++];
+        r->t = t;
+        r->spawn = sp;
+        pfx_parent *pa = &r->parent;
+        memcpy(pa->pos, pos, sizeof pa->pos);
+        memcpy(pa->vel, vel, sizeof pa->vel);
+        pa->has_normal = normal != NULL;
+        if (normal)
+            memcpy(pa->normal, normal, sizeof pa->normal);
+        pa->inherit_velocity = sp->inherit_velocity;
+        pa->inherit_color = sp->inherit_color;
+        pa->inherit_size = sp->inherit_size;
+        pa->generation = generation;
+        if (sp->inherit_color) {
+            float c[4];
+            pfx_particle_color(em, p, j, c);
+            pa->color[0] = c[0], pa->color[1] = c[1], pa->color[2] = c[2];
+        }
+        pa->size = sp->inherit_size ? pfx_particle_size(em, p, j) : 1;
+    }
+}
+
+void pfx_spawn_trails(pfx_sim *s, size_t i, double dt, double t1) {
+    const pfx_emitter *em = &s->effect->emitters[i];
+    const pfx_pool *p = &s->pools[i];
+    for (size_t k = 0; k < em->spawn_count; k++) {
+        const pfx_spawn *sp = &em->spawns[k];
+        if (sp->event != PFX_SPAWN_TRAIL)
+            continue;
+        for (uint32_t j = 0; j < p->count; j++) {
+            /* Trail births at the particle's ages n / rate, n = 1, 2, ...:
+             * those in (age - dt, age] happened in this step, on the path
+             * back-extrapolated along the velocity. */
+            double a1 = p->age[j], a0 = a1 - dt;
+            double first = floor((a0 > 0 ? a0 : 0) * sp->rate) + 1, last = floor(a1 * sp->rate);
+            for (double n = first; n <= last; n++) {
+                double back = a1 - n / sp->rate;
+                double pos[3] = {p->px[j] - p->vx[j] * back, p->py[j] - p->vy[j] * back,
+                                 p->pz[j] - p->vz[j] * back};
+                double vel[3] = {p->vx[j], p->vy[j], p->vz[j]};
+                pfx_spawn_queue *q = &s->queues[sp->target];
+                float generation = p->generation ? p->generation[j] : 0;
+                if (sp->depth && generation >= (float)sp->depth)
+                    break;
+                if (q->count == q->cap) {
+                    s->emitters[sp->target].dropped++;
+                    continue;
+                }
+                spawn_record *r = &q->items[q->count++];
+                r->t = t1 - back;
+                r->spawn = sp;
+                r->parent = (pfx_parent){.inherit_velocity = sp->inherit_velocity,
+                                         .inherit_color = sp->inherit_color,
+                                         .inherit_size = sp->inherit_size,
+                                         .size = 1,
+                                         .generation = generation};
+                memcpy(r->parent.pos, pos, sizeof pos);
+                memcpy(r->parent.vel, vel, sizeof vel);
+                if (sp->inherit_color) {
+                    float c[4];
+                    pfx_particle_color(em, p, j, c);
+                    memcpy(r->parent.color, c, 3 * sizeof(float));
+                }
+                if (sp->inherit_size)
+                    r->parent.size = pfx_particle_size(em, p, j);
+            }
+        }
+    }
+}
+
+void pfx_spawn_process(pfx_sim *s, double t1) {
+    const pfx_effect *e = s->effect;
+    if (!s->queues)
+        return;
+    /* Births may queue further events (on_birth, cycles bounded by depth):
+     * repeat until every queue is empty; each pass consumes what was queued. */
+    for (int pass = 0; pass < 64; pass++) {
+        bool any = false;
+        for (size_t i = 0; i < e->emitter_count; i++) {
+            pfx_spawn_queue *q = &s->queues[i];
+            if (!q->count)
+                continue;
+            any = true;
+            /* Take the queued records; events the births queue for this same
+             * emitter land in the queue again for the next pass. */
+            uint32_t n = q->count;
+            for (uint32_t k = 0; k < n; k++) {
+                spawn_record r = q->items[k];
+                pfx_emitter_state *st = &s->emitters[i];
+                /* Two draws per event (count, probability) from the target's
+                 * spawn stream, whatever their values. */
+                double count = pfx_sample_value(&r.spawn->count, &st->spawn_rng);
+                double u = pfx_rng_unit(&st->spawn_rng);
+                if (u >= r.spawn->probability)
+                    continue;
+                for (double c = 0; c < floor(count); c++)
+                    pfx_sim_make_particle(s, i, r.t, t1, &r.parent);
+            }
+            memmove(q->items, q->items + n, (q->count - n) * sizeof *q->items);
+            q->count -= n;
+        }
+        if (!any)
+            return;
+    }
+}

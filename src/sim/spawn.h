@@ -1,0 +1,44 @@
+/* Sub-emitter events inside the simulation: a parent particle's birth,
+ * death, deflector hit or trail makes particles of a target emitter at the
+ * exact place and time. Internal to src/sim (sim.c and spawn.c). */
+#ifndef PFX_SPAWN_H
+#define PFX_SPAWN_H
+
+#include "sim/sim.h"
+
+/* What a spawned birth takes from its parent. */
+typedef struct pfx_parent {
+    double pos[3], vel[3], normal[3];
+    bool has_normal; /* a hit: `direction: normal` uses the surface normal */
+    bool inherit_velocity, inherit_color, inherit_size;
+    float color[3], size;
+    float generation;
+} pfx_parent;
+
+/* Creates one particle of emitter i born at tb (<= t1) and advanced to t1:
+ * the draws, the partial step, the deflector sweep, and its own on_birth
+ * events. `parent` is NULL for scheduled births. False when it is not
+ * created (full pool: counted as dropped; or already dead at t1). */
+bool pfx_sim_make_particle(pfx_sim *s, size_t i, double tb, double t1, const pfx_parent *parent);
+
+/* Queues the sub-emitter events of kind `event` of particle j of emitter i,
+ * at time t, position pos, velocity vel (and the hit normal, or NULL). */
+void pfx_spawn_event_of(pfx_sim *s, size_t i, pfx_spawn_event event, uint32_t j, double t,
+                        const double pos[3], const double vel[3], const double normal[3]);
+
+/* Queues emitter i's trail births of the step that just advanced its
+ * particles by dt to t1. */
+void pfx_spawn_trails(pfx_sim *s, size_t i, double dt, double t1);
+
+/* Makes every queued particle (and those their births queue in turn) for
+ * the step ending at t1. */
+void pfx_spawn_process(pfx_sim *s, double t1);
+
+/* Allocates the event queues (at pfx_sim_create); false when out of memory. */
+bool pfx_spawn_queues_create(pfx_sim *s);
+void pfx_spawn_queues_destroy(pfx_sim *s);
+
+/* Whether emitter em has any sub-emitter of kind `event`. */
+bool pfx_spawn_has(const pfx_emitter *em, pfx_spawn_event event);
+
+#endif
