@@ -123,9 +123,13 @@ static bool unstable(pfx_scheme s, double w2, double b) {
 
 /* Substeps of dt (more than now) that make rate omega/c stable, or 0. */
 static int fix_steps(pfx_scheme s, double omega, double c, double dt, int steps) {
+    /* omega*h exactly on the limit is marginal (|lambda| = 1 but no margin,
+     * and a float step a hair longer crosses it): require strictly inside. */
+    double limit = pfx_stability_oscillator_limit(s);
     for (int n = steps + 1; n <= 4096; n = n < 16 ? n + 1 : n + n / 8) {
         double h = dt / n;
-        if (!unstable(s, omega * omega * h * h, c * h))
+        if (!unstable(s, omega * omega * h * h, c * h) &&
+            (omega == 0 || limit == 0 || omega * h < limit * (1 - 1e-9)))
             return n;
     }
     return 0;
@@ -208,8 +212,10 @@ size_t pfx_motion_check_stability(const pfx_motion *m, pfx_stability_warning *ou
             w.number = omega * h;
             w.limit = pfx_stability_oscillator_limit(s);
             w.fix = m->chosen;
-            w.fix_substeps = fix_steps(s, omega, c, m->dt, steps);
-            if (w.fix_substeps == 0) { /* Euler, midpoint: no step is small enough */
+            /* Euler and midpoint grow on an oscillator at any step: only
+             * another scheme fixes it, however many substeps. */
+            w.fix_substeps = w.limit > 0 ? fix_steps(s, omega, c, m->dt, steps) : 0;
+            if (w.fix_substeps == 0) {
                 w.fix = PFX_INTEGRATOR_VERLET;
                 w.fix_substeps = fix_steps(PFX_SCHEME_VERLET, omega, c, m->dt, 0);
                 if (w.fix_substeps == 1)

@@ -1,0 +1,332 @@
+#!/usr/bin/env bash
+# End-to-end physics checks through the command line: each writes a small
+# effect, runs `pfx bake` (or validate / render) on it and compares the
+# result with an exact solution or the theory (the closed forms are in
+# check_bake.py), never with numbers pfx printed before.
+#
+#   bash run_physics.sh PFX SOURCE_DIR
+#
+# Prints one line per check and a final `N passed, M failed`; exits 1 when
+# any failed.
+set -u
+PFX=${1:?usage: run_physics.sh PFX SOURCE_DIR}
+SRC=${2:?usage: run_physics.sh PFX SOURCE_DIR}
+PY=/usr/bin/python3
+CHECK="$SRC/tests/physics/check_bake.py"
+T=$(mktemp -d "${TMPDIR:-/tmp}/pfx-physics.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+
+passed=0
+failed=0
+pass() { passed=$((passed + 1)); echo "PASS $1"; }
+fail() { failed=$((failed + 1)); echo "FAIL $1"; }
+
+if [ ! -x "$PY" ]; then
+    echo "FAIL: $PY not found"
+    echo "0 passed, 1 failed"
+    exit 1
+fi
+
+# bake NAME: bakes $T/NAME.yaml into $T/NAME.csv; fails the check when pfx does.
+bake() {
+    if ! "$PFX" bake "$T/$1.yaml" -o "$T/$1.csv" >"$T/$1.out" 2>&1; then
+        fail "$1: pfx bake exited non-zero: $(head -c 400 "$T/$1.out")"
+        return 1
+    fi
+}
+
+# check NAME KIND key=value...: runs check_bake.py KIND on NAME's bake.
+check() {
+    local name=$1 kind=$2
+    shift 2
+    local out
+    if out=$("$PY" "$CHECK" "$kind" "$T/$name.csv" "$@" 2>&1); then
+        pass "$name: $out"
+    else
+        fail "$name: $out"
+    fi
+}
+
+# ---------------------------------------------------------------------------
+# 1. Vortex falloff. Resting particles at radii r from the Y axis under a
+# Sims vortex alone (a = 120 deg/s, R = 2, d = 0.7). Between frames 5 and 15
+# (0.1 s) each turns by a f(r/R) t, f(r) = (r^4 - 2r^2 + 1)/(1 + d r^2);
+# particles at r >= R do not move.
+radii=(0.1 0.35 0.7 1.0 1.3 1.6 1.9 2.0 2.5)
+{
+    cat <<'EOF'
+pfx: 1
+duration: 0.2
+fps: 100
+sim: { rate: 1000 }
+forces:
+  swirl: { type: vortex, center: [0, 0, 0], axis: [0, 1, 0], strength: 120, radius: 2, d: 0.7 }
+emitters:
+EOF
+    i=0
+    for r in "${radii[@]}"; do
+        cat <<EOF
+  v$i:
+    shape: { type: point }
+    position: [$r, 0.5, 0]
+    bursts: [{ time: 0, count: 1 }]
+    speed: 0
+    lifetime: 100
+EOF
+        i=$((i + 1))
+    done
+} >"$T/vortex.yaml"
+args=()
+i=0
+for r in "${radii[@]}"; do
+    args+=("r$i=$r")
+    i=$((i + 1))
+done
+bake vortex && check vortex vortex a=120 R=2 d=0.7 fa=5 fb=15 "${args[@]}"
+
+# ---------------------------------------------------------------------------
+# 2. Lorentz force. Charges +2 and -2 C of 0.5 kg launched along +X at 3 m/s
+# in B = 1.5 T along Z: circles of radius m v / (|q| B) = 0.5 m about
+# (0, -0.5) and (0, +0.5), period 2 pi m / (|q| B) = pi/3 s, |v| constant.
+cat >"$T/lorentz.yaml" <<'EOF'
+pfx: 1
+duration: 5
+fps: 100
+sim: { rate: 1000 }
+forces:
+  b: { type: magnetic, field: [0, 0, 1.5] }
+emitters:
+  pos:
+    shape: { type: point }
+    bursts: [{ time: 0, count: 1 }]
+    direction: [1, 0, 0]
+    speed: 3
+    lifetime: 100
+    charge: 2
+    mass: 0.5
+  neg:
+    shape: { type: point }
+    bursts: [{ time: 0, count: 1 }]
+    direction: [1, 0, 0]
+    speed: 3
+    lifetime: 100
+    charge: -2
+    mass: 0.5
+EOF
+bake lorentz && check lorentz lorentz q=2 m=0.5 v=3 B=1.5
+
+# The same with the charge drawn per particle from a range of one sign only
+# ([1.999, 2.001] and its negative), which gives the pool a charge column.
+sed -e 's/charge: 2$/charge: [1.9999999, 2.0000001]/' \
+    -e 's/charge: -2$/charge: [-2.0000001, -1.9999999]/' "$T/lorentz.yaml" >"$T/lorentz_column.yaml"
+bake lorentz_column && check lorentz_column lorentz q=2 m=0.5 v=3 B=1.5
+
+# ---------------------------------------------------------------------------
+# 3. Attractor. strength mu = 4 m^3/s^2, softening 0; a particle at r = 1 m
+# launched at the circular speed sqrt(mu / r) = 2 m/s keeps r over 10 orbits
+# (T = 2 pi sqrt(r^3 / mu) = pi s).
+cat >"$T/orbit.yaml" <<'EOF'
+pfx: 1
+duration: 32
+fps: 20
+sim: { rate: 240 }
+forces:
+  sun: { type: attractor, center: [0, 0, 0], strength: 4, softening: 0 }
+emitters:
+  mote:
+    shape: { type: point }
+    position: [1, 0, 0]
+    bursts: [{ time: 0, count: 1 }]
+    direction: [0, 0, 1]
+    speed: 2
+    lifetime: 1000
+EOF
+bake orbit && check orbit orbit r=1 mu=4 orbits=10
+
+# ---------------------------------------------------------------------------
+# 4. Bounce. A drop from rest at h0 = 2 m onto the plane y = 0 with
+# resilience 0.8 under g = 9.81: after the n-th bounce the apex is
+# eps^(2n) h0 (read analytically from every baked row as y + vy^2/(2g)).
+cat >"$T/bounce.yaml" <<'EOF'
+pfx: 1
+duration: 5
+fps: 50
+sim: { rate: 60 }
+forces:
+  g: { type: gravity, accel: [0, -9.81, 0] }
+deflectors:
+  ground: { type: plane, point: [0, 0, 0], normal: [0, 1, 0], resilience: 0.8 }
+emitters:
+  drop:
+    shape: { type: point }
+    position: [0, 2, 0]
+    bursts: [{ time: 0, count: 1 }]
+    speed: 0
+    lifetime: 100
+EOF
+bake bounce && check bounce bounce h0=2 eps=0.8 g=9.81 n=5
+
+# ---------------------------------------------------------------------------
+# 5. Chance. 20,000 particles fly straight down through a kill plane that
+# affects 30 % of them: the fraction below it afterwards is 0.7 within
+# 4 sigma = 4 sqrt(0.3 * 0.7 / 20000).
+cat >"$T/chance.yaml" <<'EOF'
+pfx: 1
+duration: 0.5
+fps: 10
+sim: { rate: 60 }
+deflectors:
+  net: { type: plane, point: [0, 0, 0], normal: [0, 1, 0], response: kill, chance: 0.3 }
+emitters:
+  rain:
+    shape: { type: rect, size: [4, 4] }
+    position: [0, 1, 0]
+    bursts: [{ time: 0, count: 20000 }]
+    direction: [0, -1, 0]
+    speed: 5
+    lifetime: 100
+EOF
+bake chance && check chance chance N=20000 chance=0.3 frame=4
+
+# ---------------------------------------------------------------------------
+# 6. Resting contact. A drop with resilience 0.5 onto a plane at y = 0.25
+# with friction comes to rest; from then on y is exactly 0.25 and vy exactly
+# 0 in every row (no jitter, no sinking).
+cat >"$T/rest.yaml" <<'EOF'
+pfx: 1
+duration: 5
+fps: 30
+sim: { rate: 60 }
+forces:
+  g: { type: gravity }
+deflectors:
+  floor: { type: plane, point: [0, 0.25, 0], normal: [0, 1, 0], resilience: 0.5, friction: 0.3 }
+emitters:
+  drop:
+    shape: { type: point }
+    position: [0, 2, 0]
+    bursts: [{ time: 0, count: 1 }]
+    direction: [1, 0, 0]
+    speed: 0.5
+    lifetime: 100
+EOF
+bake rest && check rest rest plane=0.25 by=3.5
+# The same on a tilted emitter path under a drag force (the motion-model path).
+sed -e 's/  g: { type: gravity }/  g: { type: gravity }\n  air: { type: drag, k: 0.2 }/' "$T/rest.yaml" >"$T/rest_drag.yaml"
+bake rest_drag && check rest_drag rest plane=0.25 by=3.5
+
+# ---------------------------------------------------------------------------
+# 7. Validation sweep. At sim.rate 100 (dt = 0.01 s): linear drag k with
+# k*dt around 2 (Euler, symplectic) and 2.785 (RK4); an undamped spring with
+# omega*dt = sqrt(k)*dt around 2 (symplectic, Verlet) and 2*sqrt(2) = 2.828
+# (RK4); explicit Euler and midpoint on any spring. `pfx validate` exits 0
+# and says "unstable" exactly for the configurations outside the stability
+# region (a "makes ... oscillate" note for 1 < k*dt <= 2 is allowed).
+sweep() { # NAME INTEGRATOR FORCE-YAML EXPECT(unstable|stable)
+    local name=$1 integ=$2 force=$3 expect=$4
+    cat >"$T/$name.yaml" <<EOF
+pfx: 1
+sim: { rate: 100, integrator: $integ }
+forces:
+  f: $force
+emitters:
+  e:
+    position: [1, 0, 0]
+    speed: 0.5
+EOF
+    local out status
+    out=$("$PFX" validate "$T/$name.yaml" 2>&1)
+    status=$?
+    local says=stable
+    if grep -q "unstable" <<<"$out"; then says=unstable; fi
+    if [ $status -ne 0 ]; then
+        fail "validate $name ($integ, $force): exit $status: $out"
+    elif [ "$says" != "$expect" ]; then
+        fail "validate $name ($integ, $force): expected $expect, pfx says: ${out:-nothing}"
+    else
+        pass "validate $name ($integ, $force): $expect$([ -n "$out" ] && echo " - ${out//$'\n'/ }")"
+    fi
+}
+sweep drag_euler_0.9 euler "{ type: drag, k: 90 }" stable
+sweep drag_euler_1.99 euler "{ type: drag, k: 199 }" stable
+sweep drag_euler_2.01 euler "{ type: drag, k: 201 }" unstable
+sweep drag_symplectic_1.99 symplectic "{ type: drag, k: 199 }" stable
+sweep drag_symplectic_2.01 symplectic "{ type: drag, k: 201 }" unstable
+sweep drag_midpoint_1.99 midpoint "{ type: drag, k: 199 }" stable
+sweep drag_midpoint_2.01 midpoint "{ type: drag, k: 201 }" unstable
+sweep drag_rk4_2.78 rk4 "{ type: drag, k: 278 }" stable
+sweep drag_rk4_2.79 rk4 "{ type: drag, k: 279 }" unstable
+sweep drag_verlet_1.99 verlet "{ type: drag, k: 199 }" stable
+sweep drag_verlet_2.01 verlet "{ type: drag, k: 201 }" unstable
+sweep drag_exact_10 exact "{ type: drag, k: 1000 }" stable
+# omega*dt = 1.99 / 2.01: k = (199)^2 and (201)^2
+sweep spring_symplectic_1.99 symplectic "{ type: spring, anchor: [0, 0, 0], k: 39601 }" stable
+sweep spring_symplectic_2.01 symplectic "{ type: spring, anchor: [0, 0, 0], k: 40401 }" unstable
+sweep spring_verlet_1.99 verlet "{ type: spring, anchor: [0, 0, 0], k: 39601 }" stable
+sweep spring_verlet_2.01 verlet "{ type: spring, anchor: [0, 0, 0], k: 40401 }" unstable
+# RK4: 2.82 and 2.84 around 2 sqrt(2) = 2.8284
+sweep spring_rk4_2.82 rk4 "{ type: spring, anchor: [0, 0, 0], k: 79524 }" stable
+sweep spring_rk4_2.84 rk4 "{ type: spring, anchor: [0, 0, 0], k: 80656 }" unstable
+sweep spring_euler_0.1 euler "{ type: spring, anchor: [0, 0, 0], k: 100 }" unstable
+sweep spring_midpoint_0.1 midpoint "{ type: spring, anchor: [0, 0, 0], k: 100 }" unstable
+sweep spring_exact_1.99 exact "{ type: spring, anchor: [0, 0, 0], k: 39601 }" stable
+sweep spring_exact_2.01 exact "{ type: spring, anchor: [0, 0, 0], k: 40401 }" unstable
+
+# ---------------------------------------------------------------------------
+# 8. Non-finite stop. Explicit Euler on a stiff spring (omega*dt = 10, the
+# warning ignored) grows by |1 + 10i| ~ 10 per step: `pfx render` must exit
+# 1 naming the emitter and a time, and leave no PNG for any frame at or
+# after that time, and no partial file.
+cat >"$T/explode.yaml" <<'EOF'
+pfx: 1
+duration: 1
+fps: 30
+sim: { rate: 60, integrator: euler }
+forces:
+  stiff: { type: spring, anchor: [0, 0, 0], k: 360000 }
+emitters:
+  boom:
+    position: [1, 0, 0]
+    rate: 5
+    speed: 0
+    lifetime: 10
+image: { size: [32, 32] }
+EOF
+mkdir -p "$T/explode_out"
+"$PFX" render "$T/explode.yaml" -o "$T/explode_out" -q >"$T/explode.log" 2>&1
+status=$?
+msg=$(cat "$T/explode.log")
+tfail=$(sed -n "s/.* at t = \([0-9.e+-]*\) s.*/\1/p" "$T/explode.log" | head -n 1)
+problems=""
+[ $status -eq 1 ] || problems+=" exit $status (expected 1);"
+grep -q "emitter 'boom'" <<<"$msg" || problems+=" no emitter name;"
+[ -n "$tfail" ] || problems+=" no time;"
+for f in "$T"/explode_out/*; do
+    [ -e "$f" ] || continue
+    base=$(basename "$f")
+    if ! [[ $base =~ ^explode_([0-9]{4})\.png$ ]]; then
+        problems+=" stray file $base;"
+        continue
+    fi
+    frame=$((10#${BASH_REMATCH[1]}))
+    # a frame is shown at time frame/fps; none at or after the failure
+    if [ -n "$tfail" ] && "$PY" -c "import sys; sys.exit(0 if $frame / 30.0 >= $tfail else 1)"; then
+        problems+=" $base written at or after t = $tfail;"
+    fi
+    # every PNG written is whole: signature first, IEND chunk last
+    if ! "$PY" - "$f" <<'EOF'; then
+import sys
+d = open(sys.argv[1], "rb").read()
+sys.exit(0 if d[:8] == b"\x89PNG\r\n\x1a\n" and d[-12:-4] == b"\0\0\0\0IEND" else 1)
+EOF
+        problems+=" $base is not a whole PNG;"
+    fi
+done
+if [ -z "$problems" ]; then
+    pass "explode: exit 1, '$msg' ($(ls "$T/explode_out" | wc -l) whole PNGs before t = $tfail)"
+else
+    fail "explode:$problems message: $msg"
+fi
+
+echo "$passed passed, $failed failed"
+[ $failed -eq 0 ]
