@@ -240,7 +240,8 @@ static bool frame_range(const pfx_effect *e, const options *o, long *first, long
     long n = pfx_effect_frame_count(e);
     *first = o->has_frames ? o->first : 0;
     *last = o->has_frames ? o->last : n - 1;
-    if (*last >= n) {
+    /* A looping effect's frames go on for ever: frame f is frame f mod n. */
+    if (*last >= n && !(e->loop && *last < 1000000)) {
         fprintf(stderr, "pfx: --frames %ld:%ld is outside the effect's frames 0:%ld\n", o->first,
                 o->last, n - 1);
         return false;
@@ -415,6 +416,10 @@ static int cmd_info(int argc, char **argv, const options *o) {
     printf("  simulation %g steps/s (dt %.6g s), %.4g steps per frame, prewarm %g s, seed %llu\n",
            e->sim_rate, 1.0 / e->sim_rate, steps_per_frame, e->prewarm,
            (unsigned long long)e->seed);
+    if (e->loop)
+        printf("  loops every %g s (%ld frames), shown from t = %g s when every particle alive "
+               "is periodic\n",
+               e->duration, e->loop_frames, e->loop_start);
     printf("  forces %zu\n", e->force_count);
     static const char *const kinds[] = {"gravity", "attractor",  "drag",
                                         "vortex",  "magnetic",   "spiral",

@@ -31,7 +31,7 @@
 
 static const char *const top_keys[] = {"pfx",        "duration", "fps",   "seed",
                                        "sim",        "camera",   "image", "forces",
-                                       "deflectors", "emitters", NULL};
+                                       "deflectors", "emitters", "loop",  NULL};
 static const char *const sim_keys[] = {"rate",      "prewarm",  "integrator",
                                        "tolerance", "substeps", NULL};
 static const char *const camera_keys[] = {"position", "target", "up", "fov", "ortho", NULL};
@@ -41,7 +41,7 @@ static const char *const emitter_keys[] = {
     "shape", "position", "rotation", "rate", "interval", "bursts", "start", "duration", "loop",
     "direction", "spread", "distance", "inherit_velocity", "speed", "lifetime", "size", "color",
     "alpha", "forces", "deflectors", "gravity_scale", "charge", "mass", "on_birth", "on_death",
-    "on_hit", "trail", "integrator", "kill", "bounds", "blend", NULL};
+    "on_hit", "trail", "lod", "integrator", "kill", "bounds", "blend", NULL};
 /* clang-format on */
 static const char *const blend_modes[] = {"add", "alpha", NULL};
 
@@ -329,6 +329,74 @@ static void compile_kill(compiler *c, const pfx_node *n, pfx_emitter *em) {
                                  em->name, em->alpha_at_age[0], em->kill->rules[i].threshold);
 }
 
+/* The radius of a sphere around the emitter's origin holding its shape. */
+static double shape_radius(const pfx_shape *s) {
+    switch (s->type) {
+    case PFX_SHAPE_BOX:
+        return 0.5 *
+               sqrt(s->size[0] * s->size[0] + s->size[1] * s->size[1] + s->size[2] * s->size[2]);
+    case PFX_SHAPE_RECT:
+        return 0.5 * sqrt(s->size[0] * s->size[0] + s->size[1] * s->size[1]);
+    case PFX_SHAPE_ELLIPSE:
+        return fmax(s->radii[0], s->radii[1]);
+    case PFX_SHAPE_LINE:
+        return fmax(sqrt(s->line_from[0] * s->line_from[0] + s->line_from[1] * s->line_from[1] +
+                         s->line_from[2] * s->line_from[2]),
+                    sqrt(s->line_to[0] * s->line_to[0] + s->line_to[1] * s->line_to[1] +
+                         s->line_to[2] * s->line_to[2]));
+    case PFX_SHAPE_CYLINDER:
+    case PFX_SHAPE_CONE:
+        return sqrt(s->radius * s->radius + s->height * s->height);
+    case PFX_SHAPE_MESH: {
+        double r2 = 0;
+        for (uint32_t i = 0; s->verts && i < s->cum_count; i++)
+            for (int k = 0; k < 3; k++) {
+                const double *v = &s->verts[3 * s->tris[3 * i + k]];
+                r2 = fmax(r2, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+            }
+        return sqrt(r2);
+    }
+    default:
+        return s->radius;
+    }
+}
+
+/* Reeves' level of detail: births per second = (per_pixel + R var) x the
+ * emitter's area on screen, the projected disc of its shape's bounding
+ * sphere seen from the camera (at least one pixel). A distant, small
+ * effect spends fewer particles and looks the same. */
+static void compile_lod(compiler *c, const pfx_node *v, const pfx_node *n, pfx_emitter *em) {
+    static const char *const lod_keys[] = {"per_pixel", "var", NULL};
+    if (!pfx_read_map(&c->r, v, "lod") || !pfx_read_check_keys(&c->r, v, lod_keys, "'lod'"))
+        return;
+    if (pfx_node_get(n, "rate") || pfx_node_get(n, "interval")) {
+        pfx_read_error(&c->r, v, "'lod' sets the rate from the screen area; drop 'rate'");
+        return;
+    }
+    double per_pixel = 1, var = 0;
+    opt_number(c, v, "per_pixel", &per_pixel, 0, false, 1e6);
+    opt_number(c, v, "var", &var, 0, false, 1e6);
+    const pfx_camera *k = &c->e->camera;
+    double view[3], to[3], depth = 0, vlen = 0;
+    for (int a = 0; a < 3; a++) {
+        view[a] = k->target[a] - k->position[a];
+        to[a] = em->position[a] - k->position[a];
+        vlen += view[a] * view[a];
+    }
+    vlen = sqrt(vlen);
+    for (int a = 0; a < 3; a++)
+        depth += to[a] * view[a] / (vlen > 0 ? vlen : 1);
+    double pixels_per_metre =
+        k->ortho ? c->e->height / k->ortho_height
+                 : (depth > 1e-6 ? 0.5 * c->e->height / (tan(0.5 * k->fov_deg * M_PI / 180) * depth)
+                                 : 0);
+    double r_px = shape_radius(&em->shape) * pixels_per_metre;
+    em->lod_area = fmax(1.0, M_PI * r_px * r_px);
+    em->rate_kind = var > 0 ? PFX_RATE_RANDOM : PFX_RATE_CONSTANT;
+    em->rate = fmin(per_pixel * em->lod_area, 1e7);
+    em->rate_var = fmin(var * em->lod_area, em->rate);
+}
+
 /* `direction` (a vector, or normal | radial | inward), `spread` (a cone
  * half-angle, or the thesis's [alpha, beta]), `distance` and
  * `inherit_velocity`. The direction stays in the emitter's frame: the
@@ -456,6 +524,8 @@ static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n,
         pfx_read_keys3(&c->r, v, "rotation", rot_deg, &em->rotation_keys))
         rotation_matrix(rot_deg, em->rotation);
     pfx_compile_emission(&c->r, n, em);
+    if ((v = pfx_node_get(n, "lod")))
+        compile_lod(c, v, n, em);
     compile_direction(c, n, em);
     if ((v = pfx_node_get(n, "speed")))
         range_value(c, v, "speed", &em->speed, -1e6, false, 1e6);
@@ -522,11 +592,84 @@ static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n,
  * emitter whose births are 1/rate apart never exceeds floor(rate * L) + 1.
  * When the sum exceeds the particle budget, pools are cut in proportion and
  * the emitters saturate: a warning says so with the numbers. */
+/* A seamless loop of period P = duration: every emitter's schedule repeats
+ * with period P (or a divisor it states) and draws the same values each
+ * period; keyframes repeat too. Frames come from one period starting once
+ * every particle alive belongs to the periodic regime (after the longest
+ * start + lifetime chain), so frame N = duration x fps is frame 0. What
+ * cannot repeat is a warning at the place that says it. */
+static void compile_loop(compiler *c, const pfx_node *root, const pfx_node *loop,
+                         const pfx_node *emitters) {
+    pfx_effect *e = c->e;
+    const double period = e->duration;
+    double frames = period * e->fps;
+    if (fabs(frames - round(frames)) > 1e-9 * frames) {
+        pfx_read_error(&c->r, loop,
+                       "a looping effect needs duration x fps to be whole frames, got %g", frames);
+        return;
+    }
+    e->loop_frames = lround(frames);
+    double settle = 0;
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        pfx_emitter *em = &e->emitters[i];
+        const pfx_node *n = emitters->pairs[i].value, *v;
+        settle += em->max_lifetime; /* a chain of sub-emitters at worst */
+        if (em->start > settle)
+            settle = em->start + em->max_lifetime;
+        em->key_period = period;
+        if (!em->loop) {
+            em->loop = true;
+            em->duration = period;
+        } else if (fabs(period / em->duration - round(period / em->duration)) > 1e-9) {
+            pfx_read_warning(&c->r, pfx_node_get(n, "duration"),
+                             "emitter '%s' repeats every %g s, which does not divide the loop's "
+                             "%g s: the loop will show a seam",
+                             em->name, em->duration, period);
+        }
+        const char *keys[] = {"position", "rotation"};
+        const pfx_keys3 *kf[] = {&em->position_keys, &em->rotation_keys};
+        for (int k = 0; k < 2; k++)
+            if (kf[k]->count > 1 &&
+                memcmp(kf[k]->v[0], kf[k]->v[kf[k]->count - 1], sizeof(double[3])))
+                pfx_read_warning(&c->r, pfx_node_get(n, keys[k]),
+                                 "'%s' keyframes end elsewhere than they start: the loop will "
+                                 "jump at the seam",
+                                 keys[k]);
+        if (em->rate_kind == PFX_RATE_CURVE &&
+            em->rate_curve.v[0] != em->rate_curve.v[em->rate_curve.count - 1])
+            pfx_read_warning(&c->r, pfx_node_get(n, "rate"),
+                             "the rate curve ends at another value than it starts: the loop will "
+                             "change rate at the seam");
+        for (size_t b = 0; b < em->burst_count; b++)
+            if (em->bursts[b].cycles == 1 && (v = pfx_node_get(n, "bursts")))
+                pfx_read_warning(&c->r, v->items[b],
+                                 "a one-shot burst repeats every %g s when the effect loops",
+                                 period);
+        if (em->spawn_count)
+            pfx_read_warning(&c->r, emitters->pairs[i].key,
+                             "emitter '%s' has sub-emitters: their random counts do not repeat "
+                             "every period, so the loop is not exact",
+                             em->name);
+        for (size_t d = 0; d < em->deflector_count; d++) {
+            const pfx_deflector *df = &em->deflectors[d];
+            if (df->resilience[0] != df->resilience[1] || df->friction[0] != df->friction[1])
+                pfx_read_warning(&c->r, emitters->pairs[i].key,
+                                 "deflector '%s' draws a random response per hit: the loop is "
+                                 "not exact",
+                                 df->name);
+        }
+    }
+    for (size_t f = 0; f < e->force_count; f++)
+        if (e->forces[f].spec.kind == PFX_MOTION_TURBULENCE && e->forces[f].spec.speed != 0)
+            pfx_read_warning(&c->r, root,
+                             "turbulence '%s' drifts with 'speed': the loop will show a seam",
+                             e->forces[f].name);
+    e->loop_start = fmax(e->prewarm, ceil(settle / period - 1e-9) * period);
+}
+
 /* Its own births' peak plus what sub-emitters can feed it within one
  * lifetime. */
-static double pool_need(const pfx_emitter *em) {
-    return pfx_schedule_peak(em) + ceil(em->spawned_rate * em->max_lifetime);
-}
+static double pool_need(const pfx_emitter *em) { return pfx_schedule_peak(em) + em->spawned_peak; }
 
 static void size_pools(compiler *c, const pfx_node *emitters) {
     pfx_effect *e = c->e;
@@ -637,6 +780,14 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
                        e->sim_rate, steps, MAX_STEPS);
     }
 
+    const pfx_node *loop = pfx_node_get(root, "loop");
+    if (loop) {
+        if (loop->kind != PFX_NODE_SCALAR ||
+            (strcmp(loop->text, "true") && strcmp(loop->text, "false")))
+            pfx_read_error(&c.r, loop, "'loop' must be true or false");
+        else
+            e->loop = !strcmp(loop->text, "true");
+    }
     const pfx_node *emitters = pfx_node_get(root, "emitters");
     if (!emitters) {
         pfx_diag_add(d, PFX_SEV_WARNING, root->line, root->col, 1,
@@ -660,6 +811,8 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
                     !pfx_node_get(n, "interval") && !pfx_node_get(n, "bursts"))
                     e->emitters[i].rate = 0;
             }
+            if (e->loop)
+                compile_loop(&c, root, loop, emitters);
             size_pools(&c, emitters);
         }
     }

@@ -203,34 +203,57 @@ bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) 
             t->keeps_parent_color |= s->inherit_color;
             t->keeps_size_scale |= s->inherit_size;
         }
-    /* Generation by generation: rate[g + 1][target] += factor * rate[g][i].
-     * Without depth the graph is acyclic, so n generations reach every
-     * emitter; with depth, MAX_DEPTH more bound the cycles. */
-    double rate[1024] = {0}, next[1024], total[1024] = {0};
-    for (size_t i = 0; i < n; i++)
+    /* Generation by generation, the births per second a spawn feeds its
+     * target (factor x the parent's rate) and the most it can feed within
+     * one lifetime of the target: events come in bursts (every parent alive
+     * may die in one step), so a window of the child's lifetime L holds at
+     * most the parent's births in L, plus one, plus every parent alive at
+     * its start, each making the largest count. Without depth the graph is
+     * acyclic, so n generations reach every emitter; with depth, MAX_DEPTH
+     * more bound the cycles. */
+    double rate[1024], peak[1024], next_rate[1024], next_peak[1024], total_rate[1024],
+        total_peak[1024];
+    for (size_t i = 0; i < n; i++) {
         rate[i] = pfx_schedule_max_rate(&e->emitters[i]);
+        peak[i] = pfx_schedule_peak(&e->emitters[i]);
+        total_rate[i] = total_peak[i] = 0;
+    }
     for (size_t g = 0; g < n + MAX_DEPTH; g++) {
-        memset(next, 0, n * sizeof *next);
+        memset(next_rate, 0, n * sizeof *next_rate);
+        memset(next_peak, 0, n * sizeof *next_peak);
         bool any = false;
         for (size_t i = 0; i < n; i++) {
-            if (!rate[i])
+            if (!rate[i] && !peak[i])
                 continue;
             const pfx_emitter *em = &e->emitters[i];
             for (size_t k = 0; k < em->spawn_count; k++) {
                 const pfx_spawn *s = &em->spawns[k];
                 if (s->depth && g >= s->depth)
                     continue;
-                next[s->target] += spawn_factor(em, s) * rate[i];
+                const pfx_emitter *t = &e->emitters[s->target];
+                double per_event = s->probability * floor(pfx_value_max(&s->count));
+                double events = rate[i] * t->max_lifetime + 1 + peak[i];
+                if (s->event == PFX_SPAWN_TRAIL)
+                    events = peak[i] * (s->rate * t->max_lifetime + 1);
+                else if (s->event == PFX_SPAWN_HIT)
+                    events *= HITS_PER_PARTICLE;
+                next_rate[s->target] += spawn_factor(em, s) * rate[i];
+                next_peak[s->target] += per_event * events;
                 any = true;
             }
         }
-        for (size_t i = 0; i < n; i++)
-            total[i] += next[i];
-        memcpy(rate, next, n * sizeof *rate);
+        for (size_t i = 0; i < n; i++) {
+            total_rate[i] += next_rate[i];
+            total_peak[i] += next_peak[i];
+        }
+        memcpy(rate, next_rate, n * sizeof *rate);
+        memcpy(peak, next_peak, n * sizeof *peak);
         if (!any)
             break;
     }
-    for (size_t i = 0; i < n; i++)
-        e->emitters[i].spawned_rate = fmin(total[i], 1e9);
+    for (size_t i = 0; i < n; i++) {
+        e->emitters[i].spawned_rate = fmin(total_rate[i], 1e9);
+        e->emitters[i].spawned_peak = fmin(ceil(total_peak[i]), 1e9);
+    }
     return true;
 }

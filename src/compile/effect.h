@@ -178,6 +178,8 @@ typedef struct pfx_emitter {
     double inherit_velocity; /* fraction of the emitter's velocity added */
     pfx_keys3 position_keys; /* animated `position` (else `position` holds) */
     pfx_keys3 rotation_keys; /* animated `rotation` degrees */
+    double lod_area;         /* `lod`: the emitter's area on screen in pixels (0: no lod) */
+    double key_period;       /* > 0: keyframes repeat with this period (a looping effect) */
     pfx_value speed;
     pfx_value lifetime;
     double max_lifetime; /* upper bound of `lifetime` */
@@ -207,6 +209,7 @@ typedef struct pfx_emitter {
     size_t spawn_count; /* its sub-emitters (on_birth, on_death, on_hit, trail) */
     pfx_spawn *spawns;
     double spawned_rate;   /* worst-case births per second it receives from parents */
+    double spawned_peak;   /* worst-case of those alive at once (pool sizing) */
     bool keeps_generation; /* in a cycle of sub-emitters: a generation column */
     bool keeps_parent_color, keeps_size_scale; /* some parent passes colour / size */
     pfx_blend blend;
@@ -232,6 +235,9 @@ typedef struct pfx_effect {
     uint64_t seed;
     double sim_rate; /* steps per second */
     double prewarm;
+    bool loop;                 /* seamless: every emitter repeats with period `duration` */
+    long loop_frames;          /* frames in one period (duration x fps, whole) */
+    double loop_start;         /* simulation time of frame 0 when looping */
     pfx_integrator integrator; /* sim.integrator; emitters may override */
     double tolerance;          /* sim.tolerance, m per simulated second */
     int substeps;              /* sim.substeps; 0: auto */

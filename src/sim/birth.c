@@ -41,6 +41,8 @@ static void rotation_from_degrees(const double deg[3], double m[9]) {
 }
 
 void pfx_emitter_pose_at(const pfx_emitter *em, double t, emitter_pose *p) {
+    if (em->key_period > 0) /* a looping effect repeats its keyframes */
+        t = fmod(t, em->key_period);
     memcpy(p->position, em->position, sizeof p->position);
     memcpy(p->rotation, em->rotation, sizeof p->rotation);
     p->velocity[0] = p->velocity[1] = p->velocity[2] = 0;

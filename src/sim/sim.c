@@ -96,6 +96,26 @@ size_t pfx_sim_bytes_per_particle(const pfx_effect *e, size_t i) {
     return 4 * layout_columns(em, &unused, NULL, 1) + em->sticks;
 }
 
+/* Seeds every emitter's streams and schedule: the state at time 0. */
+static void init_emitters(pfx_sim *s) {
+    const pfx_effect *e = s->effect;
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        const pfx_emitter *em = &e->emitters[i];
+        pfx_emitter_state *st = &s->emitters[i];
+        memset(st, 0, sizeof *st);
+        uint64_t stream = pfx_rng_stream_for(em->name);
+        pfx_rng_seed(&st->rng, e->seed, stream);
+        st->rng_base = st->rng;
+        pfx_rng probe = st->rng;
+        birth_draws b;
+        pfx_birth_draw(em, 0, &probe, NULL, NULL, &b);
+        st->draws_per_birth = probe.draws - st->rng.draws;
+        pfx_schedule_init(&st->sched, em, e->seed, stream);
+        pfx_rng_seed(&st->collide_rng, e->seed, stream ^ 0xc011deULL);
+        pfx_rng_seed(&st->spawn_rng, e->seed, stream ^ 0x5ba3ULL);
+    }
+}
+
 pfx_sim *pfx_sim_create(const pfx_effect *e) {
     pfx_sim *s = calloc(1, sizeof *s);
     if (!s)
@@ -133,17 +153,19 @@ pfx_sim *pfx_sim_create(const pfx_effect *e) {
         next += n * layout_columns(em, p, next, n);
         if (em->motion)
             s->motions[i] = *em->motion;
-        pfx_emitter_state *st = &s->emitters[i];
-        pfx_rng_seed(&st->rng, e->seed, pfx_rng_stream_for(em->name));
-        pfx_rng probe = st->rng;
-        birth_draws b;
-        pfx_birth_draw(em, 0, &probe, NULL, NULL, &b);
-        st->draws_per_birth = probe.draws - st->rng.draws;
-        pfx_schedule_init(&st->sched, em, e->seed, pfx_rng_stream_for(em->name));
-        pfx_rng_seed(&st->collide_rng, e->seed, pfx_rng_stream_for(em->name) ^ 0xc011deULL);
-        pfx_rng_seed(&st->spawn_rng, e->seed, pfx_rng_stream_for(em->name) ^ 0x5ba3ULL);
     }
+    init_emitters(s);
     return s;
+}
+
+void pfx_sim_reset(pfx_sim *s) {
+    const pfx_effect *e = s->effect;
+    for (size_t i = 0; i < e->emitter_count; i++)
+        s->pools[i].count = 0;
+    init_emitters(s);
+    s->step = 0;
+    s->time = 0;
+    s->failed = false;
 }
 
 void pfx_sim_destroy(pfx_sim *s) {
@@ -437,6 +459,16 @@ bool pfx_sim_make_particle(pfx_sim *s, size_t i, double tb, double t1, const pfx
     return true;
 }
 
+/* A looping effect draws the same values in every period: at a period's
+ * first birth the attribute stream starts over. */
+static void repeat_draws(pfx_sim *s, size_t i) {
+    pfx_emitter_state *st = &s->emitters[i];
+    if (s->effect->loop && st->sched.period != st->rng_period) {
+        st->rng = st->rng_base;
+        st->rng_period = st->sched.period;
+    }
+}
+
 /* Emits the scheduled births due up to t1. Births that cannot be alive at
  * t1 (older than the maximum lifetime) are skipped in closed form where the
  * rate allows and their draws jumped over, so a step's cost is bounded by
@@ -444,6 +476,7 @@ bool pfx_sim_make_particle(pfx_sim *s, size_t i, double tb, double t1, const pfx
 static void emit(pfx_sim *s, size_t i, double t1) {
     const pfx_emitter *em = &s->effect->emitters[i];
     pfx_emitter_state *st = &s->emitters[i];
+    repeat_draws(s, i);
     uint64_t skipped = pfx_schedule_skip_before(&st->sched, em, t1 - em->max_lifetime);
     if (skipped) {
         pfx_rng_advance(&st->rng, skipped * st->draws_per_birth);
@@ -453,6 +486,7 @@ static void emit(pfx_sim *s, size_t i, double t1) {
         double tb = pfx_schedule_peek(&st->sched, em);
         if (!(tb <= t1))
             break;
+        repeat_draws(s, i);
         pfx_schedule_pop(&st->sched, em);
         pfx_sim_make_particle(s, i, tb, t1, NULL);
     }
@@ -524,6 +558,11 @@ void pfx_sim_view_at(const pfx_sim *s, pfx_sim *view, double t) {
 }
 
 double pfx_sim_frame_time(const pfx_effect *e, long frame) {
+    /* A looping effect shows one period, from a time when every particle
+     * alive belongs to the periodic regime: frame f is frame f mod N, so
+     * frame N is frame 0 byte for byte. */
+    if (e->loop)
+        return e->loop_start + (double)(frame % e->loop_frames) / e->fps;
     return e->prewarm + (double)frame / e->fps;
 }
 
@@ -587,6 +626,8 @@ uint64_t pfx_sim_hash(const pfx_sim *s) {
 
 const pfx_sim *pfx_sim_frame(pfx_sim *s, pfx_sim *view, long frame) {
     double t = pfx_sim_frame_time(s->effect, frame);
+    if (t < s->time - 1e-12)
+        pfx_sim_reset(s); /* a looping effect wrapped round: start again */
     pfx_sim_run_to(s, t);
     if (t <= s->time + 1e-12)
         return s;

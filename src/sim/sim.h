@@ -39,6 +39,8 @@ typedef struct pfx_pool {
 
 typedef struct pfx_emitter_state {
     pfx_rng rng;              /* the particles' attributes */
+    pfx_rng rng_base;         /* rng at time 0: a looping effect restarts it every period */
+    uint64_t rng_period;      /* the schedule period rng was last restarted for */
     pfx_schedule sched;       /* when they are born */
     uint64_t born;            /* births so far (each drawn, alive or not) */
     uint64_t dropped;         /* births lost to a full pool */
@@ -79,6 +81,9 @@ void pfx_sim_step(pfx_sim *s);
 
 /* Steps until the next step would pass simulation time t. */
 void pfx_sim_run_to(pfx_sim *s, double t);
+
+/* Back to the state at time 0 (no allocation). */
+void pfx_sim_reset(pfx_sim *s);
 
 /* Copies s into view (created from the same effect) and advances the copy
  * from s's time to t (t >= s->time, less than one step later) by a partial

@@ -14,37 +14,9 @@
 #include "sim/sample.h"
 #include "sim/sim.h"
 #include "test.h"
+#include "test_compile.h"
 
 /* ---- Helpers ---- */
-
-typedef struct compiled {
-    pfx_doc doc;
-    pfx_arena arena;
-    pfx_diags diags;
-    pfx_effect *e;
-} compiled;
-
-static pfx_effect *compile_opt(compiled *c, const char *text, const pfx_compile_options *opt) {
-    memset(c, 0, sizeof *c);
-    size_t len = strlen(text);
-    pfx_diags_init(&c->diags, "inline.yaml", text, len);
-    if (pfx_parse(text, len, &c->doc, &c->diags))
-        c->e = pfx_compile(c->doc.root, "inline.yaml", opt, &c->arena, &c->diags);
-    if (!c->e)
-        pfx_diags_print(&c->diags, stderr, false);
-    CHECK(c->e != NULL);
-    return c->e;
-}
-
-static pfx_effect *compile_text(compiled *c, const char *text) {
-    return compile_opt(c, text, NULL);
-}
-
-static void compiled_free(compiled *c) {
-    pfx_doc_free(&c->doc);
-    pfx_arena_free(&c->arena);
-    pfx_diags_free(&c->diags);
-}
 
 /* Index of particle `id` in pool p, or -1. */
 static long find_id(const pfx_pool *p, uint32_t id) {

@@ -1,0 +1,427 @@
+# Docs test: man pages lint clean, every --help option is in pfx.1, the schema is valid and
+# agrees with pfx on effects/*.yaml and bad files, every key compile.c accepts is described in
+# pfx-effect.5, and the pages' examples are true.
+#
+# Usage: bash run_docs.sh <path-to-pfx> <source-dir>   (run by CTest)
+# The schema checks use Debian's python3-jsonschema and python3-yaml, which
+# belong to /usr/bin/python3 (not necessarily the first python3 on PATH).
+# Each check prints "ok: ..." or "FAIL: ..." with what went wrong; the last
+# line is "N passed, M failed", and the exit status is 1 if any failed.
+set -u
+
+if [ $# -ne 2 ]; then
+    echo "usage: bash run_docs.sh <path-to-pfx> <source-dir>" >&2
+    exit 2
+fi
+pfx=$1
+src=$2
+# Absolute, since some checks run pfx from a temporary directory.
+case $pfx in /*) ;; *) pfx=$PWD/$pfx ;; esac
+case $src in /*) ;; *) src=$PWD/$src ;; esac
+man1=$src/man/pfx.1
+man5=$src/man/pfx-effect.5
+schema=$src/schemas/pfx-effect.schema.json
+compile_c=$src/src/compile/compile.c
+python=/usr/bin/python3
+
+# The sections of pfx-effect.5 where top-level and emitter keys must each
+# have their own tagged paragraph.
+top_section="TOP-LEVEL KEYS"
+emitter_section="EMITTERS"
+
+passed=0
+failed=0
+pass() {
+    passed=$((passed + 1))
+    echo "ok: $1"
+}
+fail() {
+    failed=$((failed + 1))
+    echo "FAIL: $1"
+    if [ $# -gt 1 ] && [ -n "$2" ]; then
+        printf '%s\n' "$2" | sed 's/^/    /'
+    fi
+}
+
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/pfx-docs.XXXXXX") || exit 1
+trap 'rm -rf "$tmp"' EXIT
+
+for f in "$pfx" "$man1" "$man5" "$schema" "$compile_c"; do
+    if [ ! -e "$f" ]; then
+        fail "missing $f"
+    fi
+done
+if [ "$failed" -gt 0 ]; then
+    echo "$passed passed, $failed failed"
+    exit 1
+fi
+
+# Roff source -> plain text for grepping: hyphen and quote escapes become the
+# characters they print, font changes and zero-width escapes go.
+deroff() {
+    sed -e 's/\\-/-/g' -e 's/\\(dq/"/g' -e 's/\\(aq/'"'"'/g' -e 's/\\(ha/^/g' \
+        -e 's/\\(ti/~/g' -e 's/\\(mu/x/g' -e 's/\\f[BIRP]//g' -e 's/\\&//g' -e 's/\\e/\\/g' "$@"
+}
+
+# The lines of the .EX/.EE blocks of section $2 of page $1, each block ended
+# by a line "@@END@@", de-roffed.
+examples_of() {
+    awk -v want="$2" '
+        /^\.SH / { sec = substr($0, 5); gsub(/"/, "", sec); next }
+        sec != want { next }
+        /^\.EX/ { inex = 1; next }
+        /^\.EE/ { if (inex) print "@@END@@"; inex = 0; next }
+        inex { print }
+    ' "$1" | deroff
+}
+
+# Writes block number $2 (from 1) of the examples_of output in $1 to stdout.
+nth_block() {
+    awk -v n="$2" '/^@@END@@$/ { k++; next } k == n - 1 { print }' "$1"
+}
+
+# --- (a) the man pages lint clean -----------------------------------------
+for page in "$man1" "$man5"; do
+    name=${page#"$src"/}
+    linted=false
+    if command -v mandoc >/dev/null 2>&1; then
+        out=$(mandoc -T lint -W warning "$page" 2>&1)
+        rc=$?
+        if [ $rc -eq 0 ] && [ -z "$out" ]; then
+            pass "mandoc -T lint -W warning $name is clean"
+        else
+            fail "mandoc -T lint -W warning $name (status $rc)" "$out"
+        fi
+        linted=true
+    fi
+    if command -v groff >/dev/null 2>&1; then
+        out=$(groff -ww -z -man "$page" 2>&1)
+        rc=$?
+        if [ $rc -eq 0 ] && [ -z "$out" ]; then
+            pass "groff -ww -z -man $name is clean"
+        else
+            fail "groff -ww -z -man $name (status $rc)" "$out"
+        fi
+        linted=true
+    fi
+    if ! $linted; then
+        fail "cannot lint $name: neither mandoc nor groff is installed (apt-get install mandoc)"
+    fi
+done
+
+# --- (b) every option and command of `pfx --help` is in pfx.1 --------------
+help=$("$pfx" --help 2>&1)
+rc=$?
+if [ $rc -ne 0 ]; then
+    fail "pfx --help exits $rc, not 0" "$help"
+fi
+man1_text=$(deroff "$man1")
+long_opts=$(printf '%s\n' "$help" | grep -oE -- '--[a-z][a-z0-9-]*' | sort -u)
+short_opts=$(printf '%s\n' "$help" | grep -oE -- '(^|[[ ,|])-[A-Za-z]([], |]|$)' |
+    grep -oE -- '-[A-Za-z]' | sort -u)
+commands=$(printf '%s\n' "$help" | awk '/^commands:/ { on = 1; next } on && NF == 0 { on = 0 }
+    on { print $1 }')
+if [ -z "$long_opts" ] || [ -z "$short_opts" ] || [ -z "$commands" ]; then
+    fail "could not find the long options, short options and commands in pfx --help" "$help"
+else
+    missing=""
+    for opt in $long_opts $short_opts; do
+        # The option as a word of its own: -o must not match inside --output.
+        if ! printf '%s\n' "$man1_text" | grep -qE -- "(^|[^-[:alnum:]])$opt([^-[:alnum:]]|$)"; then
+            missing="$missing $opt"
+        fi
+    done
+    n=$(echo $long_opts $short_opts | wc -w)
+    if [ -z "$missing" ]; then
+        pass "all $n options of pfx --help are in man/pfx.1"
+    else
+        fail "options of pfx --help missing from man/pfx.1:$missing"
+    fi
+    missing=""
+    for cmd in $commands; do
+        if ! grep -qE "^\.BI? \"?$cmd( |\"|$)" "$man1"; then
+            missing="$missing $cmd"
+        fi
+    done
+    if [ -z "$missing" ]; then
+        pass "all commands of pfx --help ($(echo $commands)) are in man/pfx.1"
+    else
+        fail "commands of pfx --help missing from man/pfx.1:$missing"
+    fi
+fi
+
+# --- (c), (d) the schema: valid, accepts the examples, rejects bad files ----
+# The same documents also go through `pfx validate`, so the test data is
+# known to be good or bad by the compiler's own judgement.
+examples_of "$man5" EXAMPLES >"$tmp/man5-examples"
+if "$python" -c 'import jsonschema, yaml' 2>/dev/null; then
+    out=$("$python" - "$schema" "$pfx" "$tmp" "$src"/effects/*.yaml <<'PY'
+import glob, json, os, subprocess, sys
+import jsonschema, yaml
+
+schema_path, pfx, tmp, effects = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
+
+def ok(msg): print("ok: " + msg)
+def fail(msg, detail=""):
+    print("FAIL: " + msg)
+    for line in detail.splitlines():
+        print("    " + line)
+
+try:
+    with open(schema_path) as f:
+        schema = json.load(f)
+except Exception as e:
+    fail("schemas/pfx-effect.schema.json is not JSON", str(e))
+    sys.exit(0)
+if schema.get("$schema") != "https://json-schema.org/draft/2020-12/schema":
+    fail("the schema does not declare JSON Schema 2020-12 in $schema")
+try:
+    jsonschema.Draft202012Validator.check_schema(schema)
+    ok("the schema is a valid JSON Schema 2020-12")
+except jsonschema.exceptions.SchemaError as e:
+    fail("the schema is not a valid JSON Schema 2020-12", str(e))
+    sys.exit(0)
+validator = jsonschema.Draft202012Validator(schema)
+
+def schema_errors(text):
+    try:
+        doc = yaml.safe_load(text)
+    except yaml.YAMLError as e:
+        return ["not YAML: %s" % e]
+    return ["%s: %s" % ("/".join(map(str, e.absolute_path)) or "(top)", e.message)
+            for e in validator.iter_errors(doc)]
+
+def pfx_validate(name, text):
+    path = os.path.join(tmp, name + ".yaml")
+    with open(path, "w") as f:
+        f.write(text)
+    r = subprocess.run([pfx, "validate", path], capture_output=True, text=True)
+    return r.returncode, r.stderr
+
+if not effects:
+    fail("no effects/*.yaml to validate")
+for path in effects:
+    with open(path) as f:
+        text = f.read()
+    errs = schema_errors(text)
+    name = "effects/" + os.path.basename(path)
+    if errs:
+        fail(name + " does not validate against the schema", "\n".join(errs))
+    else:
+        ok(name + " validates against the schema")
+
+# Documents pfx accepts, written to reach the corners of the format.
+good = {
+    "minimal emitter": "pfx: 1\nemitters:\n  a: {}\n",
+    "every form": """\
+pfx: 1.0
+duration: 0.5
+fps: 24
+seed: 12345678901234567890
+sim: { rate: 1, prewarm: 0 }
+camera: { position: [1, 2, 3], target: [0, 0, 0], up: [0, 0, 1], ortho: 4 }
+image: { size: [1, 16384], background: [0.1, 0.2, 0.3] }
+forces:
+  down: { type: gravity }
+  wind: { type: gravity, accel: [1000000, 0, -1000000] }
+emitters:
+  a:
+    shape: { type: box, size: [1, 0, 2] }
+    rotation: [90, -45, 720]
+    rate: 0
+    direction: [0, 0, -2]
+    spread: 180
+    speed: { normal: [1, 0.5] }
+    lifetime: { mean: 2 }
+    size: { end: [0, 1000000] }
+    color: ["#fff", "#ffff", "#ffffff", "#ffffff80", [1, 0, 0], [0, 1, 0, 0.5], transparent]
+    forces: []
+    gravity_scale: { normal: [0, 1], clamp: [-1000, 1000] }
+    blend: alpha
+  b:
+    shape: { type: disc, radius: 0 }
+    color: [{ at: 0, color: "#000" }, { at: 0.5, color: [1, 1, 1] }, { at: 0.5, color: "#f00" }]
+    forces: [wind, down]
+    size: { start: { mean: 1, var: 0.5 }, end: 0 }
+  c:
+    shape: { type: point }
+    color: [[1, 0.5, 0], [1, 0, 0, 0]]
+    lifetime: 86400
+    rate: 10000000
+""",
+}
+# Documents pfx rejects; the schema must reject each of them too.
+bad = {
+    "unknown top-level key": "pfx: 1\ndurration: 3\n",
+    "unknown emitter key": "pfx: 1\nemitters:\n  a: { colr: \"#fff\", no_such_key: 1 }\n",
+    "unknown shape type": "pfx: 1\nemitters:\n  a: { shape: { type: cube } }\n",
+    "shape with another type's key": "pfx: 1\nemitters:\n  a: { shape: { type: sphere, size: [1, 1, 1] } }\n",
+    "sphere without radius": "pfx: 1\nemitters:\n  a: { shape: { type: sphere } }\n",
+    "point with a radius": "pfx: 1\nemitters:\n  a: { shape: { type: point, radius: 1 } }\n",
+    "unknown force type": "pfx: 1\nforces:\n  g: { type: no_such_force }\n",
+    "unknown gravity key": "pfx: 1\nforces:\n  g: { type: gravity, accell: [0, 1, 0] }\n",
+    "force without type": "pfx: 1\nforces:\n  g: { accel: [0, 1, 0] }\n",
+    "missing pfx": "duration: 1\n",
+    "wrong version": "pfx: 2\n",
+    "unknown sim key": "pfx: 1\nsim: { rate: 60, no_such_key: 2 }\n",
+    "unknown camera key": "pfx: 1\ncamera: { no_such_key: 2 }\n",
+    "fov and ortho": "pfx: 1\ncamera: { fov: 40, ortho: 4 }\n",
+    "fov 180": "pfx: 1\ncamera: { fov: 180 }\n",
+    "image size 0": "pfx: 1\nimage: { size: [0, 512] }\n",
+    "image size too big": "pfx: 1\nimage: { size: [16385, 512] }\n",
+    "malformed colour": "pfx: 1\nimage: { background: \"#12345\" }\n",
+    "colour above 1": "pfx: 1\nimage: { background: [1, 2, 0] }\n",
+    "negative rate": "pfx: 1\nemitters:\n  a: { rate: -3 }\n",
+    "zero lifetime": "pfx: 1\nemitters:\n  a: { lifetime: 0 }\n",
+    "negative var": "pfx: 1\nemitters:\n  a: { lifetime: { mean: 1, var: -1 } }\n",
+    "mean with normal": "pfx: 1\nemitters:\n  a: { speed: { mean: 1, normal: [1, 0.1] } }\n",
+    "range of three": "pfx: 1\nemitters:\n  a: { speed: [1, 2, 3] }\n",
+    "negative size range": "pfx: 1\nemitters:\n  a: { size: [-1, 2] }\n",
+    "unknown size key": "pfx: 1\nemitters:\n  a: { size: { start: 1, middle: 2 } }\n",
+    "zero direction": "pfx: 1\nemitters:\n  a: { direction: [0, 0, 0] }\n",
+    "spread above 180": "pfx: 1\nemitters:\n  a: { spread: 181 }\n",
+    "unknown blend": "pfx: 1\nemitters:\n  a: { blend: multiply }\n",
+    "unknown stop key": "pfx: 1\nemitters:\n  a: { color: [{ at: 0, color: \"#fff\", alpha: 1 }] }\n",
+    "empty gradient": "pfx: 1\nemitters:\n  a: { color: [] }\n",
+    "gravity_scale too big": "pfx: 1\nemitters:\n  a: { gravity_scale: 1001 }\n",
+    "emitter not a mapping": "pfx: 1\nemitters:\n  a: 3\n",
+}
+
+for name, text in good.items():
+    errs = schema_errors(text)
+    rc, err = pfx_validate("good", text)
+    if errs:
+        fail("the schema rejects a good document (%s)" % name, "\n".join(errs))
+    elif rc != 0:
+        fail("pfx validate rejects the good test document (%s)" % name, err)
+    else:
+        ok("schema and pfx both accept: " + name)
+for name, text in bad.items():
+    errs = schema_errors(text)
+    rc, err = pfx_validate("bad", text)
+    if rc != 1:
+        fail("pfx validate exits %d, not 1, on the bad test document (%s)" % (rc, name), err)
+    elif not errs:
+        fail("the schema accepts a bad document (%s)" % name, text)
+    else:
+        ok("schema and pfx both reject: " + name)
+
+# The annotated examples of pfx-effect.5.
+with open(os.path.join(tmp, "man5-examples")) as f:
+    blocks = [b.strip("\n") + "\n" for b in f.read().split("@@END@@\n") if b.strip()]
+if not blocks:
+    fail("no examples found in the EXAMPLES section of man/pfx-effect.5")
+for i, text in enumerate(blocks, 1):
+    errs = schema_errors(text)
+    rc, err = pfx_validate("man-example-%d" % i, text)
+    if errs:
+        fail("example %d of pfx-effect.5 does not validate against the schema" % i, "\n".join(errs))
+    elif rc != 0 or err:
+        fail("pfx validate does not accept example %d of pfx-effect.5 cleanly" % i, err)
+    else:
+        ok("example %d of pfx-effect.5 is valid for pfx and the schema" % i)
+PY
+)
+    printf '%s\n' "$out"
+    passed=$((passed + $(printf '%s\n' "$out" | grep -c '^ok:')))
+    failed=$((failed + $(printf '%s\n' "$out" | grep -c '^FAIL:')))
+    if ! printf '%s\n' "$out" | grep -qE '^(ok|FAIL):'; then
+        fail "the schema checks printed nothing"
+    fi
+else
+    fail "$python cannot import jsonschema and yaml (apt-get install python3-jsonschema python3-yaml)"
+fi
+
+# --- (e) every key and name compile.c accepts is described in pfx-effect.5 --
+# "<array> <string>" for every string of every static string array in
+# src/compile/*.c (top_keys, emitter_keys, shape_types, blend_modes,
+# value_keys, ...): a key added there without docs fails here.
+string_arrays() {
+    awk '
+        /static const char \*const [a-z_]+\[\] *= *[{]/ {
+            match($0, /const [a-z_]+\[\]/)
+            name = substr($0, RSTART + 6, RLENGTH - 8)
+            inarr = 1
+        }
+        inarr {
+            line = $0
+            while (match(line, /"[^"]*"/)) {
+                print name, substr(line, RSTART + 1, RLENGTH - 2)
+                line = substr(line, RSTART + RLENGTH)
+            }
+            if (line ~ /[}]/)
+                inarr = 0
+        }
+    ' "$@"
+}
+arrays=$(string_arrays "$src"/src/compile/*.c)
+# Bold text of the page: \fB...\fR runs, .B lines, first words of .BR/.BI.
+bold=$(
+    sed -e 's/\\-/-/g' "$man5" | grep -oE '\\fB([^\\]|\\[^f])*' | sed 's/^\\fB//'
+    sed -e 's/\\-/-/g' "$man5" | sed -n 's/^\.B //p'
+    sed -e 's/\\-/-/g' "$man5" | sed -nE 's/^\.(BR|BI) +"?([^" ]*).*/\2/p'
+)
+# Tags (the bold first word after .TP) per section: "<section>\t<tag>".
+tags=$(sed -e 's/\\-/-/g' "$man5" | awk '
+    /^\.SH / { sec = substr($0, 5); gsub(/"/, "", sec); next }
+    prev == ".TP" {
+        t = ""
+        if (match($0, /^\\fB[a-z_]+\\f[RP]/)) t = substr($0, 4, RLENGTH - 6)
+        else if ($0 ~ /^\.B [a-z_]+$/) t = substr($0, 4)
+        if (t != "") print sec "\t" t
+    }
+    { prev = $0 }
+')
+for want in top_keys emitter_keys; do
+    if ! printf '%s\n' "$arrays" | grep -q "^$want "; then
+        fail "could not read the $want[] array from src/compile/compile.c"
+    fi
+done
+undescribed=""
+untagged=""
+count=0
+while read -r array key; do
+    [ -n "$key" ] || continue
+    count=$((count + 1))
+    if ! printf '%s\n' "$bold" | grep -qw -- "$key"; then
+        undescribed="$undescribed $key ($array)"
+    fi
+    section=""
+    case $array in
+    top_keys) section=$top_section ;;
+    emitter_keys) section=$emitter_section ;;
+    esac
+    if [ -n "$section" ] && ! printf '%s\n' "$tags" | grep -qxF "$section	$key"; then
+        untagged="$untagged $key"
+    fi
+done <<<"$arrays"
+if [ -n "$undescribed" ]; then
+    fail "keys and names accepted by the compiler but not described (in bold) in man/pfx-effect.5:$undescribed"
+else
+    pass "all $count keys and names of the compiler's string arrays are described in man/pfx-effect.5"
+fi
+if [ -n "$untagged" ]; then
+    fail "top-level or emitter keys without their own paragraph in sections '$top_section' or '$emitter_section' of man/pfx-effect.5:$untagged"
+else
+    pass "every top-level and emitter key has its own paragraph in man/pfx-effect.5"
+fi
+
+# --- (f) the diagnostics example of pfx.1 is what pfx prints --------------
+examples_of "$man1" DIAGNOSTICS >"$tmp/man1-diag"
+nth_block "$tmp/man1-diag" 1 >"$tmp/flame.yaml"
+nth_block "$tmp/man1-diag" 2 >"$tmp/flame.expected"
+if [ ! -s "$tmp/flame.yaml" ] || [ ! -s "$tmp/flame.expected" ]; then
+    fail "could not find the example file and its diagnostics in DIAGNOSTICS of man/pfx.1"
+else
+    (cd "$tmp" && "$pfx" validate flame.yaml) >"$tmp/flame.stdout" 2>"$tmp/flame.actual"
+    rc=$?
+    if [ $rc -eq 1 ] && [ ! -s "$tmp/flame.stdout" ] && cmp -s "$tmp/flame.expected" "$tmp/flame.actual"; then
+        pass "the diagnostics shown in man/pfx.1 are what pfx validate prints"
+    else
+        fail "pfx validate on the example of man/pfx.1 (status $rc) differs from the page" \
+            "$(diff "$tmp/flame.expected" "$tmp/flame.actual")"
+    fi
+fi
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
