@@ -21,35 +21,49 @@ static double now(void) {
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* A gravity-only fountain whose steady live count is about n: rate n / L with
- * a constant lifetime L. */
-static void make_fountain(pfx_effect *e, pfx_emitter *em, double n) {
-    memset(e, 0, sizeof *e);
-    memset(em, 0, sizeof *em);
-    e->duration = 10;
-    e->fps = 30;
-    e->sim_rate = 120;
-    e->emitter_count = 1;
-    e->emitters = em;
-    e->max_particles = (uint64_t)(2 * n + 10);
-    em->name = "bench";
-    em->shape.type = PFX_SHAPE_SPHERE;
-    em->shape.radius = 0.1;
-    for (int i = 0; i < 9; i += 4)
-        em->rotation[i] = 1;
-    em->rate_kind = PFX_RATE_CONSTANT;
-    em->rate = n / 2.0;
-    em->duration = INFINITY;
-    em->direction[1] = 1;
-    em->spread_deg = 30;
-    em->speed = (pfx_value){.dist = PFX_DIST_UNIFORM, .a = 2, .b = 4};
-    em->lifetime = pfx_value_const(2);
-    em->max_lifetime = 2;
-    em->size_start = em->size_end = pfx_value_const(0.05);
-    em->size_same = true;
-    em->gravity_scale = pfx_value_const(1);
-    em->accel[1] = -9.81;
-    em->capacity = (uint32_t)(floor(em->rate * 2) + 1);
+/* A fountain whose steady live count is about n (rate n / 2 with a
+ * constant 2 s lifetime), feeling gravity plus `extra` (YAML lines of forces
+ * and deflectors), compiled like any effect. */
+static pfx_effect *fountain(pfx_loaded *l, double n, const char *forces, const char *emitter) {
+    char text[2048];
+    snprintf(text, sizeof text,
+             "pfx: 1\nseed: 1\nforces:\n  gravity: { type: gravity }\n%s"
+             "emitters:\n  bench:\n    shape: { type: sphere, radius: 0.1 }\n"
+             "    rate: %.17g\n    spread: 30\n    speed: [2, 4]\n    lifetime: 2\n%s",
+             forces, n / 2, emitter);
+    memset(l, 0, sizeof *l);
+    size_t len = strlen(text);
+    l->source = strdup(text);
+    pfx_diags_init(&l->diags, "bench.yaml", l->source, len);
+    pfx_compile_options opt = {.max_particles = (uint64_t)(4 * n + 100)};
+    if (l->source && pfx_parse(l->source, len, &l->doc, &l->diags))
+        l->effect = pfx_compile(l->doc.root, "bench.yaml", &opt, &l->arena, &l->diags);
+    if (!l->effect)
+        pfx_diags_print(&l->diags, stderr, false);
+    return l->effect;
+}
+
+/* Particle-steps per second of one emitter in steady state, stepping for
+ * about 0.4 s of wall time (at least 5 steps), so a slow force set cannot
+ * make the benchmark run for minutes. */
+static double steps_per_second(const pfx_effect *e, double n, int *steps_out) {
+    (void)n;
+    pfx_sim *s = pfx_sim_create(e);
+    if (!s)
+        return 0;
+    for (int i = 0; i < 250; i++) /* past one lifetime: steady state */
+        pfx_sim_step(s);
+    int steps = 0;
+    double work = 0, t0 = now(), elapsed = 0;
+    while (steps < 5 || elapsed < 0.4) {
+        work += s->pools[0].count;
+        pfx_sim_step(s);
+        steps++;
+        elapsed = now() - t0;
+    }
+    pfx_sim_destroy(s);
+    *steps_out = steps;
+    return work / elapsed;
 }
 
 /* The roofline: the same per-particle arithmetic as the gravity kernel on
@@ -85,25 +99,63 @@ static void bench_sim(FILE *out) {
     fprintf(out, "  %10s %16s %16s %8s\n", "particles", "pfx steps/s", "roofline/s", "ratio");
     const double sizes[] = {1e4, 1e5, 1e6};
     for (int k = 0; k < 3; k++) {
-        pfx_effect e;
-        pfx_emitter em;
-        make_fountain(&e, &em, sizes[k]);
-        pfx_sim *s = pfx_sim_create(&e);
-        if (!s)
+        pfx_loaded l;
+        int steps = 0;
+        if (!fountain(&l, sizes[k], "", "")) {
+            pfx_loaded_free(&l);
             return;
-        for (int i = 0; i < 250; i++) /* past one lifetime: steady state */
-            pfx_sim_step(s);
-        int steps = (int)fmax(20, 2e8 / sizes[k]);
-        double work = 0, t0 = now();
-        for (int i = 0; i < steps; i++) {
-            work += s->pools[0].count;
-            pfx_sim_step(s);
         }
-        double pfx_rate = work / (now() - t0);
+        double rate = steps_per_second(l.effect, sizes[k], &steps);
         double roof = roofline((size_t)sizes[k], steps);
-        fprintf(out, "  %10.0f %16.4g %16.4g %7.0f%%\n", sizes[k], pfx_rate, roof,
-                100 * pfx_rate / roof);
-        pfx_sim_destroy(s);
+        fprintf(out, "  %10.0f %16.4g %16.4g %7.0f%%\n", sizes[k], rate, roof, 100 * rate / roof);
+        pfx_loaded_free(&l);
+    }
+    /* Each force (with gravity) and deflectors at 10^5 particles: what a
+     * scene pays for what it uses, against the same roofline. */
+    static const struct {
+        const char *name, *forces, *emitter;
+    } cases[] = {
+        {"gravity only", "", ""},
+        {"+ linear drag (exact)", "  air: { type: drag, k: 0.5, wind: [1, 0, 0] }\n", ""},
+        {"+ quadratic drag", "  air: { type: drag, k: 0, c: 0.2 }\n", ""},
+        {"+ attractor",
+         "  well: { type: attractor, center: [0, 2, 0], strength: 2, softening: 0.2 }\n", ""},
+        {"+ vortex", "  twist: { type: vortex, axis: [0, 1, 0], strength: 90, radius: 2 }\n", ""},
+        {"+ magnetic (boris)", "  b: { type: magnetic, field: [0, 0, 1] }\n", "    charge: 0.5\n"},
+        {"+ spiral", "  sp: { type: spiral, axis: [0, 1, 0], rate: 90 }\n", ""},
+        {"+ spring", "  s: { type: spring, k: 4, zeta: 0.2 }\n", ""},
+        {"+ turbulence (2 octaves)",
+         "  t: { type: turbulence, strength: 1, scale: 1, octaves: 2 }\n", ""},
+        {"+ speed limit", "  lim: { type: speed_limit, max: 3 }\n", ""},
+        {"+ deflector (plane)",
+         "deflectors:\n  ground: { type: plane, resilience: 0.5, friction: 0.1 }\n", ""},
+        {"+ deflectors (plane, sphere, box)",
+         "deflectors:\n  ground: { type: plane, resilience: 0.5 }\n"
+         "  ball: { type: sphere, center: [0.5, 1, 0], radius: 0.3 }\n"
+         "  crate: { type: box, center: [-0.6, 0.5, 0], size: [0.4, 0.4, 0.4] }\n",
+         ""},
+    };
+    const double n = 1e5;
+    int steps = 0;
+    double roof = roofline((size_t)n, 400);
+    fprintf(out, "per force at 10^5 particles (roofline %.4g steps/s):\n", roof);
+    fprintf(out, "  %-34s %14s %8s  %s\n", "force set", "steps/s", "ratio", "integrator");
+    for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
+        pfx_loaded l;
+        char forces[1024];
+        /* Deflector cases add a top-level key after the forces. */
+        snprintf(forces, sizeof forces, "%s", cases[k].forces);
+        if (!fountain(&l, n, forces, cases[k].emitter)) {
+            pfx_loaded_free(&l);
+            continue;
+        }
+        const pfx_emitter *em = &l.effect->emitters[0];
+        double rate = steps_per_second(l.effect, n, &steps);
+        char why[64];
+        snprintf(why, sizeof why, "%s",
+                 em->motion ? pfx_integrator_name(em->motion->chosen) : "exact (gravity)");
+        fprintf(out, "  %-34s %14.4g %7.0f%%  %s\n", cases[k].name, rate, 100 * rate / roof, why);
+        pfx_loaded_free(&l);
     }
 }
 
