@@ -18,6 +18,7 @@
 #include "output/png_write.h"
 #include "render/render.h"
 #include "render/sprites.h"
+#include "sim/schedule.h"
 #include "sim/sim.h"
 
 #define EXIT_INVALID 1
@@ -432,8 +433,12 @@ static int cmd_info(int argc, char **argv, const options *o) {
     for (size_t i = 0; i < e->emitter_count; i++) {
         const pfx_emitter *em = &e->emitters[i];
         size_t bpp = pfx_sim_bytes_per_particle(e, i);
-        printf("    %s: %s shape, %g particles/s, lifetime up to %g s, %s blend\n", em->name,
-               pfx_shape_type_name(em->shape.type), em->rate, em->max_lifetime,
+        static const char *const kinds[] = {"constant", "curve", "ramp", "mean +- var", "interval"};
+        printf("    %s: %s shape, %s rate up to %g particles/s%s%s, lifetime up to %g s, %s "
+               "blend\n",
+               em->name, pfx_shape_type_name(em->shape.type), kinds[em->rate_kind],
+               pfx_schedule_max_rate(em), em->burst_count ? " plus bursts" : "",
+               em->spawned_rate > 0 ? " plus sub-emitters" : "", em->max_lifetime,
                em->blend == PFX_BLEND_ADD ? "additive" : "alpha");
         printf("      pool %u particles x %zu bytes = %zu bytes%s\n", em->capacity, bpp,
                em->capacity * bpp, em->saturates ? " (saturates: cut by the budget)" : "");

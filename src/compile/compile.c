@@ -18,6 +18,7 @@
 #include "compile/compile_shape.h"
 #include "compile/compile_spawn.h"
 #include "compile/read.h"
+#include "sim/birth.h"
 #include "sim/schedule.h"
 
 /* Bounds that keep any file's cost finite; each is documented in
@@ -95,23 +96,6 @@ static void normalize3(double v[3]) {
     double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     for (int i = 0; i < 3; i++)
         v[i] /= len;
-}
-
-/* Rotation degrees (x, y, z) -> row-major R = Rz * Ry * Rx: a point is turned
- * about X first, then Y, then Z, all about the fixed world axes. */
-static void rotation_matrix(const double deg[3], double m[9]) {
-    double rx = deg[0] * M_PI / 180, ry = deg[1] * M_PI / 180, rz = deg[2] * M_PI / 180;
-    double cx = cos(rx), sx = sin(rx), cy = cos(ry), sy = sin(ry), cz = cos(rz), sz = sin(rz);
-    double r[9] = {cz * cy,
-                   cz * sy * sx - sz * cx,
-                   cz * sy * cx + sz * sx,
-                   sz * cy,
-                   sz * sy * sx + cz * cx,
-                   sz * sy * cx - cz * sx,
-                   -sy,
-                   cy * sx,
-                   cy * cx};
-    memcpy(m, r, sizeof r);
 }
 
 static const char *const integrator_names[] = {"auto",   "euler", "symplectic", "midpoint", "rk4",
@@ -508,7 +492,7 @@ static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n,
     em->force_mask = e->force_count >= 32 ? 0xffffffffu : (1u << e->force_count) - 1;
     em->blend = PFX_BLEND_ADD;
     double rot_deg[3] = {0, 0, 0};
-    rotation_matrix(rot_deg, em->rotation);
+    pfx_rotation_from_degrees(rot_deg, em->rotation);
 
     char where[160];
     snprintf(where, sizeof where, "emitter '%s'", key->text);
@@ -522,7 +506,7 @@ static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n,
         pfx_read_keys3(&c->r, v, "position", em->position, &em->position_keys);
     if ((v = pfx_node_get(n, "rotation")) &&
         pfx_read_keys3(&c->r, v, "rotation", rot_deg, &em->rotation_keys))
-        rotation_matrix(rot_deg, em->rotation);
+        pfx_rotation_from_degrees(rot_deg, em->rotation);
     pfx_compile_emission(&c->r, n, em);
     if ((v = pfx_node_get(n, "lod")))
         compile_lod(c, v, n, em);

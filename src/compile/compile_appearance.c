@@ -17,42 +17,10 @@ static bool range_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_
  * (linear between keys, held beyond the ends). */
 static bool read_life_curve(pfx_reader *r, const pfx_node *n, const char *what, double lo,
                             double hi, float lut[PFX_GRADIENT_LUT]) {
-    static const char *const key_names[] = {"at", "value", NULL};
     enum { MAX_KEYS = 64 };
     double at[MAX_KEYS], val[MAX_KEYS];
-    if (n->count == 0 || n->count > MAX_KEYS) {
-        pfx_read_error(r, n, "'%s' as a curve needs 1 to %d keys {at, value}", what, MAX_KEYS);
-        return false;
-    }
-    bool ok = true;
-    for (size_t i = 0; i < n->count; i++) {
-        const pfx_node *k = n->items[i];
-        if (!pfx_read_map(r, k, what)) {
-            ok = false;
-            continue;
-        }
-        ok &= pfx_read_check_keys(r, k, key_names, "a curve key");
-        const pfx_node *t = pfx_node_get(k, "at"), *v = pfx_node_get(k, "value");
-        if (!t || !v) {
-            pfx_read_error(r, k, "a curve key needs both 'at' and 'value'");
-            ok = false;
-            continue;
-        }
-        if (!pfx_read_number(r, t, "at", &at[i]) || !pfx_read_number(r, v, what, &val[i])) {
-            ok = false;
-            continue;
-        }
-        if (at[i] < 0 || at[i] > 1) {
-            pfx_read_error(r, t, "'at' must be in 0..1, got %g", at[i]);
-            ok = false;
-        } else if (i > 0 && at[i] < at[i - 1]) {
-            pfx_read_error(r, t, "curve keys must be in increasing 'at' order");
-            ok = false;
-        }
-        ok &= pfx_check_above(r, v, what, val[i], lo, false) &&
-              pfx_check_below(r, v, what, val[i], hi, false);
-    }
-    if (!ok)
+    pfx_key_list_spec spec = {what, "at", MAX_KEYS, 1, false, 0, 1, lo, hi};
+    if (!pfx_read_key_list(r, n, &spec, at, val))
         return false;
     for (int i = 0; i < PFX_GRADIENT_LUT; i++) {
         double u = (double)i / (PFX_GRADIENT_LUT - 1);

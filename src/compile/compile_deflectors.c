@@ -49,21 +49,6 @@ static bool read_range(pfx_reader *r, const pfx_node *map, const char *key, doub
            pfx_check_below(r, n, key, out[1], hi, false);
 }
 
-static bool read_vec(pfx_reader *r, const pfx_node *map, const char *key, double out[3]) {
-    const pfx_node *n = pfx_node_get(map, key);
-    if (!n)
-        return true;
-    if (!pfx_read_numbers(r, n, key, out, 3))
-        return false;
-    for (int i = 0; i < 3; i++)
-        if (fabs(out[i]) > 1e6) {
-            pfx_read_error(r, n->items[i], "'%s' components must be within +-1e6, got %g", key,
-                           out[i]);
-            return false;
-        }
-    return true;
-}
-
 static bool read_flag(pfx_reader *r, const pfx_node *map, const char *key, bool *out) {
     const pfx_node *n = pfx_node_get(map, key);
     if (!n)
@@ -104,12 +89,12 @@ bool pfx_compile_deflector(pfx_reader *r, const pfx_node *key, const pfx_node *n
     out->seed = pfx_rng_stream_for(out->name) ^ seed;
     const pfx_node *v;
     if (out->shape == PFX_DEFLECTOR_PLANE || out->shape == PFX_DEFLECTOR_DISC) {
-        read_vec(r, n, "point", out->point);
-        if (read_vec(r, n, "normal", out->normal) && out->normal[0] == 0 && out->normal[1] == 0 &&
-            out->normal[2] == 0)
+        pfx_read_vec3_within(r, n, "point", out->point, 1e6);
+        if (pfx_read_vec3_within(r, n, "normal", out->normal, 1e6) && out->normal[0] == 0 &&
+            out->normal[1] == 0 && out->normal[2] == 0)
             pfx_read_error(r, pfx_node_get(n, "normal"), "'normal' must not be the zero vector");
     } else {
-        read_vec(r, n, "center", out->point);
+        pfx_read_vec3_within(r, n, "center", out->point, 1e6);
         read_flag(r, n, "inside", &out->inside);
     }
     if ((v = pfx_node_get(n, "radius")) && pfx_read_number(r, v, "radius", &out->radius))

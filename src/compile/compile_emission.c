@@ -12,52 +12,20 @@
 #define MAX_BURST_COUNT 1e6
 #define MAX_CYCLES 1000000
 
-/* Reads `[{t: s, value: v}, ...]` keys with increasing t into out (arena). */
+/* Reads `[{t: s, value: v}, ...]` keys with increasing t into out (arena),
+ * with the integral at every key for the closed-form birth times. */
 static bool read_curve(pfx_reader *r, const pfx_node *n, const char *what, double lo, double hi,
                        pfx_curve *out) {
-    static const char *const key_names[] = {"t", "value", NULL};
-    if (n->count == 0 || n->count > MAX_KEYS) {
-        pfx_read_error(r, n, "'%s' as a curve needs 1 to %d keys {t, value}", what, MAX_KEYS);
+    pfx_key_list_spec spec = {what, "t", MAX_KEYS, 1, true, 0, 1e9, lo, hi};
+    size_t count = n->kind == PFX_NODE_SEQ ? n->count : 0;
+    out->t = pfx_arena_alloc(r->arena, (count + 1) * sizeof *out->t);
+    out->v = pfx_arena_alloc(r->arena, (count + 1) * sizeof *out->v);
+    out->integral = pfx_arena_alloc(r->arena, (count + 1) * sizeof *out->integral);
+    if (!out->t || !out->v || !out->integral || !pfx_read_key_list(r, n, &spec, out->t, out->v))
         return false;
-    }
-    out->count = n->count;
-    out->t = pfx_arena_alloc(r->arena, n->count * sizeof *out->t);
-    out->v = pfx_arena_alloc(r->arena, n->count * sizeof *out->v);
-    out->integral = pfx_arena_alloc(r->arena, n->count * sizeof *out->integral);
-    if (!out->t || !out->v || !out->integral)
-        return false;
-    bool ok = true;
-    for (size_t i = 0; i < n->count; i++) {
-        const pfx_node *k = n->items[i];
-        if (!pfx_read_map(r, k, what)) {
-            ok = false;
-            continue;
-        }
-        ok &= pfx_read_check_keys(r, k, key_names, "a curve key");
-        const pfx_node *t = pfx_node_get(k, "t"), *v = pfx_node_get(k, "value");
-        if (!t || !v) {
-            pfx_read_error(r, k, "a curve key needs both 't' and 'value'");
-            ok = false;
-            continue;
-        }
-        if (!pfx_read_number(r, t, "t", &out->t[i]) || !pfx_read_number(r, v, what, &out->v[i])) {
-            ok = false;
-            continue;
-        }
-        if (i > 0 && out->t[i] <= out->t[i - 1]) {
-            pfx_read_error(r, t, "curve keys must have increasing 't', got %g after %g", out->t[i],
-                           out->t[i - 1]);
-            ok = false;
-        }
-        ok &= pfx_check_above(r, t, "t", out->t[i], 0, false) &&
-              pfx_check_above(r, v, what, out->v[i], lo, false) &&
-              pfx_check_below(r, v, what, out->v[i], hi, false);
-    }
-    if (!ok)
-        return false;
-    /* Cumulative integral of the linear pieces, for rate curves. */
+    out->count = count;
     out->integral[0] = 0;
-    for (size_t i = 1; i < n->count; i++)
+    for (size_t i = 1; i < count; i++)
         out->integral[i] =
             out->integral[i - 1] + 0.5 * (out->v[i] + out->v[i - 1]) * (out->t[i] - out->t[i - 1]);
     return true;
@@ -207,44 +175,14 @@ bool pfx_compile_emission(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
 
 bool pfx_read_keys3(pfx_reader *r, const pfx_node *n, const char *what, double fixed[3],
                     pfx_keys3 *keys) {
-    static const char *const key_names[] = {"t", "value", NULL};
     if (n->kind != PFX_NODE_SEQ || n->count == 0 || n->items[0]->kind != PFX_NODE_MAP)
         return pfx_read_numbers(r, n, what, fixed, 3);
-    if (n->count > MAX_KEYS) {
-        pfx_read_error(r, n, "'%s' has %zu keyframes; the most is %d", what, n->count, MAX_KEYS);
-        return false;
-    }
-    keys->count = n->count;
+    pfx_key_list_spec spec = {what, "t", MAX_KEYS, 3, true, -1e9, 1e9, 0, 0};
     keys->t = pfx_arena_alloc(r->arena, n->count * sizeof *keys->t);
     keys->v = pfx_arena_alloc(r->arena, n->count * sizeof *keys->v);
-    if (!keys->t || !keys->v)
+    if (!keys->t || !keys->v || !pfx_read_key_list(r, n, &spec, keys->t, &keys->v[0][0]))
         return false;
-    bool ok = true;
-    for (size_t i = 0; i < n->count; i++) {
-        const pfx_node *k = n->items[i];
-        if (!pfx_read_map(r, k, what)) {
-            ok = false;
-            continue;
-        }
-        ok &= pfx_read_check_keys(r, k, key_names, "a keyframe");
-        const pfx_node *t = pfx_node_get(k, "t"), *v = pfx_node_get(k, "value");
-        if (!t || !v) {
-            pfx_read_error(r, k, "a keyframe needs both 't' and 'value'");
-            ok = false;
-            continue;
-        }
-        if (!pfx_read_number(r, t, "t", &keys->t[i]) ||
-            !pfx_read_numbers(r, v, what, keys->v[i], 3)) {
-            ok = false;
-            continue;
-        }
-        if (i > 0 && keys->t[i] <= keys->t[i - 1]) {
-            pfx_read_error(r, t, "keyframes must have increasing 't', got %g after %g", keys->t[i],
-                           keys->t[i - 1]);
-            ok = false;
-        }
-    }
-    if (ok)
-        memcpy(fixed, keys->v[0], sizeof(double[3]));
-    return ok;
+    keys->count = n->count;
+    memcpy(fixed, keys->v[0], sizeof(double[3]));
+    return true;
 }

@@ -66,25 +66,6 @@ static bool number_in(pfx_reader *r, const pfx_node *map, const char *key, doubl
     return true;
 }
 
-/* An optional 3-vector, each component within +-limit. */
-static bool vec3_in(pfx_reader *r, const pfx_node *map, const char *key, double out[3],
-                    double limit) {
-    const pfx_node *n = pfx_node_get(map, key);
-    if (!n)
-        return true;
-    double v[3];
-    if (!pfx_read_numbers(r, n, key, v, 3))
-        return false;
-    for (int i = 0; i < 3; i++)
-        if (fabs(v[i]) > limit) {
-            pfx_read_error(r, n->items[i], "'%s' components must be within +-%g, got %g", key,
-                           limit, v[i]);
-            return false;
-        }
-    memcpy(out, v, sizeof v);
-    return true;
-}
-
 /* A unit axis (default +Y); the zero vector is an error. */
 static void axis(pfx_reader *r, const pfx_node *map, double out[3]) {
     out[0] = out[2] = 0;
@@ -125,7 +106,7 @@ static void region(pfx_reader *r, const pfx_node *n, pfx_motion_region *out) {
     }
     pfx_read_check_keys(r, n, sphere ? sphere_keys : box_keys, "a region");
     out->kind = sphere ? PFX_REGION_SPHERE : PFX_REGION_BOX;
-    vec3_in(r, n, "center", out->center, 1e6);
+    pfx_read_vec3_within(r, n, "center", out->center, 1e6);
     number_in(r, n, "falloff", &out->falloff, 0, 1e6);
     if (sphere) {
         out->radius = 1;
@@ -188,11 +169,11 @@ bool pfx_compile_force(pfx_reader *r, const pfx_node *key, const pfx_node *f, ui
     switch (m->kind) {
     case PFX_MOTION_GRAVITY:
         m->accel[1] = -9.81;
-        vec3_in(r, f, "accel", m->accel, 1e6);
+        pfx_read_vec3_within(r, f, "accel", m->accel, 1e6);
         break;
     case PFX_MOTION_ATTRACTOR: {
         static const char *const falloffs[] = {"inverse_square", "linear", "constant", NULL};
-        vec3_in(r, f, "center", m->center, 1e6);
+        pfx_read_vec3_within(r, f, "center", m->center, 1e6);
         m->strength = 1;
         number_in(r, f, "strength", &m->strength, -1e9, 1e9);
         number_in(r, f, "softening", &m->softening, 0, 1e6);
@@ -219,10 +200,10 @@ bool pfx_compile_force(pfx_reader *r, const pfx_node *key, const pfx_node *f, ui
             m->k = 0; /* quadratic only */
         number_in(r, f, "k", &m->k, 0, 1e6);
         number_in(r, f, "c", &m->c, 0, 1e6);
-        vec3_in(r, f, "wind", m->wind, 1e6);
+        pfx_read_vec3_within(r, f, "wind", m->wind, 1e6);
         break;
     case PFX_MOTION_VORTEX:
-        vec3_in(r, f, "center", m->center, 1e6);
+        pfx_read_vec3_within(r, f, "center", m->center, 1e6);
         axis(r, f, m->axis);
         m->strength = 90;
         number_in(r, f, "strength", &m->strength, -1e6, 1e6);
@@ -234,11 +215,11 @@ bool pfx_compile_force(pfx_reader *r, const pfx_node *key, const pfx_node *f, ui
         break;
     case PFX_MOTION_MAGNETIC:
         m->field[1] = 1;
-        vec3_in(r, f, "field", m->field, 1e6);
-        vec3_in(r, f, "electric", m->electric, 1e9);
+        pfx_read_vec3_within(r, f, "field", m->field, 1e6);
+        pfx_read_vec3_within(r, f, "electric", m->electric, 1e9);
         break;
     case PFX_MOTION_SPIRAL:
-        vec3_in(r, f, "center", m->center, 1e6);
+        pfx_read_vec3_within(r, f, "center", m->center, 1e6);
         axis(r, f, m->axis);
         m->rate = 90;
         number_in(r, f, "rate", &m->rate, -1e6, 1e6);
@@ -254,7 +235,7 @@ bool pfx_compile_force(pfx_reader *r, const pfx_node *key, const pfx_node *f, ui
             else if (n->kind != PFX_NODE_SEQ)
                 pfx_read_error(r, n, "'anchor' must be a point [x, y, z] or 'birth'");
             else
-                vec3_in(r, f, "anchor", m->center, 1e6);
+                pfx_read_vec3_within(r, f, "anchor", m->center, 1e6);
         } else {
             m->use_birth = true;
         }

@@ -540,3 +540,68 @@ bool pfx_read_value_in(pfx_reader *r, const pfx_node *n, const char *what, pfx_v
     }
     return true;
 }
+
+bool pfx_read_vec3_within(pfx_reader *r, const pfx_node *map, const char *key, double out[3],
+                          double limit) {
+    const pfx_node *n = pfx_node_get(map, key);
+    if (!n)
+        return true;
+    double v[3];
+    if (!pfx_read_numbers(r, n, key, v, 3))
+        return false;
+    for (int i = 0; i < 3; i++)
+        if (fabs(v[i]) > limit) {
+            pfx_read_error(r, n->items[i], "'%s' components must be within +-%g, got %g", key,
+                           limit, v[i]);
+            return false;
+        }
+    memcpy(out, v, sizeof v);
+    return true;
+}
+
+bool pfx_read_key_list(pfx_reader *r, const pfx_node *n, const pfx_key_list_spec *spec, double *t,
+                       double *v) {
+    const char *const key_names[] = {spec->time_key, "value", NULL};
+    if (n->kind != PFX_NODE_SEQ || n->count == 0 || n->count > spec->max) {
+        pfx_read_error(r, n, "'%s' needs 1 to %zu keys {%s, value}", spec->what, spec->max,
+                       spec->time_key);
+        return false;
+    }
+    bool ok = true;
+    for (size_t i = 0; i < n->count; i++) {
+        const pfx_node *k = n->items[i];
+        if (!pfx_read_map(r, k, spec->what)) {
+            ok = false;
+            continue;
+        }
+        ok &= pfx_read_check_keys(r, k, key_names, "a key");
+        const pfx_node *tn = pfx_node_get(k, spec->time_key), *vn = pfx_node_get(k, "value");
+        if (!tn || !vn) {
+            pfx_read_error(r, k, "a key of '%s' needs both '%s' and 'value'", spec->what,
+                           spec->time_key);
+            ok = false;
+            continue;
+        }
+        double *vi = v + i * (size_t)spec->dims;
+        bool read = pfx_read_number(r, tn, spec->time_key, &t[i]) &&
+                    (spec->dims == 1 ? pfx_read_number(r, vn, spec->what, vi)
+                                     : pfx_read_numbers(r, vn, spec->what, vi, spec->dims));
+        if (!read) {
+            ok = false;
+            continue;
+        }
+        if (t[i] < spec->t_lo || t[i] > spec->t_hi) {
+            pfx_read_error(r, tn, "'%s' must be in %g..%g, got %g", spec->time_key, spec->t_lo,
+                           spec->t_hi, t[i]);
+            ok = false;
+        } else if (i > 0 && (spec->strict ? t[i] <= t[i - 1] : t[i] < t[i - 1])) {
+            pfx_read_error(r, tn, "keys of '%s' must have increasing '%s', got %g after %g",
+                           spec->what, spec->time_key, t[i], t[i - 1]);
+            ok = false;
+        }
+        for (int d = 0; d < spec->dims && spec->v_lo < spec->v_hi; d++)
+            ok &= pfx_check_above(r, vn, spec->what, vi[d], spec->v_lo, false) &&
+                  pfx_check_below(r, vn, spec->what, vi[d], spec->v_hi, false);
+    }
+    return ok;
+}

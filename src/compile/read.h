@@ -38,6 +38,23 @@ bool pfx_read_number(pfx_reader *r, const pfx_node *n, const char *what, double 
 bool pfx_read_uint(pfx_reader *r, const pfx_node *n, const char *what, uint64_t *out);
 /* A list of exactly `count` numbers. */
 bool pfx_read_numbers(pfx_reader *r, const pfx_node *n, const char *what, double *out, int count);
+/* An optional 3-vector `key` of map, each component within +-limit; out
+ * keeps its default when the key is absent. */
+bool pfx_read_vec3_within(pfx_reader *r, const pfx_node *map, const char *key, double out[3],
+                          double limit);
+/* A list of keys [{<time_key>: t, value: v}, ...]: times within [t_lo,
+ * t_hi], increasing (strictly when `strict`), values of `dims` numbers each
+ * (v_lo < v_hi: every number within them). Writes n->count times into t
+ * and n->count * dims numbers into v (the caller sizes both to `max`). */
+typedef struct pfx_key_list_spec {
+    const char *what, *time_key;
+    size_t max;
+    int dims;
+    bool strict;
+    double t_lo, t_hi, v_lo, v_hi;
+} pfx_key_list_spec;
+bool pfx_read_key_list(pfx_reader *r, const pfx_node *n, const pfx_key_list_spec *spec, double *t,
+                       double *v);
 /* A random value: number, [min, max], {mean, var} or {normal: [m, sd], clamp: [lo, hi]}. */
 bool pfx_read_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_value *out);
 /* A value whose every sample lies in [lo, hi] (above lo strictly when

@@ -24,7 +24,7 @@ static size_t key_segment(const pfx_keys3 *k, double t, double *u) {
     return i;
 }
 
-static void rotation_from_degrees(const double deg[3], double m[9]) {
+void pfx_rotation_from_degrees(const double deg[3], double m[9]) {
     const double k = M_PI / 180;
     double cx = cos(deg[0] * k), sx = sin(deg[0] * k), cy = cos(deg[1] * k), sy = sin(deg[1] * k),
            cz = cos(deg[2] * k), sz = sin(deg[2] * k);
@@ -63,7 +63,7 @@ void pfx_emitter_pose_at(const pfx_emitter *em, double t, emitter_pose *p) {
         double deg[3];
         for (int a = 0; a < 3; a++)
             deg[a] = k->v[i][a] + (k->v[i + 1][a] - k->v[i][a]) * u;
-        rotation_from_degrees(deg, p->rotation);
+        pfx_rotation_from_degrees(deg, p->rotation);
     }
 }
 

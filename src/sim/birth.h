@@ -38,6 +38,10 @@ typedef struct emitter_pose {
     double position[3], rotation[9], velocity[3];
 } emitter_pose;
 
+/* Rotation degrees (x, y, z) -> row-major R = Rz * Ry * Rx: a point is
+ * turned about X first, then Y, then Z, all about the fixed world axes. */
+void pfx_rotation_from_degrees(const double deg[3], double m[9]);
+
 void pfx_emitter_pose_at(const pfx_emitter *em, double t, emitter_pose *p);
 
 /* What one birth draws (see pfx_birth_draw). */

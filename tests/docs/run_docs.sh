@@ -249,6 +249,87 @@ emitters:
     lifetime: 86400
     rate: 10000000
 """,
+    "every shape, force and deflector": """\
+pfx: 1
+sim: { integrator: auto, tolerance: 0.0001, substeps: 2 }
+forces:
+  g: { type: gravity, region: { type: box, center: [0, 1, 0], size: [2, 2, 2], falloff: 0.5 } }
+  well: { type: attractor, center: [0, 2, 0], strength: 2, softening: 0.2, falloff: constant, radius: 5, reference_radius: 0.5 }
+  air: { type: drag, c: 0.1, wind: [1, 0, 0] }
+  twist: { type: vortex, axis: [0, 0, 2], strength: -90, radius: 2, d: 1, inflow: 0.1 }
+  b: { type: magnetic, field: [0, 0, 1], electric: [0, 10, 0], region: { type: sphere, radius: 3 } }
+  sp: { type: spiral, center: [1, 0, 0], axis: [0, 1, 0], rate: 45 }
+  s: { type: spring, anchor: [0, 1, 0], k: 4, zeta: 0.5 }
+  s2: { type: spring, anchor: birth }
+  t: { type: turbulence, strength: 1, scale: 0.5, octaves: 8, speed: 0.2 }
+  lim: { type: speed_limit, max: 3 }
+deflectors:
+  ground: { type: plane }
+  shelf: { type: plane, point: [0, 1, 0], normal: [0, 1, 1], size: [1, 2], response: stick }
+  lid: { type: disc, point: [0, 3, 0], normal: [0, -1, 0], radius: 0.5, response: kill, chance: 0.5 }
+  ball: { type: sphere, center: [1, 1, 0], radius: 0.3, resilience: [0.2, 0.6], friction: { mean: 0.3, var: 0.1 } }
+  jar: { type: box, size: [4, 4, 4], inside: true, lifetime_loss: 0.1 }
+emitters:
+  a: { shape: { type: point, emit_from: volume }, integrator: rk4, charge: [-1, 1], mass: { normal: [1, 0.1], clamp: [0.5, 2] } }
+  b: { shape: { type: line, from: [0, 0, 0], to: [1, 2, 3] }, forces: [], deflectors: [] }
+  c: { shape: { type: rect, size: [1, 2], emit_from: edge }, direction: normal }
+  d: { shape: { type: disc, radius: 1, inner: 0.5, arc: 90 }, direction: radial }
+  e: { shape: { type: disc, radius: 1, emit_from: edge }, direction: inward }
+  f: { shape: { type: ellipse, radii: [2, 1], emit_from: edge }, spread: [30, 60] }
+  g: { shape: { type: box, size: [1, 1, 1], emit_from: surface }, distance: [0, 0.2] }
+  h: { shape: { type: sphere, radius: 1, inner: 0.9 }, inherit_velocity: 0.5 }
+  i: { shape: { type: hemisphere, radius: 1, emit_from: surface } }
+  j: { shape: { type: cylinder, radius: 1, height: 2, emit_from: surface } }
+  k: { shape: { type: cone, radius: 1, height: 2, angle: 30 }, deflectors: [ball, jar] }
+""",
+    "every emission, appearance, kill and sub-emitter form": """\
+pfx: 1
+duration: 4
+forces:
+  gravity: { type: gravity }
+emitters:
+  steady: { rate: { mean: 20, var: 5 }, start: 0.5, duration: 2 }
+  ramp: { rate: { initial: 5, delta: 10 }, duration: 3, loop: true }
+  curve:
+    rate: [{ t: 0, value: 0 }, { t: 1, value: 50 }, { t: 2, value: 0 }]
+    position: [{ t: 0, value: [0, 0, 0] }, { t: 4, value: [2, 0, 0] }]
+    rotation: [{ t: 0, value: [0, 0, 0] }, { t: 4, value: [0, 360, 0] }]
+    inherit_velocity: 1
+  ticks:
+    interval: { normal: [0.1, 0.02], clamp: [0.05, 0.2] }
+    bursts:
+      - { time: 0, count: 5 }
+      - { time: 1, count: [10, 20], cycles: 3, interval: 0.5, probability: 0.5 }
+    size: [{ at: 0, value: 0 }, { at: 0.5, value: 0.3 }, { at: 0.5, value: 0.2 }, { at: 1, value: 0 }]
+    color: { random: ["#ff0000", [0, 0, 1, 0.5]] }
+    alpha: { start: 1, end: 0 }
+    kill:
+      - inside: { box: { center: [0, 5, 0], size: [1, 1, 1] } }
+      - outside: { sphere: { radius: 20 } }
+      - inside: { half_space: { point: [0, -1, 0], normal: [0, -1, 0] } }
+      - alpha_below: 0.05
+      - distance_from_emitter: 10
+    bounds: { box: { size: [30, 30, 30] } }
+    on_birth: { emit: child, count: 1, probability: 0.5 }
+    on_death: [{ emit: child, count: [1, 3], inherit: [velocity, color, size] }]
+    on_hit: { emit: child }
+    trail: { emit: child, rate: 20, inherit: [size], depth: 1 }
+  child:
+    color: { pick: ["#fff", "#f80", "#f00"] }
+    alpha: [{ at: 0, value: 1 }, { at: 1, value: 0 }]
+    bounds: { box: { center: [0, 1, 0], size: [4, 4, 4] }, mode: wrap }
+    on_death: { emit: child, depth: 2 }
+  far: { lod: { per_pixel: 0.01, var: 0.005 }, shape: { type: sphere, radius: 0.5 } }
+""",
+    "a seamless loop": """\
+pfx: 1
+duration: 2
+fps: 25
+loop: true
+emitters:
+  a: { rate: 30, alpha: 0.5 }
+  b: { bursts: [{ time: 0.5, count: 20, cycles: 2, interval: 1 }], loop: true, duration: 1 }
+""",
 }
 # Documents pfx rejects; the schema must reject each of them too.
 bad = {
@@ -285,6 +366,45 @@ bad = {
     "empty gradient": "pfx: 1\nemitters:\n  a: { color: [] }\n",
     "gravity_scale too big": "pfx: 1\nemitters:\n  a: { gravity_scale: 1001 }\n",
     "emitter not a mapping": "pfx: 1\nemitters:\n  a: 3\n",
+    "rate and interval": "pfx: 1\nemitters:\n  a: { rate: 3, interval: 0.1 }\n",
+    "lod and rate": "pfx: 1\nemitters:\n  a: { rate: 3, lod: { per_pixel: 1 } }\n",
+    "empty rate mapping": "pfx: 1\nemitters:\n  a: { rate: {} }\n",
+    "loop without duration": "pfx: 1\nemitters:\n  a: { loop: true }\n",
+    "loop not a boolean": "pfx: 1\nloop: 1\n",
+    "burst cycles without interval": "pfx: 1\nemitters:\n  a: { bursts: [{ time: 0, cycles: 3 }] }\n",
+    "burst probability above 1": "pfx: 1\nemitters:\n  a: { bursts: [{ probability: 1.5 }] }\n",
+    "inner on a surface": "pfx: 1\nemitters:\n  a: { shape: { type: sphere, radius: 1, inner: 0.5, emit_from: surface } }\n",
+    "emit_from the shape lacks": "pfx: 1\nemitters:\n  a: { shape: { type: point, emit_from: surface } }\n",
+    "mesh by volume": "pfx: 1\nemitters:\n  a: { shape: { type: mesh, file: no.obj, emit_from: volume } }\n",
+    "cone angle above 90": "pfx: 1\nemitters:\n  a: { shape: { type: cone, radius: 1, height: 1, angle: 91 } }\n",
+    "unknown direction word": "pfx: 1\nemitters:\n  a: { direction: outward }\n",
+    "two-angle spread above 360": "pfx: 1\nemitters:\n  a: { spread: [10, 400] }\n",
+    "zero mass": "pfx: 1\nemitters:\n  a: { mass: 0 }\n",
+    "alpha above 1": "pfx: 1\nemitters:\n  a: { alpha: 1.5 }\n",
+    "size curve past death": "pfx: 1\nemitters:\n  a: { size: [{ at: 1.5, value: 1 }] }\n",
+    "unknown colour mapping": "pfx: 1\nemitters:\n  a: { color: { mix: [\"#fff\", \"#000\"] } }\n",
+    "unknown integrator": "pfx: 1\nsim: { integrator: leapfrog }\n",
+    "too many substeps": "pfx: 1\nsim: { substeps: 65 }\n",
+    "fractional substeps": "pfx: 1\nsim: { substeps: 1.5 }\n",
+    "zero tolerance": "pfx: 1\nsim: { tolerance: 0 }\n",
+    "turbulence octaves 9": "pfx: 1\nforces:\n  t: { type: turbulence, octaves: 9 }\n",
+    "spring anchor word": "pfx: 1\nforces:\n  s: { type: spring, anchor: origin }\n",
+    "vortex zero axis": "pfx: 1\nforces:\n  v: { type: vortex, axis: [0, 0, 0] }\n",
+    "attractor unknown falloff": "pfx: 1\nforces:\n  a: { type: attractor, falloff: cubic }\n",
+    "drag key of another force": "pfx: 1\nforces:\n  d: { type: drag, strength: 1 }\n",
+    "unknown region type": "pfx: 1\nforces:\n  g: { type: gravity, region: { type: cylinder } }\n",
+    "unknown deflector type": "pfx: 1\ndeflectors:\n  d: { type: cube }\n",
+    "sphere deflector with a normal": "pfx: 1\ndeflectors:\n  d: { type: sphere, normal: [0, 1, 0] }\n",
+    "resilience above 1": "pfx: 1\ndeflectors:\n  d: { type: plane, resilience: [0.5, 1.5] }\n",
+    "unknown response": "pfx: 1\ndeflectors:\n  d: { type: plane, response: slide }\n",
+    "kill rule with two keys": "pfx: 1\nemitters:\n  a: { kill: [{ alpha_below: 0.1, distance_from_emitter: 3 }] }\n",
+    "kill sphere without radius": "pfx: 1\nemitters:\n  a: { kill: [{ inside: { sphere: { center: [0, 0, 0] } } }] }\n",
+    "wrapping box with a zero edge": "pfx: 1\nemitters:\n  a: { bounds: { box: { size: [1, 0, 1] }, mode: wrap } }\n",
+    "bounds without box": "pfx: 1\nemitters:\n  a: { bounds: { mode: kill } }\n",
+    "sub-emitter without emit": "pfx: 1\nemitters:\n  a: { on_death: { count: 3 } }\n",
+    "trail with a count": "pfx: 1\nemitters:\n  a: { trail: { emit: b, count: 2 } }\n  b: {}\n",
+    "depth 17": "pfx: 1\nemitters:\n  a: { on_death: { emit: b, depth: 17 } }\n  b: {}\n",
+    "unknown inherited attribute": "pfx: 1\nemitters:\n  a: { on_death: { emit: b, inherit: [spin] } }\n  b: {}\n",
 }
 
 for name, text in good.items():

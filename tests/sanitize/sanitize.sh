@@ -6,7 +6,7 @@
 set -u
 pfx=$1
 src=$2
-bin_dir=$(dirname "$pfx")
+bin_dir=$(cd "$(dirname "$pfx")" && pwd)
 tree="$bin_dir/sanitize-tree"
 supp="$tree/lsan.supp"
 mkdir -p "$tree"

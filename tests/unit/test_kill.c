@@ -15,6 +15,7 @@
 #include "sim/kill.h"
 #include "sim/sim.h"
 #include "test.h"
+#include "test_compile.h"
 
 /* ---- Helpers ---- */
 
@@ -495,31 +496,6 @@ static void test_compile(void) {
 
 /* ---- Whole effects through pfx_compile and the simulation ---- */
 
-typedef struct compiled {
-    pfx_doc doc;
-    pfx_arena arena;
-    pfx_diags diags;
-    pfx_effect *e;
-} compiled;
-
-static pfx_effect *compile_effect(compiled *c, const char *text) {
-    memset(c, 0, sizeof *c);
-    size_t len = strlen(text);
-    pfx_diags_init(&c->diags, "inline.yaml", text, len);
-    if (pfx_parse(text, len, &c->doc, &c->diags))
-        c->e = pfx_compile(c->doc.root, "inline.yaml", NULL, &c->arena, &c->diags);
-    if (!c->e)
-        pfx_diags_print(&c->diags, stderr, false);
-    CHECK(c->e != NULL);
-    return c->e;
-}
-
-static void compiled_free(compiled *c) {
-    pfx_doc_free(&c->doc);
-    pfx_arena_free(&c->arena);
-    pfx_diags_free(&c->diags);
-}
-
 /* Particles fly out in every direction from the centre of a 2 m box for 4 s
  * (lifetime 100 s, so age never kills). Wrap: after every step every
  * particle is inside [lo, hi) and none has died (the pool holds every
@@ -534,7 +510,7 @@ static void run_box(const char *mode) {
     char text[1024];
     snprintf(text, sizeof text, BOX_EFFECT, mode);
     compiled c;
-    if (!compile_effect(&c, text)) {
+    if (!compile_text(&c, text)) {
         compiled_free(&c);
         return;
     }
@@ -569,12 +545,12 @@ static void test_effect_bounds_kill(void) { run_box("kill"); }
 /* A kill plane under a fountain: no live particle is ever below it. */
 static void test_effect_kill_plane(void) {
     compiled c;
-    if (!compile_effect(&c, "pfx: 1\nseed: 9\nsim: { rate: 60 }\n"
-                            "forces:\n  g: { type: gravity }\n"
-                            "emitters:\n  e:\n    rate: 100\n    lifetime: 100\n"
-                            "    speed: 4\n    spread: 30\n"
-                            "    kill:\n      - inside: { half_space: { point: [0, -0.5, 0], "
-                            "normal: [0, -1, 0] } }\n")) {
+    if (!compile_text(&c, "pfx: 1\nseed: 9\nsim: { rate: 60 }\n"
+                          "forces:\n  g: { type: gravity }\n"
+                          "emitters:\n  e:\n    rate: 100\n    lifetime: 100\n"
+                          "    speed: 4\n    spread: 30\n"
+                          "    kill:\n      - inside: { half_space: { point: [0, -0.5, 0], "
+                          "normal: [0, -1, 0] } }\n")) {
         compiled_free(&c);
         return;
     }

@@ -13,6 +13,7 @@
 #include "sim/rng.h"
 #include "sim/sample.h"
 #include "test.h"
+#include "test_compile.h"
 
 #define PI 3.14159265358979323846
 #define N_CHI 200000
@@ -524,30 +525,6 @@ static void test_chi2_critical(void) {
 }
 
 /* ---- Gradient lookup ---- */
-
-typedef struct compiled {
-    pfx_doc doc;
-    pfx_arena arena;
-    pfx_diags diags;
-    pfx_effect *e;
-} compiled;
-
-static pfx_effect *compile_text(compiled *c, const char *text) {
-    memset(c, 0, sizeof *c);
-    size_t len = strlen(text);
-    pfx_diags_init(&c->diags, "inline.yaml", text, len);
-    if (pfx_parse(text, len, &c->doc, &c->diags))
-        c->e = pfx_compile(c->doc.root, "inline.yaml", NULL, &c->arena, &c->diags);
-    if (!c->e)
-        pfx_diags_print(&c->diags, stderr, false);
-    return c->e;
-}
-
-static void compiled_free(compiled *c) {
-    pfx_doc_free(&c->doc);
-    pfx_arena_free(&c->arena);
-    pfx_diags_free(&c->diags);
-}
 
 /* The piecewise-linear gradient through (at[k], col[k]) at t, ends held. */
 static double lerp_stops(const double *at, const double (*col)[4], int n, int ch, double t) {

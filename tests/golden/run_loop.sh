@@ -1,0 +1,223 @@
+#!/usr/bin/env bash
+# Seamless loops: effects/fire_loop.yaml has `loop: true`, so the whole
+# effect is periodic with period `duration` and frame N = duration x fps is
+# frame 0 again, byte for byte (and frame N + 5 is frame 5). Byte equality
+# of the period's ends is not yet "no visible seam": the last frame of the
+# period, N - 1, must lead into frame 0 as smoothly as any frame leads into
+# the next inside the loop, measured as the mean absolute difference of the
+# pixels (8-bit RGBA, decoded here in pure Python with zlib).
+#
+# The same effect with `loop: false` (a temporary copy, its duration
+# doubled so that frame N exists; its emitters run without end either way)
+# must fail both checks, which shows they can fail: it starts empty, so its
+# frame N is not its frame 0 and the jump from frame N - 1 back to frame 0
+# is far larger than any step inside the clip.
+#
+# usage: bash run_loop.sh PATH-TO-PFX SOURCE-DIR
+set -u
+
+pfx=${1:?usage: run_loop.sh PATH-TO-PFX SOURCE-DIR}
+src=${2:?usage: run_loop.sh PATH-TO-PFX SOURCE-DIR}
+effect=$src/effects/fire_loop.yaml
+small=(--size 128x128)
+python=/usr/bin/python3
+# The seam may be at most this many times the largest step inside the loop.
+tolerance=1.5
+
+work=$(mktemp -d "${TMPDIR:-/tmp}/pfx-loop.XXXXXX") || exit 1
+trap 'rm -rf "$work"' EXIT
+
+passed=0
+failed=0
+pass() { passed=$((passed + 1)); echo "ok   $1"; }
+fail() { failed=$((failed + 1)); echo "FAIL $1${2:+: $2}"; }
+
+# run NAME CMD...: runs a command quietly; on failure prints its stderr and
+# returns 1.
+run() {
+    local name=$1
+    shift
+    if ! "$@" >"$work/$name.out" 2>"$work/$name.err"; then
+        echo "  command failed: $*" >&2
+        sed 's/^/  | /' "$work/$name.err" >&2
+        return 1
+    fi
+}
+
+# frame DIR STEM K: the path of frame K's PNG.
+frame() { printf '%s/%s_%04d.png' "$1" "$2" "$3"; }
+
+# top_number KEY FILE: the value of a top-level `KEY: number` line.
+top_number() { sed -n "s/^$1:[[:space:]]*\([0-9.]*\).*/\1/p" "$2" | head -n 1; }
+
+# seam.py DIR STEM N TOLERANCE: prints "seam MAX K" (the mean absolute
+# difference of frames N-1 and 0, the largest of frames k and k+1 for k in
+# 0..N-2, and that k) and exits 0 when seam <= TOLERANCE x MAX, 1 when not,
+# 2 on a PNG it cannot read.
+cat >"$work/seam.py" <<'EOF'
+import struct
+import sys
+import zlib
+
+
+def decode(path):
+    """8-bit RGBA (colour type 6), non-interlaced PNG -> (width, height, bytes)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        raise ValueError(f"{path}: not a PNG")
+    pos, idat, head = 8, [], None
+    while pos < len(data):
+        (length,) = struct.unpack(">I", data[pos : pos + 4])
+        kind = data[pos + 4 : pos + 8]
+        body = data[pos + 8 : pos + 8 + length]
+        if kind == b"IHDR":
+            head = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            idat.append(body)
+        elif kind == b"IEND":
+            break
+        pos += 12 + length
+    if head is None:
+        raise ValueError(f"{path}: no IHDR")
+    w, h, depth, ctype, _, _, interlace = head
+    if depth != 8 or ctype != 6 or interlace != 0:
+        raise ValueError(f"{path}: expected 8-bit RGBA non-interlaced, got {head}")
+    raw = zlib.decompress(b"".join(idat))
+    stride, bpp = 4 * w, 4
+    out = bytearray(h * stride)
+    prev = bytearray(stride)
+    p = 0
+    for y in range(h):
+        ftype = raw[p]
+        line = bytearray(raw[p + 1 : p + 1 + stride])
+        p += 1 + stride
+        if ftype == 1:
+            for x in range(bpp, stride):
+                line[x] = (line[x] + line[x - bpp]) & 255
+        elif ftype == 2:
+            for x in range(stride):
+                line[x] = (line[x] + prev[x]) & 255
+        elif ftype == 3:
+            for x in range(stride):
+                left = line[x - bpp] if x >= bpp else 0
+                line[x] = (line[x] + ((left + prev[x]) >> 1)) & 255
+        elif ftype == 4:
+            for x in range(stride):
+                a = line[x - bpp] if x >= bpp else 0
+                b = prev[x]
+                c = prev[x - bpp] if x >= bpp else 0
+                pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
+                pred = a if pa <= pb and pa <= pc else (b if pb <= pc else c)
+                line[x] = (line[x] + pred) & 255
+        elif ftype != 0:
+            raise ValueError(f"{path}: bad filter type {ftype}")
+        out[y * stride : (y + 1) * stride] = line
+        prev = line
+    return w, h, bytes(out)
+
+
+def mad(a, b):
+    """Mean absolute difference over every channel of two same-size images."""
+    if len(a) != len(b):
+        raise ValueError("frames differ in size")
+    return sum(abs(x - y) for x, y in zip(a, b)) / len(a)
+
+
+def main():
+    folder, stem, n, tol = sys.argv[1], sys.argv[2], int(sys.argv[3]), float(sys.argv[4])
+    try:
+        img = [decode(f"{folder}/{stem}_{k:04d}.png")[2] for k in range(n)]
+    except (OSError, ValueError, zlib.error) as e:
+        print(f"cannot read the frames: {e}", file=sys.stderr)
+        return 2
+    steps = [mad(img[k], img[k + 1]) for k in range(n - 1)]
+    worst = max(range(n - 1), key=lambda k: steps[k])
+    seam = mad(img[n - 1], img[0])
+    print(f"{seam:.4f} {steps[worst]:.4f} {worst}")
+    return 0 if seam <= tol * steps[worst] else 1
+
+
+sys.exit(main())
+EOF
+
+# ---- The period, from the effect file ----
+duration=$(top_number duration "$effect")
+fps=$(top_number fps "$effect")
+n=$(awk -v d="${duration:-0}" -v f="${fps:-0}" 'BEGIN { printf "%d", d * f + 0.5 }')
+if grep -q '^loop:[[:space:]]*true' "$effect" && [[ $n -ge 3 ]]; then
+    pass "fire_loop: loops, duration $duration s x $fps fps = $n frames a period"
+else
+    fail "fire_loop: loops with a period of at least 3 frames" "loop: true, duration '$duration', fps '$fps'"
+    echo "$passed passed, $failed failed"
+    exit 1
+fi
+
+# ---- The looping effect: no warnings, frame N = frame 0, N + 5 = 5 ----
+if run validate "$pfx" validate "$effect" && [[ ! -s $work/validate.err && ! -s $work/validate.out ]]; then
+    pass "fire_loop: pfx validate prints nothing (no loop warning)"
+else
+    fail "fire_loop: pfx validate prints nothing (no loop warning)" "$(head -c 300 "$work/validate.err")"
+fi
+
+last=$((n + 5))
+if run loop "$pfx" render "$effect" -o "$work/loop" "${small[@]}" --frames "0:$last"; then
+    for k in 0 5; do
+        a=$(frame "$work/loop" fire_loop $((n + k)))
+        b=$(frame "$work/loop" fire_loop "$k")
+        if [[ -f $a && -f $b ]] && cmp -s "$a" "$b"; then
+            pass "fire_loop: frame $((n + k)) is byte-identical to frame $k"
+        else
+            fail "fire_loop: frame $((n + k)) is byte-identical to frame $k"
+        fi
+    done
+    if cmp -s "$(frame "$work/loop" fire_loop 0)" "$(frame "$work/loop" fire_loop 1)"; then
+        fail "fire_loop: the frames change inside the loop" "frames 0 and 1 are identical"
+    else
+        pass "fire_loop: the frames change inside the loop (frame 1 is not frame 0)"
+    fi
+    # The seam: frame N - 1 -> frame 0 against every k -> k + 1 inside.
+    result=$("$python" "$work/seam.py" "$work/loop" fire_loop "$n" "$tolerance")
+    status=$?
+    read -r seam worst at <<<"$result"
+    if [[ $status -eq 0 ]]; then
+        pass "fire_loop: no visible seam: frames $((n - 1))->0 differ by $seam, at most $tolerance x the largest step inside, $worst (frames $at->$((at + 1)))"
+    elif [[ $status -eq 1 ]]; then
+        fail "fire_loop: no visible seam" "frames $((n - 1))->0 differ by $seam, above $tolerance x $worst (frames $at->$((at + 1)))"
+    else
+        fail "fire_loop: no visible seam" "the seam check could not read the frames"
+    fi
+else
+    fail "fire_loop: render --frames 0:$last" "pfx failed"
+fi
+
+# ---- The same effect with loop: false: both checks must fail ----
+twice=$(awk -v d="$duration" 'BEGIN { print 2 * d }')
+sed -e 's/^loop:[[:space:]]*true/loop: false/' -e "s/^duration:.*/duration: $twice/" \
+    "$effect" >"$work/fire_once.yaml"
+if ! grep -q '^loop: false' "$work/fire_once.yaml"; then
+    fail "fire_once: a loop: false copy" "no top-level 'loop: true' to replace"
+elif run once "$pfx" render "$work/fire_once.yaml" -o "$work/once" "${small[@]}" --frames "0:$n"; then
+    a=$(frame "$work/once" fire_once "$n")
+    b=$(frame "$work/once" fire_once 0)
+    if [[ -f $a && -f $b ]] && ! cmp -s "$a" "$b"; then
+        pass "fire_once (loop: false): frame $n differs from frame 0 (the byte check can fail)"
+    else
+        fail "fire_once (loop: false): frame $n differs from frame 0" "identical or missing"
+    fi
+    result=$("$python" "$work/seam.py" "$work/once" fire_once "$n" "$tolerance")
+    status=$?
+    read -r seam worst at <<<"$result"
+    if [[ $status -eq 1 ]]; then
+        pass "fire_once (loop: false): a visible seam: frames $((n - 1))->0 differ by $seam, above $tolerance x $worst (the seam check can fail)"
+    elif [[ $status -eq 0 ]]; then
+        fail "fire_once (loop: false): a visible seam" "frames $((n - 1))->0 differ by only $seam, within $tolerance x $worst"
+    else
+        fail "fire_once (loop: false): a visible seam" "the seam check could not read the frames"
+    fi
+else
+    fail "fire_once: render --frames 0:$n" "pfx failed"
+fi
+
+echo "$passed passed, $failed failed"
+[[ $failed -eq 0 ]]
