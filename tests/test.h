@@ -11,36 +11,36 @@
 static int test_failures = 0;
 static int test_checks = 0;
 
-#define CHECK(cond)                                                                    \
-    do {                                                                               \
-        test_checks++;                                                                 \
-        if (!(cond)) {                                                                 \
-            fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond);   \
-            test_failures++;                                                           \
-        }                                                                              \
+#define CHECK(cond)                                                                                \
+    do {                                                                                           \
+        test_checks++;                                                                             \
+        if (!(cond)) {                                                                             \
+            fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond);               \
+            test_failures++;                                                                       \
+        }                                                                                          \
     } while (0)
 
 /* |a - b| <= tol */
-#define CHECK_NEAR(a, b, tol)                                                          \
-    do {                                                                               \
-        test_checks++;                                                                 \
-        double ca_ = (double)(a), cb_ = (double)(b), ct_ = (double)(tol);              \
-        if (!(fabs(ca_ - cb_) <= ct_)) {                                               \
-            fprintf(stderr, "%s:%d: %s = %.17g, expected %s = %.17g within %g\n",      \
-                    __FILE__, __LINE__, #a, ca_, #b, cb_, ct_);                        \
-            test_failures++;                                                           \
-        }                                                                              \
+#define CHECK_NEAR(a, b, tol)                                                                      \
+    do {                                                                                           \
+        test_checks++;                                                                             \
+        double ca_ = (double)(a), cb_ = (double)(b), ct_ = (double)(tol);                          \
+        if (!(fabs(ca_ - cb_) <= ct_)) {                                                           \
+            fprintf(stderr, "%s:%d: %s = %.17g, expected %s = %.17g within %g\n", __FILE__,        \
+                    __LINE__, #a, ca_, #b, cb_, ct_);                                              \
+            test_failures++;                                                                       \
+        }                                                                                          \
     } while (0)
 
-#define RUN(test_fn)                                                                   \
-    do {                                                                               \
-        int before_ = test_failures;                                                   \
-        test_fn();                                                                     \
-        fprintf(stderr, "%s %s\n", test_failures == before_ ? "ok  " : "FAIL", #test_fn); \
+#define RUN(test_fn)                                                                               \
+    do {                                                                                           \
+        int before_ = test_failures;                                                               \
+        test_fn();                                                                                 \
+        fprintf(stderr, "%s %s\n", test_failures == before_ ? "ok  " : "FAIL", #test_fn);          \
     } while (0)
 
-#define TEST_EXIT()                                                                    \
-    (fprintf(stderr, "%d checks, %d failed\n", test_checks, test_failures),            \
+#define TEST_EXIT()                                                                                \
+    (fprintf(stderr, "%d checks, %d failed\n", test_checks, test_failures),                        \
      test_failures == 0 ? 0 : 1)
 
 #endif
