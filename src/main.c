@@ -444,11 +444,28 @@ static int cmd_info(int argc, char **argv, const options *o) {
                em->capacity * bpp, em->saturates ? " (saturates: cut by the budget)" : "");
         if (em->motion)
             printf("      integrator: %s\n", pfx_motion_explain(em->motion));
+        else if (em->accel[0] == 0 && em->accel[1] == 0 && em->accel[2] == 0)
+            printf("      integrator: exact (no force: straight lines)\n");
         else
             printf("      integrator: exact (only gravity, [%g, %g, %g] m/s^2%s: the "
                    "constant-acceleration closed form, exact at any step)\n",
                    em->accel[0], em->accel[1], em->accel[2],
                    em->gravity_scale.dist == PFX_DIST_CONST ? "" : " x gravity_scale");
+        if (em->deflector_count) {
+            printf("      deflectors:");
+            for (size_t d = 0; d < em->deflector_count; d++)
+                printf(" %s", em->deflectors[d].name);
+            printf(" (swept exact hits; 24 scratch bytes per particle)\n");
+        }
+        static const char *const events[] = {"on_birth", "on_death", "on_hit", "trail"};
+        for (size_t k = 0; k < em->spawn_count; k++)
+            printf("      %s -> %s\n", events[em->spawns[k].event],
+                   e->emitters[em->spawns[k].target].name);
+        if (em->kill)
+            printf("      kill rules: %zu%s\n", em->kill->count,
+                   em->kill->bounds == PFX_BOUNDS_WRAP   ? ", wrapping bounds"
+                   : em->kill->bounds == PFX_BOUNDS_KILL ? ", killing bounds"
+                                                         : "");
         total += em->capacity;
         bytes += em->capacity * bpp;
     }
