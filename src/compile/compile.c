@@ -41,7 +41,7 @@ static const char *const image_keys[] = {"size", "background", NULL};
 static const char *const emitter_keys[] = {
     "shape", "position", "rotation", "rate", "interval", "bursts", "start", "duration", "loop",
     "direction", "spread", "distance", "inherit_velocity", "speed", "lifetime", "size", "color",
-    "alpha", "forces", "deflectors", "gravity_scale", "charge", "mass", "on_birth", "on_death",
+    "alpha", "angle", "spin", "sprite", "forces", "deflectors", "gravity_scale", "charge", "mass", "on_birth", "on_death",
     "on_hit", "trail", "lod", "integrator", "kill", "bounds", "blend", NULL};
 /* clang-format on */
 static const char *const blend_modes[] = {"add", "alpha", NULL};

@@ -6,6 +6,8 @@
 
 #include <string.h>
 
+#include "render/render.h"
+
 #define MAX_SIZE 1e6
 
 static bool range_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_value *v, double lo,
@@ -119,9 +121,54 @@ static void compile_color(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
         em->color_mode = PFX_COLOR_RANDOM;
 }
 
+/* `angle` (a value, degrees), `spin` (a value in degrees per second, or a
+ * curve over life [{at, value}] integrated once into a table, so the angle
+ * at any age is one lookup), `sprite: round | square`. */
+static void compile_rotation(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
+    static const char *const shapes[] = {"round", "square", NULL};
+    const pfx_node *v;
+    if ((v = pfx_node_get(n, "angle")))
+        pfx_read_value_in(r, v, "angle", &em->angle, -1e6, false, 1e6);
+    if ((v = pfx_node_get(n, "spin"))) {
+        if (v->kind == PFX_NODE_SEQ && v->count && v->items[0]->kind == PFX_NODE_MAP) {
+            enum { MAX_KEYS = 64 };
+            double at[MAX_KEYS], val[MAX_KEYS];
+            pfx_key_list_spec spec = {"spin", "at", MAX_KEYS, 1, false, 0, 1, -1e6, 1e6};
+            if (!pfx_read_key_list(r, v, &spec, at, val))
+                return;
+            /* Integral of the piecewise-linear spin over u in [0, 1], by the
+             * trapezoid rule on the table's own grid (exact for linear
+             * pieces whose keys fall on the grid). */
+            double sum = 0, prev = val[0];
+            for (int i = 0; i < PFX_GRADIENT_LUT; i++) {
+                double u = (double)i / (PFX_GRADIENT_LUT - 1);
+                size_t k = 0;
+                while (k + 1 < v->count && at[k + 1] <= u)
+                    k++;
+                double s = val[k];
+                if (k + 1 < v->count && u > at[k])
+                    s = val[k] + (val[k + 1] - val[k]) * (u - at[k]) / (at[k + 1] - at[k]);
+                if (i > 0)
+                    sum += 0.5 * (s + prev) / (PFX_GRADIENT_LUT - 1);
+                prev = s;
+                em->spin_turn_lut[i] = (float)sum;
+            }
+            em->spin_curve = true;
+        } else {
+            pfx_read_value_in(r, v, "spin", &em->spin, -1e6, false, 1e6);
+        }
+    }
+    if ((v = pfx_node_get(n, "sprite"))) {
+        int k = pfx_read_enum(r, v, "sprite", "sprite shape", shapes);
+        if (k >= 0)
+            em->sprite_shape = k == 1 ? PFX_SPRITE_SQUARE : PFX_SPRITE_ROUND;
+    }
+}
+
 bool pfx_compile_appearance(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
     int errors = r->d->errors;
     const pfx_node *v;
+    compile_rotation(r, n, em);
     if ((v = pfx_node_get(n, "size")))
         compile_size(r, v, em);
     if ((v = pfx_node_get(n, "color")))

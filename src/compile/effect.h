@@ -192,7 +192,12 @@ typedef struct pfx_emitter {
     float color_a[4], color_b[4]; /* RANDOM: each particle is a fixed mix of the two */
     bool size_curve;              /* size over life from size_lut, not start/end */
     float size_lut[PFX_GRADIENT_LUT];
-    bool alpha_curve; /* alpha_lut multiplies the colour's alpha */
+    pfx_value angle; /* sprite angle at birth, degrees */
+    pfx_value spin;  /* degrees per second (constant over life unless spin_curve) */
+    bool spin_curve; /* spin over life: angle = angle0 + lifetime * spin_turn_lut[u] */
+    float spin_turn_lut[PFX_GRADIENT_LUT]; /* integral of spin over normalised age */
+    float sprite_shape;                    /* PFX_SPRITE_ROUND or _SQUARE (render.h) */
+    bool alpha_curve;                      /* alpha_lut multiplies the colour's alpha */
     float alpha_lut[PFX_GRADIENT_LUT];
     uint32_t force_mask; /* bit i: feels effect->forces[i] */
     pfx_value gravity_scale;

@@ -111,23 +111,35 @@ static const char *vertex_src = "#version 330 core\n"
                                 "layout(location = 0) in vec2 corner;\n"
                                 "layout(location = 1) in vec4 centre_size;\n"
                                 "layout(location = 2) in vec4 colour;\n"
+                                "layout(location = 3) in vec2 angle_shape;\n"
                                 "uniform mat4 view;\n"
                                 "uniform mat4 proj;\n"
                                 "out vec2 v_corner;\n"
                                 "out vec4 v_colour;\n"
+                                "flat out float v_shape;\n"
                                 "void main() {\n"
                                 "    vec4 c = view * vec4(centre_size.xyz, 1.0);\n"
-                                "    c.xy += corner * (0.5 * centre_size.w);\n"
+                                "    float s = sin(angle_shape.x), k = cos(angle_shape.x);\n"
+                                "    vec2 turned = vec2(k * corner.x - s * corner.y,\n"
+                                "                       s * corner.x + k * corner.y);\n"
+                                "    c.xy += turned * (0.5 * centre_size.w);\n"
                                 "    gl_Position = proj * c;\n"
                                 "    v_corner = corner;\n"
                                 "    v_colour = colour;\n"
+                                "    v_shape = angle_shape.y;\n"
                                 "}\n";
 
 static const char *fragment_src = "#version 330 core\n"
                                   "in vec2 v_corner;\n"
                                   "in vec4 v_colour;\n"
+                                  "flat in float v_shape;\n"
                                   "layout(location = 0) out vec4 frag;\n"
                                   "void main() {\n"
+                                  "    if (v_shape > 0.5) {\n"
+                                  "        vec2 q = 1.0 - v_corner * v_corner;\n"
+                                  "        frag = v_colour * (q.x * q.x * q.y * q.y);\n"
+                                  "        return;\n"
+                                  "    }\n"
                                   "    float d2 = dot(v_corner, v_corner);\n"
                                   "    if (d2 >= 1.0) discard;\n"
                                   "    float k = 1.0 - d2;\n"
@@ -232,10 +244,14 @@ static void build_vertex_arrays(pfx_renderer *r) {
                               (const void *)offsetof(pfx_sprite, x));
     r->gl.VertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(pfx_sprite),
                               (const void *)offsetof(pfx_sprite, r));
+    r->gl.VertexAttribPointer(3, 2, GL_FLOAT, GL_FALSE, sizeof(pfx_sprite),
+                              (const void *)offsetof(pfx_sprite, angle));
     r->gl.EnableVertexAttribArray(1);
     r->gl.EnableVertexAttribArray(2);
+    r->gl.EnableVertexAttribArray(3);
     r->gl.VertexAttribDivisor(1, 1);
     r->gl.VertexAttribDivisor(2, 1);
+    r->gl.VertexAttribDivisor(3, 1);
 }
 
 pfx_renderer *pfx_renderer_create(int width, int height, char *err, size_t err_size) {

@@ -19,7 +19,16 @@
 typedef struct pfx_sprite {
     float x, y, z, size;
     float r, g, b, a;
+    float angle; /* radians, turning the sprite in the view plane */
+    float shape; /* PFX_SPRITE_ROUND or PFX_SPRITE_SQUARE, as a float for the GPU */
 } pfx_sprite;
+
+/* Sprite shapes. Round: alpha (1 - d^2)^2 with d the distance from the
+ * centre over the radius (rotation does not show). Square: the product of
+ * that falloff along the sprite's two axes, (1 - x^2)^2 (1 - y^2)^2, a soft
+ * square whose rotation shows. */
+#define PFX_SPRITE_ROUND 0.0f
+#define PFX_SPRITE_SQUARE 1.0f
 
 typedef struct pfx_renderer pfx_renderer;
 

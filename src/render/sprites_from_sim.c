@@ -29,8 +29,18 @@ size_t pfx_sprites_build(const pfx_sim *s, pfx_sprite *out) {
             float c[4];
             pfx_particle_color(em, p, j, c);
             const float a = c[3];
-            out[n++] = (pfx_sprite){p->px[j], p->py[j], p->pz[j], pfx_particle_size(em, p, j),
-                                    c[0] * a, c[1] * a, c[2] * a, additive ? 0.0f : a};
+            out[n++] = (pfx_sprite){
+                .x = p->px[j],
+                .y = p->py[j],
+                .z = p->pz[j],
+                .size = pfx_particle_size(em, p, j),
+                .r = c[0] * a,
+                .g = c[1] * a,
+                .b = c[2] * a,
+                .a = additive ? 0.0f : a,
+                /* A round sprite looks the same at any angle: skip the work. */
+                .angle = em->sprite_shape != PFX_SPRITE_ROUND ? pfx_particle_angle(em, p, j) : 0,
+                .shape = em->sprite_shape};
         }
     }
     return n;

@@ -125,6 +125,8 @@ void pfx_birth_draw(const pfx_emitter *em, double t, pfx_rng *r, const double pl
     b->q = pfx_needs_charge(em) ? pfx_sample_value(&em->charge, r) : em->charge.a;
     b->mass = pfx_needs_mass(em) ? pfx_sample_value(&em->mass, r) : em->mass.a;
     b->tint = pfx_needs_tint(em) ? pfx_rng_unit(r) : 0;
+    b->angle = pfx_needs_angle(em) ? pfx_sample_value(&em->angle, r) : em->angle.a;
+    b->spin = pfx_needs_spin(em) ? pfx_sample_value(&em->spin, r) : em->spin.a;
     double world_local[3], world_dir[3];
     rotate(pose.rotation, local, world_local);
     rotate(pose.rotation, dir, world_dir);

@@ -16,6 +16,12 @@ static inline bool pfx_needs_size0(const pfx_emitter *em) { return em->size_vari
 static inline bool pfx_needs_size1(const pfx_emitter *em) {
     return em->size_varies && !em->size_same;
 }
+static inline bool pfx_needs_angle(const pfx_emitter *em) {
+    return em->angle.dist != PFX_DIST_CONST;
+}
+static inline bool pfx_needs_spin(const pfx_emitter *em) {
+    return !em->spin_curve && em->spin.dist != PFX_DIST_CONST;
+}
 static inline bool pfx_needs_tint(const pfx_emitter *em) {
     return em->color_mode != PFX_COLOR_OVER_LIFE;
 }
@@ -47,7 +53,7 @@ void pfx_emitter_pose_at(const pfx_emitter *em, double t, emitter_pose *p);
 /* What one birth draws (see pfx_birth_draw). */
 typedef struct birth_draws {
     double pos[3], vel[3];
-    double life, s0, s1, gs, q, mass, tint;
+    double life, s0, s1, gs, q, mass, tint, angle, spin;
 } birth_draws;
 
 /* Draws birth at effect time t from r: a fixed number of generator outputs

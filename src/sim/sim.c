@@ -20,7 +20,7 @@
  * uint32_t) or 1-byte (flag) elements, moved with memcpy: writing a float
  * column through a uint32_t pointer would break strict aliasing (the
  * optimiser then keeps stale ages in registers). */
-#define MAX_COLUMNS 26
+#define MAX_COLUMNS 28
 typedef struct column_list {
     unsigned char *col[MAX_COLUMNS];
     size_t size[MAX_COLUMNS];
@@ -36,11 +36,11 @@ static void add_column(column_list *c, void *col, size_t size) {
 
 static column_list pool_columns(const pfx_pool *p) {
     column_list c = {.count = 0};
-    void *four[] = {p->px,    p->py,    p->pz,        p->vx,         p->vy,
-                    p->vz,    p->age,   p->lifetime,  p->id,         p->gravity_scale,
-                    p->size0, p->size1, p->charge,    p->mass,       p->bx,
-                    p->by,    p->bz,    p->tint,      p->generation, p->pr,
-                    p->pg,    p->pb,    p->size_scale};
+    void *four[] = {p->px,    p->py,    p->pz,         p->vx,         p->vy,
+                    p->vz,    p->age,   p->lifetime,   p->id,         p->gravity_scale,
+                    p->size0, p->size1, p->charge,     p->mass,       p->bx,
+                    p->by,    p->bz,    p->tint,       p->generation, p->pr,
+                    p->pg,    p->pb,    p->size_scale, p->angle0,     p->spin};
     for (size_t k = 0; k < sizeof four / sizeof *four && c.count < MAX_COLUMNS; k++)
         add_column(&c, four[k], 4);
     add_column(&c, p->stuck, 1);
@@ -76,6 +76,8 @@ static size_t layout_columns(const pfx_emitter *em, pfx_pool *p, float *base, ui
     TAKE(charge, pfx_needs_charge(em));
     TAKE(mass, pfx_needs_mass(em));
     TAKE(tint, pfx_needs_tint(em));
+    TAKE(angle0, pfx_needs_angle(em));
+    TAKE(spin, pfx_needs_spin(em));
     TAKE(generation, em->keeps_generation);
     TAKE(pr, em->keeps_parent_color);
     TAKE(pg, em->keeps_parent_color);
@@ -437,6 +439,10 @@ bool pfx_sim_make_particle(pfx_sim *s, size_t i, double tb, double t1, const pfx
         p->stuck[j] = 0;
     if (p->tint)
         p->tint[j] = (float)b.tint;
+    if (p->angle0)
+        p->angle0[j] = (float)b.angle;
+    if (p->spin)
+        p->spin[j] = (float)b.spin;
     if (p->generation)
         p->generation[j] = parent ? parent->generation + 1 : 0;
     if (p->pr) {
@@ -604,6 +610,14 @@ void pfx_particle_color(const pfx_emitter *em, const pfx_pool *p, uint32_t i, fl
         out[1] *= p->pg[i];
         out[2] *= p->pb[i];
     }
+}
+
+float pfx_particle_angle(const pfx_emitter *em, const pfx_pool *p, uint32_t i) {
+    float a0 = p->angle0 ? p->angle0[i] : (float)em->angle.a;
+    float turned = em->spin_curve
+                       ? p->lifetime[i] * em->spin_turn_lut[lut_index(p->age[i] / p->lifetime[i])]
+                       : (p->spin ? p->spin[i] : (float)em->spin.a) * p->age[i];
+    return (a0 + turned) * (float)(M_PI / 180);
 }
 
 uint64_t pfx_sim_hash(const pfx_sim *s) {

@@ -32,6 +32,7 @@ typedef struct pfx_pool {
     float *generation;    /* sub-emitter generation, in cycles bounded by `depth` */
     float *pr, *pg, *pb;  /* colour inherited from a parent (multiplies its own) */
     float *size_scale;    /* size inherited from a parent (multiplies its own) */
+    float *angle0, *spin; /* random sprite angle at birth (deg) and spin (deg/s) */
     uint8_t *stuck;       /* 1 once stuck to a deflector (only with a `stick` one) */
     float *start[6];      /* scratch: x, y, z, vx, vy, vz at the start of the step,
                              for the collision pass (only with deflectors) */
@@ -101,6 +102,8 @@ double pfx_sim_frame_time(const pfx_effect *e, long frame);
 /* Particle i's size and straight-alpha colour now (by its normalised age). */
 float pfx_particle_size(const pfx_emitter *em, const pfx_pool *p, uint32_t i);
 void pfx_particle_color(const pfx_emitter *em, const pfx_pool *p, uint32_t i, float out[4]);
+/* Particle i's sprite angle now, radians: angle at birth plus its spin. */
+float pfx_particle_angle(const pfx_emitter *em, const pfx_pool *p, uint32_t i);
 
 /* FNV-1a over every live particle's columns, in pool order: the state hash
  * the determinism test pins. */

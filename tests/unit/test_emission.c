@@ -255,6 +255,32 @@ static void test_loop(void) {
     }
 }
 
+/* Sprite angle: angle0 + spin * age for a constant spin; for a spin curve
+ * from 0 to 360 deg/s over life the turn is lifetime * 180 u^2 (its
+ * integral), within the table's resolution. */
+static void test_spin(void) {
+    compiled c;
+    if (!compile_text(&c, "pfx: 1\nforces: {}\nemitters:\n  s:\n    rate: 10\n"
+                          "    lifetime: 2\n    angle: 30\n    spin: 90\n    sprite: square\n"
+                          "  t:\n    rate: 10\n    lifetime: 2\n"
+                          "    spin: [{at: 0, value: 0}, {at: 1, value: 360}]\n"))
+        return;
+    pfx_sim *s = run(c.e, 1.5);
+    const pfx_pool *p = &s->pools[0], *q = &s->pools[1];
+    CHECK(p->count > 0 && q->count > 0);
+    for (uint32_t j = 0; j < p->count; j++)
+        CHECK_NEAR(pfx_particle_angle(&c.e->emitters[0], p, j),
+                   (30 + 90 * (double)p->age[j]) * M_PI / 180, 1e-5);
+    for (uint32_t j = 0; j < q->count; j++) {
+        double u = q->age[j] / 2.0;
+        /* Nearest-entry lookup: u is off by up to half a table step. */
+        double want = 2.0 * 180 * u * u, slack = 2.0 * 360 * 0.5 / 255 + 0.01;
+        CHECK_NEAR(pfx_particle_angle(&c.e->emitters[1], q, j) * 180 / M_PI, want, slack);
+    }
+    pfx_sim_destroy(s);
+    compiled_free(&c);
+}
+
 int main(void) {
     RUN(test_bursts);
     RUN(test_rate_curve);
@@ -265,5 +291,6 @@ int main(void) {
     RUN(test_sub_emitters);
     RUN(test_cycle_depth);
     RUN(test_loop);
+    RUN(test_spin);
     return TEST_EXIT();
 }

@@ -75,7 +75,7 @@ static void test_additive_overlap_sums(void) {
         return;
     uint8_t img[W * H * 4];
     pfx_camera cam = ortho_camera(6.5);
-    pfx_sprite s[2] = {{0, 0, 0, 2, 0.2f, 0.1f, 0, 0}, {0, 0, 0, 2, 0.2f, 0.1f, 0, 0}};
+    pfx_sprite s[2] = {{0, 0, 0, 2, 0.2f, 0.1f, 0, 0, 0, 0}, {0, 0, 0, 2, 0.2f, 0.1f, 0, 0, 0, 0}};
 
     if (draw(r, &cam, transparent, s, 2, false, img)) {
         const uint8_t *p = px(img, W, MID, MID);
@@ -106,8 +106,8 @@ static void test_alpha_order(void) {
     uint8_t img[W * H * 4];
     pfx_camera cam = ortho_camera(6.5);
     const double an = 0.5, af = 0.5;
-    const pfx_sprite blue_near = {0, 0, 1, 2, 0, 0, (float)an, (float)an};
-    const pfx_sprite red_far = {0, 0, -1, 2, (float)af, 0, 0, (float)af};
+    const pfx_sprite blue_near = {0, 0, 1, 2, 0, 0, (float)an, (float)an, 0, 0};
+    const pfx_sprite red_far = {0, 0, -1, 2, (float)af, 0, 0, (float)af, 0, 0};
 
     double c_sorted[3] = {(1 - an) * af * 1.0, 0, an * 1.0};
     int want_sorted[4];
@@ -141,7 +141,8 @@ static void test_sort_ties_keep_order(void) {
         return;
     uint8_t a[W * H * 4], b[W * H * 4];
     pfx_camera cam = ortho_camera(6.5);
-    pfx_sprite s[2] = {{0, 0, 0, 2, 0.5f, 0, 0, 0.5f}, {0.3f, 0, 0, 2, 0, 0, 0.5f, 0.5f}};
+    pfx_sprite s[2] = {{0, 0, 0, 2, 0.5f, 0, 0, 0.5f, 0, 0},
+                       {0.3f, 0, 0, 2, 0, 0, 0.5f, 0.5f, 0, 0}};
     pfx_sprite t[2];
     memcpy(t, s, sizeof s);
     if (draw(r, &cam, transparent, s, 2, true, a) && draw(r, &cam, transparent, t, 2, false, b)) {
@@ -174,7 +175,7 @@ static void test_sort_is_stable_back_to_front(void) {
     for (size_t i = 0; i < n; i++) {
         state = state * 1664525u + 1013904223u;
         float z = (float)((state >> 16) % 7) - 3.0f + ((state >> 8) & 1 ? -0.001f : 0.0f);
-        s[i] = (pfx_sprite){0, 0, z, 0, (float)i, 0, 0, 0};
+        s[i] = (pfx_sprite){0, 0, z, 0, (float)i, 0, 0, 0, 0, 0};
     }
     if (draw(r, &cam, transparent, s, n, true, img)) {
         size_t bad = 0;
@@ -197,7 +198,7 @@ static void test_falloff(void) {
         return;
     uint8_t img[W * H * 4];
     pfx_camera cam = ortho_camera(6.5);
-    pfx_sprite s = {0, 0, 0, 2, 1, 1, 1, 1};
+    pfx_sprite s = {0, 0, 0, 2, 1, 1, 1, 1, 0, 0};
     if (draw(r, &cam, transparent, &s, 1, false, img)) {
         const uint8_t *c = px(img, W, MID, MID);
         CHECK(c[0] == 255 && c[1] == 255 && c[2] == 255 && c[3] == 255);
@@ -226,7 +227,7 @@ static void test_orientation(void) {
         return;
     uint8_t img[W * H * 4];
     pfx_camera cam = ortho_camera(6.5);
-    pfx_sprite s[2] = {{0, 2, 0, 1, 1, 0, 0, 1}, {2, 0, 0, 1, 0, 1, 0, 1}};
+    pfx_sprite s[2] = {{0, 2, 0, 1, 1, 0, 0, 1, 0, 0}, {2, 0, 0, 1, 0, 1, 0, 1, 0, 0}};
     if (draw(r, &cam, transparent, s, 2, false, img)) {
         CHECK(px(img, W, MID, MID - 20)[3] == 255);
         CHECK(px(img, W, MID, MID - 20)[0] == 255);
@@ -254,7 +255,7 @@ static void test_backgrounds(void) {
         CHECK(bad == 0);
     }
     /* An additive sprite adds to an opaque background and keeps alpha 255. */
-    pfx_sprite s = {0, 0, 0, 2, 0.3f, 0.1f, 0, 0};
+    pfx_sprite s = {0, 0, 0, 2, 0.3f, 0.1f, 0, 0, 0, 0};
     if (draw(r, &cam, opaque, &s, 1, false, img)) {
         const int centre[4] = {128, 128, 153, 255}; /* (0.5, 0.5, 0.6) */
         check_pixel(px(img, W, MID, MID), centre, 1);
@@ -292,7 +293,7 @@ static void test_perspective_size(void) {
     int diam[2] = {0, 0};
     const double dist[2] = {5, 10};
     for (int i = 0; i < 2; i++) {
-        pfx_sprite s = {0, 0, (float)-dist[i], 1, 1, 1, 1, 1};
+        pfx_sprite s = {0, 0, (float)-dist[i], 1, 1, 1, 1, 1, 0, 0};
         if (draw(r, &cam, transparent, &s, 1, false, img)) {
             diam[i] = row_coverage(img, P, P / 2);
             CHECK_NEAR(diam[i], 1.0 / (2 * dist[i] * t) * P, 2);
@@ -309,8 +310,16 @@ static void random_sprites(pfx_sprite *s, size_t n, uint32_t seed) {
 #define NEXT() (state = state * 1664525u + 1013904223u, (float)(state >> 8) / 16777216.0f)
     for (size_t i = 0; i < n; i++) {
         float a = NEXT() < 0.5f ? 0 : NEXT();
-        s[i] = (pfx_sprite){NEXT() * 4 - 2, NEXT() * 4 - 2, NEXT() * 4 - 2, NEXT() * 0.5f,
-                            NEXT() * 0.3f,  NEXT() * 0.3f,  NEXT() * 0.3f,  a};
+        s[i] = (pfx_sprite){NEXT() * 4 - 2,
+                            NEXT() * 4 - 2,
+                            NEXT() * 4 - 2,
+                            NEXT() * 0.5f,
+                            NEXT() * 0.3f,
+                            NEXT() * 0.3f,
+                            NEXT() * 0.3f,
+                            a,
+                            0,
+                            0};
         if (a > 0) { /* premultiply alpha sprites */
             s[i].r *= a;
             s[i].g *= a;
@@ -387,7 +396,55 @@ static void test_bench_raw(void) {
     pfx_renderer_destroy(r);
 }
 
+/* A square sprite turns with its angle: at 45 degrees the pixel on its
+ * diagonal (sprite coordinates (0.5, 0.5) unturned) lies on its axis
+ * instead; the falloff (1 - x^2)^2 (1 - y^2)^2 at the pixel's coordinates in
+ * the turned frame is known either way. A round sprite looks the same at
+ * any angle. */
+static void test_square_rotation(void) {
+    pfx_renderer *r = make(W, H);
+    if (!r)
+        return;
+    uint8_t img[W * H * 4];
+    pfx_camera cam = ortho_camera(6.5); /* 10 pixels per metre, sprite radius 1 m */
+    const double ppm = H / 6.5;
+    /* The pixel whose centre is nearest (0.5, 0.5) m from the sprite centre. */
+    int dx = (int)lround(0.5 * ppm);
+    double x = dx / ppm, y = dx / ppm; /* its true offset, metres = sprite units */
+    for (int turned = 0; turned < 2; turned++) {
+        double ang = turned ? M_PI / 4 : 0;
+        pfx_sprite s = {0, 0, 0, 2, 1, 1, 1, 1, (float)ang, PFX_SPRITE_SQUARE};
+        if (!draw(r, &cam, transparent, &s, 1, false, img))
+            break;
+        /* The pixel's coordinates in the sprite's own (turned) frame. */
+        double u = cos(ang) * x + sin(ang) * y, v = -sin(ang) * x + cos(ang) * y;
+        double f = (1 - u * u) * (1 - u * u) * (1 - v * v) * (1 - v * v);
+        const uint8_t *p = px(img, W, MID + dx, MID - dx);
+        CHECK_NEAR(p[3], 255 * f, 2);
+    }
+    pfx_sprite round = {0, 0, 0, 2, 1, 1, 1, 1, 0, PFX_SPRITE_ROUND};
+    uint8_t a[W * H * 4];
+    if (draw(r, &cam, transparent, &round, 1, false, a)) {
+        round.angle = 1.0f;
+        if (draw(r, &cam, transparent, &round, 1, false, img)) {
+            /* The turned quad rasterises the same disc: equal up to the
+             * interpolation's last bit. Compared premultiplied (colour x
+             * alpha), as straight colour is arbitrary where alpha is ~0. */
+            int worst = 0;
+            for (size_t k = 0; k < sizeof img; k += 4)
+                for (int ch = 0; ch < 4; ch++) {
+                    int pa = ch == 3 ? a[k + 3] : a[k + ch] * a[k + 3] / 255;
+                    int pb = ch == 3 ? img[k + 3] : img[k + ch] * img[k + 3] / 255;
+                    worst = abs(pa - pb) > worst ? abs(pa - pb) : worst;
+                }
+            CHECK(worst <= 1);
+        }
+    }
+    pfx_renderer_destroy(r);
+}
+
 int main(void) {
+    RUN(test_square_rotation);
     RUN(test_additive_overlap_sums);
     RUN(test_alpha_order);
     RUN(test_sort_ties_keep_order);
