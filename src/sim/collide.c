@@ -798,11 +798,23 @@ void pfx_collide(const pfx_deflector *defl, size_t n_defl, double dt, const pfx_
             b.x[j] = x0[j], b.v[j] = v0[j];
             b.a[j] = (v1[j] - v0[j]) / dt; /* the step's effective acceleration */
         }
+        /* How far the particle can get this step: along the parabola, and
+         * to the integrator's end point (the fallback below). A deflector
+         * whose surface is farther than that from x0 cannot be touched; the
+         * constraint value is a lower bound on the distance to the surface
+         * for every shape, so this skips most particles exactly. */
+        double speed = sqrt(dot(v0, v0)), accel = sqrt(dot(b.a, b.a));
+        double dx[3] = {x1[0] - x0[0], x1[1] - x0[1], x1[2] - x0[2]};
+        double reach = dmax(speed * dt + 0.5 * accel * dt * dt, sqrt(dot(dx, dx)));
+        reach += 1e-6 * (1 + fabs(x0[0]) + fabs(x0[1]) + fabs(x0[2]));
         bool any = false;
         uint32_t id = pool->id ? pool->id[i] : i;
         for (size_t k = 0; k < n_defl; k++) {
             b.side[k] = pfx_deflector_affects(&defl[k], id) ? start_side(&pr[k], &b) : 0;
-            any |= b.side[k] != 0;
+            if (b.side[k]) {
+                double n[3];
+                any |= fabs(constraint(&pr[k], 1, x0, n)) <= reach;
+            }
         }
         if (!any)
             continue;
