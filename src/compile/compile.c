@@ -644,10 +644,13 @@ static void compile_loop(compiler *c, const pfx_node *root, const pfx_node *loop
         }
     }
     for (size_t f = 0; f < e->force_count; f++)
-        if (e->forces[f].spec.kind == PFX_MOTION_TURBULENCE && e->forces[f].spec.speed != 0)
-            pfx_read_warning(&c->r, root,
+        if (e->forces[f].spec.kind == PFX_MOTION_TURBULENCE && e->forces[f].spec.speed != 0) {
+            const pfx_node *fn = pfx_node_get(pfx_node_get(root, "forces"), e->forces[f].name);
+            const pfx_node *at = pfx_node_get(fn, "speed");
+            pfx_read_warning(&c->r, at ? at : root,
                              "turbulence '%s' drifts with 'speed': the loop will show a seam",
                              e->forces[f].name);
+        }
     e->loop_start = fmax(e->prewarm, ceil(settle / period - 1e-9) * period);
 }
 
