@@ -119,10 +119,12 @@ static int parse_options(int argc, char **argv, options *o) {
             if (!colon)
                 return usage_error("--frames takes A:B (first and last frame), got '%s'", optarg);
             *colon = 0;
-            bool ok = parse_ulong(optarg, &a) && parse_ulong(colon + 1, &b) && a <= b;
+            bool ok =
+                parse_ulong(optarg, &a) && parse_ulong(colon + 1, &b) && a <= b && b <= 100000000;
             *colon = ':';
             if (!ok)
-                return usage_error("--frames takes A:B with 0 <= A <= B, got '%s'", optarg);
+                return usage_error("--frames takes A:B with 0 <= A <= B <= 100000000, got '%s'",
+                                   optarg);
             o->first = (long)a;
             o->last = (long)b;
             o->has_frames = true;
@@ -438,7 +440,7 @@ static int cmd_info(int argc, char **argv, const options *o) {
                "blend\n",
                em->name, pfx_shape_type_name(em->shape.type), kinds[em->rate_kind],
                pfx_schedule_max_rate(em), em->burst_count ? " plus bursts" : "",
-               em->spawned_rate > 0 ? " plus sub-emitters" : "", em->max_lifetime,
+               em->spawned_peak > 0 ? " plus sub-emitters" : "", em->max_lifetime,
                em->blend == PFX_BLEND_ADD ? "additive" : "alpha");
         printf("      pool %u particles x %zu bytes = %zu bytes%s\n", em->capacity, bpp,
                em->capacity * bpp, em->saturates ? " (saturates: cut by the budget)" : "");

@@ -572,10 +572,6 @@ static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n,
                       (!em->size_same && em->size_end.dist != PFX_DIST_CONST);
 }
 
-/* Sizes each emitter's pool from rate x max lifetime. The live count of an
- * emitter whose births are 1/rate apart never exceeds floor(rate * L) + 1.
- * When the sum exceeds the particle budget, pools are cut in proportion and
- * the emitters saturate: a warning says so with the numbers. */
 /* A seamless loop of period P = duration: every emitter's schedule repeats
  * with period P (or a divisor it states) and draws the same values each
  * period; keyframes repeat too. Frames come from one period starting once
@@ -658,20 +654,40 @@ static void compile_loop(compiler *c, const pfx_node *root, const pfx_node *loop
  * lifetime. */
 static double pool_need(const pfx_emitter *em) { return pfx_schedule_peak(em) + em->spawned_peak; }
 
+/* Sizes each emitter's pool from its worst case (rate x max lifetime, plus
+ * bursts and sub-emitters). When the total exceeds the particle budget, the
+ * budget is shared by water-filling: every emitter gets its need or an
+ * equal share of what is left, whichever is smaller, smallest needs first,
+ * so a small emitter (a firework's shell) is never starved by a huge one
+ * (its sparks). Cut emitters saturate, with a warning giving the numbers. */
 static void size_pools(compiler *c, const pfx_node *emitters) {
     pfx_effect *e = c->e;
+    size_t n = e->emitter_count;
+    double need[1024], cap[1024];
+    size_t order[1024];
     double need_total = 0;
-    for (size_t i = 0; i < e->emitter_count; i++) {
-        pfx_emitter *em = &e->emitters[i];
-        need_total += pool_need(em);
+    for (size_t i = 0; i < n && i < 1024; i++) {
+        need[i] = pool_need(&e->emitters[i]);
+        need_total += need[i];
+        order[i] = i;
     }
-    double budget = (double)e->max_particles;
-    for (size_t i = 0; i < e->emitter_count; i++) {
+    /* Insertion sort by need: at most 1024 emitters, once per compile. */
+    for (size_t i = 1; i < n; i++)
+        for (size_t k = i; k > 0 && need[order[k]] < need[order[k - 1]]; k--) {
+            size_t t = order[k];
+            order[k] = order[k - 1];
+            order[k - 1] = t;
+        }
+    double budget = (double)e->max_particles, left = budget;
+    for (size_t k = 0; k < n; k++) {
+        size_t i = order[k];
+        double share = floor(left / (double)(n - k));
+        cap[i] = need[i] <= share ? need[i] : share;
+        left -= cap[i];
+    }
+    for (size_t i = 0; i < n; i++) {
         pfx_emitter *em = &e->emitters[i];
-        double need = pool_need(em);
-        double cap = need;
-        if (need_total > budget) {
-            cap = floor(budget * need / need_total);
+        if (need_total > budget && cap[i] < need[i]) {
             em->saturates = true;
             const pfx_node *at = pfx_node_get(emitters->pairs[i].value, "rate");
             if (!at)
@@ -681,10 +697,10 @@ static void size_pools(compiler *c, const pfx_node *emitters) {
                              "lifetime %g s, plus bursts and sub-emitters) but gets %.0f of the "
                              "%.0f budget; it will saturate (raise --max-particles or lower "
                              "'rate' or 'lifetime')",
-                             em->name, need, pfx_schedule_max_rate(em) + em->spawned_rate,
-                             em->max_lifetime, cap, budget);
+                             em->name, need[i], pfx_schedule_max_rate(em) + em->spawned_rate,
+                             em->max_lifetime, cap[i], budget);
         }
-        em->capacity = (uint32_t)(cap < 1 ? 1 : cap);
+        em->capacity = (uint32_t)(cap[i] < 1 ? 1 : cap[i]);
     }
 }
 
@@ -794,12 +810,22 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
              * it says so. */
             for (size_t i = 0; i < e->emitter_count; i++) {
                 const pfx_node *n = emitters->pairs[i].value;
-                if (e->emitters[i].spawned_rate > 0 && !pfx_node_get(n, "rate") &&
+                if (e->emitters[i].spawned_peak > 0 && !pfx_node_get(n, "rate") &&
                     !pfx_node_get(n, "interval") && !pfx_node_get(n, "bursts"))
                     e->emitters[i].rate = 0;
             }
             if (e->loop)
                 compile_loop(&c, root, loop, emitters);
+            double end = (e->loop ? e->loop_start : e->prewarm) + e->duration;
+            for (size_t i = 0; i < e->emitter_count; i++)
+                e->emitters[i].horizon = end - e->emitters[i].start + 1;
+            /* Frame 0 of a loop comes after its warm-up: bound those steps too. */
+            if (e->loop && end * e->sim_rate > MAX_STEPS)
+                pfx_read_error(&c.r, loop,
+                               "the loop shows frames from t = %g s (when every particle alive "
+                               "repeats), %.0f simulation steps; the most is %.0f: shorten the "
+                               "lifetimes or lower sim.rate",
+                               e->loop_start, end * e->sim_rate, MAX_STEPS);
             size_pools(&c, emitters);
         }
     }

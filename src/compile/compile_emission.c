@@ -167,6 +167,11 @@ bool pfx_compile_emission(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
             em->loop = !strcmp(v->text, "true");
         if (em->loop && !isfinite(em->duration))
             pfx_read_error(r, v, "a looping emitter needs a 'duration' (its period)");
+        else if (em->loop && em->duration < 1e-3)
+            pfx_read_error(r, v,
+                           "a looping emitter's 'duration' (its period) must be at least "
+                           "0.001 s, got %g",
+                           em->duration);
     }
     if (em->rate_kind == PFX_RATE_RAMP && em->ramp_delta > 0 && !isfinite(em->duration) && rate)
         pfx_read_error(r, rate, "a rate that grows without end needs the emitter's 'duration'");

@@ -177,8 +177,10 @@ bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) 
     int errors = r->d->errors;
     size_t n = e->emitter_count;
     bool seen[1024];
-    if (n > 1024)
-        return true;
+    if (n > 1024) { /* the compiler caps emitters at 1024 */
+        pfx_read_error(r, emitters, "an effect has at most 1024 emitters, got %zu", n);
+        return false;
+    }
     for (size_t i = 0; i < n; i++) {
         memset(seen, 0, sizeof seen);
         if (undepthed_cycle(e, i, i, 0, seen)) {
@@ -195,11 +197,19 @@ bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) 
     }
     if (r->d->errors != errors)
         return false;
+    /* A depth counts generations along every spawn, so once any spawn has
+     * one, every emitter that spawns or is spawned keeps its generation
+     * (a cycle with depth on one edge only must still end). */
+    bool depths = false;
+    for (size_t i = 0; i < n; i++)
+        for (size_t k = 0; k < e->emitters[i].spawn_count; k++)
+            depths |= e->emitters[i].spawns[k].depth > 0;
     for (size_t i = 0; i < n; i++)
         for (size_t k = 0; k < e->emitters[i].spawn_count; k++) {
             const pfx_spawn *s = &e->emitters[i].spawns[k];
             pfx_emitter *t = &e->emitters[s->target];
-            t->keeps_generation |= s->depth > 0;
+            t->keeps_generation |= depths;
+            e->emitters[i].keeps_generation |= depths;
             t->keeps_parent_color |= s->inherit_color;
             t->keeps_size_scale |= s->inherit_size;
         }

@@ -169,6 +169,7 @@ typedef struct pfx_emitter {
     double start;        /* effect time the emitter starts */
     double duration;     /* seconds it emits (INFINITY: to the end); the period when looping */
     bool loop;           /* repeat the emission pattern every `duration` */
+    double horizon;      /* emitter time past which nothing is ever shown (the effect's end) */
     double direction[3]; /* unit, in the emitter's frame (rotated at birth) */
     pfx_direction_mode direction_mode;
     double spread_deg;     /* cone half-angle */

@@ -8,10 +8,16 @@
 #include <string.h>
 #include <unistd.h>
 
+/* Rows are sorted by (id, pool index) pairs: qsort has no context argument
+ * in C11, so the key travels with the index. */
+typedef struct id_index {
+    uint32_t id, index;
+} id_index;
+
 struct pfx_bake {
     FILE *f;
     char *path, *tmp;
-    uint32_t *order;
+    id_index *order;
     size_t order_cap;
 };
 
@@ -39,9 +45,8 @@ pfx_bake *pfx_bake_open(const char *path, char *err, size_t err_size) {
     return b;
 }
 
-static const uint32_t *sort_ids;
 static int by_id(const void *a, const void *b) {
-    uint32_t x = sort_ids[*(const uint32_t *)a], y = sort_ids[*(const uint32_t *)b];
+    uint32_t x = ((const id_index *)a)->id, y = ((const id_index *)b)->id;
     return x < y ? -1 : x > y;
 }
 
@@ -51,15 +56,14 @@ bool pfx_bake_frame(pfx_bake *b, const pfx_sim *s, long frame, double time) {
         const pfx_emitter *em = &e->emitters[i];
         const pfx_pool *p = &s->pools[i];
         if (p->count > b->order_cap) {
-            uint32_t *o = realloc(b->order, p->count * sizeof *o);
+            id_index *o = realloc(b->order, p->count * sizeof *o);
             if (!o)
                 return false;
             b->order = o;
             b->order_cap = p->count;
         }
         for (uint32_t j = 0; j < p->count; j++)
-            b->order[j] = j;
-        sort_ids = p->id; /* single-threaded: qsort has no context argument in C11 */
+            b->order[j] = (id_index){p->id[j], j};
         if (p->count > 1)
             qsort(b->order, p->count, sizeof *b->order, by_id);
         /* RFC 4180: a name with a comma, quote or line break is quoted. */
@@ -78,7 +82,7 @@ bool pfx_bake_frame(pfx_bake *b, const pfx_sim *s, long frame, double time) {
             snprintf(name, sizeof name, "%s", em->name);
         }
         for (uint32_t k = 0; k < p->count; k++) {
-            uint32_t j = b->order[k];
+            uint32_t j = b->order[k].index;
             float c[4];
             pfx_particle_color(em, p, j, c);
             fprintf(

@@ -94,8 +94,11 @@ void pfx_birth_draw(const pfx_emitter *em, double t, pfx_rng *r, const double pl
             pose.position[a] += place[a];
     double local[3], normal[3], base[3], dir[3];
     pfx_sample_shape(&em->shape, r, local, normal);
-    if (normal_override)
-        memcpy(normal, normal_override, sizeof normal);
+    if (normal_override) /* a world-space hit normal: into the emitter's frame (R^T) */
+        for (int a = 0; a < 3; a++)
+            normal[a] = pose.rotation[a] * normal_override[0] +
+                        pose.rotation[3 + a] * normal_override[1] +
+                        pose.rotation[6 + a] * normal_override[2];
     double len = sqrt(local[0] * local[0] + local[1] * local[1] + local[2] * local[2]);
     switch (em->direction_mode) {
     case PFX_DIRECTION_NORMAL:

@@ -6,6 +6,7 @@
 #include "sim/schedule.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "sim/sample.h"
 
@@ -99,7 +100,11 @@ static void find_next(pfx_schedule *s, const pfx_emitter *em) {
     case PFX_RATE_INTERVAL:
         return; /* s->next is advanced by pop */
     case PFX_RATE_RANDOM: {
-        double limit = fmin(em->duration, 1e9);
+        /* Windows past the effect's end (or the period) are never needed:
+         * a rate near zero must not walk a billion empty seconds. */
+        double limit = fmin(em->duration, em->horizon);
+        if (em->rate + em->rate_var <= 0)
+            limit = 0;
         for (;;) {
             if ((double)s->window >= limit) {
                 t = INFINITY;
@@ -121,26 +126,36 @@ static void find_next(pfx_schedule *s, const pfx_emitter *em) {
     s->next = t <= em->duration ? t : INFINITY;
 }
 
-/* The next burst event at or after (burst, cycle): its time and count. */
+/* The next burst event, merged across bursts by time (ties: file order):
+ * its time and count. Each event draws its count and probability (fixed
+ * draws, in time order); an event that does not fire is passed over. Cycles
+ * past the period (or the duration) are never visited. */
 static void find_burst(pfx_schedule *s, const pfx_emitter *em) {
     s->burst_left = 0;
     s->burst_time = INFINITY;
-    while (s->burst < em->burst_count) {
-        const pfx_burst *b = &em->bursts[s->burst];
-        if (s->cycle >= b->cycles) {
-            s->burst++;
-            s->cycle = 0;
-            continue;
+    for (;;) {
+        size_t best = em->burst_count;
+        double best_t = INFINITY;
+        for (size_t i = 0; i < em->burst_count; i++) {
+            const pfx_burst *b = &em->bursts[i];
+            if (s->cycle[i] >= b->cycles)
+                continue;
+            double t = b->time + b->interval * s->cycle[i];
+            if (!(t <= em->duration)) {
+                s->cycle[i] = b->cycles; /* later cycles are later still */
+                continue;
+            }
+            if (t < best_t)
+                best_t = t, best = i;
         }
-        double t = b->time + b->interval * s->cycle;
-        /* Fixed draws per event (count, probability) keep the stream aligned. */
+        if (best == em->burst_count)
+            return;
+        const pfx_burst *b = &em->bursts[best];
         double count = pfx_sample_value(&b->count, &s->rng);
         double u = pfx_rng_unit(&s->rng);
-        s->cycle++;
-        if (t >= em->duration)
-            continue;
+        s->cycle[best]++;
         if (u < b->probability && count >= 1) {
-            s->burst_time = t;
+            s->burst_time = best_t;
             s->burst_left = (uint64_t)floor(count);
             return;
         }
@@ -153,8 +168,7 @@ static void start_period(pfx_schedule *s, const pfx_emitter *em) {
     s->j = 0;
     s->window = 0;
     s->window_base = 0;
-    s->burst = 0;
-    s->cycle = 0;
+    memset(s->cycle, 0, sizeof s->cycle);
     if (em->rate_kind == PFX_RATE_INTERVAL) {
         double first = pfx_sample_value(&em->interval, &s->rng);
         s->next = first <= em->duration ? first : INFINITY;
@@ -199,21 +213,36 @@ void pfx_schedule_pop(pfx_schedule *s, const pfx_emitter *em) {
 }
 
 uint64_t pfx_schedule_skip_before(pfx_schedule *s, const pfx_emitter *em, double t) {
-    if (em->rate_kind != PFX_RATE_CONSTANT && em->rate_kind != PFX_RATE_CURVE &&
-        em->rate_kind != PFX_RATE_RAMP)
+    if (em->rate_kind == PFX_RATE_INTERVAL)
         return 0;
     double tau = t - em->start - period_start(s, em);
     if (em->loop)
         tau = fmin(tau, em->duration);
     if (tau <= s->next)
         return 0;
-    /* Births k with Lambda^-1(k) < tau: k < Lambda(tau). */
-    double count = ceil(pfx_schedule_integral(em, tau)) - 1;
+    /* Births k with Lambda^-1(k) < tau: k < Lambda(tau). For the Reeves
+     * windows the integral is known window by window. */
+    double lambda;
+    if (em->rate_kind == PFX_RATE_RANDOM) {
+        double limit = fmin(fmin(em->duration, em->horizon), tau);
+        while ((double)(s->window + 1) <= limit) {
+            s->window_base += window_rate(s, em, s->window);
+            s->window++;
+        }
+        lambda = s->window_base + window_rate(s, em, s->window) * (tau - (double)s->window);
+    } else {
+        lambda = pfx_schedule_integral(em, tau);
+    }
+    double count = ceil(lambda) - 1;
     if (count <= (double)s->j)
         return 0;
     uint64_t skipped = (uint64_t)count - s->j;
     s->j = (uint64_t)count;
     find_next(s, em);
+    if (em->loop && s->next == INFINITY && !s->burst_left) { /* as pop: the next period */
+        s->period++;
+        start_period(s, em);
+    }
     return skipped;
 }
 
@@ -255,7 +284,34 @@ double pfx_schedule_peak(const pfx_emitter *em) {
         double events = b->interval > 0 ? floor(life / b->interval) + 1 : 1;
         if (events > b->cycles)
             events = b->cycles;
+        if (em->loop) /* the burst comes back every period */
+            events *= floor(life / em->duration) + 1;
         peak += events * floor(pfx_value_max(&b->count));
     }
     return peak;
+}
+
+uint64_t pfx_schedule_drop_until(pfx_schedule *s, const pfx_emitter *em, double t) {
+    uint64_t dropped = 0;
+    const uint64_t period = s->period;
+    for (; s->period == period;) {
+        double next = pfx_schedule_peek(s, em);
+        if (!(next <= t))
+            return dropped;
+        if (s->burst_left && s->burst_time < s->next) {
+            /* The whole rest of a burst event at once. */
+            dropped += s->burst_left;
+            s->burst_left = 1;
+            pfx_schedule_pop(s, em);
+            continue;
+        }
+        uint64_t skipped = pfx_schedule_skip_before(s, em, nextafter(t, INFINITY));
+        if (skipped) {
+            dropped += skipped;
+            continue;
+        }
+        pfx_schedule_pop(s, em);
+        dropped++;
+    }
+    return dropped; /* a new period: its draws start over (see sim.c) */
 }

@@ -10,6 +10,8 @@
 #include "compile/effect.h"
 #include "sim/rng.h"
 
+#define PFX_MAX_BURSTS 256
+
 /* Plain values only, so a simulation view copies it with the emitter. */
 typedef struct pfx_schedule {
     uint64_t period; /* loop periods completed (0 when not looping) */
@@ -18,8 +20,8 @@ typedef struct pfx_schedule {
     /* RANDOM: the current one-second window and the count integral at its start */
     uint64_t window;
     double window_base;
-    /* bursts: the next event (burst index, cycle) and births left in it */
-    uint32_t burst, cycle;
+    /* bursts: each burst's next cycle; the current event's births left */
+    uint32_t cycle[PFX_MAX_BURSTS];
     uint64_t burst_left;
     double burst_time;
     pfx_rng rng;        /* intervals, random rates, burst counts and probabilities */
@@ -33,6 +35,11 @@ void pfx_schedule_init(pfx_schedule *s, const pfx_emitter *em, uint64_t seed, ui
 double pfx_schedule_peek(const pfx_schedule *s, const pfx_emitter *em);
 /* Consumes the birth pfx_schedule_peek returned. */
 void pfx_schedule_pop(pfx_schedule *s, const pfx_emitter *em);
+
+/* Drops every birth due up to effect time t (a full pool, or births already
+ * dead), without visiting each where the schedule allows, stopping at the
+ * end of a loop period; returns how many births that was. */
+uint64_t pfx_schedule_drop_until(pfx_schedule *s, const pfx_emitter *em, double t);
 
 /* Skips, without visiting each, the births before effect time t where the
  * schedule allows it (continuous rates with a closed-form count); returns

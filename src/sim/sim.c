@@ -178,6 +178,7 @@ void pfx_sim_destroy(pfx_sim *s) {
     free(s->emitters);
     free(s->motions);
     pfx_spawn_queues_destroy(s);
+    pfx_sim_destroy(s->loop_start);
     free(s);
 }
 
@@ -482,20 +483,49 @@ static void repeat_draws(pfx_sim *s, size_t i) {
 static void emit(pfx_sim *s, size_t i, double t1) {
     const pfx_emitter *em = &s->effect->emitters[i];
     pfx_emitter_state *st = &s->emitters[i];
-    repeat_draws(s, i);
-    uint64_t skipped = pfx_schedule_skip_before(&st->sched, em, t1 - em->max_lifetime);
-    if (skipped) {
-        pfx_rng_advance(&st->rng, skipped * st->draws_per_birth);
-        st->born += skipped;
-    }
+    const pfx_pool *p = &s->pools[i];
     for (;;) {
+        repeat_draws(s, i);
+        /* Births at least a maximum lifetime old are dead at t1, and when
+         * the pool is full none of the step's births can be kept: both are
+         * passed over in bulk (bursts whole, rates in closed form), their
+         * draws jumped, so no rate or burst size can make a step slow. */
+        uint64_t n = pfx_schedule_drop_until(&st->sched, em, t1 - em->max_lifetime);
+        if (!n && p->count == p->capacity) {
+            n = pfx_schedule_drop_until(&st->sched, em, t1);
+            st->dropped += n;
+        }
+        if (n) {
+            pfx_rng_advance(&st->rng, n * st->draws_per_birth);
+            st->born += n;
+            continue;
+        }
         double tb = pfx_schedule_peek(&st->sched, em);
         if (!(tb <= t1))
             break;
-        repeat_draws(s, i);
         pfx_schedule_pop(&st->sched, em);
         pfx_sim_make_particle(s, i, tb, t1, NULL);
     }
+}
+
+/* A view of p's particles from index `from` on (same columns, shifted). */
+static void offset_pool(pfx_pool *p, uint32_t from) {
+    float **f[] = {&p->px,         &p->py,       &p->pz,
+                   &p->vx,         &p->vy,       &p->vz,
+                   &p->age,        &p->lifetime, &p->gravity_scale,
+                   &p->size0,      &p->size1,    &p->charge,
+                   &p->mass,       &p->bx,       &p->by,
+                   &p->bz,         &p->tint,     &p->generation,
+                   &p->pr,         &p->pg,       &p->pb,
+                   &p->size_scale, &p->angle0,   &p->spin};
+    for (size_t k = 0; k < sizeof f / sizeof *f; k++)
+        if (*f[k])
+            *f[k] += from;
+    p->id += from;
+    if (p->stuck)
+        p->stuck += from;
+    p->count -= from;
+    p->capacity -= from;
 }
 
 /* Advances every emitter from s->time to t1. */
@@ -523,11 +553,28 @@ static void advance(pfx_sim *s, double t1) {
             if (em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_TRAIL))
                 pfx_spawn_trails(s, i, dt, t1);
         }
+        p->newborn = p->count;
         emit(s, i, t1);
     }
     /* Sub-emitter births after every emitter has moved: file order does not
      * matter. */
     pfx_spawn_process(s, t1);
+    /* Particles born in this step met their deflectors (a kill sets age to
+     * lifetime) and must meet the kill rules before anyone sees them. */
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        const pfx_emitter *em = &e->emitters[i];
+        pfx_pool *p = &s->pools[i];
+        if (p->count <= p->newborn || (!em->kill && !em->deflector_count))
+            continue;
+        if (em->kill) {
+            pfx_pool born = *p;
+            offset_pool(&born, p->newborn);
+            emitter_pose pose;
+            pfx_emitter_pose_at(em, t1, &pose);
+            pfx_kill_apply(em->kill, &born, pose.position, em->alpha_at_age);
+        }
+        kill_expired(s, i, t1);
+    }
     s->time = t1;
 }
 
@@ -640,9 +687,18 @@ uint64_t pfx_sim_hash(const pfx_sim *s) {
 
 const pfx_sim *pfx_sim_frame(pfx_sim *s, pfx_sim *view, long frame) {
     double t = pfx_sim_frame_time(s->effect, frame);
-    if (t < s->time - 1e-12)
-        pfx_sim_reset(s); /* a looping effect wrapped round: start again */
+    if (t < s->time - 1e-12) {
+        /* A looping effect wrapped round: back to frame 0's state (kept when
+         * first reached), not to time 0 and its whole warm-up again. */
+        if (s->loop_start)
+            pfx_sim_view_at(s->loop_start, s, s->loop_start->time);
+        else
+            pfx_sim_reset(s);
+    }
     pfx_sim_run_to(s, t);
+    if (s->effect->loop && !s->loop_start && frame % s->effect->loop_frames == 0 &&
+        (s->loop_start = pfx_sim_create(s->effect)))
+        pfx_sim_view_at(s, s->loop_start, s->time);
     if (t <= s->time + 1e-12)
         return s;
     pfx_sim_view_at(s, view, t);

@@ -20,6 +20,7 @@
  * emitter keeps only the columns its attributes and forces need. */
 typedef struct pfx_pool {
     uint32_t count, capacity;
+    uint32_t newborn; /* first index born in the step being taken */
     float *px, *py, *pz;
     float *vx, *vy, *vz;
     float *age, *lifetime;
@@ -63,6 +64,7 @@ typedef struct pfx_sim {
     struct pfx_spawn_queue *queues; /* per emitter: sub-emitter events of the step */
     pfx_motion *motions;            /* per emitter, a copy of its motion model prepared
                                        for this sim's step (unused where NULL in the effect) */
+    struct pfx_sim *loop_start;     /* a looping effect's state at frame 0, to wrap to */
     bool failed;                    /* a state went non-finite or exploded: stop */
     char error[512];                /* what, where, when and the likely cause */
 } pfx_sim;

@@ -35,13 +35,26 @@ bool pfx_spawn_queues_create(pfx_sim *s) {
     s->queues = calloc(e->emitter_count + 1, sizeof *s->queues);
     if (!s->queues)
         return false;
+    /* A step's events, per target: each parent particle can die, be born,
+     * or hit at most PFX_COLLIDE_MAX_HITS deflectors once each in a step,
+     * and lay its trail births of one step; so the parents' pool sizes
+     * bound the queue whatever the counts and probabilities (an event
+     * that does not fire still needs its place until it is rolled). */
+    const double dt = 1.0 / e->sim_rate;
     for (size_t i = 0; i < e->emitter_count; i++) {
         const pfx_emitter *em = &e->emitters[i];
-        if (em->spawned_rate <= 0)
+        for (size_t k = 0; k < em->spawn_count; k++) {
+            const pfx_spawn *sp = &em->spawns[k];
+            double per = sp->event == PFX_SPAWN_HIT     ? PFX_COLLIDE_MAX_HITS
+                         : sp->event == PFX_SPAWN_TRAIL ? ceil(sp->rate * dt) + 1
+                                                        : 1;
+            double cap = (double)s->queues[sp->target].cap + per * em->capacity + 16;
+            s->queues[sp->target].cap = (uint32_t)(cap < 4e9 ? cap : 4e9);
+        }
+    }
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        if (!s->queues[i].cap)
             continue;
-        /* Every queued event makes at least one particle of a pool of this
-         * capacity within the step, so more could not be kept anyway. */
-        s->queues[i].cap = em->capacity + 16;
         s->queues[i].items = malloc(s->queues[i].cap * sizeof *s->queues[i].items);
         if (!s->queues[i].items)
             return false;
@@ -167,8 +180,19 @@ void pfx_spawn_process(pfx_sim *s, double t1) {
                 double u = pfx_rng_unit(&st->spawn_rng);
                 if (u >= r.spawn->probability)
                     continue;
-                for (double c = 0; c < floor(count); c++)
+                uint64_t births = (uint64_t)floor(count);
+                const pfx_pool *p = &s->pools[i];
+                for (uint64_t c = 0; c < births; c++) {
+                    if (p->count == p->capacity) {
+                        /* None of the rest can be kept: dropped at once. */
+                        uint64_t rest = births - c;
+                        st->dropped += rest;
+                        st->born += rest;
+                        pfx_rng_advance(&st->rng, rest * st->draws_per_birth);
+                        break;
+                    }
                     pfx_sim_make_particle(s, i, r.t, t1, &r.parent);
+                }
             }
             memmove(q->items, q->items + n, (q->count - n) * sizeof *q->items);
             q->count -= n;

@@ -254,7 +254,7 @@ usage_error "render without -o" "render needs -o DIR" render "$FIRE" "${TINY[@]}
 usage_error "bake without -o" "bake needs -o OUT.csv" bake "$FIRE"
 usage_error "-o without a value" "option '-o' needs a value" render "$FIRE" -o
 usage_error "render with two files" "render takes one FILE" render "$FIRE" "$FIRE" -o "$TMP/u"
-usage_error "--frames 5:2" "--frames takes A:B with 0 <= A <= B, got '5:2'" \
+usage_error "--frames 5:2" "--frames takes A:B with 0 <= A <= B <= 100000000, got '5:2'" \
     render "$FIRE" -o "$TMP/u" --frames 5:2
 usage_error "--frames without a colon" "--frames takes A:B" render "$FIRE" -o "$TMP/u" --frames 5
 usage_error "--frames beyond the last frame" "--frames 0:1000000 is outside the effect's frames" \

@@ -69,7 +69,7 @@ static void test_rate_curve(void) {
  * average to the mean within 4 standard errors (var / sqrt(3) each). */
 static void test_reeves_windows(void) {
     compiled c;
-    if (!compile_text(&c, "pfx: 1\nsim: { rate: 20 }\nemitters:\n  r:\n"
+    if (!compile_text(&c, "pfx: 1\nduration: 300\nsim: { rate: 20 }\nemitters:\n  r:\n"
                           "    rate: { mean: 100, var: 40 }\n    lifetime: 0.01\n"))
         return;
     pfx_sim *s = pfx_sim_create(c.e);
