@@ -63,9 +63,10 @@ typedef struct pfx_collide_pool {
     uint32_t count;
     const float *px0, *py0, *pz0, *vx0, *vy0, *vz0;
     float *px, *py, *pz, *vx, *vy, *vz;
-    float *age, *lifetime; /* kill writes age, lifetime_loss writes lifetime */
-    const uint32_t *id;    /* key of the chance hash; NULL: the pool index (not stable) */
-    uint8_t *stuck;        /* optional: 1 once stuck (see pfx_collide) */
+    double *age;        /* kill writes age = lifetime */
+    float *lifetime;    /* lifetime_loss writes it */
+    const uint32_t *id; /* key of the chance hash; NULL: the pool index (not stable) */
+    uint8_t *stuck;     /* optional: 1 once stuck (see pfx_collide) */
 } pfx_collide_pool;
 
 /* Called for every impact and every kill or stick touch (not for resting

@@ -61,7 +61,7 @@ static void mark_box(pfx_pool *p, const float lo[3], const float hi[3], bool kil
     const uint32_t n = p->count;
     const float *restrict px = p->px, *restrict py = p->py, *restrict pz = p->pz;
     const float *restrict life = p->lifetime;
-    float *restrict age = p->age;
+    double *restrict age = p->age;
     const float lx = lo[0], ly = lo[1], lz = lo[2], hx = hi[0], hy = hi[1], hz = hi[2];
     const int want = kill_inside;
     for (uint32_t i = 0; i < n; i++) {
@@ -76,7 +76,7 @@ static void mark_sphere(pfx_pool *p, const double center[3], double radius, bool
     const uint32_t n = p->count;
     const float *restrict px = p->px, *restrict py = p->py, *restrict pz = p->pz;
     const float *restrict life = p->lifetime;
-    float *restrict age = p->age;
+    double *restrict age = p->age;
     const float cx = (float)center[0], cy = (float)center[1], cz = (float)center[2];
     const float r2 = (float)(radius * radius);
     const int want = kill_inside;
@@ -93,7 +93,7 @@ static void mark_half_space(pfx_pool *p, const double point[3], const double nor
     const uint32_t n = p->count;
     const float *restrict px = p->px, *restrict py = p->py, *restrict pz = p->pz;
     const float *restrict life = p->lifetime;
-    float *restrict age = p->age;
+    double *restrict age = p->age;
     const float cx = (float)point[0], cy = (float)point[1], cz = (float)point[2];
     const float nx = (float)normal[0], ny = (float)normal[1], nz = (float)normal[2];
     const int want = kill_inside;
@@ -111,7 +111,7 @@ static void mark_alpha(pfx_pool *p, const float alpha_at_age[PFX_KILL_ALPHA_LUT]
         dies[k] = (double)alpha_at_age[k] < below;
     const uint32_t n = p->count;
     const float *restrict life = p->lifetime;
-    float *restrict age = p->age;
+    double *restrict age = p->age;
     for (uint32_t i = 0; i < n; i++) {
         const float u = age[i] / life[i];
         int k = (int)(u * (PFX_KILL_ALPHA_LUT - 1) + 0.5f);

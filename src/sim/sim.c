@@ -36,11 +36,15 @@ static void add_column(column_list *c, void *col, size_t size) {
 
 static column_list pool_columns(const pfx_pool *p) {
     column_list c = {.count = 0};
-    void *four[] = {p->px,    p->py,    p->pz,         p->vx,         p->vy,
-                    p->vz,    p->age,   p->lifetime,   p->id,         p->gravity_scale,
-                    p->size0, p->size1, p->charge,     p->mass,       p->bx,
-                    p->by,    p->bz,    p->tint,       p->generation, p->pr,
-                    p->pg,    p->pb,    p->size_scale, p->angle0,     p->spin};
+    add_column(&c, p->age, 8);
+    void *four[] = {p->px,         p->py,     p->pz,
+                    p->vx,         p->vy,     p->vz,
+                    p->lifetime,   p->id,     p->gravity_scale,
+                    p->size0,      p->size1,  p->charge,
+                    p->mass,       p->bx,     p->by,
+                    p->bz,         p->tint,   p->generation,
+                    p->pr,         p->pg,     p->pb,
+                    p->size_scale, p->angle0, p->spin};
     for (size_t k = 0; k < sizeof four / sizeof *four && c.count < MAX_COLUMNS; k++)
         add_column(&c, four[k], 4);
     add_column(&c, p->stuck, 1);
@@ -61,13 +65,17 @@ static size_t layout_columns(const pfx_emitter *em, pfx_pool *p, float *base, ui
             used++;                                                                                \
         }                                                                                          \
     } while (0)
+    /* The age first: a double, two float slots, 8-byte aligned because every
+     * pool starts on an even float (see pfx_sim_create). */
+    if (base)
+        p->age = (double *)(void *)base;
+    used += 2;
     TAKE(px, true);
     TAKE(py, true);
     TAKE(pz, true);
     TAKE(vx, true);
     TAKE(vy, true);
     TAKE(vz, true);
-    TAKE(age, true);
     TAKE(lifetime, true);
     TAKE(id, true);
     TAKE(gravity_scale, pfx_needs_gravity_scale(em));
@@ -90,6 +98,14 @@ static size_t layout_columns(const pfx_emitter *em, pfx_pool *p, float *base, ui
         TAKE(start[k], em->deflector_count > 0);
 #undef TAKE
     return used;
+}
+
+/* Floats a pool of n particles takes, rounded up to even so the next
+ * pool's age column stays 8-byte aligned. */
+static size_t pool_floats(const pfx_emitter *em, uint32_t n) {
+    pfx_pool unused;
+    size_t f = layout_columns(em, &unused, NULL, 1) * n;
+    return f + (f & 1);
 }
 
 size_t pfx_sim_bytes_per_particle(const pfx_effect *e, size_t i) {
@@ -129,7 +145,8 @@ pfx_sim *pfx_sim_create(const pfx_effect *e) {
     s->motions = calloc(e->emitter_count + 1, sizeof *s->motions);
     size_t bytes = 0;
     for (size_t i = 0; i < e->emitter_count; i++)
-        bytes += pfx_sim_bytes_per_particle(e, i) * e->emitters[i].capacity;
+        bytes += 4 * pool_floats(&e->emitters[i], e->emitters[i].capacity) +
+                 (size_t)e->emitters[i].sticks * e->emitters[i].capacity;
     s->storage = malloc(bytes ? bytes : 1);
     if (!s->pools || !s->emitters || !s->motions || !s->storage || !pfx_spawn_queues_create(s)) {
         pfx_sim_destroy(s);
@@ -140,8 +157,7 @@ pfx_sim *pfx_sim_create(const pfx_effect *e) {
     /* Flag columns (1 byte) go after every float column, keeping those aligned. */
     unsigned char *flags = (unsigned char *)s->storage;
     for (size_t i = 0; i < e->emitter_count; i++)
-        flags +=
-            (pfx_sim_bytes_per_particle(e, i) - e->emitters[i].sticks) * e->emitters[i].capacity;
+        flags += 4 * pool_floats(&e->emitters[i], e->emitters[i].capacity);
     for (size_t i = 0; i < e->emitter_count; i++)
         if (e->emitters[i].sticks) {
             s->pools[i].stuck = flags;
@@ -152,7 +168,8 @@ pfx_sim *pfx_sim_create(const pfx_effect *e) {
         pfx_pool *p = &s->pools[i];
         uint32_t n = em->capacity;
         p->capacity = n;
-        next += n * layout_columns(em, p, next, n);
+        layout_columns(em, p, next, n);
+        next += pool_floats(em, n);
         if (em->motion)
             s->motions[i] = *em->motion;
     }
@@ -185,11 +202,11 @@ void pfx_sim_destroy(pfx_sim *s) {
 /* Exact constant-acceleration motion over dt for every live particle. The
  * per-emitter acceleration is hoisted; a random gravity_scale makes it per
  * particle (a column), still one multiply-add chain per component. */
-static void integrate_gravity(const pfx_emitter *em, pfx_pool *p, float dt) {
+static void integrate_gravity(const pfx_emitter *em, pfx_pool *p, float dt, double dt_age) {
     const uint32_t n = p->count;
     float *restrict px = p->px, *restrict py = p->py, *restrict pz = p->pz;
     float *restrict vx = p->vx, *restrict vy = p->vy, *restrict vz = p->vz;
-    float *restrict age = p->age;
+    double *restrict age = p->age;
     const float h = 0.5f * dt * dt;
     if (!p->gravity_scale) {
         const double gs = em->gravity_scale.a;
@@ -204,7 +221,7 @@ static void integrate_gravity(const pfx_emitter *em, pfx_pool *p, float dt) {
             vx[i] += kx;
             vy[i] += ky;
             vz[i] += kz;
-            age[i] += dt;
+            age[i] += dt_age;
         }
         return;
     }
@@ -218,7 +235,7 @@ static void integrate_gravity(const pfx_emitter *em, pfx_pool *p, float dt) {
         vx[i] += g * ax * dt;
         vy[i] += g * ay * dt;
         vz[i] += g * az * dt;
-        age[i] += dt;
+        age[i] += dt_age;
     }
 }
 
@@ -248,9 +265,9 @@ static void integrate_motion(pfx_sim *s, size_t i, double dt) {
                               .by = p->by,
                               .bz = p->bz};
     pfx_motion_step_f(m, &view, s->time);
-    float *restrict age = p->age;
+    double *restrict age = p->age;
     for (uint32_t j = 0; j < p->count; j++)
-        age[j] += (float)dt;
+        age[j] += dt;
     pfx_bad_kind why;
     size_t bad = pfx_motion_find_bad_f(&view, &why);
     if (bad < p->count && !s->failed) {
@@ -328,7 +345,8 @@ static void kill_expired(pfx_sim *s, size_t emitter, double t1) {
     pfx_pool *p = &s->pools[emitter];
     const bool deaths = pfx_spawn_has(&s->effect->emitters[emitter], PFX_SPAWN_DEATH);
     column_list c = pool_columns(p);
-    const float *age = p->age, *lifetime = p->lifetime;
+    const double *age = p->age;
+    const float *lifetime = p->lifetime;
     /* Most blocks hold no death: a branch-free scan (vectorised) skips them,
      * and only a block with a death runs the swap-remove loop. */
     enum { BLOCK = 64 };
@@ -421,7 +439,7 @@ bool pfx_sim_make_particle(pfx_sim *s, size_t i, double tb, double t1, const pfx
     }
     p->px[j] = (float)x[0], p->py[j] = (float)x[1], p->pz[j] = (float)x[2];
     p->vx[j] = (float)b.vel[0], p->vy[j] = (float)b.vel[1], p->vz[j] = (float)b.vel[2];
-    p->age[j] = (float)age;
+    p->age[j] = age;
     p->lifetime[j] = (float)b.life;
     p->id[j] = (uint32_t)k;
     if (p->gravity_scale)
@@ -510,14 +528,13 @@ static void emit(pfx_sim *s, size_t i, double t1) {
 
 /* A view of p's particles from index `from` on (same columns, shifted). */
 static void offset_pool(pfx_pool *p, uint32_t from) {
-    float **f[] = {&p->px,         &p->py,       &p->pz,
-                   &p->vx,         &p->vy,       &p->vz,
-                   &p->age,        &p->lifetime, &p->gravity_scale,
-                   &p->size0,      &p->size1,    &p->charge,
-                   &p->mass,       &p->bx,       &p->by,
-                   &p->bz,         &p->tint,     &p->generation,
-                   &p->pr,         &p->pg,       &p->pb,
-                   &p->size_scale, &p->angle0,   &p->spin};
+    p->age += from;
+    float **f[] = {&p->px,         &p->py,     &p->pz,       &p->vx,
+                   &p->vy,         &p->vz,     &p->lifetime, &p->gravity_scale,
+                   &p->size0,      &p->size1,  &p->charge,   &p->mass,
+                   &p->bx,         &p->by,     &p->bz,       &p->tint,
+                   &p->generation, &p->pr,     &p->pg,       &p->pb,
+                   &p->size_scale, &p->angle0, &p->spin};
     for (size_t k = 0; k < sizeof f / sizeof *f; k++)
         if (*f[k])
             *f[k] += from;
@@ -541,7 +558,7 @@ static void advance(pfx_sim *s, double t1) {
             if (em->motion)
                 integrate_motion(s, i, t1 - s->time);
             else
-                integrate_gravity(em, p, dt);
+                integrate_gravity(em, p, dt, t1 - s->time);
             if (em->deflector_count)
                 collide(s, i, 0, p->count, s->time, dt);
             if (em->kill) {
@@ -699,6 +716,13 @@ const pfx_sim *pfx_sim_frame(pfx_sim *s, pfx_sim *view, long frame) {
     if (s->effect->loop && !s->loop_start && frame % s->effect->loop_frames == 0 &&
         (s->loop_start = pfx_sim_create(s->effect)))
         pfx_sim_view_at(s, s->loop_start, s->time);
+    if (s->step == 0 && t <= s->time + 1e-12) {
+        /* Births at exactly time 0 (a burst at 0) belong to frame 0, but no
+         * step has ended there yet: a step of length zero emits them. */
+        pfx_sim_view_at(s, view, s->time);
+        advance(view, s->time);
+        return view;
+    }
     if (t <= s->time + 1e-12)
         return s;
     pfx_sim_view_at(s, view, t);

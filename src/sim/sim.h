@@ -15,15 +15,17 @@
 
 /* Live particles of one emitter, dense: indices [0, count). Columns that the
  * emitter does not use are NULL (gravity_scale when constant; size0/size1
- * when the size is constant). Bytes per particle: 36 for the fixed columns
- * (position, velocity, age, lifetime, id) plus 4 per optional column; an
+ * when the size is constant). Bytes per particle: 40 for the fixed columns
+ * (position, velocity, lifetime, id; the age is 8 bytes) plus 4 per optional column; an
  * emitter keeps only the columns its attributes and forces need. */
 typedef struct pfx_pool {
     uint32_t count, capacity;
     uint32_t newborn; /* first index born in the step being taken */
     float *px, *py, *pz;
     float *vx, *vy, *vz;
-    float *age, *lifetime;
+    double *age; /* seconds: double, so long lives keep exact time (a float sum
+                    of 1/120 s steps drifts by seconds after hours) */
+    float *lifetime;
     uint32_t *id; /* birth index within the emitter, from 0 */
     float *gravity_scale;
     float *size0, *size1;

@@ -17,7 +17,8 @@
 typedef struct tpool {
     uint32_t n;
     float *x0[6], *x[6]; /* px py pz vx vy vz */
-    float *age, *life;
+    double *age;
+    float *life;
     uint32_t *id;
     uint8_t *stuck;
     pfx_collide_pool view;
@@ -30,7 +31,7 @@ static tpool *tpool_new(uint32_t n, bool with_stuck) {
         p->x0[c] = calloc(n, sizeof(float));
         p->x[c] = calloc(n, sizeof(float));
     }
-    p->age = calloc(n, sizeof(float));
+    p->age = calloc(n, sizeof(double));
     p->life = calloc(n, sizeof(float));
     p->id = calloc(n, sizeof(uint32_t));
     p->stuck = with_stuck ? calloc(n, 1) : NULL;

@@ -26,9 +26,10 @@
 static pfx_pool pool_make(uint32_t n) {
     pfx_pool p = {0};
     p.count = p.capacity = n;
-    float **cols[] = {&p.px, &p.py, &p.pz, &p.vx, &p.vy, &p.vz, &p.age, &p.lifetime};
+    float **cols[] = {&p.px, &p.py, &p.pz, &p.vx, &p.vy, &p.vz, &p.lifetime};
     for (size_t c = 0; c < sizeof cols / sizeof *cols; c++)
         *cols[c] = calloc(n ? n : 1, sizeof(float));
+    p.age = calloc(n ? n : 1, sizeof(double));
     p.id = calloc(n ? n : 1, sizeof(uint32_t));
     for (uint32_t i = 0; i < n; i++) {
         p.lifetime[i] = 1;
