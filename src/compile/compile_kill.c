@@ -16,25 +16,8 @@ static const char *const rule_names[] = {"inside", "outside", "alpha_below",
 static const char *const region_names[] = {"box", "sphere", "half_space", NULL};
 static const char *const mode_names[] = {"kill", "wrap", NULL};
 
-/* An optional 3-vector, each component within +-LIMIT; *out keeps its
- * default when absent. */
 static bool vec3(pfx_reader *r, const pfx_node *map, const char *key, double out[3]) {
-    const pfx_node *n = pfx_node_get(map, key);
-    if (!n)
-        return true;
-    double v[3];
-    if (!pfx_read_numbers(r, n, key, v, 3))
-        return false;
-    bool ok = true;
-    for (int i = 0; i < 3; i++)
-        if (fabs(v[i]) > LIMIT) {
-            pfx_read_error(r, n->items[i], "'%s' components must be within +-%g, got %g", key,
-                           LIMIT, v[i]);
-            ok = false;
-        }
-    if (ok)
-        memcpy(out, v, sizeof v);
-    return ok;
+    return pfx_read_vec3_within(r, map, key, out, LIMIT);
 }
 
 /* A length in (0, LIMIT] (strict) or [0, LIMIT]. */

@@ -739,18 +739,10 @@ static void store(const ctx *c, body *b) {
     pool->vx[i] = (float)b->v[0], pool->vy[i] = (float)b->v[1], pool->vz[i] = (float)b->v[2];
 }
 
-static uint64_t mix64(uint64_t z) {
-    z ^= z >> 30;
-    z *= 0xbf58476d1ce4e5b9ULL;
-    z ^= z >> 27;
-    z *= 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-}
-
 bool pfx_deflector_affects(const pfx_deflector *d, uint32_t id) {
     if (d->chance >= 1)
         return true;
-    uint64_t h = mix64(d->seed ^ mix64((uint64_t)id + 0x9e3779b97f4a7c15ULL));
+    uint64_t h = pfx_mix64(d->seed ^ pfx_mix64((uint64_t)id + 0x9e3779b97f4a7c15ULL));
     return (double)(h >> 11) * (1.0 / 9007199254740992.0) < d->chance;
 }
 

@@ -4,6 +4,7 @@
  * scan for non-finite or exploding particles. The arithmetic of a step is in
  * motion_impl.h; the stability regions are in stability.c. */
 #include "sim/motion.h"
+#include "sim/rng.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -351,14 +352,6 @@ int pfx_motion_evals_per_step(const pfx_motion *m) {
 
 /* ---- Curl noise ---- */
 
-static uint64_t mix64(uint64_t h) {
-    h ^= h >> 30;
-    h *= 0xbf58476d1ce4e5b9ull;
-    h ^= h >> 27;
-    h *= 0x94d049bb133111ebull;
-    return h ^ (h >> 31);
-}
-
 /* Perlin gradient noise with its analytic gradient: trilinear blend, by the
  * quintic fade u = 6f^5 - 15f^4 + 10f^3 (C2, du = 30 f^2 (f-1)^2), of the
  * corner ramps g_c . (f - c), g_c one of the 12 cube-edge directions. */
@@ -379,13 +372,13 @@ static void noise_grad(const double p[3], uint64_t seed, double grad[3]) {
     uint64_t ax[2][3];
     for (int a = 0; a < 3; a++)
         for (int o = 0; o < 2; o++)
-            ax[o][a] = mix64(
+            ax[o][a] = pfx_mix64(
                 seed ^ ((uint64_t)(int64_t)(fl[a] + o) * 0x9e3779b97f4a7c15ull + (uint64_t)a));
     grad[0] = grad[1] = grad[2] = 0;
     for (int c = 0; c < 8; c++) {
         int o[3] = {c & 1, (c >> 1) & 1, c >> 2};
         uint64_t hy = ax[o[1]][1], hz = ax[o[2]][2];
-        uint64_t h = mix64(ax[o[0]][0] ^ (hy << 21 | hy >> 43) ^ (hz << 42 | hz >> 22));
+        uint64_t h = pfx_mix64(ax[o[0]][0] ^ (hy << 21 | hy >> 43) ^ (hz << 42 | hz >> 22));
         const signed char *g = G[((h >> 32) * 12) >> 32];
         double w[3], dw[3], val = 0;
         for (int a = 0; a < 3; a++) {
@@ -413,7 +406,7 @@ void pfx_curl_noise(const double p[3], double t_shift, int octaves, uint64_t see
             double q[3], g[3];
             for (int a = 0; a < 3; a++)
                 q[a] = p[a] * freq + drift[i][a] * t_shift + 17.3 * i + 3.1 * o;
-            noise_grad(q, mix64(seed + 0x1000 * (uint64_t)o + (uint64_t)i), g);
+            noise_grad(q, pfx_mix64(seed + 0x1000 * (uint64_t)o + (uint64_t)i), g);
             /* psi_o = amp/freq noise(freq p): its curl has amplitude amp */
             for (int a = 0; a < 3; a++)
                 d[i][a] += amp * g[a];

@@ -9,12 +9,7 @@ uint64_t pfx_rng_stream_for(const char *name) {
         h ^= *p;
         h *= 1099511628211ULL;
     }
-    h ^= h >> 30;
-    h *= 0xbf58476d1ce4e5b9ULL;
-    h ^= h >> 27;
-    h *= 0x94d049bb133111ebULL;
-    h ^= h >> 31;
-    return h;
+    return pfx_mix64(h);
 }
 
 void pfx_rng_advance(pfx_rng *r, uint64_t delta) {

@@ -41,6 +41,16 @@ static inline double pfx_rng_range(pfx_rng *r, double a, double b) {
     return a + (b - a) * pfx_rng_unit(r);
 }
 
+/* The splitmix64 finaliser: a bijective mix, for hashing keys (names,
+ * lattice points, particle ids) into well-spread 64-bit values. */
+static inline uint64_t pfx_mix64(uint64_t z) {
+    z ^= z >> 30;
+    z *= 0xbf58476d1ce4e5b9ULL;
+    z ^= z >> 27;
+    z *= 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
 /* Skips the next `delta` outputs in O(log delta) steps (Brown, "Random
  * number generation with arbitrary strides", 1994), as if pfx_rng_next had
  * been called delta times. */
