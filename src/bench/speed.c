@@ -46,8 +46,7 @@ static pfx_effect *fountain(pfx_loaded *l, double n, const char *forces, const c
 /* Particle-steps per second of one emitter in steady state, stepping for
  * about 0.4 s of wall time (at least 5 steps), so a slow force set cannot
  * make the benchmark run for minutes. */
-static double steps_per_second(const pfx_effect *e, double n, int *steps_out) {
-    (void)n;
+static double steps_per_second(const pfx_effect *e) {
     pfx_sim *s = pfx_sim_create(e);
     if (!s)
         return 0;
@@ -62,7 +61,6 @@ static double steps_per_second(const pfx_effect *e, double n, int *steps_out) {
         elapsed = now() - t0;
     }
     pfx_sim_destroy(s);
-    *steps_out = steps;
     return work / elapsed;
 }
 
@@ -72,8 +70,7 @@ static double steps_per_second(const pfx_effect *e, double n, int *steps_out) {
  * deaths, no births). The acceleration comes through a volatile so the
  * compiler cannot drop the zero components pfx itself computes. Best of
  * three runs of about 0.15 s each, after a warm-up pass. */
-static double roofline(size_t n, int steps_hint) {
-    (void)steps_hint;
+static double roofline(size_t n) {
     float *col = malloc(6 * n * sizeof *col);
     double *age = malloc(n * sizeof *age);
     if (!col || !age) {
@@ -126,13 +123,12 @@ static void bench_sim(FILE *out) {
     double roof_1e5 = 0;
     for (int k = 0; k < 3; k++) {
         pfx_loaded l;
-        int steps = 0;
         if (!fountain(&l, sizes[k], "", "")) {
             pfx_loaded_free(&l);
             return;
         }
-        double rate = steps_per_second(l.effect, sizes[k], &steps);
-        double roof = roofline((size_t)sizes[k], steps);
+        double rate = steps_per_second(l.effect);
+        double roof = roofline((size_t)sizes[k]);
         if (k == 1)
             roof_1e5 = roof;
         fprintf(out, "  %10.0f %16.4g %16.4g %7.0f%%\n", sizes[k], rate, roof, 100 * rate / roof);
@@ -164,7 +160,6 @@ static void bench_sim(FILE *out) {
          ""},
     };
     const double n = 1e5;
-    int steps = 0;
     double roof = roof_1e5; /* the same reference as the 10^5 row above */
     fprintf(out, "per force at 10^5 particles (roofline %.4g steps/s):\n", roof);
     fprintf(out, "  %-34s %14s %8s  %s\n", "force set", "steps/s", "ratio", "integrator");
@@ -178,7 +173,7 @@ static void bench_sim(FILE *out) {
             continue;
         }
         const pfx_emitter *em = &l.effect->emitters[0];
-        double rate = steps_per_second(l.effect, n, &steps);
+        double rate = steps_per_second(l.effect);
         char why[64];
         snprintf(why, sizeof why, "%s",
                  em->motion ? pfx_integrator_name(em->motion->chosen) : "exact (gravity)");

@@ -803,7 +803,7 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
             compile_emitter(&c, emitters->pairs[i].key, emitters->pairs[i].value,
                             &e->emitters[e->emitter_count++]);
             if (emitters->pairs[i].value->kind == PFX_NODE_MAP)
-                pfx_compile_spawns(&c.r, emitters->pairs[i].value, e, emitters, &e->emitters[i]);
+                pfx_compile_spawns(&c.r, emitters->pairs[i].value, emitters, &e->emitters[i]);
         }
         if (d->errors == errors_before && pfx_resolve_spawns(&c.r, e, emitters)) {
             /* An emitter fed by sub-emitters emits nothing on its own unless

@@ -100,9 +100,8 @@ static bool read_spawn(pfx_reader *r, const pfx_node *n, pfx_spawn_event event,
     return ok;
 }
 
-bool pfx_compile_spawns(pfx_reader *r, const pfx_node *n, const pfx_effect *e,
-                        const pfx_node *emitters, pfx_emitter *em) {
-    (void)e;
+bool pfx_compile_spawns(pfx_reader *r, const pfx_node *n, const pfx_node *emitters,
+                        pfx_emitter *em) {
     static const char *const keys[] = {"on_birth", "on_death", "on_hit", "trail"};
     int errors = r->d->errors;
     pfx_spawn spawns[MAX_SPAWNS];

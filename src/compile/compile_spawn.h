@@ -5,10 +5,10 @@
 #include "compile/effect.h"
 #include "compile/read.h"
 
-/* Reads the sub-emitter keys of emitter mapping n (emitter index `self` of
- * e, whose emitter names are all known) into em->spawns. */
-bool pfx_compile_spawns(pfx_reader *r, const pfx_node *n, const pfx_effect *e,
-                        const pfx_node *emitters, pfx_emitter *em);
+/* Reads the sub-emitter keys of emitter mapping n into em->spawns; targets
+ * are looked up by name in the `emitters:` mapping. */
+bool pfx_compile_spawns(pfx_reader *r, const pfx_node *n, const pfx_node *emitters,
+                        pfx_emitter *em);
 
 /* After every emitter is compiled: rejects cycles of sub-emitters without a
  * `depth`, marks the columns targets need (generation, parent colour, size

@@ -15,24 +15,7 @@ fire=$src/effects/fire.yaml
 smoke=$src/effects/smoke.yaml
 small=(--size 128x128)
 
-work=$(mktemp -d "${TMPDIR:-/tmp}/pfx-determinism.XXXXXX") || exit 1
-trap 'rm -rf "$work"' EXIT
-
-passed=0
-failed=0
-pass() { passed=$((passed + 1)); echo "ok   $1"; }
-fail() { failed=$((failed + 1)); echo "FAIL $1${2:+: $2}"; }
-
-# run NAME CMD...: runs pfx quietly; on failure prints its stderr and returns 1.
-run() {
-    local name=$1
-    shift
-    if ! "$@" >"$work/$name.out" 2>"$work/$name.err"; then
-        echo "  command failed: $*" >&2
-        sed 's/^/  | /' "$work/$name.err" >&2
-        return 1
-    fi
-}
+source "$src/tests/harness.sh" determinism
 
 # same_frames DIR_A DIR_B STEM FIRST LAST: frames FIRST..LAST exist in both
 # and are byte-identical; prints the first difference.
@@ -156,5 +139,4 @@ for effect in fire smoke; do
     fi
 done
 
-echo "$passed passed, $failed failed"
-[[ $failed -eq 0 ]]
+summary

@@ -24,25 +24,7 @@ python=/usr/bin/python3
 # The seam may be at most this many times the largest step inside the loop.
 tolerance=1.5
 
-work=$(mktemp -d "${TMPDIR:-/tmp}/pfx-loop.XXXXXX") || exit 1
-trap 'rm -rf "$work"' EXIT
-
-passed=0
-failed=0
-pass() { passed=$((passed + 1)); echo "ok   $1"; }
-fail() { failed=$((failed + 1)); echo "FAIL $1${2:+: $2}"; }
-
-# run NAME CMD...: runs a command quietly; on failure prints its stderr and
-# returns 1.
-run() {
-    local name=$1
-    shift
-    if ! "$@" >"$work/$name.out" 2>"$work/$name.err"; then
-        echo "  command failed: $*" >&2
-        sed 's/^/  | /' "$work/$name.err" >&2
-        return 1
-    fi
-}
+source "$src/tests/harness.sh" loop
 
 # frame DIR STEM K: the path of frame K's PNG.
 frame() { printf '%s/%s_%04d.png' "$1" "$2" "$3"; }
@@ -219,5 +201,4 @@ else
     fail "fire_once: render --frames 0:$n" "pfx failed"
 fi
 
-echo "$passed passed, $failed failed"
-[[ $failed -eq 0 ]]
+summary

@@ -13,13 +13,8 @@ PFX=${1:?usage: run_physics.sh PFX SOURCE_DIR}
 SRC=${2:?usage: run_physics.sh PFX SOURCE_DIR}
 PY=/usr/bin/python3
 CHECK="$SRC/tests/physics/check_bake.py"
-T=$(mktemp -d "${TMPDIR:-/tmp}/pfx-physics.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-
-passed=0
-failed=0
-pass() { passed=$((passed + 1)); echo "PASS $1"; }
-fail() { failed=$((failed + 1)); echo "FAIL $1"; }
+source "$SRC/tests/harness.sh" physics
+T=$work
 
 if [ ! -x "$PY" ]; then
     echo "FAIL: $PY not found"
@@ -328,5 +323,4 @@ else
     fail "explode:$problems message: $msg"
 fi
 
-echo "$passed passed, $failed failed"
-[ $failed -eq 0 ]
+summary
