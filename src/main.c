@@ -268,7 +268,7 @@ static void report_dropped(const pfx_sim *s, const options *o) {
 static bool sim_failed(const pfx_sim *sim, const pfx_sim *view, char *err, size_t size) {
     const pfx_sim *bad = sim->failed ? sim : view->failed ? view : NULL;
     if (bad)
-        snprintf(err, size, "%.200s: %.300s", sim->effect->path, bad->error);
+        snprintf(err, size, "%.200s: %.760s", sim->effect->path, bad->error);
     return bad != NULL;
 }
 
@@ -285,7 +285,7 @@ static int cmd_render(int argc, char **argv, const options *o) {
     pfx_renderer *r = NULL;
     pfx_png_queue *q = NULL;
     pfx_sprite *sprites = NULL;
-    char err[512] = "", stem[256], name[4600];
+    char err[1024] = "", stem[256], name[4600];
     long first, last;
     if (!e)
         goto done;
@@ -359,7 +359,7 @@ static int cmd_bake(int argc, char **argv, const options *o) {
     pfx_loaded l;
     pfx_effect *e = load(&l, argv[optind], o);
     int status = EXIT_INVALID;
-    char err[512] = "";
+    char err[1024] = "";
     long first, last;
     pfx_sim *sim = NULL, *view = NULL;
     pfx_bake *b = NULL;

@@ -12,6 +12,7 @@
 #include <sys/stat.h>
 #include <time.h>
 
+#include "bench/accuracy_problems.h"
 #include "output/svg_chart.h"
 
 #define TWO_PI 6.283185307179586
@@ -21,9 +22,14 @@
 #define NJ (J_MAX - J_MIN + 1)
 #define TIMING_PARTICLES 4096
 
-typedef struct st {
-    double x, y, z, u, v, w;
-} st;
+static const pfx_integrator integrators[] = {
+    PFX_INTEGRATOR_EULER,  PFX_INTEGRATOR_SYMPLECTIC, PFX_INTEGRATOR_MIDPOINT, PFX_INTEGRATOR_RK4,
+    PFX_INTEGRATOR_VERLET, PFX_INTEGRATOR_EXACT,      PFX_INTEGRATOR_BORIS,    PFX_INTEGRATOR_AUTO};
+static const char *const colors[] = {"#d62728", "#ff7f0e", "#2ca02c", "#1f77b4",
+                                     "#9467bd", "#000000", "#17becf", "#8c564b"};
+#define NINT (sizeof integrators / sizeof integrators[0])
+#define NPROB pfx_acc_problem_count
+#define problems pfx_acc_problems
 
 static pfx_motion_force *add(pfx_motion *m, pfx_motion_kind kind) {
     pfx_motion_force *f = &m->forces[m->force_count++];
@@ -33,209 +39,16 @@ static pfx_motion_force *add(pfx_motion *m, pfx_motion_kind kind) {
     return f;
 }
 
-/* ---- The problems and their exact solutions ---- */
-
-static void projectile_setup(pfx_motion *m, st *s) {
-    add(m, PFX_MOTION_GRAVITY)->accel[1] = -G;
-    *s = (st){0, 0, 0, 3, 10, 0};
-}
-static void projectile_exact(double t, st *e) {
-    *e = (st){3 * t, 10 * t - 0.5 * G * t * t, 0, 3, 10 - G * t, 0};
-}
-
-/* v' = g - k (v - w): see motion_impl.h's drift for the closed form. */
-static const double DK = 0.7, DW[3] = {2, 0, 1};
-static void drag_setup(pfx_motion *m, st *s) {
-    add(m, PFX_MOTION_GRAVITY)->accel[1] = -G;
-    pfx_motion_force *d = add(m, PFX_MOTION_DRAG);
-    d->k = DK;
-    memcpy(d->wind, DW, sizeof DW);
-    *s = (st){0, 0, 0, 3, 10, -1};
-}
-static void drag_exact(double t, st *e) {
-    double g[3] = {0, -G, 0}, v0[3] = {3, 10, -1}, x[3], v[3];
-    double ek = exp(-DK * t), E1 = (1 - ek) / DK, E2 = (t - E1) / DK;
-    for (int a = 0; a < 3; a++) {
-        double u0 = v0[a] - DW[a];
-        v[a] = DW[a] + u0 * ek + g[a] * E1;
-        x[a] = DW[a] * t + u0 * E1 + g[a] * E2;
-    }
-    *e = (st){x[0], x[1], x[2], v[0], v[1], v[2]};
-}
-
-/* Quadratic drag c from rest: v = -v_t tanh(g t / v_t), v_t = sqrt(g/c),
- * y = -(v_t^2/g) ln cosh(g t / v_t). */
-static const double QC = 0.2;
-static void quad_setup(pfx_motion *m, st *s) {
-    add(m, PFX_MOTION_GRAVITY)->accel[1] = -G;
-    add(m, PFX_MOTION_DRAG)->c = QC;
-    *s = (st){0, 0, 0, 0, 0, 0};
-}
-static void quad_exact(double t, st *e) {
-    double vt = sqrt(G / QC), a = G * t / vt;
-    *e = (st){0, -(vt * vt / G) * log(cosh(a)), 0, 0, -vt * tanh(a), 0};
-}
-
-/* Springs, omega = 2: x = cos 2t; damped zeta = 0.1 as in the tests. */
-static void spring_setup(pfx_motion *m, st *s) {
-    add(m, PFX_MOTION_SPRING)->k = 4;
-    *s = (st){1, 0, 0, 0, 0, 0};
-}
-static void spring_exact(double t, st *e) { *e = (st){cos(2 * t), 0, 0, -2 * sin(2 * t), 0, 0}; }
-static void dspring_setup(pfx_motion *m, st *s) {
-    pfx_motion_force *f = add(m, PFX_MOTION_SPRING);
-    f->k = 4, f->zeta = 0.1;
-    *s = (st){1, 0, 0, 0, 0, 0};
-}
-static void dspring_exact(double t, st *e) {
-    double w = 2, z = 0.1, wd = w * sqrt(1 - z * z), B = z * w / wd, d = exp(-z * w * t);
-    double c = cos(wd * t), sn = sin(wd * t);
-    *e = (st){d * (c + B * sn), 0, 0, d * ((-z * w + wd * B) * c + (-z * w * B - wd) * sn), 0, 0};
-}
-
-/* q/m = 1, B = z: v = (cos t, -sin t, 0.2), x = (sin t, cos t - 1, 0.2 t). */
-static void gyro_setup(pfx_motion *m, st *s) {
-    pfx_motion_force *f = add(m, PFX_MOTION_MAGNETIC);
-    f->field[2] = 1, f->charge = 1, f->mass = 1;
-    *s = (st){0, 0, 0, 1, 0, 0.2};
-}
-static void gyro_exact(double t, st *e) {
-    *e = (st){sin(t), cos(t) - 1, 0.2 * t, cos(t), -sin(t), 0.2};
-}
-
-/* Kepler e = 0.5, mu = a = 1 from perihelion: after one period 2 pi the
- * exact state is the start state. */
-static void kepler_setup(pfx_motion *m, st *s) {
-    pfx_motion_force *f = add(m, PFX_MOTION_ATTRACTOR);
-    f->strength = 1, f->ref_radius = 0.5;
-    *s = (st){0.5, 0, 0, 0, sqrt(3.0), 0};
-}
-static void kepler_exact(double t, st *e) {
-    (void)t;
-    *e = (st){0.5, 0, 0, 0, sqrt(3.0), 0};
-}
-
-/* Bounce: dropped from h0 = 1 at rest onto y = 0 with resilience 0.7. */
-static const double H0 = 1, EPS = 0.7;
-static void bounce_setup(pfx_motion *m, st *s) {
-    add(m, PFX_MOTION_GRAVITY)->accel[1] = -G;
-    *s = (st){0, H0, 0, 0, 0, 0};
-}
-static void bounce_exact(double t, st *e) {
-    double t1 = sqrt(2 * H0 / G), u = G * t1;
-    if (t < t1) {
-        *e = (st){0, H0 - 0.5 * G * t * t, 0, 0, -G * t, 0};
-        return;
-    }
-    t -= t1;
-    u *= EPS;
-    while (t > 2 * u / G) { /* apex heights eps^(2n) h0 */
-        t -= 2 * u / G;
-        u *= EPS;
-    }
-    *e = (st){0, u * t - 0.5 * G * t * t, 0, 0, u - G * t, 0};
-}
-
-/* Earliest root in (0, h] of y + v t - g t^2/2 = 0, without cancellation:
- * q = -(b + sign(b) sqrt(b^2 - 4ac))/2, roots q/a and c/q. */
-static double impact_time(double y, double v, double h) {
-    double a = -0.5 * G, b = v, c = y, disc = b * b - 4 * a * c;
-    if (disc < 0)
-        return -1;
-    double q = -0.5 * (b + (b >= 0 ? 1 : -1) * sqrt(disc));
-    double r1 = q / a, r2 = q != 0 ? c / q : -1, best = -1;
-    if (r1 > 0 && r1 <= h)
-        best = r1;
-    if (r2 > 0 && r2 <= h && (best < 0 || r2 < best))
-        best = r2;
-    return best;
-}
-
-typedef struct problem {
-    const char *name;
-    void (*setup)(pfx_motion *, st *);
-    void (*exact)(double, st *);
-    double T;
-    bool closed_form; /* `exact` applies */
-    bool magnetic;    /* `boris` applies */
-    bool bounce;
-} problem;
-
-static const problem problems[] = {
-    {"projectile", projectile_setup, projectile_exact, 2, true, false, false},
-    {"linear drag + wind + gravity", drag_setup, drag_exact, 2, true, false, false},
-    {"quadratic drag from rest", quad_setup, quad_exact, 3, false, false, false},
-    {"undamped spring", spring_setup, spring_exact, TWO_PI, false, false, false},
-    {"damped spring", dspring_setup, dspring_exact, TWO_PI, false, false, false},
-    {"charge in uniform B", gyro_setup, gyro_exact, TWO_PI, false, true, false},
-    {"Kepler e = 0.5", kepler_setup, kepler_exact, TWO_PI, false, false, false},
-    {"bounce, eps = 0.7", bounce_setup, bounce_exact, 1.3, false, false, true},
-};
-#define NPROB (sizeof problems / sizeof problems[0])
-
-static const pfx_integrator integrators[] = {
-    PFX_INTEGRATOR_EULER,  PFX_INTEGRATOR_SYMPLECTIC, PFX_INTEGRATOR_MIDPOINT, PFX_INTEGRATOR_RK4,
-    PFX_INTEGRATOR_VERLET, PFX_INTEGRATOR_EXACT,      PFX_INTEGRATOR_BORIS,    PFX_INTEGRATOR_AUTO};
-static const char *const colors[] = {"#d62728", "#ff7f0e", "#2ca02c", "#1f77b4",
-                                     "#9467bd", "#000000", "#17becf", "#8c564b"};
-#define NINT (sizeof integrators / sizeof integrators[0])
-
-static bool applies(const problem *p, pfx_integrator i) {
-    if (i == PFX_INTEGRATOR_EXACT)
-        return p->closed_form;
-    if (i == PFX_INTEGRATOR_BORIS)
-        return p->magnetic;
-    return true;
-}
-
-static void pool_of(st *s, pfx_motion_pool_d *p) {
+static void pool_of(pfx_acc_state *s, pfx_motion_pool_d *p) {
     *p = (pfx_motion_pool_d){
         .count = 1, .px = &s->x, .py = &s->y, .pz = &s->z, .vx = &s->u, .vy = &s->v, .vz = &s->w};
 }
 
-/* Run problem p with integrator i at dt = T/steps; returns the position
- * error at T (INFINITY when the state blew up). */
-static double run(const problem *pr, pfx_integrator integ, long steps, pfx_motion *m) {
-    st s;
-    memset(m, 0, sizeof *m);
-    m->integrator = integ;
-    pr->setup(m, &s);
-    const double dt = pr->T / (double)steps;
-    pfx_motion_prepare(m, dt);
-    pfx_motion_pool_d pool;
-    pool_of(&s, &pool);
-    for (long i = 0; i < steps; i++) {
-        st before = s;
-        double t = (double)i * dt;
-        pfx_motion_step_d(m, &pool, t);
-        if (pr->bounce && s.y < 0) {
-            /* redo the step: integrate to the hit, reflect, finish */
-            double tau = impact_time(before.y, before.v, dt);
-            if (tau > 0) {
-                s = before;
-                pfx_motion_prepare(m, tau);
-                pfx_motion_step_d(m, &pool, t);
-                s.y = 0;
-                s.v = -EPS * s.v;
-                pfx_motion_prepare(m, dt - tau);
-                pfx_motion_step_d(m, &pool, t + tau);
-                pfx_motion_prepare(m, dt);
-            }
-        }
-        if (!(fabs(s.x) + fabs(s.y) + fabs(s.z) < 1e12))
-            return INFINITY;
-    }
-    st e;
-    pr->exact(pr->T, &e);
-    double dx = s.x - e.x, dy = s.y - e.y, dz = s.z - e.z;
-    return sqrt(dx * dx + dy * dy + dz * dz);
-}
-
 /* ns per particle-step: TIMING_PARTICLES copies of the problem's start
  * state in the float kernel, stepped at the given dt. */
-static double time_float(const problem *pr, pfx_integrator integ, double dt, float *buf) {
+static double time_float(const pfx_acc_problem *pr, pfx_integrator integ, double dt, float *buf) {
     pfx_motion m;
-    st s;
+    pfx_acc_state s;
     memset(&m, 0, sizeof m);
     m.integrator = integ;
     pr->setup(&m, &s);
@@ -295,7 +108,7 @@ static bool grows(pfx_integrator integ, int oscillator, double z) {
     memset(&m, 0, sizeof m);
     m.integrator = integ;
     m.substeps = 1;
-    st s = {0, 0, 0, 0, 0, 0};
+    pfx_acc_state s = {0, 0, 0, 0, 0, 0};
     if (oscillator) {
         add(&m, PFX_MOTION_SPRING)->k = 1; /* omega = 1, so omega*h = h = z */
         s.x = 1;
@@ -334,14 +147,23 @@ double pfx_bench_stability_limit(pfx_integrator integ, int oscillator) {
 
 /* ---- Output ---- */
 
+/* One point of the sweep. err[0] is the model run (double, born on the
+ * grid); err[1 + mode] the emitted run of each pfx_birth_mode (float,
+ * through pfx_sim; NAN where the step rate is not one an effect may ask). */
+#define NRUN (1 + PFX_BIRTH_MODE_COUNT)
 typedef struct result {
-    double dt, cost, err, ns, rate;
+    double dt, cost, ns, rate;
+    double err[NRUN], max_rate[NRUN];
     bool always; /* unstable at any dt (no stability region) */
     int steps;
     const char *rate_name;
 } result;
 
-static int write_work_precision(const char *dir, result (*res)[NINT][NJ], FILE *log) {
+static const char *run_name(int run) {
+    return run == 0 ? "model (double, born on the grid)" : pfx_birth_mode_name(run - 1);
+}
+
+static int write_csv(const char *dir, result (*res)[NINT][NJ], FILE *log) {
     char path[1024];
     snprintf(path, sizeof path, "%s/work-precision.csv", dir);
     FILE *f = fopen(path, "w");
@@ -349,22 +171,33 @@ static int write_work_precision(const char *dir, result (*res)[NINT][NJ], FILE *
         fprintf(log, "pfx: cannot open '%s': %s\n", path, strerror(errno));
         return 1;
     }
-    fprintf(f, "problem,integrator,dt,substeps,evals_per_s,error,ns_per_particle_step,"
-               "unstable_rate_name,unstable_rate\n");
+    fprintf(f, "problem,integrator,run,dt,substeps,evals_per_s,error,max_error_per_s,"
+               "ns_per_particle_step,unstable_rate_name,unstable_rate\n");
     for (size_t p = 0; p < NPROB; p++)
         for (size_t i = 0; i < NINT; i++) {
-            if (!applies(&problems[p], integrators[i]))
+            if (!pfx_acc_applies(&problems[p], integrators[i]))
                 continue;
-            for (int j = 0; j < NJ; j++) {
-                const result *r = &res[p][i][j];
-                fprintf(f, "\"%s\",%s,%.9g,%d,%.6g,%.6g,%.3f,%s,%.4g\n", problems[p].name,
-                        pfx_integrator_name(integrators[i]), r->dt, r->steps, r->cost, r->err,
-                        r->ns, r->rate > 0 ? r->rate_name : "", r->rate);
-            }
+            for (int run = 0; run < NRUN; run++)
+                for (int j = 0; j < NJ; j++) {
+                    const result *r = &res[p][i][j];
+                    if (isnan(r->err[run]))
+                        continue;
+                    fprintf(f, "\"%s\",%s,\"%s\",%.9g,%d,%.6g,%.6g,%.6g,%.3f,%s,%.4g\n",
+                            problems[p].name, pfx_integrator_name(integrators[i]), run_name(run),
+                            r->dt, r->steps, r->cost, r->err[run], r->max_rate[run], r->ns,
+                            r->rate > 0 ? r->rate_name : "", r->rate);
+                }
         }
     fclose(f);
+    return 0;
+}
 
-    snprintf(path, sizeof path, "%s/work-precision.svg", dir);
+/* The chart of one run kind: file `name`, errors err[run]. */
+static int write_work_precision(const char *dir, const char *name, int run, result (*res)[NINT][NJ],
+                                FILE *log) {
+    char path[1024];
+    FILE *f;
+    snprintf(path, sizeof path, "%s/%s", dir, name);
     if (!(f = fopen(path, "w"))) {
         fprintf(log, "pfx: cannot open '%s': %s\n", path, strerror(errno));
         return 1;
@@ -372,12 +205,19 @@ static int write_work_precision(const char *dir, result (*res)[NINT][NJ], FILE *
     const int cols = 2, pw = 400, ph = 260, mx = 80, my = 70;
     const int W = cols * (pw + mx) + 160, H = (int)((NPROB + cols - 1) / cols) * (ph + my) + 90;
     pfx_svg_begin(f, W, H);
-    pfx_svg_text(f, W / 2.0, 24, 16, "middle", "#000",
-                 "Work-precision: position error at the end time vs force evaluations per "
-                 "simulated second");
-    pfx_svg_text(f, W / 2.0, 42, 11, "middle", "#555",
-                 "dt = T/2^j; X = outside the stability region (labelled with its k*dt or "
-                 "omega*dt); errors below 1e-15 drawn at 1e-15");
+    char title[160];
+    snprintf(title, sizeof title,
+             "Work-precision, %s: position error at age T vs force evaluations per simulated "
+             "second",
+             run_name(run));
+    pfx_svg_text(f, W / 2.0, 24, 16, "middle", "#000", title);
+    pfx_svg_text(
+        f, W / 2.0, 42, 11, "middle", "#555",
+        run ? "through emission: an effect compiled and simulated by pfx (float state); "
+              "dt = T/2^j where 1 <= 1/dt; X = outside the stability region; errors below 1e-9 "
+              "drawn at 1e-9"
+            : "dt = T/2^j; X = outside the stability region (labelled with its k*dt or "
+              "omega*dt); errors below 1e-15 drawn at 1e-15");
     for (size_t p = 0; p < NPROB; p++) {
         pfx_chart c = {.left = mx + (double)(p % cols) * (pw + mx),
                        .top = 80 + (double)(p / cols) * (ph + my),
@@ -385,12 +225,12 @@ static int write_work_precision(const char *dir, result (*res)[NINT][NJ], FILE *
                        .height = ph,
                        .log_x = true,
                        .log_y = true,
-                       .y0 = 1e-15,
+                       .y0 = run ? 1e-9 : 1e-15,
                        .y1 = 1e3};
         c.x0 = INFINITY, c.x1 = 0;
         for (size_t i = 0; i < NINT; i++)
             for (int j = 0; j < NJ; j++)
-                if (applies(&problems[p], integrators[i])) {
+                if (pfx_acc_applies(&problems[p], integrators[i])) {
                     c.x0 = fmin(c.x0, res[p][i][j].cost);
                     c.x1 = fmax(c.x1, res[p][i][j].cost);
                 }
@@ -399,14 +239,14 @@ static int write_work_precision(const char *dir, result (*res)[NINT][NJ], FILE *
         pfx_chart_axes(f, &c, problems[p].name, "force evaluations per simulated second",
                        "position error (m)");
         for (size_t i = 0; i < NINT; i++) {
-            if (!applies(&problems[p], integrators[i]))
+            if (!pfx_acc_applies(&problems[p], integrators[i]))
                 continue;
             double x[NJ], y[NJ];
             bool skip[NJ];
             for (int j = 0; j < NJ; j++) {
                 x[j] = res[p][i][j].cost;
-                y[j] = fmax(fmin(res[p][i][j].err, 1e3), 1e-15);
-                skip[j] = false;
+                y[j] = fmax(fmin(res[p][i][j].err[run], 1e3), c.y0);
+                skip[j] = isnan(res[p][i][j].err[run]);
             }
             pfx_chart_line(f, &c, NJ, x, y, skip, colors[i], integrators[i] == PFX_INTEGRATOR_AUTO);
             int labelled = 0, unstable = 0;
@@ -414,6 +254,8 @@ static int write_work_precision(const char *dir, result (*res)[NINT][NJ], FILE *
                 unstable += res[p][i][j].rate > 0;
             for (int j = NJ - 1; j >= 0; j--) { /* smallest unstable dt first */
                 const result *r = &res[p][i][j];
+                if (skip[j])
+                    continue;
                 if (r->rate > 0) {
                     pfx_chart_mark(f, &c, x[j], y[j], PFX_MARK_CROSS, colors[i]);
                     if (!labelled++) {
@@ -540,15 +382,25 @@ int pfx_bench_accuracy(const char *out_dir, FILE *log) {
         return 1;
     }
     for (size_t p = 0; p < NPROB; p++) {
-        const problem *pr = &problems[p];
+        const pfx_acc_problem *pr = &problems[p];
         for (size_t i = 0; i < NINT; i++) {
-            if (!applies(pr, integrators[i]))
+            if (!pfx_acc_applies(pr, integrators[i]))
                 continue;
             for (int j = 0; j < NJ; j++) {
                 pfx_motion m;
                 long steps = 1L << (J_MIN + j);
                 result *r = &res[p][i][j];
-                r->err = run(pr, integrators[i], steps, &m);
+                pfx_acc_result mr = pfx_acc_run_model(pr, integrators[i], steps, &m);
+                r->err[0] = mr.error, r->max_rate[0] = mr.max_rate;
+                for (int b = 0; b < PFX_BIRTH_MODE_COUNT; b++) {
+                    double rate = (double)steps / pr->T;
+                    r->err[1 + b] = r->max_rate[1 + b] = NAN;
+                    if (rate < 1 || rate > 1e5)
+                        continue;
+                    pfx_acc_result er =
+                        pfx_acc_run_emitted(pr, integrators[i], steps, (pfx_birth_mode)b);
+                    r->err[1 + b] = er.error, r->max_rate[1 + b] = er.max_rate;
+                }
                 r->dt = pr->T / (double)steps;
                 r->steps = m.steps;
                 r->cost = pfx_motion_evals_per_step(&m) / r->dt;
@@ -559,11 +411,19 @@ int pfx_bench_accuracy(const char *out_dir, FILE *log) {
             double ns = time_float(pr, integrators[i], pr->T / 256, buf);
             for (int j = 0; j < NJ; j++)
                 res[p][i][j].ns = ns;
-            fprintf(log, "  %-30s %-10s error at dt=T/256: %.3g, %.1f ns/particle-step\n", pr->name,
-                    pfx_integrator_name(integrators[i]), res[p][i][6].err, ns);
+            fprintf(log,
+                    "  %-30s %-10s error at dt=T/256: %.3g (model), %.3g / %.3g / %.3g (emitted "
+                    "at 0 / off grid / on a step end), %.1f ns/particle-step\n",
+                    pr->name, pfx_integrator_name(integrators[i]), res[p][i][6].err[0],
+                    res[p][i][6].err[1], res[p][i][6].err[2], res[p][i][6].err[3], ns);
         }
     }
-    int rc = write_work_precision(out_dir, res, log);
+    int rc = write_csv(out_dir, res, log);
+    if (rc == 0)
+        rc = write_work_precision(out_dir, "work-precision.svg", 0, res, log);
+    if (rc == 0)
+        rc = write_work_precision(out_dir, "work-precision-emitted.svg", 1 + PFX_BIRTH_OFF_GRID,
+                                  res, log);
     if (rc == 0)
         rc = write_stability(out_dir, log);
     free(res);

@@ -459,8 +459,7 @@ static void build_motion(compiler *c, pfx_emitter *em, pfx_integrator integrator
          * the largest charge, the smallest mass, the fastest emission. */
         f->charge = em->charge.dist == PFX_DIST_CONST ? em->charge.a : q_max;
         f->mass = pfx_value_min(&em->mass);
-        if (f->kind == PFX_MOTION_DRAG)
-            f->speed_hint = speed_max;
+        f->speed_hint = speed_max; /* drag and magnetic judge accuracy by it */
         /* A constant gravity_scale is folded in; a random one is a column. */
         if (f->kind == PFX_MOTION_GRAVITY && em->gravity_scale.dist == PFX_DIST_CONST)
             for (int k = 0; k < 3; k++)
@@ -472,6 +471,12 @@ static void build_motion(compiler *c, pfx_emitter *em, pfx_integrator integrator
     size_t n = pfx_motion_check_stability(m, w, 8);
     for (size_t i = 0; i < n && i < 8; i++)
         pfx_read_warning(&c->r, at, "emitter '%s': %s", em->name, w[i].message);
+    const double tol = m->tolerance > 0 ? m->tolerance : 1e-3;
+    if (integrator == PFX_INTEGRATOR_AUTO && m->substeps == 0 && m->error_rate > tol)
+        pfx_read_warning(&c->r, at,
+                         "emitter '%s': auto cannot keep the tolerance of %g m/s: even %d "
+                         "substeps leave an expected error of %.2g m/s; raise sim.rate",
+                         em->name, tol, m->steps, m->error_rate);
 }
 
 static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n, pfx_emitter *em) {

@@ -89,8 +89,8 @@ bool pfx_bake_frame(pfx_bake *b, const pfx_sim *s, long frame, double time) {
                 b->f,
                 "%ld,%.9g,%s,%u,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n",
                 frame, time, name, p->id[j], p->px[j], p->py[j], p->pz[j], p->vx[j], p->vy[j],
-                p->vz[j], p->age[j], p->lifetime[j], pfx_particle_size(em, p, j), c[0], c[1], c[2],
-                c[3]);
+                p->vz[j], pfx_particle_age(p, j), p->lifetime[j], pfx_particle_size(em, p, j), c[0],
+                c[1], c[2], c[3]);
         }
     }
     return !ferror(b->f);

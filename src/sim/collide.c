@@ -545,7 +545,7 @@ static int respond(const ctx *c, body *b, const hit *h, const double n[3], doubl
     bool contact = w < thr;
     if (d->response != PFX_DEFLECT_BOUNCE) {
         if (d->response == PFX_DEFLECT_KILL) {
-            pool->age[b->i] = pool->lifetime[b->i];
+            pool->lifetime[b->i] = PFX_KILLED;
             if (c->stats)
                 c->stats->kills++;
         } else {

@@ -26,7 +26,7 @@ typedef enum {
 
 typedef enum {
     PFX_DEFLECT_BOUNCE = 0, /* v' = (1 - mu) v_T - eps v_N */
-    PFX_DEFLECT_KILL,       /* age := lifetime; the simulation's kill pass removes it */
+    PFX_DEFLECT_KILL,       /* lifetime := PFX_KILLED; the simulation's kill pass removes it */
     PFX_DEFLECT_STICK       /* v := 0 at the hit point, for the rest of its life */
 } pfx_deflect_response;
 
@@ -55,6 +55,10 @@ typedef struct pfx_deflector {
     uint64_t seed;        /* salt of the chance hash, e.g. pfx_rng_stream_for(name) ^ effect seed */
 } pfx_deflector;
 
+/* The lifetime a kill rule or a deflector writes: the particle dies at the
+ * end of the step, where it is. */
+#define PFX_KILLED (-1.0f)
+
 /* The columns pfx_collide reads and writes; all arrays hold `count` floats.
  * The start-of-step state (x0, v0) is scratch the simulation saved before
  * integrating; (px.., vx..) hold the integrator's end state and are resolved
@@ -63,8 +67,7 @@ typedef struct pfx_collide_pool {
     uint32_t count;
     const float *px0, *py0, *pz0, *vx0, *vy0, *vz0;
     float *px, *py, *pz, *vx, *vy, *vz;
-    double *age;        /* kill writes age = lifetime */
-    float *lifetime;    /* lifetime_loss writes it */
+    float *lifetime;    /* kill writes PFX_KILLED; lifetime_loss lowers it */
     const uint32_t *id; /* key of the chance hash; NULL: the pool index (not stable) */
     uint8_t *stuck;     /* optional: 1 once stuck (see pfx_collide) */
 } pfx_collide_pool;
@@ -93,7 +96,7 @@ typedef struct pfx_collide_stats {
  * resilience and friction draw from `rng` (in particle order); on_hit and
  * stats may be NULL; stats are added to. Never allocates.
  * The caller must: run its kill pass afterwards (a killed particle has
- * age == lifetime); keep `stuck` (when given) as a pool column, 0 at birth and
+ * lifetime == PFX_KILLED); keep `stuck` (when given) as a pool column, 0 at birth and
  * moved by swap-remove — a stuck particle is put back at x0 with v = 0 each
  * step, whatever the integrator did; without the column a stuck particle
  * stops at the hit point and afterwards rests there like any other. Resting

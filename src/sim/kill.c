@@ -1,6 +1,6 @@
 /* The kill rules and bounds of one emitter applied to its pool after a step:
  * positions wrapped into a wrapping box, particles a rule kills marked by
- * age = lifetime. It removes nothing itself (sim.c's age pass does) and never
+ * lifetime = PFX_KILLED. It removes nothing itself (sim.c's age pass does) and never
  * reports: the compiler validated the rules. */
 #include "sim/kill.h"
 
@@ -54,20 +54,19 @@ static void wrap_axis(float *restrict x, uint32_t n, float lo, float hi) {
             x[i] = pfx_kill_wrap(x[i], lo, hi);
 }
 
-/* The marking passes below are branch-free selects, age = dead ? lifetime :
- * age, so the compiler can vectorise them. */
+/* The marking passes below are branch-free selects, lifetime = dead ?
+ * PFX_KILLED : lifetime, so the compiler can vectorise them. */
 
 static void mark_box(pfx_pool *p, const float lo[3], const float hi[3], bool kill_inside) {
     const uint32_t n = p->count;
     const float *restrict px = p->px, *restrict py = p->py, *restrict pz = p->pz;
-    const float *restrict life = p->lifetime;
-    double *restrict age = p->age;
+    float *restrict life = p->lifetime;
     const float lx = lo[0], ly = lo[1], lz = lo[2], hx = hi[0], hy = hi[1], hz = hi[2];
     const int want = kill_inside;
     for (uint32_t i = 0; i < n; i++) {
         const int in = (px[i] >= lx) & (px[i] <= hx) & (py[i] >= ly) & (py[i] <= hy) &
                        (pz[i] >= lz) & (pz[i] <= hz);
-        age[i] = in == want ? life[i] : age[i];
+        life[i] = in == want ? PFX_KILLED : life[i];
     }
 }
 
@@ -75,15 +74,14 @@ static void mark_box(pfx_pool *p, const float lo[3], const float hi[3], bool kil
 static void mark_sphere(pfx_pool *p, const double center[3], double radius, bool kill_inside) {
     const uint32_t n = p->count;
     const float *restrict px = p->px, *restrict py = p->py, *restrict pz = p->pz;
-    const float *restrict life = p->lifetime;
-    double *restrict age = p->age;
+    float *restrict life = p->lifetime;
     const float cx = (float)center[0], cy = (float)center[1], cz = (float)center[2];
     const float r2 = (float)(radius * radius);
     const int want = kill_inside;
     for (uint32_t i = 0; i < n; i++) {
         const float dx = px[i] - cx, dy = py[i] - cy, dz = pz[i] - cz;
         const int in = dx * dx + dy * dy + dz * dz <= r2;
-        age[i] = in == want ? life[i] : age[i];
+        life[i] = in == want ? PFX_KILLED : life[i];
     }
 }
 
@@ -92,14 +90,13 @@ static void mark_half_space(pfx_pool *p, const double point[3], const double nor
                             bool kill_inside) {
     const uint32_t n = p->count;
     const float *restrict px = p->px, *restrict py = p->py, *restrict pz = p->pz;
-    const float *restrict life = p->lifetime;
-    double *restrict age = p->age;
+    float *restrict life = p->lifetime;
     const float cx = (float)point[0], cy = (float)point[1], cz = (float)point[2];
     const float nx = (float)normal[0], ny = (float)normal[1], nz = (float)normal[2];
     const int want = kill_inside;
     for (uint32_t i = 0; i < n; i++) {
         const int in = (px[i] - cx) * nx + (py[i] - cy) * ny + (pz[i] - cz) * nz >= 0;
-        age[i] = in == want ? life[i] : age[i];
+        life[i] = in == want ? PFX_KILLED : life[i];
     }
 }
 
@@ -110,13 +107,14 @@ static void mark_alpha(pfx_pool *p, const float alpha_at_age[PFX_KILL_ALPHA_LUT]
     for (int k = 0; k < PFX_KILL_ALPHA_LUT; k++)
         dies[k] = (double)alpha_at_age[k] < below;
     const uint32_t n = p->count;
-    const float *restrict life = p->lifetime;
-    double *restrict age = p->age;
+    float *restrict life = p->lifetime;
+    const double *restrict birth = p->birth;
+    const double now = p->time;
     for (uint32_t i = 0; i < n; i++) {
-        const float u = age[i] / life[i];
+        const float u = (float)(now - birth[i]) / life[i];
         int k = (int)(u * (PFX_KILL_ALPHA_LUT - 1) + 0.5f);
         k = k < 0 ? 0 : k >= PFX_KILL_ALPHA_LUT ? PFX_KILL_ALPHA_LUT - 1 : k;
-        age[i] = dies[k] ? life[i] : age[i];
+        life[i] = dies[k] ? PFX_KILLED : life[i];
     }
 }
 

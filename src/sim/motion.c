@@ -119,6 +119,25 @@ double pfx_motion_force_damping(const pfx_motion *m, const pfx_motion_force *f) 
     return f->k + kq;
 }
 
+/* ---- The error model of `auto` ----
+ * Every scheme auto runs is second order, so its position error grows at a
+ * rate C L w^3 h^2 (m per simulated second) for an oscillation of
+ * frequency w and size L, and C u k^2 h^2 for a velocity force of rate k
+ * acting on speeds u that it does not integrate exactly. The constants are
+ * measured on the accuracy suite (pfx bench accuracy, the largest
+ * error(t)/t over each run) and multiplied by a safety factor of 1.5:
+ *   spring (leapfrog on x'' = -w^2 x)       C = 1/24  -> 1/16
+ *   magnetic rotation, L the gyroradius      C = 1/24  -> 1/16
+ *   attractor, w and L at its reference      C = 0.64  -> 1  (Kepler e = 0.5;
+ *                                                     a circular orbit: 0.34)
+ *   velocity forces under Verlet or kicks    C = 0.39  -> 0.6 (linear drag;
+ *                                                     quadratic drag: 0.008)
+ * Turbulence has no closed form to measure; it takes the spring's. */
+#define AUTO_C_SPRING (1.0 / 16)
+#define AUTO_C_ROTATION (1.0 / 16)
+#define AUTO_C_ATTRACTOR 1.0
+#define AUTO_C_VELOCITY 0.6
+
 /* Length over which an oscillation's phase error turns into position error:
  * the attractor's radius, the turbulence scale, 1 m for a spring. */
 static double force_length(const pfx_motion_force *f) {
@@ -127,6 +146,33 @@ static double force_length(const pfx_motion_force *f) {
     if (f->kind == PFX_MOTION_TURBULENCE)
         return f->scale;
     return 1.0;
+}
+
+/* C L w^3 of a position force (0 for the others). */
+static double oscillation_error(const pfx_motion_force *f) {
+    double w = pfx_motion_force_omega(f);
+    double c = f->kind == PFX_MOTION_ATTRACTOR ? AUTO_C_ATTRACTOR : AUTO_C_SPRING;
+    return w > 0 ? c * force_length(f) * w * w * w : 0;
+}
+
+/* C L W^3 of a magnetic field's rotation: W = |q/m| |B|, L the gyroradius
+ * of the fastest emitted particle plus the E x B drift, u / W. */
+static double rotation_error(const pfx_motion_force *f) {
+    double W = fabs(f->charge) / (f->mass > 0 ? f->mass : 1.0) * norm3(f->field);
+    if (!(W > 0))
+        return 0;
+    double u = f->speed_hint + norm3(f->electric) / norm3(f->field);
+    return AUTO_C_ROTATION * (u / W) * W * W * W;
+}
+
+/* The speeds a velocity force acts on: the emission speed relative to the
+ * wind, or the terminal speed under the gravities, whichever is larger. */
+static double velocity_scale(const pfx_motion *m, const pfx_motion_force *f) {
+    double g = gravity_magnitude(m), u = f->speed_hint + norm3(f->wind);
+    double terminal = f->c > 0 ? sqrt(g / f->c) : f->k > 0 ? g / f->k : 0;
+    if (f->kind == PFX_MOTION_SPRING)
+        u = f->speed_hint + sqrt(f->k); /* a unit displacement's speed */
+    return u > terminal ? u : terminal;
 }
 
 /* ---- Resolving ---- */
@@ -227,7 +273,7 @@ static int ceil_steps(double dt, double h) {
  *    a second-order symplectic scheme on an oscillation of size L. */
 static void choose_auto(pfx_motion *m, double tol) {
     bool velocity = false, rotation = false, position = false;
-    double w2 = 0, kv = 0, h = INFINITY;
+    double w2 = 0, kv = 0, h = INFINITY, err = 0;
     const char *stiff = NULL;
     for (size_t i = 0; i < m->force_count; i++) {
         const pfx_motion_force *f = &m->forces[i];
@@ -236,8 +282,10 @@ static void choose_auto(pfx_motion *m, double tol) {
             velocity = true;
         if (f->kind == PFX_MOTION_SPRING && f->zeta > 0 && !unreg)
             velocity = true;
-        if (f->kind == PFX_MOTION_MAGNETIC && norm3(f->field) > 0)
+        if (f->kind == PFX_MOTION_MAGNETIC && norm3(f->field) > 0) {
             rotation = true;
+            err += rotation_error(f);
+        }
         if (f->kind == PFX_MOTION_ATTRACTOR || f->kind == PFX_MOTION_SPRING ||
             f->kind == PFX_MOTION_TURBULENCE || (f->kind == PFX_MOTION_GRAVITY && !unreg) ||
             (f->kind == PFX_MOTION_MAGNETIC && norm3(f->electric) > 0))
@@ -245,10 +293,9 @@ static void choose_auto(pfx_motion *m, double tol) {
         double w = pfx_motion_force_omega(f);
         if (w > 0) {
             w2 += w * w;
-            double hs = 1 / w, ht = sqrt(24 * tol / (force_length(f) * w * w * w));
-            double hf = hs < ht ? hs : ht;
-            if (hf < h)
-                h = hf, stiff = f->name;
+            err += oscillation_error(f);
+            if (1 / w < h)
+                h = 1 / w, stiff = f->name;
         }
     }
     if (!velocity) {
@@ -268,13 +315,20 @@ static void choose_auto(pfx_motion *m, double tol) {
             if (m->scheme == PFX_SCHEME_SPLIT && unreg && f->kind == PFX_MOTION_DRAG)
                 k -= f->k;
             kv += k;
+            if (k > 0)
+                err += AUTO_C_VELOCITY * velocity_scale(m, f) * k * k;
         }
         if (m->scheme == PFX_SCHEME_VERLET && w2 > 0 && 1 / sqrt(w2) < h)
             h = 1 / sqrt(w2), stiff = "the forces together";
         if (kv > 0 && 1 / kv < h)
             h = 1 / kv, stiff = "the drag";
     }
+    /* The tolerance: err h^2 <= tol. */
+    const bool accuracy = err > 0 && sqrt(tol / err) < h;
+    if (accuracy)
+        h = sqrt(tol / err), stiff = "the tolerance";
     m->steps = ceil_steps(m->dt, h);
+    m->error_rate = err * (m->dt / m->steps) * (m->dt / m->steps);
     const double hh = m->dt / m->steps;
     int len;
     if (!position && !velocity && !rotation)
@@ -288,13 +342,13 @@ static void choose_auto(pfx_motion *m, double tol) {
     else
         len = snprintf(m->why, sizeof m->why,
                        "verlet: a velocity-dependent force needs it (2nd order, 2 evaluations)");
-    if (len > 0 && (size_t)len < sizeof m->why) {
-        if (m->steps > 1 || w2 > 0 || kv > 0)
-            snprintf(m->why + len, sizeof m->why - len,
-                     "; %d substep%s: omega*h = %.3g, k*h = %.3g (set by '%s'%s)", m->steps,
-                     m->steps == 1 ? "" : "s", sqrt(w2) * hh, kv * hh, stiff ? stiff : "-",
-                     m->steps == PFX_MOTION_MAX_SUBSTEPS ? ", capped" : "");
-    }
+    if (len > 0 && (size_t)len < sizeof m->why && (m->steps > 1 || err > 0))
+        snprintf(m->why + len, sizeof m->why - len,
+                 "; %d substep%s (set by %s%s): omega*h = %.3g, k*h = %.3g, expected error "
+                 "%.2g m/s",
+                 m->steps, m->steps == 1 ? "" : "s", stiff ? stiff : "-",
+                 m->steps == PFX_MOTION_MAX_SUBSTEPS ? ", capped" : "", sqrt(w2) * hh, kv * hh,
+                 m->error_rate);
 }
 
 void pfx_motion_prepare(pfx_motion *m, double dt) {
@@ -328,6 +382,15 @@ void pfx_motion_prepare(pfx_motion *m, double dt) {
 }
 
 const char *pfx_motion_explain(const pfx_motion *m) { return m->why; }
+
+int pfx_motion_substeps_for(const pfx_motion *m, double span) {
+    const int steps = m->steps > 0 ? m->steps : 1;
+    /* The full step (up to the last bits of t1 - t0) keeps its count. */
+    if (fabs(span - m->dt) <= 1e-9 * m->dt)
+        return steps;
+    double n = ceil(span * steps / m->dt * (1 - 1e-12));
+    return n < 1 ? 1 : n > 1e6 ? 1000000 : (int)n;
+}
 
 int pfx_motion_evals_per_step(const pfx_motion *m) {
     int per = 1;
@@ -450,12 +513,15 @@ size_t pfx_motion_find_bad_f(const pfx_motion_pool_f *p, pfx_bad_kind *why){FIND
 }
 
 void pfx_motion_blame(const pfx_motion *m, pfx_bad_kind why, char *buf, size_t size) {
-    pfx_stability_warning w;
-    size_t n = pfx_motion_check_stability(m, &w, 1);
-    if (n > 0 && w.kind == PFX_STABILITY_UNSTABLE) {
-        snprintf(buf, size, "%s", w.message);
-        return;
-    }
+    /* The warning `validate` printed for this emitter: growth (UNSTABLE) or
+     * a speed the rotation does not keep (DRIFT), whichever comes first. */
+    pfx_stability_warning w[8];
+    size_t n = pfx_motion_check_stability(m, w, 8);
+    for (size_t i = 0; i < n && i < 8; i++)
+        if (w[i].kind == PFX_STABILITY_UNSTABLE || w[i].kind == PFX_STABILITY_DRIFT) {
+            snprintf(buf, size, "%s (as validate warns)", w[i].message);
+            return;
+        }
     snprintf(buf, size,
              "%s with %s (%d substep%s): no stability limit is crossed; a force may be "
              "singular (an attractor without softening?)",

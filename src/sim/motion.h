@@ -16,8 +16,9 @@
 /* Particles per block: the stack scratch of one RK4 block is 15 columns of
  * this many reals (15 KB in double), so no step ever allocates. */
 #define PFX_MOTION_BLOCK 128
-/* Substeps auto may choose at most; beyond this it says so in `why`. */
-#define PFX_MOTION_MAX_SUBSTEPS 64
+/* Substeps auto may choose at most; beyond this it says so in `why` and
+ * `validate` warns that the tolerance is not met. */
+#define PFX_MOTION_MAX_SUBSTEPS 1024
 
 /* Zero means default: AUTO. EXACT and BORIS both run the split step
  * (kick, rotate, exact drift, rotate, kick); they differ only in intent. */
@@ -124,6 +125,8 @@ typedef struct pfx_motion {
     pfx_integrator chosen; /* never AUTO */
     pfx_scheme scheme;
     int steps;             /* substeps per step, >= 1 */
+    double error_rate;     /* auto: the expected position error, m per simulated s
+                              (0 for other integrators and exact flows) */
     bool has_operators;    /* vortex, spiral or speed_limit present */
     bool has_rotation;     /* split: some magnetic B to rotate by */
     bool has_kick;         /* split: some force left to kick with */
@@ -173,6 +176,18 @@ const char *pfx_motion_explain(const pfx_motion *m);
  * kept. Results depend only on the particle's own state. */
 void pfx_motion_step_f(const pfx_motion *m, pfx_motion_pool_f *pool, double t);
 void pfx_motion_step_d(const pfx_motion *m, pfx_motion_pool_d *pool, double t);
+
+/* Advance every particle of the pool from time t by `span` seconds (0 <
+ * span, normally <= dt) with the prepared scheme and operators, in
+ * pfx_motion_substeps_for(m, span) equal substeps: never longer than the
+ * prepared substep dt/steps, so a newborn's partial step or a frame's
+ * remainder is integrated exactly as a particle started alone at t and
+ * stepped at that span would be. pfx_motion_step_* is span = dt. */
+void pfx_motion_advance_f(const pfx_motion *m, pfx_motion_pool_f *pool, double t, double span);
+void pfx_motion_advance_d(const pfx_motion *m, pfx_motion_pool_d *pool, double t, double span);
+/* Substeps of a span: m->steps for the full step, else the fewest whose
+ * length is at most dt/steps (at least 1). */
+int pfx_motion_substeps_for(const pfx_motion *m, double span);
 
 /* Acceleration of the n particles starting at pool index i0, at state
  * (x, v) given in block arrays, time t, from the ODE forces (all but the

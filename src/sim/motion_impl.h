@@ -484,9 +484,9 @@ static void FN(operators)(const pfx_motion *m, size_t n, R *X, R *Y, R *Z, R *U,
     }
 }
 
-void FN(pfx_motion_step)(const pfx_motion *m, PFX_POOL *p, double t) {
-    const int steps = m->steps > 0 ? m->steps : 1;
-    const double h = m->dt / steps;
+void FN(pfx_motion_advance)(const pfx_motion *m, PFX_POOL *p, double t, double span) {
+    const int steps = pfx_motion_substeps_for(m, span);
+    const double h = span / steps;
     for (size_t i0 = 0; i0 < p->count; i0 += BLK) {
         size_t n = p->count - i0 < BLK ? p->count - i0 : BLK;
         R *X = p->px + i0, *Y = p->py + i0, *Z = p->pz + i0;
@@ -517,6 +517,10 @@ void FN(pfx_motion_step)(const pfx_motion *m, PFX_POOL *p, double t) {
                 FN(operators)(m, n, X, Y, Z, U, V, W, h);
         }
     }
+}
+
+void FN(pfx_motion_step)(const pfx_motion *m, PFX_POOL *p, double t) {
+    FN(pfx_motion_advance)(m, p, t, m->dt);
 }
 
 #undef BLOCK_ARGS

@@ -36,7 +36,7 @@ static void add_column(column_list *c, void *col, size_t size) {
 
 static column_list pool_columns(const pfx_pool *p) {
     column_list c = {.count = 0};
-    add_column(&c, p->age, 8);
+    add_column(&c, p->birth, 8);
     void *four[] = {p->px,         p->py,     p->pz,
                     p->vx,         p->vy,     p->vz,
                     p->lifetime,   p->id,     p->gravity_scale,
@@ -65,10 +65,10 @@ static size_t layout_columns(const pfx_emitter *em, pfx_pool *p, float *base, ui
             used++;                                                                                \
         }                                                                                          \
     } while (0)
-    /* The age first: a double, two float slots, 8-byte aligned because every
-     * pool starts on an even float (see pfx_sim_create). */
+    /* The birth time first: a double, two float slots, 8-byte aligned
+     * because every pool starts on an even float (see pfx_sim_create). */
     if (base)
-        p->age = (double *)(void *)base;
+        p->birth = (double *)(void *)base;
     used += 2;
     TAKE(px, true);
     TAKE(py, true);
@@ -180,7 +180,7 @@ pfx_sim *pfx_sim_create(const pfx_effect *e) {
 void pfx_sim_reset(pfx_sim *s) {
     const pfx_effect *e = s->effect;
     for (size_t i = 0; i < e->emitter_count; i++)
-        s->pools[i].count = 0;
+        s->pools[i].count = 0, s->pools[i].time = 0, s->pools[i].may_run_away = false;
     init_emitters(s);
     s->step = 0;
     s->time = 0;
@@ -199,89 +199,123 @@ void pfx_sim_destroy(pfx_sim *s) {
     free(s);
 }
 
-/* Exact constant-acceleration motion over dt for every live particle. The
- * per-emitter acceleration is hoisted; a random gravity_scale makes it per
- * particle (a column), still one multiply-add chain per component. */
-static void integrate_gravity(const pfx_emitter *em, pfx_pool *p, float dt, double dt_age) {
-    const uint32_t n = p->count;
-    float *restrict px = p->px, *restrict py = p->py, *restrict pz = p->pz;
-    float *restrict vx = p->vx, *restrict vy = p->vy, *restrict vz = p->vz;
-    double *restrict age = p->age;
-    const float h = 0.5f * dt * dt;
-    if (!p->gravity_scale) {
-        const double gs = em->gravity_scale.a;
-        const float ax = (float)(em->accel[0] * gs), ay = (float)(em->accel[1] * gs),
-                    az = (float)(em->accel[2] * gs);
-        const float hx = ax * h, hy = ay * h, hz = az * h;
-        const float kx = ax * dt, ky = ay * dt, kz = az * dt;
-        for (uint32_t i = 0; i < n; i++) {
-            px[i] += vx[i] * dt + hx;
-            py[i] += vy[i] * dt + hy;
-            pz[i] += vz[i] * dt + hz;
-            vx[i] += kx;
-            vy[i] += ky;
-            vz[i] += kz;
-            age[i] += dt_age;
-        }
-        return;
-    }
-    const float *restrict gs = p->gravity_scale;
-    const float ax = (float)em->accel[0], ay = (float)em->accel[1], az = (float)em->accel[2];
+/* The exact constant-acceleration step of particles [0, n), x += v dt + a
+ * dt^2/2, v += a dt, with the per-emitter acceleration hoisted, or a per
+ * particle gravity_scale g times it. With `check` it also returns whether
+ * some particle may be non-finite or runaway: a branch-free OR over
+ * per-component tests (|v_c| > 1e6/sqrt(3), |x_c| > 1e7 or NaN), for
+ * check_state to confirm. Always inlined with a constant `check`, so the
+ * loop without it has no compares at all. */
+static inline __attribute__((always_inline)) bool
+gravity_step(uint32_t n, float *restrict px, float *restrict py, float *restrict pz,
+             float *restrict vx, float *restrict vy, float *restrict vz, const float *restrict gs,
+             const float a[3], float dt, const bool check) {
+    const float h = 0.5f * dt * dt, vlim = 5.7e5f, xlim = (float)PFX_MOTION_MAX_POSITION;
+    const float ax = a[0], ay = a[1], az = a[2];
+    int alarm = 0;
     for (uint32_t i = 0; i < n; i++) {
-        const float g = gs[i];
+        const float g = gs ? gs[i] : 1.0f;
         px[i] += vx[i] * dt + g * ax * h;
         py[i] += vy[i] * dt + g * ay * h;
         pz[i] += vz[i] * dt + g * az * h;
         vx[i] += g * ax * dt;
         vy[i] += g * ay * dt;
         vz[i] += g * az * dt;
-        age[i] += dt_age;
+        if (check)
+            alarm |= !(fabsf(vx[i]) <= vlim) | !(fabsf(vy[i]) <= vlim) | !(fabsf(vz[i]) <= vlim) |
+                     !(fabsf(px[i]) <= xlim) | !(fabsf(py[i]) <= xlim) | !(fabsf(pz[i]) <= xlim);
     }
+    return alarm;
 }
 
-/* Any other force set: the emitter's motion model (prepared for this dt;
- * a view's partial step prepares its own copy for the remainder), then the
- * ages, then a scan for a non-finite or exploding state, which stops the
- * simulation with the emitter, the time and the likely cause. */
-static void integrate_motion(pfx_sim *s, size_t i, double dt) {
-    const pfx_emitter *em = &s->effect->emitters[i];
-    pfx_motion *m = &s->motions[i];
-    pfx_pool *p = &s->pools[i];
-    /* Re-prepared only for a different step (a view's remainder), not for
-     * the last-bit differences of t1 - t0 between fixed steps. */
-    if (fabs(m->dt - dt) > 1e-9 * dt)
-        pfx_motion_prepare(m, dt);
-    pfx_motion_pool_f view = {.count = p->count,
-                              .px = p->px,
-                              .py = p->py,
-                              .pz = p->pz,
-                              .vx = p->vx,
-                              .vy = p->vy,
-                              .vz = p->vz,
-                              .gravity_scale = p->gravity_scale,
-                              .charge = p->charge,
-                              .mass = p->mass,
-                              .bx = p->bx,
-                              .by = p->by,
-                              .bz = p->bz};
-    pfx_motion_step_f(m, &view, s->time);
-    double *restrict age = p->age;
-    for (uint32_t j = 0; j < p->count; j++)
-        age[j] += dt;
+/* Exact constant-acceleration motion over dt for every live particle of a
+ * gravity-only emitter. Ages need no update: the pool keeps birth times.
+ * The state check rides along only when some particle's bound at birth
+ * could reach it (pool->may_run_away); otherwise the state provably stays
+ * finite and in range and the loop is the bare update. Returns whether the
+ * check saw something. */
+static bool integrate_gravity(const pfx_emitter *em, pfx_pool *p, float dt) {
+    float *px = p->px, *py = p->py, *pz = p->pz, *vx = p->vx, *vy = p->vy, *vz = p->vz;
+    if (!p->gravity_scale) {
+        /* The scale folded into the acceleration: one multiply-add chain. */
+        const double gs = em->gravity_scale.a;
+        const float a[3] = {(float)(em->accel[0] * gs), (float)(em->accel[1] * gs),
+                            (float)(em->accel[2] * gs)};
+        return p->may_run_away ? gravity_step(p->count, px, py, pz, vx, vy, vz, NULL, a, dt, true)
+                               : gravity_step(p->count, px, py, pz, vx, vy, vz, NULL, a, dt, false);
+    }
+    const float a[3] = {(float)em->accel[0], (float)em->accel[1], (float)em->accel[2]};
+    const float *gs = p->gravity_scale;
+    return p->may_run_away ? gravity_step(p->count, px, py, pz, vx, vy, vz, gs, a, dt, true)
+                           : gravity_step(p->count, px, py, pz, vx, vy, vz, gs, a, dt, false);
+}
+
+/* Whether a newborn of a gravity-only emitter could ever trip the state
+ * check: under a constant acceleration a its speed stays within |v| + |a| L
+ * for its lifetime L (a bounce takes speed away: resilience and friction
+ * are at most 1; wrapping only moves it back), and its distance from the
+ * origin within |x| + that speed times L. */
+static bool may_run_away(const float x[3], const float v[3], const double a[3], double life) {
+    double speed = sqrt((double)v[0] * v[0] + (double)v[1] * v[1] + (double)v[2] * v[2]) +
+                   sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) * life;
+    double far =
+        sqrt((double)x[0] * x[0] + (double)x[1] * x[1] + (double)x[2] * x[2]) + speed * life;
+    return !(speed < 5.7e5 && far < 0.5 * PFX_MOTION_MAX_POSITION);
+}
+
+static pfx_motion_pool_f motion_view(const pfx_pool *p, uint32_t first, uint32_t n) {
+    return (pfx_motion_pool_f){.count = n,
+                               .px = p->px + first,
+                               .py = p->py + first,
+                               .pz = p->pz + first,
+                               .vx = p->vx + first,
+                               .vy = p->vy + first,
+                               .vz = p->vz + first,
+                               .gravity_scale = p->gravity_scale ? p->gravity_scale + first : NULL,
+                               .charge = p->charge ? p->charge + first : NULL,
+                               .mass = p->mass ? p->mass + first : NULL,
+                               .bx = p->bx ? p->bx + first : NULL,
+                               .by = p->by ? p->by + first : NULL,
+                               .bz = p->bz ? p->bz + first : NULL};
+}
+
+/* The state check: the first of particles [first, count) of emitter i that
+ * is non-finite, faster than 1e6 m/s or farther than 1e7 m stops the
+ * simulation, naming the emitter, the particle, the time and the stability
+ * warning that predicted it. Every particle passes it after every step,
+ * its birth step included. */
+static void check_state(pfx_sim *s, size_t i, uint32_t first, double t) {
+    const pfx_pool *p = &s->pools[i];
+    if (s->failed || first >= p->count)
+        return;
+    pfx_motion_pool_f view = motion_view(p, first, p->count - first);
     pfx_bad_kind why;
     size_t bad = pfx_motion_find_bad_f(&view, &why);
-    if (bad < p->count && !s->failed) {
-        char cause[256];
-        pfx_motion_blame(m, why, cause, sizeof cause);
-        s->failed = true;
-        snprintf(s->error, sizeof s->error,
-                 "emitter '%s': particle %u became %s at t = %.4g s; likely cause: %s", em->name,
-                 p->id[bad],
-                 why == PFX_BAD_NONFINITE ? "non-finite"
-                 : why == PFX_BAD_SPEED   ? "faster than 1e6 m/s"
-                                          : "farther than 1e7 m",
-                 s->time + dt, cause);
-    }
+    if (bad == view.count)
+        return;
+    const pfx_emitter *em = &s->effect->emitters[i];
+    char cause[320];
+    if (em->motion)
+        pfx_motion_blame(&s->motions[i], why, cause, sizeof cause);
+    else
+        snprintf(cause, sizeof cause, "the emitter's speeds, gravity and lifetimes are too large");
+    s->failed = true;
+    snprintf(s->error, sizeof s->error,
+             "emitter '%s': particle %u became %s at t = %.4g s; likely cause: %s", em->name,
+             p->id[first + bad],
+             why == PFX_BAD_NONFINITE ? "non-finite"
+             : why == PFX_BAD_SPEED   ? "faster than 1e6 m/s"
+                                      : "farther than 1e7 m",
+             t, cause);
+}
+
+/* Any other force set: the emitter's motion model, prepared once for the
+ * fixed step; a view's remainder runs the same scheme in substeps no longer
+ * than the prepared ones (pfx_motion_advance_f), never a re-chosen one. */
+static void integrate_motion(pfx_sim *s, size_t i, double span) {
+    pfx_pool *p = &s->pools[i];
+    pfx_motion_pool_f view = motion_view(p, 0, p->count);
+    pfx_motion_advance_f(&s->motions[i], &view, s->time, span);
 }
 
 /* The start-of-step state the collision pass sweeps from. */
@@ -330,7 +364,6 @@ static void collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0,
                              .vx = p->vx + first,
                              .vy = p->vy + first,
                              .vz = p->vz + first,
-                             .age = p->age + first,
                              .lifetime = p->lifetime + first,
                              .id = p->id + first,
                              .stuck = p->stuck ? p->stuck + first : NULL};
@@ -345,7 +378,7 @@ static void kill_expired(pfx_sim *s, size_t emitter, double t1) {
     pfx_pool *p = &s->pools[emitter];
     const bool deaths = pfx_spawn_has(&s->effect->emitters[emitter], PFX_SPAWN_DEATH);
     column_list c = pool_columns(p);
-    const double *age = p->age;
+    const double *birth = p->birth;
     const float *lifetime = p->lifetime;
     /* Most blocks hold no death: a branch-free scan (vectorised) skips them,
      * and only a block with a death runs the swap-remove loop. */
@@ -355,19 +388,20 @@ static void kill_expired(pfx_sim *s, size_t emitter, double t1) {
         uint32_t end = p->count - i > BLOCK ? i + BLOCK : p->count;
         int dead = 0;
         for (uint32_t j = i; j < end; j++)
-            dead |= age[j] >= lifetime[j];
+            dead |= t1 - birth[j] >= lifetime[j];
         if (!dead) {
             i = end;
             continue;
         }
         while (i < end) {
-            if (age[i] < lifetime[i]) {
+            if (t1 - birth[i] < lifetime[i]) {
                 i++;
                 continue;
             }
             if (deaths) {
-                /* Died at t1 - (age - lifetime), back along its velocity. */
-                double over = (double)p->age[i] - p->lifetime[i];
+                /* Died at t1 - (age - lifetime), back along its velocity;
+                 * killed ones (PFX_KILLED) at t1, where they are. */
+                double over = p->lifetime[i] < 0 ? 0 : (t1 - birth[i]) - p->lifetime[i];
                 const double pos[3] = {p->px[i] - p->vx[i] * over, p->py[i] - p->vy[i] * over,
                                        p->pz[i] - p->vz[i] * over},
                              vel[3] = {p->vx[i], p->vy[i], p->vz[i]};
@@ -380,28 +414,6 @@ static void kill_expired(pfx_sim *s, size_t emitter, double t1) {
                 end = p->count;
         }
     }
-}
-
-/* The acceleration of one particle at birth from the emitter's forces (the
- * ODE forces; the vortex, spiral and speed-limit operators act from the
- * first full step on). */
-static void newborn_accel(const pfx_motion *m, const double x[3], const double v[3], double t,
-                          double gs, double q, double mass, double out[3]) {
-    double px = x[0], py = x[1], pz = x[2], vx = v[0], vy = v[1], vz = v[2];
-    pfx_motion_pool_d one = {.count = 1,
-                             .px = &px,
-                             .py = &py,
-                             .pz = &pz,
-                             .vx = &vx,
-                             .vy = &vy,
-                             .vz = &vz,
-                             .gravity_scale = &gs,
-                             .charge = &q,
-                             .mass = &mass,
-                             .bx = &x[0],
-                             .by = &x[1],
-                             .bz = &x[2]};
-    pfx_motion_accel_d(m, &one, 0, 1, &px, &py, &pz, &vx, &vy, &vz, t, &out[0], &out[1], &out[2]);
 }
 
 bool pfx_sim_make_particle(pfx_sim *s, size_t i, double tb, double t1, const pfx_parent *parent) {
@@ -424,22 +436,9 @@ bool pfx_sim_make_particle(pfx_sim *s, size_t i, double tb, double t1, const pfx
     if (age >= b.life)
         return false; /* would already be dead: never created */
     uint32_t j = p->count++;
-    double x[3], acc[3];
-    for (int a = 0; a < 3; a++)
-        acc[a] = em->accel[a] * b.gs;
-    if (em->motion)
-        newborn_accel(em->motion, b.pos, b.vel, tb, b.gs, b.q, b.mass, acc);
-    /* The rest of the step after the birth: exact under constant
-     * acceleration; under other forces a second-order Taylor step with the
-     * acceleration at birth (the remainder is less than one step). */
-    const double v0[3] = {b.vel[0], b.vel[1], b.vel[2]};
-    for (int a = 0; a < 3; a++) {
-        x[a] = b.pos[a] + b.vel[a] * age + 0.5 * acc[a] * age * age;
-        b.vel[a] += acc[a] * age;
-    }
-    p->px[j] = (float)x[0], p->py[j] = (float)x[1], p->pz[j] = (float)x[2];
+    p->px[j] = (float)b.pos[0], p->py[j] = (float)b.pos[1], p->pz[j] = (float)b.pos[2];
     p->vx[j] = (float)b.vel[0], p->vy[j] = (float)b.vel[1], p->vz[j] = (float)b.vel[2];
-    p->age[j] = age;
+    p->birth[j] = tb;
     p->lifetime[j] = (float)b.life;
     p->id[j] = (uint32_t)k;
     if (p->gravity_scale)
@@ -472,12 +471,41 @@ bool pfx_sim_make_particle(pfx_sim *s, size_t i, double tb, double t1, const pfx
     }
     if (p->size_scale)
         p->size_scale[j] = parent && parent->inherit_size ? parent->size : 1;
-    if (em->deflector_count && age > 0) {
+    const double v0[3] = {b.vel[0], b.vel[1], b.vel[2]};
+    if (age > 0) {
+        /* The rest of the step after the birth, by the emitter's own method:
+         * the state stored at birth is stepped over `age` exactly as a
+         * particle started alone at tb would be (the same scheme, substeps
+         * no longer than the full step's, operators included). Gravity
+         * alone is the constant-acceleration closed form, in double. */
+        if (em->deflector_count)
+            for (int a = 0; a < 3; a++) {
+                p->start[a][j] = (float)b.pos[a];
+                p->start[3 + a][j] = (float)b.vel[a];
+            }
+        if (em->motion) {
+            pfx_motion_pool_f one = motion_view(p, j, 1);
+            pfx_motion_advance_f(&s->motions[i], &one, tb, age);
+        } else {
+            float *x[3] = {p->px, p->py, p->pz}, *v[3] = {p->vx, p->vy, p->vz};
+            for (int a = 0; a < 3; a++) {
+                double acc = em->accel[a] * b.gs, x0 = x[a][j], u0 = v[a][j];
+                x[a][j] = (float)(x0 + u0 * age + 0.5 * acc * age * age);
+                v[a][j] = (float)(u0 + acc * age);
+            }
+        }
+    }
+    if (!em->motion && !p->may_run_away) {
+        const float x[3] = {p->px[j], p->py[j], p->pz[j]}, v[3] = {p->vx[j], p->vy[j], p->vz[j]};
+        const double a[3] = {em->accel[0] * b.gs, em->accel[1] * b.gs, em->accel[2] * b.gs};
+        p->may_run_away = may_run_away(x, v, a, b.life);
+    }
+    if (age > 0) {
         /* The newborn's partial step is swept like a full one. */
-        const double start[6] = {b.pos[0], b.pos[1], b.pos[2], v0[0], v0[1], v0[2]};
-        for (int a = 0; a < 6; a++)
-            p->start[a][j] = (float)start[a];
-        collide(s, i, j, 1, tb, age);
+        if (em->deflector_count)
+            collide(s, i, j, 1, tb, age);
+        if (em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_TRAIL))
+            pfx_spawn_trails(s, i, j, 1, tb, t1);
     }
     if (em->spawn_count)
         pfx_spawn_event_of(s, i, PFX_SPAWN_BIRTH, j, tb, b.pos, v0, NULL);
@@ -528,7 +556,7 @@ static void emit(pfx_sim *s, size_t i, double t1) {
 
 /* A view of p's particles from index `from` on (same columns, shifted). */
 static void offset_pool(pfx_pool *p, uint32_t from) {
-    p->age += from;
+    p->birth += from;
     float **f[] = {&p->px,         &p->py,     &p->pz,       &p->vx,
                    &p->vy,         &p->vz,     &p->lifetime, &p->gravity_scale,
                    &p->size0,      &p->size1,  &p->charge,   &p->mass,
@@ -545,42 +573,53 @@ static void offset_pool(pfx_pool *p, uint32_t from) {
     p->capacity -= from;
 }
 
-/* Advances every emitter from s->time to t1. */
+/* Advances every emitter from s->time to t1. Per emitter: integrate (the
+ * state check sees every particle), deflectors, trails (before deaths, so a
+ * particle lays every trail birth of its last step), kill rules, deaths,
+ * then the births due, each stepped from its birth time. */
 static void advance(pfx_sim *s, double t1) {
     const pfx_effect *e = s->effect;
-    const float dt = (float)(t1 - s->time);
+    const double t0 = s->time;
+    const float dt = (float)(t1 - t0);
     for (size_t i = 0; i < e->emitter_count; i++) {
         const pfx_emitter *em = &e->emitters[i];
         pfx_pool *p = &s->pools[i];
         if (dt > 0) {
             if (em->deflector_count)
                 save_start(p);
+            bool alarm = true;
             if (em->motion)
-                integrate_motion(s, i, t1 - s->time);
+                integrate_motion(s, i, t1 - t0);
             else
-                integrate_gravity(em, p, dt, t1 - s->time);
+                alarm = integrate_gravity(em, p, dt);
+            p->time = t1;
+            if (alarm)
+                check_state(s, i, 0, t1);
             if (em->deflector_count)
-                collide(s, i, 0, p->count, s->time, dt);
+                collide(s, i, 0, p->count, t0, dt);
+            if (em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_TRAIL))
+                pfx_spawn_trails(s, i, 0, p->count, t0, t1);
             if (em->kill) {
                 emitter_pose pose;
                 pfx_emitter_pose_at(em, t1, &pose);
                 pfx_kill_apply(em->kill, p, pose.position, em->alpha_at_age);
             }
             kill_expired(s, i, t1);
-            if (em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_TRAIL))
-                pfx_spawn_trails(s, i, dt, t1);
         }
+        p->time = t1;
         p->newborn = p->count;
         emit(s, i, t1);
     }
     /* Sub-emitter births after every emitter has moved: file order does not
      * matter. */
     pfx_spawn_process(s, t1);
-    /* Particles born in this step met their deflectors (a kill sets age to
-     * lifetime) and must meet the kill rules before anyone sees them. */
+    /* Particles born in this step met their deflectors (a kill marks them
+     * PFX_KILLED) and must meet the kill rules and the state check before
+     * anyone sees them. */
     for (size_t i = 0; i < e->emitter_count; i++) {
         const pfx_emitter *em = &e->emitters[i];
         pfx_pool *p = &s->pools[i];
+        check_state(s, i, p->newborn, t1);
         if (p->count <= p->newborn || (!em->kill && !em->deflector_count))
             continue;
         if (em->kill) {
@@ -619,6 +658,8 @@ void pfx_sim_view_at(const pfx_sim *s, pfx_sim *view, double t) {
         for (int k = 0; k < a.count; k++)
             memcpy(b.col[k], a.col[k], src->count * a.size[k]);
         dst->count = src->count;
+        dst->time = src->time;
+        dst->may_run_away = src->may_run_away;
         view->emitters[i] = s->emitters[i];
     }
     view->step = s->step;
@@ -643,7 +684,7 @@ static int lut_index(float u) {
 }
 
 float pfx_particle_size(const pfx_emitter *em, const pfx_pool *p, uint32_t i) {
-    float u = p->age[i] / p->lifetime[i];
+    float u = (float)pfx_particle_age(p, i) / p->lifetime[i];
     float scale = p->size_scale ? p->size_scale[i] : 1.0f;
     if (em->size_curve)
         return em->size_lut[lut_index(u)] * scale;
@@ -653,7 +694,7 @@ float pfx_particle_size(const pfx_emitter *em, const pfx_pool *p, uint32_t i) {
 }
 
 void pfx_particle_color(const pfx_emitter *em, const pfx_pool *p, uint32_t i, float out[4]) {
-    int k = lut_index(p->age[i] / p->lifetime[i]);
+    int k = lut_index((float)pfx_particle_age(p, i) / p->lifetime[i]);
     switch (em->color_mode) {
     case PFX_COLOR_RANDOM: {
         float t = p->tint[i];
@@ -677,10 +718,11 @@ void pfx_particle_color(const pfx_emitter *em, const pfx_pool *p, uint32_t i, fl
 }
 
 float pfx_particle_angle(const pfx_emitter *em, const pfx_pool *p, uint32_t i) {
+    const float age = (float)pfx_particle_age(p, i);
     float a0 = p->angle0 ? p->angle0[i] : (float)em->angle.a;
     float turned = em->spin_curve
-                       ? p->lifetime[i] * em->spin_turn_lut[lut_index(p->age[i] / p->lifetime[i])]
-                       : (p->spin ? p->spin[i] : (float)em->spin.a) * p->age[i];
+                       ? p->lifetime[i] * em->spin_turn_lut[lut_index(age / p->lifetime[i])]
+                       : (p->spin ? p->spin[i] : (float)em->spin.a) * age;
     return (a0 + turned) * (float)(M_PI / 180);
 }
 

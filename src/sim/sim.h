@@ -16,17 +16,24 @@
 /* Live particles of one emitter, dense: indices [0, count). Columns that the
  * emitter does not use are NULL (gravity_scale when constant; size0/size1
  * when the size is constant). Bytes per particle: 40 for the fixed columns
- * (position, velocity, lifetime, id; the age is 8 bytes) plus 4 per optional column; an
- * emitter keeps only the columns its attributes and forces need. */
+ * (position, velocity, lifetime, id; the birth time is 8 bytes) plus 4 per
+ * optional column; an emitter keeps only the columns its attributes and
+ * forces need. */
 typedef struct pfx_pool {
     uint32_t count, capacity;
-    uint32_t newborn; /* first index born in the step being taken */
+    uint32_t newborn;  /* first index born in the step being taken */
+    double time;       /* the time the state is at: a particle's age is time - birth */
+    bool may_run_away; /* gravity-only: some particle's bound at birth reaches the
+                          state check's limits, so the kernel checks each step */
     float *px, *py, *pz;
     float *vx, *vy, *vz;
-    double *age; /* seconds: double, so long lives keep exact time (a float sum
-                    of 1/120 s steps drifts by seconds after hours) */
-    float *lifetime;
-    uint32_t *id; /* birth index within the emitter, from 0 */
+    double *birth;   /* seconds: the birth time, not an age summed step by step,
+                        so an age is exact (one subtraction, never a drifting
+                        sum) and the same at both ends of a step, and stepping
+                        writes nothing here */
+    float *lifetime; /* seconds; PFX_KILLED marks a particle killed in this
+                        step (a kill rule or deflector) */
+    uint32_t *id;    /* birth index within the emitter, from 0 */
     float *gravity_scale;
     float *size0, *size1;
     float *charge, *mass; /* random charge / mass under a magnetic force */
@@ -68,8 +75,13 @@ typedef struct pfx_sim {
                                        for this sim's step (unused where NULL in the effect) */
     struct pfx_sim *loop_start;     /* a looping effect's state at frame 0, to wrap to */
     bool failed;                    /* a state went non-finite or exploded: stop */
-    char error[512];                /* what, where, when and the likely cause */
+    char error[768];                /* what, where, when and the likely cause */
 } pfx_sim;
+
+/* Particle i's age at the pool's time, seconds. */
+static inline double pfx_particle_age(const pfx_pool *p, uint32_t i) {
+    return p->time - p->birth[i];
+}
 
 /* Allocates every pool once (sized by the compiler) and seeds every emitter.
  * Returns NULL when out of memory. Free with pfx_sim_destroy. */

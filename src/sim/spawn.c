@@ -107,32 +107,35 @@ void pfx_spawn_event_of(pfx_sim *s, size_t i, pfx_spawn_event event, uint32_t j,
     }
 }
 
-void pfx_spawn_trails(pfx_sim *s, size_t i, double dt, double t1) {
+void pfx_spawn_trails(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double t1) {
     const pfx_emitter *em = &s->effect->emitters[i];
     const pfx_pool *p = &s->pools[i];
     for (size_t k = 0; k < em->spawn_count; k++) {
         const pfx_spawn *sp = &em->spawns[k];
         if (sp->event != PFX_SPAWN_TRAIL)
             continue;
-        for (uint32_t j = 0; j < p->count; j++) {
-            /* Trail births at the particle's ages n / rate, n = 1, 2, ...:
-             * those in (age - dt, age] happened in this step, on the path
-             * back-extrapolated along the velocity. */
-            double a1 = p->age[j], a0 = a1 - dt;
-            double first = floor((a0 > 0 ? a0 : 0) * sp->rate) + 1, last = floor(a1 * sp->rate);
-            for (double n = first; n <= last; n++) {
-                double back = a1 - n / sp->rate;
-                double pos[3] = {p->px[j] - p->vx[j] * back, p->py[j] - p->vy[j] * back,
-                                 p->pz[j] - p->vz[j] * back};
-                double vel[3] = {p->vx[j], p->vy[j], p->vz[j]};
-                pfx_spawn_queue *q = &s->queues[sp->target];
-                float generation = p->generation ? p->generation[j] : 0;
-                if (sp->depth && generation >= (float)sp->depth)
+        for (uint32_t j = first; j < first + n; j++) {
+            float generation = p->generation ? p->generation[j] : 0;
+            if (sp->depth && generation >= (float)sp->depth)
+                continue;
+            /* Trail births at the particle's ages m / rate, m = 1, 2, ...,
+             * younger than its lifetime: those with age in (a0, a1] happened
+             * in this step, on the path back-extrapolated along the velocity.
+             * a0 and a1 are t0 - birth and t1 - birth, the very numbers the
+             * previous and the next step compute, so each trail time falls
+             * in exactly one step whatever the step rate. */
+            const double a0 = t0 > p->birth[j] ? t0 - p->birth[j] : 0, a1 = t1 - p->birth[j];
+            const double life = p->lifetime[j];
+            for (double m = floor(a0 * sp->rate) + 1; m <= floor(a1 * sp->rate); m++) {
+                const double at = m / sp->rate;
+                if (!(at < life))
                     break;
+                pfx_spawn_queue *q = &s->queues[sp->target];
                 if (q->count == q->cap) {
                     s->emitters[sp->target].dropped++;
                     continue;
                 }
+                const double back = a1 - at;
                 spawn_record *r = &q->items[q->count++];
                 r->t = t1 - back;
                 r->spawn = sp;
@@ -141,6 +144,9 @@ void pfx_spawn_trails(pfx_sim *s, size_t i, double dt, double t1) {
                                          .inherit_size = sp->inherit_size,
                                          .size = 1,
                                          .generation = generation};
+                const double pos[3] = {p->px[j] - p->vx[j] * back, p->py[j] - p->vy[j] * back,
+                                       p->pz[j] - p->vz[j] * back};
+                const double vel[3] = {p->vx[j], p->vy[j], p->vz[j]};
                 memcpy(r->parent.pos, pos, sizeof pos);
                 memcpy(r->parent.vel, vel, sizeof vel);
                 if (sp->inherit_color) {

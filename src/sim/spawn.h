@@ -26,9 +26,10 @@ bool pfx_sim_make_particle(pfx_sim *s, size_t i, double tb, double t1, const pfx
 void pfx_spawn_event_of(pfx_sim *s, size_t i, pfx_spawn_event event, uint32_t j, double t,
                         const double pos[3], const double vel[3], const double normal[3]);
 
-/* Queues emitter i's trail births of the step that just advanced its
- * particles by dt to t1. */
-void pfx_spawn_trails(pfx_sim *s, size_t i, double dt, double t1);
+/* Queues the trail births of particles [first, first + n) of emitter i in
+ * the step from t0 (or their birth, if later) to t1, whose end state they
+ * hold: one per trail time, whatever the step rate. */
+void pfx_spawn_trails(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double t1);
 
 /* Makes every queued particle (and those their births queue in turn) for
  * the step ending at t1. */

@@ -7,6 +7,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 /* One step with h = 1 of `scheme` on (x, y) with y = h v, so that
  * f(x, y) = (y, -w2 x - b y) with w2 = (omega h)^2, b = c h. */
@@ -142,6 +143,24 @@ static const char *force_word(const pfx_motion_force *f) {
     return (unsigned)f->kind < PFX_MOTION_KIND_COUNT ? words[f->kind] : "force";
 }
 
+/* A number and the limit it crossed, each with the fewest significant
+ * digits (at least 3) that tell them apart: "2.786 > 2.785", never
+ * "2.79 > 2.79". */
+typedef struct number_pair {
+    char x[32], limit[32];
+} number_pair;
+
+static number_pair pair_text(double x, double limit) {
+    number_pair p;
+    for (int digits = 3; digits <= 17; digits++) {
+        snprintf(p.x, sizeof p.x, "%.*g", digits, x);
+        snprintf(p.limit, sizeof p.limit, "%.*g", digits, limit);
+        if (strcmp(p.x, p.limit) != 0)
+            break;
+    }
+    return p;
+}
+
 static void add(pfx_stability_warning *out, size_t cap, size_t *count,
                 const pfx_stability_warning *w) {
     if (*count < cap)
@@ -222,11 +241,12 @@ size_t pfx_motion_check_stability(const pfx_motion *m, pfx_stability_warning *ou
                     w.fix_substeps = 0;
             }
             fix_text(&w, m->chosen, fix, sizeof fix);
+            number_pair np = pair_text(w.number, w.limit);
             if (w.limit > 0)
                 snprintf(w.message, sizeof w.message,
-                         "%s is unstable on %s '%s': omega*dt = %.3g >= %.3g (energy grows every "
+                         "%s is unstable on %s '%s': omega*dt = %s >= %s (energy grows every "
                          "step); %s",
-                         iname, force_word(f), name, w.number, w.limit, fix);
+                         iname, force_word(f), name, np.x, np.limit, fix);
             else
                 snprintf(w.message, sizeof w.message,
                          "%s is unstable on %s '%s' at any step (omega*dt = %.3g: energy grows "
@@ -252,15 +272,18 @@ size_t pfx_motion_check_stability(const pfx_motion *m, pfx_stability_warning *ou
             if (!linear)
                 w.fix = m->chosen;
             fix_text(&w, m->chosen, fix, sizeof fix);
-            if (linear) /* the closed form needs no substeps */
+            if (linear && w.fix_substeps > 0) /* the closed form needs no substeps */
                 snprintf(fix, sizeof fix, "use integrator 'exact' or sim.substeps: %d",
                          w.fix_substeps);
+            else if (linear)
+                snprintf(fix, sizeof fix, "use integrator 'exact'");
+            number_pair np = pair_text(z, w.limit);
             snprintf(w.message, sizeof w.message,
-                     unst ? "%s is unstable on %s '%s': k*dt = %.3g > %.3g (the velocity grows "
+                     unst ? "%s is unstable on %s '%s': k*dt = %s > %s (the velocity grows "
                             "every step); %s"
-                          : "%s makes %s '%s' oscillate: k*dt = %.3g > %.3g (the velocity flips "
+                          : "%s makes %s '%s' oscillate: k*dt = %s > %s (the velocity flips "
                             "sign every step); %s",
-                     iname, force_word(f), name, z, w.limit, fix);
+                     iname, force_word(f), name, np.x, np.limit, fix);
             add(out, cap, &count, &w);
             flagged = flagged || unst;
         }

@@ -384,7 +384,7 @@ bad = {
     "size curve past death": "pfx: 1\nemitters:\n  a: { size: [{ at: 1.5, value: 1 }] }\n",
     "unknown colour mapping": "pfx: 1\nemitters:\n  a: { color: { mix: [\"#fff\", \"#000\"] } }\n",
     "unknown integrator": "pfx: 1\nsim: { integrator: leapfrog }\n",
-    "too many substeps": "pfx: 1\nsim: { substeps: 65 }\n",
+    "too many substeps": "pfx: 1\nsim: { substeps: 1025 }\n",
     "fractional substeps": "pfx: 1\nsim: { substeps: 1.5 }\n",
     "zero tolerance": "pfx: 1\nsim: { tolerance: 0 }\n",
     "turbulence octaves 9": "pfx: 1\nforces:\n  t: { type: turbulence, octaves: 9 }\n",

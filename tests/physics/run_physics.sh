@@ -323,4 +323,69 @@ else
     fail "explode:$problems message: $msg"
 fi
 
+# ---------------------------------------------------------------------------
+# 9. The birth step is checked too. Explicit Euler on drag k = 1e5 at 10
+# steps/s (k*dt = 1e4), born by `rate`: the bake stops with exit 1, the
+# emitter, the time and the warning validate gives, and writes no CSV. The
+# same for Euler in a magnetic field, whose warning is the |v| drift.
+blowup() { # NAME FORCE WARNING
+    cat >"$T/$1.yaml" <<EOF
+pfx: 1
+duration: 2
+fps: 10
+sim: { rate: 10, integrator: euler }
+forces:
+  f: $2
+emitters:
+  e:
+    rate: 7
+    direction: [1, 0, 0]
+    speed: 1
+    lifetime: 10
+EOF
+    "$PFX" bake "$T/$1.yaml" -o "$T/$1.csv" -q >"$T/$1.log" 2>&1
+    local status=$? problems=""
+    local msg
+    msg=$(grep "^pfx: " "$T/$1.log")
+    [ $status -eq 1 ] || problems+=" exit $status (expected 1);"
+    grep -qF "emitter 'e': particle" <<<"$msg" || problems+=" no emitter and particle;"
+    grep -qE "at t = [0-9.]+ s" <<<"$msg" || problems+=" no time;"
+    grep -qF "$3" <<<"$msg" || problems+=" the cause is not the warning '$3';"
+    grep -qF "warning: emitter 'e': $3" "$T/$1.log" || problems+=" validate gave no such warning;"
+    ls "$T" | grep -q "$1.csv" && problems+=" a CSV was left;"
+    if [ -z "$problems" ]; then
+        pass "$1: exit 1, $msg"
+    else
+        fail "$1:$problems log: $(cat "$T/$1.log")"
+    fi
+}
+blowup drag_euler_1e4 "{ type: drag, k: 100000 }" "euler is unstable on drag 'f': k*dt = 1e+04 > 2"
+blowup magnetic_euler "{ type: magnetic, field: [0, 0, 40] }" "euler does not keep |v| in magnetic force 'f'"
+
+# A gravity-only emitter (the fast kernel) is checked too when a particle's
+# bound at birth could reach the limits: 1e5 m/s^2 for 20 s passes 1e6 m/s
+# at t = 10 s.
+cat >"$T/runaway.yaml" <<'EOF'
+pfx: 1
+duration: 12
+fps: 1
+sim: { rate: 10 }
+forces:
+  g: { type: gravity, accel: [0, -100000, 0] }
+emitters:
+  e:
+    rate: 0
+    bursts: [{ time: 0, count: 1 }]
+    speed: 0
+    lifetime: 20
+EOF
+"$PFX" bake "$T/runaway.yaml" -o "$T/runaway.csv" -q >"$T/runaway.log" 2>&1
+status=$?
+if [ $status -eq 1 ] && grep -q "emitter 'e': particle 0 became faster than 1e6 m/s at t = 10.1 s" "$T/runaway.log" &&
+    [ ! -e "$T/runaway.csv" ]; then
+    pass "runaway under gravity alone: $(cat "$T/runaway.log")"
+else
+    fail "runaway under gravity alone: exit $status, $(cat "$T/runaway.log")"
+fi
+
 summary

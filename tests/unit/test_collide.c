@@ -17,7 +17,6 @@
 typedef struct tpool {
     uint32_t n;
     float *x0[6], *x[6]; /* px py pz vx vy vz */
-    double *age;
     float *life;
     uint32_t *id;
     uint8_t *stuck;
@@ -31,7 +30,6 @@ static tpool *tpool_new(uint32_t n, bool with_stuck) {
         p->x0[c] = calloc(n, sizeof(float));
         p->x[c] = calloc(n, sizeof(float));
     }
-    p->age = calloc(n, sizeof(double));
     p->life = calloc(n, sizeof(float));
     p->id = calloc(n, sizeof(uint32_t));
     p->stuck = with_stuck ? calloc(n, 1) : NULL;
@@ -50,7 +48,6 @@ static tpool *tpool_new(uint32_t n, bool with_stuck) {
                                  .vx = p->x[3],
                                  .vy = p->x[4],
                                  .vz = p->x[5],
-                                 .age = p->age,
                                  .lifetime = p->life,
                                  .id = p->id,
                                  .stuck = p->stuck};
@@ -60,7 +57,7 @@ static tpool *tpool_new(uint32_t n, bool with_stuck) {
 static void tpool_free(tpool *p) {
     for (int c = 0; c < 6; c++)
         free(p->x0[c]), free(p->x[c]);
-    free(p->age), free(p->life), free(p->id), free(p->stuck), free(p);
+    free(p->life), free(p->id), free(p->stuck), free(p);
 }
 
 static void set(tpool *p, uint32_t i, double x, double y, double z, double u, double v, double w) {
@@ -81,7 +78,6 @@ static void step(tpool *p, const double g[3], double dt, const pfx_deflector *d,
             p->x[j][i] += p->x[3 + j][i] * fdt + (float)g[j] * h;
             p->x[3 + j][i] += (float)g[j] * fdt;
         }
-        p->age[i] += fdt;
     }
     pfx_collide(d, nd, dt, &p->view, rng, fn, user, st);
 }
@@ -358,13 +354,13 @@ static void test_kill_stick_loss(void) {
     p->life[0] = 3;
     rec r = {0};
     step(p, gravity, dt, &d, 1, NULL, record, &r, NULL);
-    CHECK(r.n == 1 && p->age[0] == p->life[0] && p->x[1][0] == 0.0f);
+    CHECK(r.n == 1 && p->life[0] == PFX_KILLED && p->x[1][0] == 0.0f);
 
     /* Stick on a sphere's side: held at the hit point from then on. */
     pfx_deflector s = sphere(0, 0, 0, 1, false);
     s.response = PFX_DEFLECT_STICK;
     set(p, 0, -2, 0.3, 0, 20, 0, 0);
-    p->age[0] = 0;
+    p->life[0] = 3;
     r.n = 0;
     for (int k = 0; k < 30 && r.n == 0; k++)
         step(p, gravity, dt, &s, 1, NULL, record, &r, NULL);

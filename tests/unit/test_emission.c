@@ -34,12 +34,12 @@ static void test_bursts(void) {
     int per_burst[3] = {0, 0, 0};
     for (uint32_t j = 0; j < p->count; j++) {
         /* The burst a particle came from is its age's: 1.5 - 0.51 - 0.25 c. */
-        int cyc = (int)lround((1.5 - 0.51 - p->age[j]) / 0.25);
+        int cyc = (int)lround((1.5 - 0.51 - pfx_particle_age(p, j)) / 0.25);
         CHECK(cyc >= 0 && cyc < 3);
         if (cyc < 0 || cyc > 2)
             continue;
         per_burst[cyc]++;
-        CHECK_NEAR(p->age[j], 1.5 - (0.51 + 0.25 * cyc), 1e-5);
+        CHECK_NEAR(pfx_particle_age(p, j), 1.5 - (0.51 + 0.25 * cyc), 1e-5);
     }
     CHECK(per_burst[0] == 7 && per_burst[1] == 7 && per_burst[2] == 7);
     pfx_sim_destroy(s);
@@ -200,7 +200,7 @@ static double *snapshot(const pfx_sim *s, size_t *n) {
     const pfx_pool *p = &s->pools[0];
     double *v = malloc((p->count + 1) * 4 * sizeof *v);
     for (uint32_t j = 0; j < p->count; j++) {
-        v[4 * j] = p->age[j];
+        v[4 * j] = pfx_particle_age(p, j);
         v[4 * j + 1] = p->px[j];
         v[4 * j + 2] = p->py[j];
         v[4 * j + 3] = p->pz[j];
@@ -270,9 +270,9 @@ static void test_spin(void) {
     CHECK(p->count > 0 && q->count > 0);
     for (uint32_t j = 0; j < p->count; j++)
         CHECK_NEAR(pfx_particle_angle(&c.e->emitters[0], p, j),
-                   (30 + 90 * (double)p->age[j]) * M_PI / 180, 1e-5);
+                   (30 + 90 * (double)pfx_particle_age(p, j)) * M_PI / 180, 1e-5);
     for (uint32_t j = 0; j < q->count; j++) {
-        double u = q->age[j] / 2.0;
+        double u = pfx_particle_age(q, j) / 2.0;
         /* Nearest-entry lookup: u is off by up to half a table step. */
         double want = 2.0 * 180 * u * u, slack = 2.0 * 360 * 0.5 / 255 + 0.01;
         CHECK_NEAR(pfx_particle_angle(&c.e->emitters[1], q, j) * 180 / M_PI, want, slack);

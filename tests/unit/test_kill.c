@@ -21,7 +21,8 @@
 
 #define EPS 1e-4
 
-/* A pool of n particles with every column but the optional ones; age 0,
+/* A pool of n particles with every column but the optional ones; age 0
+ * (born at the pool's time 0),
  * lifetime 1, velocity (i, -i, 2i) so a changed velocity shows. */
 static pfx_pool pool_make(uint32_t n) {
     pfx_pool p = {0};
@@ -29,7 +30,7 @@ static pfx_pool pool_make(uint32_t n) {
     float **cols[] = {&p.px, &p.py, &p.pz, &p.vx, &p.vy, &p.vz, &p.lifetime};
     for (size_t c = 0; c < sizeof cols / sizeof *cols; c++)
         *cols[c] = calloc(n ? n : 1, sizeof(float));
-    p.age = calloc(n ? n : 1, sizeof(double));
+    p.birth = calloc(n ? n : 1, sizeof(double));
     p.id = calloc(n ? n : 1, sizeof(uint32_t));
     for (uint32_t i = 0; i < n; i++) {
         p.lifetime[i] = 1;
@@ -41,14 +42,19 @@ static pfx_pool pool_make(uint32_t n) {
 
 static void pool_free(pfx_pool *p) {
     free(p->px), free(p->py), free(p->pz), free(p->vx), free(p->vy), free(p->vz);
-    free(p->age), free(p->lifetime), free(p->id);
+    free(p->birth), free(p->lifetime), free(p->id);
 }
 
 static void set_pos(pfx_pool *p, uint32_t i, double x, double y, double z) {
     p->px[i] = (float)x, p->py[i] = (float)y, p->pz[i] = (float)z;
 }
 
-static bool marked(const pfx_pool *p, uint32_t i) { return p->age[i] >= p->lifetime[i]; }
+static bool marked(const pfx_pool *p, uint32_t i) {
+    return p->lifetime[i] == PFX_KILLED || pfx_particle_age(p, i) >= p->lifetime[i];
+}
+
+/* Sets particle i's age at the pool's time 0. */
+static void set_age(pfx_pool *p, uint32_t i, double age) { p->birth[i] = -age; }
 
 /* Points just inside and just outside each of the six faces of the box
  * [c - h, c + h], at the middle of the face: entries 2k (inside) and 2k + 1
@@ -196,10 +202,10 @@ static void test_alpha_below(void) {
     pfx_pool p = pool_make(N + 1);
     for (uint32_t i = 0; i < N; i++) {
         p.lifetime[i] = 2;
-        p.age[i] = 2.0f * ((float)entries[i] + offset[i]) / 255.0f;
+        set_age(&p, i, 2.0f * ((float)entries[i] + offset[i]) / 255.0f);
     }
     /* Past its lifetime: the last entry, and marked (it would die anyway). */
-    p.lifetime[N] = 1, p.age[N] = 1.5f;
+    p.lifetime[N] = 1, set_age(&p, N, 1.5f);
     pfx_kill_apply(&k, &p, NULL, alpha);
     for (uint32_t i = 0; i < N; i++) {
         CHECK(marked(&p, i) == dies[i]);
@@ -209,7 +215,7 @@ static void test_alpha_below(void) {
     /* Threshold 0: nothing is below it. */
     k.rules[0].threshold = 0;
     pfx_pool q = pool_make(3);
-    q.age[0] = 0, q.age[1] = 0.5f, q.age[2] = 0.99f;
+    set_age(&q, 0, 0), set_age(&q, 1, 0.5f), set_age(&q, 2, 0.99f);
     pfx_kill_apply(&k, &q, NULL, alpha);
     for (uint32_t i = 0; i < 3; i++)
         CHECK(!marked(&q, i));
@@ -237,7 +243,7 @@ static void test_distance_from_emitter(void) {
         CHECK(marked(&p, i) == (i % 2 == 1));
     /* The emitter moved 10 m away: everything is now too far. */
     for (uint32_t i = 0; i < p.count; i++)
-        p.age[i] = 0;
+        p.lifetime[i] = 1;
     const double e1[3] = {13, 0, -1};
     pfx_kill_apply(&k, &p, e1, NULL);
     for (uint32_t i = 0; i < p.count; i++)
