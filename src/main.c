@@ -424,28 +424,26 @@ static int cmd_info(int argc, char **argv, const options *o) {
                "is periodic\n",
                e->duration, e->loop_frames, e->loop_start);
     printf("  forces %zu\n", e->force_count);
-    static const char *const kinds[] = {"gravity", "attractor",  "drag",
-                                        "vortex",  "magnetic",   "spiral",
-                                        "spring",  "turbulence", "speed_limit"};
     for (size_t i = 0; i < e->force_count; i++)
-        printf("    %s: %s%s\n", e->forces[i].name, kinds[e->forces[i].spec.kind],
+        printf("    %s: %s%s\n", e->forces[i].name,
+               pfx_kind_name(pfx_force_names, (int)e->forces[i].spec.kind),
                e->forces[i].spec.region.kind ? " (in a region)" : "");
     size_t total = 0, bytes = 0;
     printf("  emitters %zu\n", e->emitter_count);
     for (size_t i = 0; i < e->emitter_count; i++) {
         const pfx_emitter *em = &e->emitters[i];
         size_t bpp = pfx_sim_bytes_per_particle(e, i);
-        static const char *const kinds[] = {"constant", "curve", "ramp", "mean +- var", "interval"};
         printf("    %s: %s shape, %s rate up to %g particles/s%s%s, lifetime up to %g s, %s "
                "blend\n",
-               em->name, pfx_shape_type_name(em->shape.type), kinds[em->rate_kind],
-               pfx_schedule_max_rate(em), em->burst_count ? " plus bursts" : "",
+               em->name, pfx_kind_name(pfx_shape_names, (int)em->shape.type),
+               pfx_kind_name(pfx_rate_kind_names, (int)em->rate_kind), pfx_schedule_max_rate(em),
+               em->burst_count ? " plus bursts" : "",
                em->spawned_peak > 0 ? " plus sub-emitters" : "", em->max_lifetime,
                em->blend == PFX_BLEND_ADD ? "additive" : "alpha");
         printf("      pool %u particles x %zu bytes = %zu bytes%s\n", em->capacity, bpp,
                em->capacity * bpp, em->saturates ? " (saturates: cut by the budget)" : "");
         if (em->motion)
-            printf("      integrator: %s\n", pfx_motion_explain(em->motion));
+            printf("      integrator: %s\n", em->motion->choice.why);
         else if (em->accel[0] == 0 && em->accel[1] == 0 && em->accel[2] == 0)
             printf("      integrator: exact (no force: straight lines)\n");
         else
@@ -459,9 +457,9 @@ static int cmd_info(int argc, char **argv, const options *o) {
                 printf(" %s", em->deflectors[d].name);
             printf(" (swept exact hits; 24 scratch bytes per particle)\n");
         }
-        static const char *const events[] = {"on_birth", "on_death", "on_hit", "trail"};
         for (size_t k = 0; k < em->spawn_count; k++)
-            printf("      %s -> %s\n", events[em->spawns[k].event],
+            printf("      %s -> %s\n",
+                   pfx_kind_name(pfx_spawn_event_names, (int)em->spawns[k].event),
                    e->emitters[em->spawns[k].target].name);
         if (em->kill)
             printf("      kill rules: %zu%s\n", em->kill->count,

@@ -5,7 +5,7 @@
 
 #include <math.h>
 
-#include "sim/rng.h"
+#include "base/rng.h"
 
 #define PI 3.14159265358979323846
 

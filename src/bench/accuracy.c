@@ -52,7 +52,8 @@ static double time_float(const pfx_acc_problem *pr, pfx_integrator integ, double
     memset(&m, 0, sizeof m);
     m.integrator = integ;
     pr->setup(&m, &s);
-    pfx_motion_prepare(&m, dt);
+    pfx_motion_plan plan;
+    pfx_motion_plan_prepare(&plan, &m, dt);
     const size_t n = TIMING_PARTICLES;
     float *c[6];
     double init[6] = {s.x, s.y, s.z, s.u, s.v, s.w};
@@ -69,7 +70,7 @@ static double time_float(const pfx_acc_problem *pr, pfx_integrator integ, double
     clock_gettime(CLOCK_MONOTONIC, &a);
     do { /* at least 20 ms and 16 steps */
         for (int r = 0; r < 16; r++, steps++)
-            pfx_motion_step_f(&m, &pool, steps * dt);
+            pfx_motion_step_f(&plan, &pool, steps * dt);
         clock_gettime(CLOCK_MONOTONIC, &b);
         elapsed = (double)(b.tv_sec - a.tv_sec) * 1e9 + (double)(b.tv_nsec - a.tv_nsec);
     } while (elapsed < 2e7);
@@ -95,7 +96,7 @@ static double unstable_rate(const pfx_motion *m, const char **what, bool *always
             return fabs(f->charge) / (f->mass > 0 ? f->mass : 1) *
                    sqrt(f->field[0] * f->field[0] + f->field[1] * f->field[1] +
                         f->field[2] * f->field[2]) *
-                   m->dt / m->steps;
+                   m->choice.dt / m->choice.steps;
         }
     }
     return 0;
@@ -116,11 +117,12 @@ static bool grows(pfx_integrator integ, int oscillator, double z) {
         add(&m, PFX_MOTION_DRAG)->k = 1;
         s.u = 1;
     }
-    pfx_motion_prepare(&m, z);
+    pfx_motion_plan plan;
+    pfx_motion_plan_prepare(&plan, &m, z);
     pfx_motion_pool_d p;
     pool_of(&s, &p);
     for (int i = 0; i < 20000; i++) {
-        pfx_motion_step_d(&m, &p, i * z);
+        pfx_motion_step_d(&plan, &p, i * z);
         /* bounded orbits near omega h = 2 reach 1/sqrt(1 - (omega h)^2/4) */
         double a = oscillator ? fmax(fabs(s.x), fabs(s.u)) : fabs(s.u);
         if (!(a < (oscillator ? 1e3 : 1.5)))
@@ -402,7 +404,7 @@ int pfx_bench_accuracy(const char *out_dir, FILE *log) {
                     r->err[1 + b] = er.error, r->max_rate[1 + b] = er.max_rate;
                 }
                 r->dt = pr->T / (double)steps;
-                r->steps = m.steps;
+                r->steps = m.choice.steps;
                 r->cost = pfx_motion_evals_per_step(&m) / r->dt;
                 r->rate = unstable_rate(&m, &r->rate_name, &r->always);
             }

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "compile/compile.h"
+#include "sim/motion.h"
 #include "sim/sim.h"
 
 #define G 9.81
@@ -212,24 +213,25 @@ pfx_acc_result pfx_acc_run_model(const pfx_acc_problem *pr, pfx_integrator integ
     for (size_t f = 0; f < m->force_count; f++)
         m->forces[f].speed_hint = sqrt(s.u * s.u + s.v * s.v + s.w * s.w);
     const double dt = pr->T / (double)steps;
-    pfx_motion_prepare(m, dt);
-    r.substeps = m->steps;
+    pfx_motion_plan plan;
+    pfx_motion_plan_prepare(&plan, m, dt);
+    r.substeps = m->choice.steps;
     r.evals = pfx_motion_evals_per_step(m);
     pfx_motion_pool_d pool = {
         .count = 1, .px = &s.x, .py = &s.y, .pz = &s.z, .vx = &s.u, .vy = &s.v, .vz = &s.w};
     for (long i = 0; i < steps; i++) {
         pfx_acc_state before = s;
         double t = (double)i * dt;
-        pfx_motion_step_d(m, &pool, t);
+        pfx_motion_step_d(&plan, &pool, t);
         if (pr->bounce && s.y < 0) {
             /* the ground: integrate to the hit, reflect, finish the step */
             double tau = impact_time(before.y, before.v, dt);
             if (tau > 0) {
                 s = before;
-                pfx_motion_advance_d(m, &pool, t, tau);
+                pfx_motion_advance_d(&plan, &pool, t, tau);
                 s.y = 0;
                 s.v = -EPS * s.v;
-                pfx_motion_advance_d(m, &pool, t + tau, dt - tau);
+                pfx_motion_advance_d(&plan, &pool, t + tau, dt - tau);
             }
         }
         if (!(fabs(s.x) + fabs(s.y) + fabs(s.z) < 1e12)) {
@@ -294,7 +296,7 @@ pfx_acc_result pfx_acc_run_emitted(const pfx_acc_problem *pr, pfx_integrator int
     if (s) {
         r.failed = false;
         r.max_rate = 0;
-        r.substeps = e->emitters[0].motion ? e->emitters[0].motion->steps : 1;
+        r.substeps = e->emitters[0].motion ? e->emitters[0].motion->choice.steps : 1;
         r.evals = e->emitters[0].motion ? pfx_motion_evals_per_step(e->emitters[0].motion) : 1;
         const long limit = 4 * steps + 64;
         for (long k = 0; k < limit && !s->failed; k++) {

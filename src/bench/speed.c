@@ -168,7 +168,7 @@ static void bench_sim(FILE *out) {
         double rate = steps_per_second(l.effect);
         char why[64];
         snprintf(why, sizeof why, "%s",
-                 em->motion ? pfx_integrator_name(em->motion->chosen) : "exact (gravity)");
+                 em->motion ? pfx_integrator_name(em->motion->choice.chosen) : "exact (gravity)");
         fprintf(out, "  %-34s %14.4g %7.0f%%  %s\n", cases[k].name, rate, 100 * rate / roof, why);
         pfx_loaded_free(&l);
     }

@@ -204,9 +204,9 @@ static void compile_forces(compiler *c, const pfx_node *forces) {
 static void compile_deflectors(compiler *c, const pfx_node *defl) {
     if (!pfx_read_map(&c->r, defl, "deflectors"))
         return;
-    if (defl->count > PFX_COLLIDE_MAX_DEFLECTORS) {
+    if (defl->count > PFX_MAX_DEFLECTORS) {
         pfx_read_error(&c->r, defl, "an effect has at most %d deflectors, got %zu",
-                       PFX_COLLIDE_MAX_DEFLECTORS, defl->count);
+                       PFX_MAX_DEFLECTORS, defl->count);
         return;
     }
     c->e->deflectors = pfx_arena_alloc(c->r.arena, (defl->count + 1) * sizeof *c->e->deflectors);
@@ -222,14 +222,14 @@ static void compile_deflectors(compiler *c, const pfx_node *defl) {
 static void emitter_deflectors(compiler *c, const pfx_node *n, pfx_emitter *em) {
     const pfx_effect *e = c->e;
     const pfx_node *v = pfx_node_get(n, "deflectors");
-    bool use[PFX_COLLIDE_MAX_DEFLECTORS] = {0};
+    bool use[PFX_MAX_DEFLECTORS] = {0};
     for (size_t i = 0; i < e->deflector_count; i++)
         use[i] = !v;
     if (v && v->kind != PFX_NODE_SEQ) {
         pfx_read_error(&c->r, v, "'deflectors' must be a list of deflector names, got %s",
                        pfx_node_kind_name(v));
     } else if (v) {
-        const char *names[PFX_COLLIDE_MAX_DEFLECTORS + 1];
+        const char *names[PFX_MAX_DEFLECTORS + 1];
         for (size_t i = 0; i < e->deflector_count; i++)
             names[i] = e->deflectors[i].name;
         names[e->deflector_count] = NULL;
@@ -465,18 +465,18 @@ static void build_motion(compiler *c, pfx_emitter *em, pfx_integrator integrator
             for (int k = 0; k < 3; k++)
                 f->accel[k] *= em->gravity_scale.a;
     }
-    pfx_motion_prepare(m, 1.0 / e->sim_rate);
+    pfx_motion_choose(m, 1.0 / e->sim_rate);
     em->motion = m;
     pfx_stability_warning w[8];
     size_t n = pfx_motion_check_stability(m, w, 8);
     for (size_t i = 0; i < n && i < 8; i++)
         pfx_read_warning(&c->r, at, "emitter '%s': %s", em->name, w[i].message);
     const double tol = m->tolerance > 0 ? m->tolerance : 1e-3;
-    if (integrator == PFX_INTEGRATOR_AUTO && m->substeps == 0 && m->error_rate > tol)
+    if (integrator == PFX_INTEGRATOR_AUTO && m->substeps == 0 && m->choice.error_rate > tol)
         pfx_read_warning(&c->r, at,
                          "emitter '%s': auto cannot keep the tolerance of %g m/s: even %d "
                          "substeps leave an expected error of %.2g m/s; raise sim.rate",
-                         em->name, tol, m->steps, m->error_rate);
+                         em->name, tol, m->choice.steps, m->choice.error_rate);
 }
 
 static void compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n, pfx_emitter *em) {

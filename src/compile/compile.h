@@ -3,9 +3,9 @@
 #ifndef PFX_COMPILE_H
 #define PFX_COMPILE_H
 
-#include "arena.h"
-#include "compile/effect.h"
-#include "diag.h"
+#include "base/arena.h"
+#include "base/diag.h"
+#include "model/effect.h"
 #include "parse/node.h"
 
 typedef struct pfx_compile_options {

@@ -6,8 +6,6 @@
 
 #include <string.h>
 
-#include "render/render.h"
-
 #define MAX_SIZE 1e6
 
 static bool range_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_value *v, double lo,
@@ -125,7 +123,6 @@ static void compile_color(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
  * curve over life [{at, value}] integrated once into a table, so the angle
  * at any age is one lookup), `sprite: round | square`. */
 static void compile_rotation(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
-    static const char *const shapes[] = {"round", "square", NULL};
     const pfx_node *v;
     if ((v = pfx_node_get(n, "angle")))
         pfx_read_value_in(r, v, "angle", &em->angle, -1e6, false, 1e6);
@@ -159,9 +156,9 @@ static void compile_rotation(pfx_reader *r, const pfx_node *n, pfx_emitter *em) 
         }
     }
     if ((v = pfx_node_get(n, "sprite"))) {
-        int k = pfx_read_enum(r, v, "sprite", "sprite shape", shapes);
+        int k = pfx_read_enum(r, v, "sprite", "sprite shape", pfx_sprite_names);
         if (k >= 0)
-            em->sprite_shape = k == 1 ? PFX_SPRITE_SQUARE : PFX_SPRITE_ROUND;
+            em->sprite = (pfx_sprite_kind)k;
     }
 }
 

@@ -2,8 +2,8 @@
 #ifndef PFX_COMPILE_APPEARANCE_H
 #define PFX_COMPILE_APPEARANCE_H
 
-#include "compile/effect.h"
 #include "compile/read.h"
+#include "model/effect.h"
 
 /* Reads the appearance keys of emitter mapping n into em (keeping em's
  * defaults for absent keys). Reports problems; false on any error. */

@@ -6,7 +6,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "sim/rng.h"
+#include "base/rng.h"
 
 static const char *const types[] = {"plane", "disc", "sphere", "box", NULL};
 static const char *const responses[] = {"bounce", "kill", "stick", NULL};

@@ -2,8 +2,8 @@
 #ifndef PFX_COMPILE_DEFLECTORS_H
 #define PFX_COMPILE_DEFLECTORS_H
 
-#include "compile/effect.h"
 #include "compile/read.h"
+#include "model/effect.h"
 
 /* Reads deflector `key: n` into out (name copied into the reader's arena);
  * `seed` salts its chance hash. Reports problems; false on any error. */

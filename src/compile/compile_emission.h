@@ -4,8 +4,8 @@
 #ifndef PFX_COMPILE_EMISSION_H
 #define PFX_COMPILE_EMISSION_H
 
-#include "compile/effect.h"
 #include "compile/read.h"
+#include "model/effect.h"
 
 /* Reads the emission keys of emitter mapping n into em (defaults: 10 per
  * second from time 0 for ever). Reports problems; false on any error. */

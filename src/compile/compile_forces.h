@@ -2,8 +2,8 @@
 #ifndef PFX_COMPILE_FORCES_H
 #define PFX_COMPILE_FORCES_H
 
-#include "compile/effect.h"
 #include "compile/read.h"
+#include "model/effect.h"
 
 /* Reads force `key: f` into out (name copied into the reader's arena).
  * `seed` seeds turbulence. Reports problems; returns false on any error. */

@@ -2,8 +2,8 @@
 #ifndef PFX_COMPILE_SHAPE_H
 #define PFX_COMPILE_SHAPE_H
 
-#include "compile/effect.h"
 #include "compile/read.h"
+#include "model/effect.h"
 
 /* Reads `shape:` node n into s. `emitter` names the emitter in messages;
  * `effect_path` is the effect file's path (a mesh `file` is relative to its

@@ -2,8 +2,8 @@
 #ifndef PFX_COMPILE_SPAWN_H
 #define PFX_COMPILE_SPAWN_H
 
-#include "compile/effect.h"
 #include "compile/read.h"
+#include "model/effect.h"
 
 /* Reads the sub-emitter keys of emitter mapping n into em->spawns; targets
  * are looked up by name in the `emitters:` mapping. */

@@ -7,7 +7,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "arena.h"
+#include "base/arena.h"
 
 #define PFX_MESH_MAX_TRIANGLES 1000000u
 #define PFX_MESH_MAX_VERTICES 3000000u

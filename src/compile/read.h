@@ -4,9 +4,9 @@
 #ifndef PFX_READ_H
 #define PFX_READ_H
 
-#include "arena.h"
-#include "compile/effect.h"
-#include "diag.h"
+#include "base/arena.h"
+#include "base/diag.h"
+#include "model/effect.h"
 #include "parse/node.h"
 
 typedef struct pfx_reader {

@@ -7,8 +7,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "arena.h"
-#include "diag.h"
+#include "base/arena.h"
+#include "base/diag.h"
 
 typedef enum { PFX_NODE_SCALAR, PFX_NODE_SEQ, PFX_NODE_MAP } pfx_node_kind;
 

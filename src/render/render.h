@@ -8,7 +8,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "compile/effect.h"
+#include "model/effect.h"
 
 /* One particle as drawn: a camera-facing soft round sprite of world-space
  * diameter `size` centred at (x, y, z). Colour is premultiplied:
@@ -20,15 +20,13 @@ typedef struct pfx_sprite {
     float x, y, z, size;
     float r, g, b, a;
     float angle; /* radians, turning the sprite in the view plane */
-    float shape; /* PFX_SPRITE_ROUND or PFX_SPRITE_SQUARE, as a float for the GPU */
+    float shape; /* the pfx_sprite_kind (PFX_SPRITE_ROUND, ...), as a float for the GPU */
 } pfx_sprite;
 
-/* Sprite shapes. Round: alpha (1 - d^2)^2 with d the distance from the
- * centre over the radius (rotation does not show). Square: the product of
- * that falloff along the sprite's two axes, (1 - x^2)^2 (1 - y^2)^2, a soft
- * square whose rotation shows. */
-#define PFX_SPRITE_ROUND 0.0f
-#define PFX_SPRITE_SQUARE 1.0f
+/* Sprite kinds (model/kinds.h). Round: alpha (1 - d^2)^2 with d the
+ * distance from the centre over the radius (rotation does not show).
+ * Square: the product of that falloff along the sprite's two axes,
+ * (1 - x^2)^2 (1 - y^2)^2, a soft square whose rotation shows. */
 
 typedef struct pfx_renderer pfx_renderer;
 

@@ -39,8 +39,8 @@ size_t pfx_sprites_build(const pfx_sim *s, pfx_sprite *out) {
                 .b = c[2] * a,
                 .a = additive ? 0.0f : a,
                 /* A round sprite looks the same at any angle: skip the work. */
-                .angle = em->sprite_shape != PFX_SPRITE_ROUND ? pfx_particle_angle(em, p, j) : 0,
-                .shape = em->sprite_shape};
+                .angle = em->sprite != PFX_SPRITE_ROUND ? pfx_particle_angle(em, p, j) : 0,
+                .shape = (float)em->sprite};
         }
     }
     return n;

@@ -5,8 +5,8 @@
 #ifndef PFX_BIRTH_H
 #define PFX_BIRTH_H
 
-#include "compile/effect.h"
-#include "sim/rng.h"
+#include "base/rng.h"
+#include "model/effect.h"
 
 /* Which optional per-particle values an emitter draws and keeps. */
 static inline bool pfx_needs_gravity_scale(const pfx_emitter *em) {

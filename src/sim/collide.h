@@ -2,7 +2,8 @@
  * particles bounce off, die on or stick to. The simulation integrates a step
  * first, then pfx_collide resolves the step's path of every particle against
  * the deflectors it hits: exact time of impact on the step's parabola, the
- * response at that time, the rest of the step after it (REFERENCE.md §5). */
+ * response at that time, the rest of the step after it (docs/physics.md,
+ * Deflectors). */
 #ifndef PFX_COLLIDE_H
 #define PFX_COLLIDE_H
 
@@ -10,50 +11,12 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "sim/rng.h"
+#include "base/rng.h"
+#include "model/deflector.h"
 
-/* A deflector list longer than this is a compile error upstream. */
-#define PFX_COLLIDE_MAX_DEFLECTORS 64
+#define PFX_COLLIDE_MAX_DEFLECTORS PFX_MAX_DEFLECTORS
 /* Hits resolved per particle per step; then it waits at the last hit point. */
 #define PFX_COLLIDE_MAX_HITS 8
-
-typedef enum {
-    PFX_DEFLECTOR_PLANE = 0, /* infinite (one-sided) or bounded by size[0..1] (two-sided) */
-    PFX_DEFLECTOR_DISC,      /* two-sided, radius about point */
-    PFX_DEFLECTOR_SPHERE,    /* one-sided: particles outside, or inside */
-    PFX_DEFLECTOR_BOX        /* axis-aligned, one-sided: outside, or inside */
-} pfx_deflector_shape;
-
-typedef enum {
-    PFX_DEFLECT_BOUNCE = 0, /* v' = (1 - mu) v_T - eps v_N */
-    PFX_DEFLECT_KILL,       /* lifetime := PFX_KILLED; the simulation's kill pass removes it */
-    PFX_DEFLECT_STICK       /* v := 0 at the hit point, for the rest of its life */
-} pfx_deflect_response;
-
-/* One deflector, in world space and SI units, as the compiler leaves it.
- * Sides: an infinite plane is the surface of a solid behind its normal, so
- * particles live in front (n.(x - point) >= 0); a sphere or box keeps its
- * particles outside, or inside when `inside`. Particles that start a step on
- * the solid side of one of those (emitted inside it) pass through it until
- * they come out. A disc and a bounded plane are thin: particles bounce off
- * either face. */
-typedef struct pfx_deflector {
-    const char *name; /* for messages only */
-    pfx_deflector_shape shape;
-    bool inside;     /* sphere, box: the particles' side is the inside */
-    double point[3]; /* plane, disc: a point on it (the centre when bounded); sphere, box: centre */
-    double normal[3]; /* plane, disc: normal, any length > 0 */
-    double axis_u[3]; /* bounded plane: direction of size[0] in the plane; zero: world x
-                         projected into the plane (z when the normal is within 25 deg of x) */
-    double radius;    /* disc, sphere */
-    double size[3];   /* plane: [w, h], bounded when both > 0; box: full edge lengths */
-    pfx_deflect_response response;
-    double resilience[2]; /* eps in [lo, hi], drawn uniformly per impact; lo == hi: constant */
-    double friction[2];   /* mu in [lo, hi], likewise; sliding uses the midpoint */
-    double lifetime_loss; /* fraction of the lifetime removed per impact, in [0, 1] */
-    double chance;        /* fraction of particles it affects, in [0, 1] */
-    uint64_t seed;        /* salt of the chance hash, e.g. pfx_rng_stream_for(name) ^ effect seed */
-} pfx_deflector;
 
 /* The lifetime a kill rule or a deflector writes: the particle dies at the
  * end of the step, where it is. */

@@ -12,17 +12,6 @@
 
 static_assert(PFX_KILL_ALPHA_LUT == PFX_GRADIENT_LUT, "alpha table indexed like the colour LUT");
 
-bool pfx_kill_rules_empty(const pfx_kill_rules *k) {
-    return k->bounds == PFX_BOUNDS_NONE && k->count == 0;
-}
-
-bool pfx_kill_needs_alpha(const pfx_kill_rules *k) {
-    for (size_t i = 0; i < k->count; i++)
-        if (k->rules[i].kind == PFX_KILL_ALPHA_BELOW)
-            return true;
-    return false;
-}
-
 /* The remainder is taken in double, where x - lo and hi - lo of floats are
  * exact (unless their exponents differ by more than 29, when they are within
  * one double ulp) and fmod is always exact, so the only float rounding is the

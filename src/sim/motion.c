@@ -1,186 +1,23 @@
-/* Resolving a motion model: which scheme runs (the `auto` rule), how many
- * substeps, what the split step folds into its exact drift, and one line
- * saying why. Also the curl noise of `turbulence`, the Sims falloff and the
- * scan for non-finite or exploding particles. The arithmetic of a step is in
- * motion_impl.h; the stability regions are in stability.c. */
+/* The simulation's side of motion: a model's choice turned into the plan
+ * the kernels run (what the split step folds into its exact drift, and the
+ * rotation), the curl noise of `turbulence`, and the scan for non-finite
+ * or exploding particles. The arithmetic of a step is in motion_impl.h;
+ * the choice and the stability regions are the model's (model/motion.c,
+ * model/stability.c). */
 #include "sim/motion.h"
-#include "sim/rng.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
-static const char *const integrator_names[PFX_INTEGRATOR_COUNT] = {
-    "auto", "euler", "symplectic", "midpoint", "rk4", "verlet", "exact", "boris"};
-
-const char *pfx_integrator_name(pfx_integrator i) {
-    return (unsigned)i < PFX_INTEGRATOR_COUNT ? integrator_names[i] : "?";
-}
-
-bool pfx_integrator_parse(const char *s, pfx_integrator *out) {
-    for (int i = 0; i < PFX_INTEGRATOR_COUNT; i++)
-        if (strcmp(s, integrator_names[i]) == 0) {
-            *out = (pfx_integrator)i;
-            return true;
-        }
-    return false;
-}
-
-pfx_scheme pfx_integrator_scheme(pfx_integrator i) {
-    switch (i) {
-    case PFX_INTEGRATOR_EULER:
-        return PFX_SCHEME_EULER;
-    case PFX_INTEGRATOR_SYMPLECTIC:
-        return PFX_SCHEME_SYMPLECTIC;
-    case PFX_INTEGRATOR_MIDPOINT:
-        return PFX_SCHEME_MIDPOINT;
-    case PFX_INTEGRATOR_RK4:
-        return PFX_SCHEME_RK4;
-    case PFX_INTEGRATOR_VERLET:
-        return PFX_SCHEME_VERLET;
-    default:
-        return PFX_SCHEME_SPLIT;
-    }
-}
+#include "base/rng.h"
 
 static double norm3(const double v[3]) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
-
-unsigned pfx_motion_columns(const pfx_motion *m) {
-    unsigned c = 0;
-    for (size_t i = 0; i < m->force_count; i++) {
-        const pfx_motion_force *f = &m->forces[i];
-        if (f->kind == PFX_MOTION_GRAVITY)
-            c |= PFX_COLUMN_GRAVITY_SCALE;
-        if (f->kind == PFX_MOTION_MAGNETIC)
-            c |= PFX_COLUMN_CHARGE | PFX_COLUMN_MASS;
-        if (f->kind == PFX_MOTION_SPRING && f->use_birth)
-            c |= PFX_COLUMN_BIRTH;
-    }
-    return c;
-}
-
-double pfx_vortex_falloff(double r, double d) {
-    if (!(r >= 0 && r <= 1))
-        return 0;
-    double r2 = r * r;
-    return (r2 * r2 - 2 * r2 + 1) / (1 + d * r2);
-}
-
-/* ---- Representative rates, shared with stability.c ---- */
-
-/* Sum of the gravities, for the terminal speed of quadratic drag. */
-static double gravity_magnitude(const pfx_motion *m) {
-    double g[3] = {0, 0, 0};
-    for (size_t i = 0; i < m->force_count; i++)
-        if (m->forces[i].kind == PFX_MOTION_GRAVITY)
-            for (int a = 0; a < 3; a++)
-                g[a] += m->forces[i].accel[a];
-    return norm3(g);
-}
-
-/* Angular frequency of a position force's linearisation (0: none): a spring
- * sqrt(k); an attractor sqrt(|s| / r^3) at its softening radius (where the
- * tidal rate peaks), else at ref_radius, else 1 m; turbulence sqrt(|s| /
- * scale), its acceleration gradient. Repulsion has no frequency. */
-double pfx_motion_force_omega(const pfx_motion_force *f) {
-    switch (f->kind) {
-    case PFX_MOTION_SPRING:
-        return f->k > 0 ? sqrt(f->k) : 0;
-    case PFX_MOTION_ATTRACTOR: {
-        if (f->strength <= 0)
-            return 0;
-        double r = f->softening > 0 ? f->softening : f->ref_radius > 0 ? f->ref_radius : 1.0;
-        if (f->falloff == PFX_FALLOFF_INVERSE_SQUARE)
-            return sqrt(f->strength / (r * r * r));
-        double L = f->ref_radius > 0 ? f->ref_radius : 1.0;
-        return f->falloff == PFX_FALLOFF_LINEAR ? sqrt(f->strength / (L * r * r))
-                                                : sqrt(f->strength / (L * L * r));
-    }
-    case PFX_MOTION_TURBULENCE:
-        return f->scale > 0 ? sqrt(fabs(f->strength) / f->scale) : 0;
-    default:
-        return 0;
-    }
-}
-
-/* Decay rate of a velocity force's linearisation (0: none): linear drag k;
- * quadratic drag 2 c v_ref, v_ref the larger of the expected speed relative
- * to the wind and the terminal speed sqrt(g/c); spring damping 2 zeta omega. */
-double pfx_motion_force_damping(const pfx_motion *m, const pfx_motion_force *f) {
-    if (f->kind == PFX_MOTION_SPRING)
-        return f->k > 0 ? 2 * f->zeta * sqrt(f->k) : 0;
-    if (f->kind != PFX_MOTION_DRAG)
-        return 0;
-    double kq = 0;
-    if (f->c > 0) {
-        double v = f->speed_hint + norm3(f->wind), vt = sqrt(gravity_magnitude(m) / f->c);
-        kq = 2 * f->c * (v > vt ? v : vt);
-    }
-    return f->k + kq;
-}
-
-/* ---- The error model of `auto` ----
- * Every scheme auto runs is second order, so its position error grows at a
- * rate C L w^3 h^2 (m per simulated second) for an oscillation of
- * frequency w and size L, and C u k^2 h^2 for a velocity force of rate k
- * acting on speeds u that it does not integrate exactly. The constants are
- * measured on the accuracy suite (pfx bench accuracy, the largest
- * error(t)/t over each run) and multiplied by a safety factor of 1.5:
- *   spring (leapfrog on x'' = -w^2 x)       C = 1/24  -> 1/16
- *   magnetic rotation, L the gyroradius      C = 1/24  -> 1/16
- *   attractor, w and L at its reference      C = 0.64  -> 1  (Kepler e = 0.5;
- *                                                     a circular orbit: 0.34)
- *   velocity forces under Verlet or kicks    C = 0.39  -> 0.6 (linear drag;
- *                                                     quadratic drag: 0.008)
- * Turbulence has no closed form to measure; it takes the spring's. */
-#define AUTO_C_SPRING (1.0 / 16)
-#define AUTO_C_ROTATION (1.0 / 16)
-#define AUTO_C_ATTRACTOR 1.0
-#define AUTO_C_VELOCITY 0.6
-
-/* Length over which an oscillation's phase error turns into position error:
- * the attractor's radius, the turbulence scale, 1 m for a spring. */
-static double force_length(const pfx_motion_force *f) {
-    if (f->kind == PFX_MOTION_ATTRACTOR)
-        return f->softening > 0 ? f->softening : f->ref_radius > 0 ? f->ref_radius : 1.0;
-    if (f->kind == PFX_MOTION_TURBULENCE)
-        return f->scale;
-    return 1.0;
-}
-
-/* C L w^3 of a position force (0 for the others). */
-static double oscillation_error(const pfx_motion_force *f) {
-    double w = pfx_motion_force_omega(f);
-    double c = f->kind == PFX_MOTION_ATTRACTOR ? AUTO_C_ATTRACTOR : AUTO_C_SPRING;
-    return w > 0 ? c * force_length(f) * w * w * w : 0;
-}
-
-/* C L W^3 of a magnetic field's rotation: W = |q/m| |B|, L the gyroradius
- * of the fastest emitted particle plus the E x B drift, u / W. */
-static double rotation_error(const pfx_motion_force *f) {
-    double W = fabs(f->charge) / (f->mass > 0 ? f->mass : 1.0) * norm3(f->field);
-    if (!(W > 0))
-        return 0;
-    double u = f->speed_hint + norm3(f->electric) / norm3(f->field);
-    return AUTO_C_ROTATION * (u / W) * W * W * W;
-}
-
-/* The speeds a velocity force acts on: the emission speed relative to the
- * wind, or the terminal speed under the gravities, whichever is larger. */
-static double velocity_scale(const pfx_motion *m, const pfx_motion_force *f) {
-    double g = gravity_magnitude(m), u = f->speed_hint + norm3(f->wind);
-    double terminal = f->c > 0 ? sqrt(g / f->c) : f->k > 0 ? g / f->k : 0;
-    if (f->kind == PFX_MOTION_SPRING)
-        u = f->speed_hint + sqrt(f->k); /* a unit displacement's speed */
-    return u > terminal ? u : terminal;
-}
-
-/* ---- Resolving ---- */
 
 /* Fill the split step's aggregates: the unregioned gravity and linear
  * damping go into the exact drift (folded), B into the rotation, the rest
  * is kicked. */
-static void fold_split(pfx_motion *m) {
+static void fold_split(pfx_motion_plan *m) {
     double kw[3] = {0, 0, 0};
     m->drift_k = 0;
     m->has_kick = m->has_rotation = false;
@@ -189,7 +26,7 @@ static void fold_split(pfx_motion *m) {
     for (size_t i = 0; i < m->force_count; i++) {
         const pfx_motion_force *f = &m->forces[i];
         const bool unreg = f->region.kind == PFX_REGION_NONE;
-        m->folded[i] = false;
+        m->folded[i] = pfx_motion_force_folded(f);
         switch (f->kind) {
         case PFX_MOTION_GRAVITY:
             if (unreg) {
@@ -250,167 +87,27 @@ static void fold_split(pfx_motion *m) {
         m->uniform_rotation = false; /* fields that cancel: the general path skips them */
 }
 
-static int ceil_steps(double dt, double h) {
-    if (!(h > 0) || !(dt / h < PFX_MOTION_MAX_SUBSTEPS))
-        return h > 0 && dt / h < 1 ? 1 : PFX_MOTION_MAX_SUBSTEPS;
-    int n = (int)ceil(dt / h * (1 - 1e-12));
-    return n < 1 ? 1 : n;
-}
-
-/* The auto rule, per emitter, from the forces it feels:
- *  - only gravity and unregioned linear drag (springs' damping counts):
- *    `exact`, the closed form, 1 step at any dt;
- *  - plus position forces (attractor, spring, turbulence, E) and/or B but
- *    no other velocity force: the split step (exact drift, kick-drift-kick,
- *    Boris rotation for B) - second order and symplectic - named `exact`,
- *    or `boris` when B is present;
- *  - any other velocity force (quadratic drag, regioned drag): `verlet`
- *    (2nd order, 2 evaluations), or `boris` with B;
- *  - substeps: h = dt/n with omega h <= 1 (half the leapfrog limit of 2,
- *    so the phase error stays below 5 %), k h <= 1 for the decay rates the
- *    scheme does not integrate exactly (no sign flips, inside every limit),
- *    and L omega^3 h^2 / 24 <= tolerance - the position error per second of
- *    a second-order symplectic scheme on an oscillation of size L. */
-static void choose_auto(pfx_motion *m, double tol) {
-    bool velocity = false, rotation = false, position = false;
-    double w2 = 0, kv = 0, h = INFINITY, err = 0;
-    const char *stiff = NULL;
-    for (size_t i = 0; i < m->force_count; i++) {
-        const pfx_motion_force *f = &m->forces[i];
-        const bool unreg = f->region.kind == PFX_REGION_NONE;
-        if (f->kind == PFX_MOTION_DRAG && (f->c > 0 || (!unreg && f->k > 0)))
-            velocity = true;
-        if (f->kind == PFX_MOTION_SPRING && f->zeta > 0 && !unreg)
-            velocity = true;
-        if (f->kind == PFX_MOTION_MAGNETIC && norm3(f->field) > 0) {
-            rotation = true;
-            err += rotation_error(f);
-        }
-        if (f->kind == PFX_MOTION_ATTRACTOR || f->kind == PFX_MOTION_SPRING ||
-            f->kind == PFX_MOTION_TURBULENCE || (f->kind == PFX_MOTION_GRAVITY && !unreg) ||
-            (f->kind == PFX_MOTION_MAGNETIC && norm3(f->electric) > 0))
-            position = true;
-        double w = pfx_motion_force_omega(f);
-        if (w > 0) {
-            w2 += w * w;
-            err += oscillation_error(f);
-            if (1 / w < h)
-                h = 1 / w, stiff = f->name;
-        }
-    }
-    if (!velocity) {
-        m->scheme = PFX_SCHEME_SPLIT;
-        m->chosen = rotation ? PFX_INTEGRATOR_BORIS : PFX_INTEGRATOR_EXACT;
-    } else {
-        m->scheme = rotation ? PFX_SCHEME_SPLIT : PFX_SCHEME_VERLET;
-        m->chosen = rotation ? PFX_INTEGRATOR_BORIS : PFX_INTEGRATOR_VERLET;
-        /* What the scheme evaluates explicitly: everything for Verlet, the
-         * unfolded velocity forces for the split step. */
-        for (size_t i = 0; i < m->force_count; i++) {
-            const pfx_motion_force *f = &m->forces[i];
-            double k = pfx_motion_force_damping(m, f);
-            bool unreg = f->region.kind == PFX_REGION_NONE;
-            if (m->scheme == PFX_SCHEME_SPLIT && unreg && f->kind == PFX_MOTION_SPRING)
-                k = 0;
-            if (m->scheme == PFX_SCHEME_SPLIT && unreg && f->kind == PFX_MOTION_DRAG)
-                k -= f->k;
-            kv += k;
-            if (k > 0)
-                err += AUTO_C_VELOCITY * velocity_scale(m, f) * k * k;
-        }
-        if (m->scheme == PFX_SCHEME_VERLET && w2 > 0 && 1 / sqrt(w2) < h)
-            h = 1 / sqrt(w2), stiff = "the forces together";
-        if (kv > 0 && 1 / kv < h)
-            h = 1 / kv, stiff = "the drag";
-    }
-    /* The tolerance: err h^2 <= tol. */
-    const bool accuracy = err > 0 && sqrt(tol / err) < h;
-    if (accuracy)
-        h = sqrt(tol / err), stiff = "the tolerance";
-    m->steps = ceil_steps(m->dt, h);
-    m->error_rate = err * (m->dt / m->steps) * (m->dt / m->steps);
-    const double hh = m->dt / m->steps;
-    int len;
-    if (!position && !velocity && !rotation)
-        len = snprintf(m->why, sizeof m->why,
-                       "exact: gravity and linear drag have a closed form, exact at any dt");
-    else if (m->scheme == PFX_SCHEME_SPLIT)
-        len = snprintf(m->why, sizeof m->why, "%s: exact gravity/drag drift%s%s",
-                       pfx_integrator_name(m->chosen),
-                       rotation ? ", Boris rotation keeps |v| in B" : "",
-                       position || velocity ? ", kick-drift-kick for the rest (2nd order)" : "");
-    else
-        len = snprintf(m->why, sizeof m->why,
-                       "verlet: a velocity-dependent force needs it (2nd order, 2 evaluations)");
-    if (len > 0 && (size_t)len < sizeof m->why && (m->steps > 1 || err > 0))
-        snprintf(m->why + len, sizeof m->why - len,
-                 "; %d substep%s (set by %s%s): omega*h = %.3g, k*h = %.3g, expected error "
-                 "%.2g m/s",
-                 m->steps, m->steps == 1 ? "" : "s", stiff ? stiff : "-",
-                 m->steps == PFX_MOTION_MAX_SUBSTEPS ? ", capped" : "", sqrt(w2) * hh, kv * hh,
-                 m->error_rate);
-}
-
-void pfx_motion_prepare(pfx_motion *m, double dt) {
-    const double tol = m->tolerance > 0 ? m->tolerance : 1e-3;
-    m->dt = dt;
-    m->has_operators = false;
+void pfx_motion_plan_init(pfx_motion_plan *p, const pfx_motion *m) {
+    memset(p, 0, sizeof *p);
+    p->model = m;
+    p->forces = m->forces;
+    p->force_count = m->force_count;
+    p->dt = m->choice.dt;
+    p->chosen = m->choice.chosen;
+    p->scheme = m->choice.scheme;
+    p->steps = m->choice.steps > 0 ? m->choice.steps : 1;
     for (size_t i = 0; i < m->force_count; i++) {
         pfx_motion_kind k = m->forces[i].kind;
         if (k == PFX_MOTION_VORTEX || k == PFX_MOTION_SPIRAL || k == PFX_MOTION_SPEED_LIMIT)
-            m->has_operators = true;
+            p->has_operators = true;
     }
-    if (m->integrator == PFX_INTEGRATOR_AUTO) {
-        choose_auto(m, tol);
-        if (m->substeps > 0)
-            m->steps = m->substeps;
-    } else {
-        m->chosen = m->integrator;
-        m->scheme = pfx_integrator_scheme(m->integrator);
-        m->steps = m->substeps > 0 ? m->substeps : 1;
-        snprintf(m->why, sizeof m->why, "%s as requested, %d substep%s",
-                 pfx_integrator_name(m->chosen), m->steps, m->steps == 1 ? "" : "s");
-    }
-    for (size_t i = 0; i < PFX_MOTION_MAX_FORCES; i++)
-        m->folded[i] = false;
-    m->has_kick = m->has_rotation = m->uniform_rotation = false;
-    m->drift_k = 0;
-    for (int a = 0; a < 3; a++)
-        m->drift_g[a] = m->drift_wind[a] = m->omega[a] = 0;
-    if (m->scheme == PFX_SCHEME_SPLIT)
-        fold_split(m);
+    if (p->scheme == PFX_SCHEME_SPLIT)
+        fold_split(p);
 }
 
-const char *pfx_motion_explain(const pfx_motion *m) { return m->why; }
-
-int pfx_motion_substeps_for(const pfx_motion *m, double span) {
-    const int steps = m->steps > 0 ? m->steps : 1;
-    /* The full step (up to the last bits of t1 - t0) keeps its count. */
-    if (fabs(span - m->dt) <= 1e-9 * m->dt)
-        return steps;
-    double n = ceil(span * steps / m->dt * (1 - 1e-12));
-    return n < 1 ? 1 : n > 1e6 ? 1000000 : (int)n;
-}
-
-int pfx_motion_evals_per_step(const pfx_motion *m) {
-    int per = 1;
-    switch (m->scheme) {
-    case PFX_SCHEME_EULER:
-    case PFX_SCHEME_SYMPLECTIC:
-        per = 1;
-        break;
-    case PFX_SCHEME_MIDPOINT:
-    case PFX_SCHEME_VERLET:
-        per = 2;
-        break;
-    case PFX_SCHEME_RK4:
-        per = 4;
-        break;
-    case PFX_SCHEME_SPLIT:
-        per = m->has_kick ? 2 : 1; /* 1: the closed-form update itself */
-        break;
-    }
-    return per * (m->steps > 0 ? m->steps : 1);
+void pfx_motion_plan_prepare(pfx_motion_plan *p, pfx_motion *m, double dt) {
+    pfx_motion_choose(m, dt);
+    pfx_motion_plan_init(p, m);
 }
 
 /* ---- Curl noise ---- */
@@ -528,5 +225,6 @@ void pfx_motion_blame(const pfx_motion *m, pfx_bad_kind why, char *buf, size_t s
              why == PFX_BAD_NONFINITE ? "a value became NaN or infinite"
              : why == PFX_BAD_SPEED   ? "a particle exceeded 1e6 m/s"
                                       : "a particle went beyond 1e7 m",
-             pfx_integrator_name(m->chosen), m->steps, m->steps == 1 ? "" : "s");
+             pfx_integrator_name(m->choice.chosen), m->choice.steps,
+             m->choice.steps == 1 ? "" : "s");
 }

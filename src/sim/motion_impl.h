@@ -41,7 +41,7 @@ static void FN(region_weight)(const pfx_motion_region *g, size_t n, const R *x, 
  * (n <= BLK). split: leave out what the split step handles itself (the
  * folded linear parts, which its drift integrates exactly, and q v x B,
  * which its rotation does). */
-static void FN(accel)(const pfx_motion *m, const PFX_POOL *p, size_t i0, size_t n, const R *x,
+static void FN(accel)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n, const R *x,
                       const R *y, const R *z, const R *vx, const R *vy, const R *vz, double t,
                       int split, R *ax, R *ay, R *az) {
     R w[BLK];
@@ -164,8 +164,8 @@ static void FN(accel)(const pfx_motion *m, const PFX_POOL *p, size_t i0, size_t 
 /* ---- The schemes, each on one block of n particles in place ---- */
 
 #define BLOCK_ARGS                                                                                 \
-    const pfx_motion *m, const PFX_POOL *p, size_t i0, size_t n, R *X, R *Y, R *Z, R *U, R *V,     \
-        R *W, double t, double h
+    const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n, R *X, R *Y, R *Z, R *U,      \
+        R *V, R *W, double t, double h
 
 /* Explicit Euler: x1 = x0 + h v0, v1 = v0 + h a(x0, v0). Order 1; energy
  * grows every step on any oscillator. */
@@ -294,8 +294,8 @@ static void FN(step_rk4)(BLOCK_ARGS) {
  * E1 = -expm1(-kh)/k and E2 by its series h^2 sum (-kh)^n/(n+2)! when kh <
  * 0.5, so k -> 0 gives E1 = h, E2 = h^2/2: the exact projectile, without
  * the cancellation of v_inf = w + g/k. Scalars in double, once per call. */
-static void FN(drift)(const pfx_motion *m, const PFX_POOL *p, size_t i0, size_t n, R *X, R *Y, R *Z,
-                      R *U, R *V, R *W, double h) {
+static void FN(drift)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n, R *X, R *Y,
+                      R *Z, R *U, R *V, R *W, double h) {
     const double k = m->drift_k, zk = k * h;
     double e = 1, E1 = h, E2 = 0.5 * h * h;
     if (k > 0) {
@@ -334,7 +334,7 @@ static void FN(drift)(const pfx_motion *m, const PFX_POOL *p, size_t i0, size_t 
  * exactly theta = |Omega| h, so |v| is kept to round-off. (Boris's
  * t = qB h/(2m) rotates by 2 atan(theta/2), a phase error of theta^3/12 per
  * step; the tangent removes it at one tan per particle.) */
-static void FN(rotate)(const pfx_motion *m, const PFX_POOL *p, size_t i0, size_t n, const R *X,
+static void FN(rotate)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n, const R *X,
                        const R *Y, const R *Z, R *U, R *V, R *W, double h) {
     R ox[BLK], oy[BLK], oz[BLK], w[BLK];
     if (m->uniform_rotation && !p->charge && !p->mass) {
@@ -427,7 +427,7 @@ static void FN(step_split)(BLOCK_ARGS) {
  * each (sub)step: the Sims vortex turns the position about its axis by
  * strength f(r) h (and pulls it in by inflow f(r) h); the spiral turns the
  * velocity by rate h (Rodrigues); speed_limit scales |v| down. */
-static void FN(operators)(const pfx_motion *m, size_t n, R *X, R *Y, R *Z, R *U, R *V, R *W,
+static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, R *U, R *V, R *W,
                           double h) {
     R w[BLK];
     for (size_t f = 0; f < m->force_count; f++) {
@@ -484,8 +484,8 @@ static void FN(operators)(const pfx_motion *m, size_t n, R *X, R *Y, R *Z, R *U,
     }
 }
 
-void FN(pfx_motion_advance)(const pfx_motion *m, PFX_POOL *p, double t, double span) {
-    const int steps = pfx_motion_substeps_for(m, span);
+void FN(pfx_motion_advance)(const pfx_motion_plan *m, PFX_POOL *p, double t, double span) {
+    const int steps = pfx_motion_substeps_for(&m->model->choice, span);
     const double h = span / steps;
     for (size_t i0 = 0; i0 < p->count; i0 += BLK) {
         size_t n = p->count - i0 < BLK ? p->count - i0 : BLK;
@@ -519,7 +519,7 @@ void FN(pfx_motion_advance)(const pfx_motion *m, PFX_POOL *p, double t, double s
     }
 }
 
-void FN(pfx_motion_step)(const pfx_motion *m, PFX_POOL *p, double t) {
+void FN(pfx_motion_step)(const pfx_motion_plan *m, PFX_POOL *p, double t) {
     FN(pfx_motion_advance)(m, p, t, m->dt);
 }
 

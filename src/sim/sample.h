@@ -5,8 +5,8 @@
 #ifndef PFX_SAMPLE_H
 #define PFX_SAMPLE_H
 
-#include "compile/effect.h"
-#include "sim/rng.h"
+#include "base/rng.h"
+#include "model/effect.h"
 
 /* One sample of v. Constant: no draw. Uniform: one. Normal: two
  * (Box-Muller), clamped to [lo, hi]. */

@@ -7,8 +7,8 @@
 
 #include <stdint.h>
 
-#include "compile/effect.h"
-#include "sim/rng.h"
+#include "base/rng.h"
+#include "model/effect.h"
 
 #define PFX_MAX_BURSTS 256
 

@@ -142,13 +142,13 @@ pfx_sim *pfx_sim_create(const pfx_effect *e) {
     s->dt = 1.0 / e->sim_rate;
     s->pools = calloc(e->emitter_count + 1, sizeof *s->pools);
     s->emitters = calloc(e->emitter_count + 1, sizeof *s->emitters);
-    s->motions = calloc(e->emitter_count + 1, sizeof *s->motions);
+    s->plans = calloc(e->emitter_count + 1, sizeof *s->plans);
     size_t bytes = 0;
     for (size_t i = 0; i < e->emitter_count; i++)
         bytes += 4 * pool_floats(&e->emitters[i], e->emitters[i].capacity) +
                  (size_t)e->emitters[i].sticks * e->emitters[i].capacity;
     s->storage = malloc(bytes ? bytes : 1);
-    if (!s->pools || !s->emitters || !s->motions || !s->storage || !pfx_spawn_queues_create(s)) {
+    if (!s->pools || !s->emitters || !s->plans || !s->storage || !pfx_spawn_queues_create(s)) {
         pfx_sim_destroy(s);
         return NULL;
     }
@@ -171,7 +171,7 @@ pfx_sim *pfx_sim_create(const pfx_effect *e) {
         layout_columns(em, p, next, n);
         next += pool_floats(em, n);
         if (em->motion)
-            s->motions[i] = *em->motion;
+            pfx_motion_plan_init(&s->plans[i], em->motion);
     }
     init_emitters(s);
     return s;
@@ -193,7 +193,7 @@ void pfx_sim_destroy(pfx_sim *s) {
     free(s->storage);
     free(s->pools);
     free(s->emitters);
-    free(s->motions);
+    free(s->plans);
     pfx_spawn_queues_destroy(s);
     pfx_sim_destroy(s->loop_start);
     free(s);
@@ -296,7 +296,7 @@ static void check_state(pfx_sim *s, size_t i, uint32_t first, double t) {
     const pfx_emitter *em = &s->effect->emitters[i];
     char cause[320];
     if (em->motion)
-        pfx_motion_blame(&s->motions[i], why, cause, sizeof cause);
+        pfx_motion_blame(em->motion, why, cause, sizeof cause);
     else
         snprintf(cause, sizeof cause, "the emitter's speeds, gravity and lifetimes are too large");
     s->failed = true;
@@ -315,7 +315,7 @@ static void check_state(pfx_sim *s, size_t i, uint32_t first, double t) {
 static void integrate_motion(pfx_sim *s, size_t i, double span) {
     pfx_pool *p = &s->pools[i];
     pfx_motion_pool_f view = motion_view(p, 0, p->count);
-    pfx_motion_advance_f(&s->motions[i], &view, s->time, span);
+    pfx_motion_advance_f(&s->plans[i], &view, s->time, span);
 }
 
 /* The start-of-step state the collision pass sweeps from. */
@@ -485,7 +485,7 @@ bool pfx_sim_make_particle(pfx_sim *s, size_t i, double tb, double t1, const pfx
             }
         if (em->motion) {
             pfx_motion_pool_f one = motion_view(p, j, 1);
-            pfx_motion_advance_f(&s->motions[i], &one, tb, age);
+            pfx_motion_advance_f(&s->plans[i], &one, tb, age);
         } else {
             float *x[3] = {p->px, p->py, p->pz}, *v[3] = {p->vx, p->vy, p->vz};
             for (int a = 0; a < 3; a++) {

@@ -8,9 +8,10 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "compile/effect.h"
+#include "base/rng.h"
+#include "model/effect.h"
 #include "sim/collide.h"
-#include "sim/rng.h"
+#include "sim/motion.h"
 #include "sim/schedule.h"
 
 /* Live particles of one emitter, dense: indices [0, count). Columns that the
@@ -71,8 +72,7 @@ typedef struct pfx_sim {
     void *storage; /* one allocation behind every pool */
     size_t bytes;
     struct pfx_spawn_queue *queues; /* per emitter: sub-emitter events of the step */
-    pfx_motion *motions;            /* per emitter, a copy of its motion model prepared
-                                       for this sim's step (unused where NULL in the effect) */
+    pfx_motion_plan *plans;         /* per emitter with a motion model: what its kernels run */
     struct pfx_sim *loop_start;     /* a looping effect's state at frame 0, to wrap to */
     bool failed;                    /* a state went non-finite or exploded: stop */
     char error[768];                /* what, where, when and the likely cause */

@@ -66,7 +66,7 @@ static void test_birth_step_is_the_schemes(void) {
                                  .vy = &v[1],
                                  .vz = &v[2],
                                  .charge = p->charge ? &q : NULL};
-        pfx_motion_advance_f(&s->motions[0], &one, tb, age);
+        pfx_motion_advance_f(&s->plans[0], &one, tb, age);
         bool same = p->px[0] == x[0] && p->py[0] == x[1] && p->pz[0] == x[2] && p->vx[0] == v[0] &&
                     p->vy[0] == v[1] && p->vz[0] == v[2];
         if (!same)

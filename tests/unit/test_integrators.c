@@ -9,6 +9,13 @@
 
 #include "sim/motion.h"
 
+/* The plan of m for dt (the choice made first); m must outlive it. */
+static pfx_motion_plan plan_of(pfx_motion *m, double dt) {
+    pfx_motion_plan p;
+    pfx_motion_plan_prepare(&p, m, dt);
+    return p;
+}
+
 #define TWO_PI 6.283185307179586
 
 typedef struct st {
@@ -32,11 +39,11 @@ static pfx_motion_force *add(pfx_motion *m, pfx_motion_kind kind) {
 
 /* n steps of dt from t = 0 on one double particle. */
 static void simulate(pfx_motion *m, st *s, double dt, long n) {
-    pfx_motion_prepare(m, dt);
+    pfx_motion_plan plan = plan_of(m, dt);
     pfx_motion_pool_d p = {
         .count = 1, .px = &s->x, .py = &s->y, .pz = &s->z, .vx = &s->u, .vy = &s->v, .vz = &s->w};
     for (long i = 0; i < n; i++)
-        pfx_motion_step_d(m, &p, (double)i * dt);
+        pfx_motion_step_d(&plan, &p, (double)i * dt);
 }
 
 static double speed(const st *s) { return sqrt(s->u * s->u + s->v * s->v + s->w * s->w); }
@@ -158,14 +165,14 @@ static void test_exact_any_kdt(void) {
         pfx_motion_force *d = add(&m, PFX_MOTION_DRAG);
         d->k = k;
         memcpy(d->wind, DW, sizeof DW);
-        pfx_motion_prepare(&m, dt);
-        CHECK(m.chosen == PFX_INTEGRATOR_EXACT);
+        pfx_motion_plan plan = plan_of(&m, dt);
+        CHECK(m.choice.chosen == PFX_INTEGRATOR_EXACT);
         float x = 0, y = 0, z = 0, u = 3, v = 10, w = -1;
         pfx_motion_pool_f p = {
             .count = 1, .px = &x, .py = &y, .pz = &z, .vx = &u, .vy = &v, .vz = &w};
         const int n = 20;
         for (int s = 0; s < n; s++)
-            pfx_motion_step_f(&m, &p, s * dt);
+            pfx_motion_step_f(&plan, &p, s * dt);
         st e, s0 = {0, 0, 0, 3, 10, -1};
         double T = n * dt;
         if (k == 0) /* the projectile */
@@ -199,7 +206,7 @@ static void test_gravity_only(void) {
     memcpy(g->accel, DG, sizeof DG);
     st s = {1, 2, 3, 3, 10, -1};
     simulate(&m, &s, 1.0 / 24, 96);
-    CHECK(m.chosen == PFX_INTEGRATOR_EXACT && m.steps == 1);
+    CHECK(m.choice.chosen == PFX_INTEGRATOR_EXACT && m.choice.steps == 1);
     CHECK_NEAR(s.y, 2 + 10 * 4.0 - 0.5 * 9.81 * 16, 1e-12);
     CHECK_NEAR(s.x, 1 + 12.0, 1e-12);
     CHECK_NEAR(s.v, 10 - 9.81 * 4, 1e-12);
@@ -217,11 +224,11 @@ static double gyration_speed(pfx_integrator integ, int in_float) {
         simulate(&m, &s, dt, n);
         return speed(&s);
     }
-    pfx_motion_prepare(&m, dt);
+    pfx_motion_plan plan = plan_of(&m, dt);
     float x = 0, y = 0, z = 0, u = 1, v = 0, w = 0;
     pfx_motion_pool_f p = {.count = 1, .px = &x, .py = &y, .pz = &z, .vx = &u, .vy = &v, .vz = &w};
     for (long i = 0; i < n; i++)
-        pfx_motion_step_f(&m, &p, i * dt);
+        pfx_motion_step_f(&plan, &p, i * dt);
     return sqrt((double)u * u + (double)v * v + (double)w * w);
 }
 
@@ -252,14 +259,14 @@ static void kepler_energy(pfx_integrator integ, int orbits, int per_orbit, doubl
     f->strength = 1;
     st s = {0.5, 0, 0, 0, sqrt(3.0), 0};
     const double dt = TWO_PI / per_orbit;
-    pfx_motion_prepare(&m, dt);
+    pfx_motion_plan plan = plan_of(&m, dt);
     pfx_motion_pool_d p = {
         .count = 1, .px = &s.x, .py = &s.y, .pz = &s.z, .vx = &s.u, .vy = &s.v, .vz = &s.w};
     *worst = *first = *last = 0;
     long i = 0;
     for (int o = 1; o <= orbits; o++) {
         for (int k = 0; k < per_orbit; k++, i++) {
-            pfx_motion_step_d(&m, &p, i * dt);
+            pfx_motion_step_d(&plan, &p, i * dt);
             double r = sqrt(s.x * s.x + s.y * s.y + s.z * s.z);
             double E = 0.5 * (s.u * s.u + s.v * s.v + s.w * s.w) - 1 / r;
             double err = fabs((E + 0.5) / 0.5);
@@ -325,12 +332,12 @@ static void test_gyration(void) {
     pfx_motion_force *f = add(&m, PFX_MOTION_MAGNETIC);
     f->field[2] = B, f->charge = q, f->mass = mass;
     st s = {0, 0, 0, vp, 0, 0.7};
-    pfx_motion_prepare(&m, dt);
+    pfx_motion_plan plan = plan_of(&m, dt);
     pfx_motion_pool_d p = {
         .count = 1, .px = &s.x, .py = &s.y, .pz = &s.z, .vx = &s.u, .vy = &s.v, .vz = &s.w};
     double ymin = 0, ymax = 0, prev_v = s.v, t_cross = -1;
     for (int i = 0; i < 600; i++) {
-        pfx_motion_step_d(&m, &p, i * dt);
+        pfx_motion_step_d(&plan, &p, i * dt);
         ymin = s.y < ymin ? s.y : ymin;
         ymax = s.y > ymax ? s.y : ymax;
         /* v_y = -5 sin(Omega t): falls through 0 again after one turn */
@@ -354,18 +361,18 @@ static void test_circular_orbit(void) {
         f->strength = 2, f->ref_radius = 1.5;
         const double r0 = 1.5, v0 = sqrt(2 / r0), T = TWO_PI * r0 / v0, dt = 1.0 / 60;
         st s = {r0, 0, 0, 0, 0, v0};
-        pfx_motion_prepare(&m, dt);
+        pfx_motion_plan plan = plan_of(&m, dt);
         pfx_motion_pool_d p = {
             .count = 1, .px = &s.x, .py = &s.y, .pz = &s.z, .vx = &s.u, .vy = &s.v, .vz = &s.w};
         double worst = 0;
         long n = (long)(100 * T / dt);
         for (long i = 0; i < n; i++) {
-            pfx_motion_step_d(&m, &p, i * dt);
+            pfx_motion_step_d(&plan, &p, i * dt);
             double r = sqrt(s.x * s.x + s.y * s.y + s.z * s.z);
             worst = fabs(r - r0) > worst ? fabs(r - r0) : worst;
         }
         fprintf(stderr, "  circular orbit %s (%s): max |r - r0|/r0 = %.3g over 100 orbits\n",
-                pfx_integrator_name(which[k]), m.why, worst / r0);
+                pfx_integrator_name(which[k]), m.choice.why, worst / r0);
         CHECK(worst < 1e-3 * r0);
     }
 }
@@ -375,19 +382,21 @@ static void test_auto_choice(void) {
     pfx_motion m = make(PFX_INTEGRATOR_AUTO);
     st s;
     drag_setup(&m, &s);
-    pfx_motion_prepare(&m, 1.0 / 30);
-    CHECK(m.chosen == PFX_INTEGRATOR_EXACT && m.scheme == PFX_SCHEME_SPLIT && m.steps == 1);
-    CHECK(!m.has_kick && pfx_motion_evals_per_step(&m) == 1);
-    fprintf(stderr, "  auto, gravity + drag: %s\n", pfx_motion_explain(&m));
+    pfx_motion_plan plan = plan_of(&m, 1.0 / 30);
+    CHECK(m.choice.chosen == PFX_INTEGRATOR_EXACT && m.choice.scheme == PFX_SCHEME_SPLIT &&
+          m.choice.steps == 1);
+    CHECK(!plan.has_kick && pfx_motion_evals_per_step(&m) == 1);
+    fprintf(stderr, "  auto, gravity + drag: %s\n", m.choice.why);
 
     m = make(PFX_INTEGRATOR_AUTO);
     pfx_motion_force *f = add(&m, PFX_MOTION_MAGNETIC);
     f->field[1] = 2, f->charge = 1, f->mass = 1, f->electric[0] = 1;
     f = add(&m, PFX_MOTION_GRAVITY);
     f->accel[1] = -9.81;
-    pfx_motion_prepare(&m, 1.0 / 30);
-    CHECK(m.chosen == PFX_INTEGRATOR_BORIS && m.scheme == PFX_SCHEME_SPLIT && m.has_rotation);
-    fprintf(stderr, "  auto, magnetic: %s\n", pfx_motion_explain(&m));
+    plan = plan_of(&m, 1.0 / 30);
+    CHECK(m.choice.chosen == PFX_INTEGRATOR_BORIS && m.choice.scheme == PFX_SCHEME_SPLIT &&
+          plan.has_rotation);
+    fprintf(stderr, "  auto, magnetic: %s\n", m.choice.why);
 
     /* A stiff spring: omega = 100 rad/s at dt = 1/30 (omega dt = 3.3, beyond
      * the leapfrog limit 2): auto substeps to omega h <= 1 at least. */
@@ -395,9 +404,9 @@ static void test_auto_choice(void) {
     f = add(&m, PFX_MOTION_SPRING);
     f->k = 1e4, f->zeta = 0.05;
     const double dt = 1.0 / 30;
-    pfx_motion_prepare(&m, dt);
-    fprintf(stderr, "  auto, stiff spring: %s\n", pfx_motion_explain(&m));
-    CHECK(m.steps >= (int)ceil(100 * dt) && m.steps <= PFX_MOTION_MAX_SUBSTEPS);
+    plan = plan_of(&m, dt);
+    fprintf(stderr, "  auto, stiff spring: %s\n", m.choice.why);
+    CHECK(m.choice.steps >= (int)ceil(100 * dt) && m.choice.steps <= PFX_MOTION_MAX_SUBSTEPS);
     pfx_stability_warning w[4];
     CHECK(pfx_motion_check_stability(&m, w, 4) == 0);
     s = (st){1, 0, 0, 0, 0, 0};
@@ -406,7 +415,7 @@ static void test_auto_choice(void) {
     /* the same spring without substeps is unstable, and the check says so */
     m.substeps = 1;
     m.integrator = PFX_INTEGRATOR_VERLET;
-    pfx_motion_prepare(&m, dt);
+    pfx_motion_choose(&m, dt);
     CHECK(pfx_motion_check_stability(&m, w, 4) >= 1 && w[0].kind == PFX_STABILITY_UNSTABLE);
 
     /* quadratic drag is velocity-dependent: verlet */
@@ -415,9 +424,9 @@ static void test_auto_choice(void) {
     f->c = 0.2;
     f = add(&m, PFX_MOTION_GRAVITY);
     f->accel[1] = -9.81;
-    pfx_motion_prepare(&m, 1.0 / 30);
-    CHECK(m.chosen == PFX_INTEGRATOR_VERLET);
-    fprintf(stderr, "  auto, quadratic drag: %s\n", pfx_motion_explain(&m));
+    plan = plan_of(&m, 1.0 / 30);
+    CHECK(m.choice.chosen == PFX_INTEGRATOR_VERLET);
+    fprintf(stderr, "  auto, quadratic drag: %s\n", m.choice.why);
 }
 
 static void test_bad_state(void) {

@@ -9,8 +9,8 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "base/rng.h"
 #include "compile/compile.h"
-#include "sim/rng.h"
 #include "sim/sample.h"
 #include "test.h"
 #include "test_compile.h"

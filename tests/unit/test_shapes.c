@@ -12,9 +12,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/rng.h"
 #include "compile/compile.h"
 #include "compile/mesh_load.h"
-#include "sim/rng.h"
 #include "sim/sample.h"
 #include "test.h"
 #include "test_stats.h"

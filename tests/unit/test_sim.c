@@ -9,8 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/rng.h"
 #include "compile/compile.h"
-#include "sim/rng.h"
 #include "sim/sample.h"
 #include "sim/sim.h"
 #include "test.h"

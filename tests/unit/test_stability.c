@@ -70,7 +70,7 @@ static void test_sweep(void) {
             if (isinf(theory[i].decay) || fabs(z - theory[i].decay) > 0.01 * theory[i].decay) {
                 pfx_motion m = one_force(theory[i].integ, PFX_MOTION_DRAG);
                 m.forces[0].k = z;
-                pfx_motion_prepare(&m, 1.0);
+                pfx_motion_choose(&m, 1.0);
                 bool expect = z > theory[i].decay;
                 int got = unstable_warnings(&m, w);
                 CHECK((got > 0) == expect);
@@ -82,7 +82,7 @@ static void test_sweep(void) {
                     CHECK(w[0].fix_substeps > 1 && w[0].number == z);
                     CHECK_NEAR(w[0].limit, theory[i].decay, 1e-4 * theory[i].decay);
                     m.substeps = w[0].fix_substeps;
-                    pfx_motion_prepare(&m, 1.0);
+                    pfx_motion_choose(&m, 1.0);
                     CHECK(unstable_warnings(&m, w) == 0);
                     CHECK(z / m.substeps <= theory[i].decay);
                 }
@@ -91,7 +91,7 @@ static void test_sweep(void) {
             if (fabs(z - theory[i].oscillator) > 0.01 * theory[i].oscillator) {
                 pfx_motion m = one_force(theory[i].integ, PFX_MOTION_SPRING);
                 m.forces[0].k = z * z;
-                pfx_motion_prepare(&m, 1.0);
+                pfx_motion_choose(&m, 1.0);
                 bool expect = z >= theory[i].oscillator;
                 int got = unstable_warnings(&m, w);
                 CHECK((got > 0) == expect);
@@ -100,18 +100,18 @@ static void test_sweep(void) {
                             pfx_integrator_name(theory[i].integ), z, got);
                 configs++, warned += got > 0;
                 if (got && w[0].fix_substeps > 0) {
-                    if (w[0].fix != m.chosen) { /* Euler/midpoint: another scheme */
+                    if (w[0].fix != m.choice.chosen) { /* Euler/midpoint: another scheme */
                         m.integrator = w[0].fix;
                     }
                     m.substeps = w[0].fix_substeps;
-                    pfx_motion_prepare(&m, 1.0);
+                    pfx_motion_choose(&m, 1.0);
                     CHECK(unstable_warnings(&m, w) == 0);
                 }
                 /* the attractor's circular frequency sqrt(s/r^3) at its
                  * softening radius goes through the same check */
                 pfx_motion a = one_force(theory[i].integ, PFX_MOTION_ATTRACTOR);
                 a.forces[0].strength = z * z * 8, a.forces[0].softening = 2;
-                pfx_motion_prepare(&a, 1.0);
+                pfx_motion_choose(&a, 1.0);
                 CHECK((unstable_warnings(&a, w) > 0) == expect);
             }
         }
@@ -123,14 +123,14 @@ static void test_sweep(void) {
 static void test_oscillation_note(void) {
     pfx_motion m = one_force(PFX_INTEGRATOR_SYMPLECTIC, PFX_MOTION_DRAG);
     m.forces[0].k = 1.5;
-    pfx_motion_prepare(&m, 1.0);
+    pfx_motion_choose(&m, 1.0);
     pfx_stability_warning w[4];
     CHECK(pfx_motion_check_stability(&m, w, 4) == 1);
     CHECK(w[0].kind == PFX_STABILITY_OSCILLATES && w[0].fix == PFX_INTEGRATOR_EXACT &&
           w[0].fix_substeps == 2);
     fprintf(stderr, "  %s\n", w[0].message);
     m.forces[0].k = 0.9;
-    pfx_motion_prepare(&m, 1.0);
+    pfx_motion_choose(&m, 1.0);
     CHECK(pfx_motion_check_stability(&m, w, 4) == 0);
 }
 
@@ -144,7 +144,7 @@ static void test_magnetic_drift(void) {
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++) {
         pfx_motion m = one_force(all[i], PFX_MOTION_MAGNETIC);
         m.forces[0].field[2] = 2, m.forces[0].charge = 1, m.forces[0].mass = 4; /* Omega 0.5 */
-        pfx_motion_prepare(&m, 1.0);
+        pfx_motion_choose(&m, 1.0);
         pfx_stability_warning w[4];
         size_t n = pfx_motion_check_stability(&m, w, 4);
         bool boris = all[i] == PFX_INTEGRATOR_BORIS || all[i] == PFX_INTEGRATOR_AUTO;
@@ -166,7 +166,7 @@ static void test_exact_never_warns(void) {
     for (double z = 0.5; z < 1000; z *= 3) {
         pfx_motion m = one_force(PFX_INTEGRATOR_EXACT, PFX_MOTION_DRAG);
         m.forces[0].k = z;
-        pfx_motion_prepare(&m, 1.0);
+        pfx_motion_choose(&m, 1.0);
         pfx_stability_warning w[2];
         CHECK(pfx_motion_check_stability(&m, w, 2) == 0);
     }
@@ -177,7 +177,7 @@ static void test_blame(void) {
     pfx_motion m = one_force(PFX_INTEGRATOR_EULER, PFX_MOTION_DRAG);
     m.forces[0].k = 30;
     m.forces[0].name = "air";
-    pfx_motion_prepare(&m, 0.1);
+    pfx_motion_choose(&m, 0.1);
     char buf[256];
     pfx_motion_blame(&m, PFX_BAD_NONFINITE, buf, sizeof buf);
     fprintf(stderr, "  %s\n", buf);

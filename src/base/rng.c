@@ -1,7 +1,7 @@
 /* Stream selection and jump-ahead for the per-emitter PCG32 generators (the
  * generator itself is inline in rng.h): FNV-1a over the emitter's name, finished with the
  * splitmix64 mixer so similar names give unrelated streams. */
-#include "sim/rng.h"
+#include "base/rng.h"
 
 uint64_t pfx_rng_stream_for(const char *name) {
     uint64_t h = 1469598103934665603ULL;

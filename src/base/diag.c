@@ -1,7 +1,7 @@
 /* Collects and prints diagnostics. The text form follows gcc and clang: the
  * position, the severity, the message, then the source line and a caret with
  * tildes under the offending span. It does not decide what is an error. */
-#include "diag.h"
+#include "base/diag.h"
 
 #include <stdint.h>
 #include <stdlib.h>

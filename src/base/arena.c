@@ -1,6 +1,6 @@
 /* The bump allocator behind pfx_arena: blocks of at least 64 KiB chained in a
  * list; an allocation never moves, and everything is freed together. */
-#include "arena.h"
+#include "base/arena.h"
 
 #include <stdalign.h>
 #include <stdint.h>

@@ -1,17 +1,20 @@
 /* The compiled effect: an immutable, validated description of a particle
- * effect, produced by pfx_compile from a parsed file. Everything downstream
- * (simulation, rendering, output) reads only this; after compile, bad input
- * is impossible, so later stages assert instead of reporting. */
-#ifndef PFX_EFFECT_H
-#define PFX_EFFECT_H
+ * effect in SI units and radians, produced by pfx_compile from a parsed
+ * file. Everything downstream (simulation, rendering, output) reads only
+ * this; after compile, bad input is impossible, so later stages assert
+ * instead of reporting. The model includes no stage: compile writes it,
+ * sim and render read it. */
+#ifndef PFX_MODEL_EFFECT_H
+#define PFX_MODEL_EFFECT_H
 
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
-#include "sim/collide.h"
-#include "sim/kill.h"
-#include "sim/motion.h"
+#include "model/deflector.h"
+#include "model/kill_rules.h"
+#include "model/kinds.h"
+#include "model/motion.h"
 
 #define PFX_FORMAT_VERSION 1
 #define PFX_MAX_FORCES 32 /* an emitter's force set is a 32-bit mask */
@@ -51,21 +54,17 @@ typedef struct pfx_gradient {
  * states each one's placement; src/sim/sample.c samples them). The first
  * four keep their values; new types are appended. */
 typedef enum {
-    PFX_SHAPE_POINT,
-    PFX_SHAPE_SPHERE,
-    PFX_SHAPE_BOX,
-    PFX_SHAPE_DISC,
-    PFX_SHAPE_LINE,
-    PFX_SHAPE_RECT,
-    PFX_SHAPE_ELLIPSE,
-    PFX_SHAPE_HEMISPHERE,
-    PFX_SHAPE_CYLINDER,
-    PFX_SHAPE_CONE,
-    PFX_SHAPE_MESH
+#define PFX_SHAPE_ENUM(e, name) PFX_SHAPE_##e,
+    PFX_SHAPE_KINDS(PFX_SHAPE_ENUM)
+#undef PFX_SHAPE_ENUM
 } pfx_shape_type;
 /* Where on the shape births are: the solid (area for flat shapes), its
  * surface, or its rim. Zero, volume, is the default. */
-typedef enum { PFX_EMIT_VOLUME, PFX_EMIT_SURFACE, PFX_EMIT_EDGE } pfx_emit_from;
+typedef enum {
+#define PFX_EMIT_ENUM(e, name) PFX_EMIT_##e,
+    PFX_EMIT_FROM_KINDS(PFX_EMIT_ENUM)
+#undef PFX_EMIT_ENUM
+} pfx_emit_from;
 /* Zero in a field means its default (full turn, solid, no table), so a
  * shape built as {type, radius, size} is still a whole solid shape. */
 typedef struct pfx_shape {
@@ -94,11 +93,26 @@ typedef struct pfx_force {
     pfx_motion_force spec;
 } pfx_force;
 
-typedef enum { PFX_BLEND_ADD, PFX_BLEND_ALPHA } pfx_blend;
+typedef enum {
+#define PFX_BLEND_ENUM(e, name) PFX_BLEND_##e,
+    PFX_BLEND_KINDS(PFX_BLEND_ENUM)
+#undef PFX_BLEND_ENUM
+} pfx_blend;
+
+/* The sprite drawn for each particle (model/kinds.h). */
+typedef enum {
+#define PFX_SPRITE_ENUM(e, name) PFX_SPRITE_##e,
+    PFX_SPRITE_KINDS(PFX_SPRITE_ENUM)
+#undef PFX_SPRITE_ENUM
+} pfx_sprite_kind;
 
 /* Sub-emitters: an event of a parent particle that makes particles of
  * another (or the same) emitter at the particle's place and time. */
-typedef enum { PFX_SPAWN_BIRTH, PFX_SPAWN_DEATH, PFX_SPAWN_HIT, PFX_SPAWN_TRAIL } pfx_spawn_event;
+typedef enum {
+#define PFX_SPAWN_ENUM(e, name) PFX_SPAWN_##e,
+    PFX_SPAWN_EVENTS(PFX_SPAWN_ENUM)
+#undef PFX_SPAWN_ENUM
+} pfx_spawn_event;
 typedef struct pfx_spawn {
     pfx_spawn_event event;
     uint32_t target; /* emitter index */
@@ -123,12 +137,14 @@ typedef struct pfx_curve {
 
 /* How an emitter spaces its births in its own time tau (seconds since its
  * start, within the period when it loops). */
+/* Constant: births at k / rate. Curve: rate(tau) piecewise linear, births
+ * where its integral crosses k. Ramp (Reeves): rate = initial + delta * tau,
+ * stopping at 0. Random (Reeves mean +- var): each whole second has its own
+ * rate. Interval: the time to the next birth is a random value. */
 typedef enum {
-    PFX_RATE_CONSTANT, /* rate per second: births at k / rate */
-    PFX_RATE_CURVE,    /* rate(tau) piecewise linear: births where its integral crosses k */
-    PFX_RATE_RAMP,     /* Reeves: rate = initial + delta * tau (stops at 0) */
-    PFX_RATE_RANDOM,   /* Reeves mean +- var: each whole second has its own rate */
-    PFX_RATE_INTERVAL  /* the time to the next birth is a random value */
+#define PFX_RATE_ENUM(e, name) PFX_RATE_##e,
+    PFX_RATE_KINDS(PFX_RATE_ENUM)
+#undef PFX_RATE_ENUM
 } pfx_rate_kind;
 
 typedef struct pfx_burst {
@@ -146,11 +162,13 @@ typedef struct pfx_keys3 {
     double (*v)[3];
 } pfx_keys3;
 
+/* `direction: [x, y, z]`, or by name: the shape's outward surface normal at
+ * the birth point, away from the shape's centre, or towards it. */
 typedef enum {
-    PFX_DIRECTION_VECTOR, /* `direction: [x, y, z]` */
-    PFX_DIRECTION_NORMAL, /* the shape's outward surface normal at the birth point */
-    PFX_DIRECTION_RADIAL, /* away from the shape's centre */
-    PFX_DIRECTION_INWARD  /* towards the shape's centre */
+    PFX_DIRECTION_VECTOR,
+#define PFX_DIRECTION_ENUM(e, name) PFX_DIRECTION_##e,
+    PFX_DIRECTION_MODES(PFX_DIRECTION_ENUM)
+#undef PFX_DIRECTION_ENUM
 } pfx_direction_mode;
 
 typedef struct pfx_emitter {
@@ -197,8 +215,8 @@ typedef struct pfx_emitter {
     pfx_value spin;  /* degrees per second (constant over life unless spin_curve) */
     bool spin_curve; /* spin over life: angle = angle0 + lifetime * spin_turn_lut[u] */
     float spin_turn_lut[PFX_GRADIENT_LUT]; /* integral of spin over normalised age */
-    float sprite_shape;                    /* PFX_SPRITE_ROUND or _SQUARE (render.h) */
-    bool alpha_curve;                      /* alpha_lut multiplies the colour's alpha */
+    pfx_sprite_kind sprite;
+    bool alpha_curve; /* alpha_lut multiplies the colour's alpha */
     float alpha_lut[PFX_GRADIENT_LUT];
     uint32_t force_mask; /* bit i: feels effect->forces[i] */
     pfx_value gravity_scale;

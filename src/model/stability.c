@@ -3,7 +3,7 @@
  * scheme is stable when that matrix's spectral radius is <= 1. The checks
  * below apply it to each force's linearisation and say which fix works.
  * It does not simulate anything (the tests and the bench measure). */
-#include "sim/motion.h"
+#include "model/motion.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -137,10 +137,7 @@ static int fix_steps(pfx_scheme s, double omega, double c, double dt, int steps)
 }
 
 static const char *force_word(const pfx_motion_force *f) {
-    static const char *const words[PFX_MOTION_KIND_COUNT] = {
-        "gravity", "attractor", "drag",       "vortex",     "magnetic force",
-        "spiral",  "spring",    "turbulence", "speed limit"};
-    return (unsigned)f->kind < PFX_MOTION_KIND_COUNT ? words[f->kind] : "force";
+    return pfx_kind_name(pfx_force_words, (int)f->kind);
 }
 
 /* A number and the limit it crossed, each with the fewest significant
@@ -182,10 +179,10 @@ static void fix_text(const pfx_stability_warning *w, pfx_integrator chosen, char
 }
 
 size_t pfx_motion_check_stability(const pfx_motion *m, pfx_stability_warning *out, size_t cap) {
-    const int steps = m->steps > 0 ? m->steps : 1;
-    const double h = m->dt / steps;
-    const pfx_scheme s = m->scheme;
-    const char *iname = pfx_integrator_name(m->chosen);
+    const int steps = m->choice.steps > 0 ? m->choice.steps : 1;
+    const double h = m->choice.dt / steps;
+    const pfx_scheme s = m->choice.scheme;
+    const char *iname = pfx_integrator_name(m->choice.chosen);
     size_t count = 0;
     double sum_w2 = 0, sum_c = 0;
     int stiff = 0;
@@ -198,7 +195,7 @@ size_t pfx_motion_check_stability(const pfx_motion *m, pfx_stability_warning *ou
         double omega = pfx_motion_force_omega(f), c = pfx_motion_force_damping(m, f);
         if (f->kind == PFX_MOTION_TURBULENCE)
             omega = 0; /* not an oscillator: its gradient rate is used for accuracy only */
-        if (f->kind == PFX_MOTION_DRAG && s == PFX_SCHEME_SPLIT && m->folded[i])
+        if (f->kind == PFX_MOTION_DRAG && s == PFX_SCHEME_SPLIT && pfx_motion_force_folded(f))
             c -= f->k; /* integrated exactly */
         if (omega > 0 || c > 0)
             stiff++;
@@ -230,17 +227,17 @@ size_t pfx_motion_check_stability(const pfx_motion *m, pfx_stability_warning *ou
             w.kind = PFX_STABILITY_UNSTABLE;
             w.number = omega * h;
             w.limit = pfx_stability_oscillator_limit(s);
-            w.fix = m->chosen;
+            w.fix = m->choice.chosen;
             /* Euler and midpoint grow on an oscillator at any step: only
              * another scheme fixes it, however many substeps. */
-            w.fix_substeps = w.limit > 0 ? fix_steps(s, omega, c, m->dt, steps) : 0;
+            w.fix_substeps = w.limit > 0 ? fix_steps(s, omega, c, m->choice.dt, steps) : 0;
             if (w.fix_substeps == 0) {
                 w.fix = PFX_INTEGRATOR_VERLET;
-                w.fix_substeps = fix_steps(PFX_SCHEME_VERLET, omega, c, m->dt, 0);
+                w.fix_substeps = fix_steps(PFX_SCHEME_VERLET, omega, c, m->choice.dt, 0);
                 if (w.fix_substeps == 1)
                     w.fix_substeps = 0;
             }
-            fix_text(&w, m->chosen, fix, sizeof fix);
+            fix_text(&w, m->choice.chosen, fix, sizeof fix);
             number_pair np = pair_text(w.number, w.limit);
             if (w.limit > 0)
                 snprintf(w.message, sizeof w.message,
@@ -268,10 +265,10 @@ size_t pfx_motion_check_stability(const pfx_motion *m, pfx_stability_warning *ou
             w.fix = linear ? PFX_INTEGRATOR_EXACT : PFX_INTEGRATOR_RK4;
             /* substeps with the same scheme, or (linear drag) the exact flow */
             w.fix_substeps =
-                unst ? fix_steps(s, 0, c, m->dt, steps) : (int)ceil(z * steps * (1 - 1e-12));
+                unst ? fix_steps(s, 0, c, m->choice.dt, steps) : (int)ceil(z * steps * (1 - 1e-12));
             if (!linear)
-                w.fix = m->chosen;
-            fix_text(&w, m->chosen, fix, sizeof fix);
+                w.fix = m->choice.chosen;
+            fix_text(&w, m->choice.chosen, fix, sizeof fix);
             if (linear && w.fix_substeps > 0) /* the closed form needs no substeps */
                 snprintf(fix, sizeof fix, "use integrator 'exact' or sim.substeps: %d",
                          w.fix_substeps);
@@ -293,9 +290,9 @@ size_t pfx_motion_check_stability(const pfx_motion *m, pfx_stability_warning *ou
         pfx_stability_warning w = {.force = -1, .kind = PFX_STABILITY_UNSTABLE};
         w.number = sqrt(sum_w2) * h;
         w.limit = pfx_stability_oscillator_limit(s);
-        w.fix = m->chosen;
-        w.fix_substeps = fix_steps(s, sqrt(sum_w2), sum_c, m->dt, steps);
-        fix_text(&w, m->chosen, fix, sizeof fix);
+        w.fix = m->choice.chosen;
+        w.fix_substeps = fix_steps(s, sqrt(sum_w2), sum_c, m->choice.dt, steps);
+        fix_text(&w, m->choice.chosen, fix, sizeof fix);
         snprintf(w.message, sizeof w.message,
                  "%s is unstable on the forces together: omega*dt = %.3g, k*dt = %.3g; %s", iname,
                  w.number, sum_c * h, fix);

@@ -1,0 +1,356 @@
+/* Resolving a motion request: which scheme runs (the `auto` rule and its
+ * error model), how many substeps, and one line saying why; the forces'
+ * linearised rates that the rule and the stability analysis
+ * (model/stability.c) read. Pure functions of the model; the arithmetic of
+ * a step is the simulation's (sim/motion_impl.h). */
+#include "model/motion.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+const char *pfx_integrator_name(pfx_integrator i) {
+    return pfx_kind_name(pfx_integrator_names, (int)i);
+}
+
+bool pfx_integrator_parse(const char *s, pfx_integrator *out) {
+    int i = pfx_kind_find(pfx_integrator_names, s);
+    if (i >= 0)
+        *out = (pfx_integrator)i;
+    return i >= 0;
+}
+
+pfx_scheme pfx_integrator_scheme(pfx_integrator i) {
+    switch (i) {
+    case PFX_INTEGRATOR_EULER:
+        return PFX_SCHEME_EULER;
+    case PFX_INTEGRATOR_SYMPLECTIC:
+        return PFX_SCHEME_SYMPLECTIC;
+    case PFX_INTEGRATOR_MIDPOINT:
+        return PFX_SCHEME_MIDPOINT;
+    case PFX_INTEGRATOR_RK4:
+        return PFX_SCHEME_RK4;
+    case PFX_INTEGRATOR_VERLET:
+        return PFX_SCHEME_VERLET;
+    default:
+        return PFX_SCHEME_SPLIT;
+    }
+}
+
+static double norm3(const double v[3]) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+unsigned pfx_motion_columns(const pfx_motion *m) {
+    unsigned c = 0;
+    for (size_t i = 0; i < m->force_count; i++) {
+        const pfx_motion_force *f = &m->forces[i];
+        if (f->kind == PFX_MOTION_GRAVITY)
+            c |= PFX_COLUMN_GRAVITY_SCALE;
+        if (f->kind == PFX_MOTION_MAGNETIC)
+            c |= PFX_COLUMN_CHARGE | PFX_COLUMN_MASS;
+        if (f->kind == PFX_MOTION_SPRING && f->use_birth)
+            c |= PFX_COLUMN_BIRTH;
+    }
+    return c;
+}
+
+double pfx_vortex_falloff(double r, double d) {
+    if (!(r >= 0 && r <= 1))
+        return 0;
+    double r2 = r * r;
+    return (r2 * r2 - 2 * r2 + 1) / (1 + d * r2);
+}
+
+/* ---- Representative rates, shared with stability.c ---- */
+
+/* Sum of the gravities, for the terminal speed of quadratic drag. */
+static double gravity_magnitude(const pfx_motion *m) {
+    double g[3] = {0, 0, 0};
+    for (size_t i = 0; i < m->force_count; i++)
+        if (m->forces[i].kind == PFX_MOTION_GRAVITY)
+            for (int a = 0; a < 3; a++)
+                g[a] += m->forces[i].accel[a];
+    return norm3(g);
+}
+
+/* Angular frequency of a position force's linearisation (0: none): a spring
+ * sqrt(k); an attractor sqrt(|s| / r^3) at its softening radius (where the
+ * tidal rate peaks), else at ref_radius, else 1 m; turbulence sqrt(|s| /
+ * scale), its acceleration gradient. Repulsion has no frequency. */
+double pfx_motion_force_omega(const pfx_motion_force *f) {
+    switch (f->kind) {
+    case PFX_MOTION_SPRING:
+        return f->k > 0 ? sqrt(f->k) : 0;
+    case PFX_MOTION_ATTRACTOR: {
+        if (f->strength <= 0)
+            return 0;
+        double r = f->softening > 0 ? f->softening : f->ref_radius > 0 ? f->ref_radius : 1.0;
+        if (f->falloff == PFX_FALLOFF_INVERSE_SQUARE)
+            return sqrt(f->strength / (r * r * r));
+        double L = f->ref_radius > 0 ? f->ref_radius : 1.0;
+        return f->falloff == PFX_FALLOFF_LINEAR ? sqrt(f->strength / (L * r * r))
+                                                : sqrt(f->strength / (L * L * r));
+    }
+    case PFX_MOTION_TURBULENCE:
+        return f->scale > 0 ? sqrt(fabs(f->strength) / f->scale) : 0;
+    default:
+        return 0;
+    }
+}
+
+/* Decay rate of a velocity force's linearisation (0: none): linear drag k;
+ * quadratic drag 2 c v_ref, v_ref the larger of the expected speed relative
+ * to the wind and the terminal speed sqrt(g/c); spring damping 2 zeta omega. */
+double pfx_motion_force_damping(const pfx_motion *m, const pfx_motion_force *f) {
+    if (f->kind == PFX_MOTION_SPRING)
+        return f->k > 0 ? 2 * f->zeta * sqrt(f->k) : 0;
+    if (f->kind != PFX_MOTION_DRAG)
+        return 0;
+    double kq = 0;
+    if (f->c > 0) {
+        double v = f->speed_hint + norm3(f->wind), vt = sqrt(gravity_magnitude(m) / f->c);
+        kq = 2 * f->c * (v > vt ? v : vt);
+    }
+    return f->k + kq;
+}
+
+/* ---- The error model of `auto` ----
+ * Every scheme auto runs is second order, so its position error grows at a
+ * rate C L w^3 h^2 (m per simulated second) for an oscillation of
+ * frequency w and size L, and C u k^2 h^2 for a velocity force of rate k
+ * acting on speeds u that it does not integrate exactly. The constants are
+ * measured on the accuracy suite (pfx bench accuracy, the largest
+ * error(t)/t over each run) and multiplied by a safety factor of 1.5:
+ *   spring (leapfrog on x'' = -w^2 x)       C = 1/24  -> 1/16
+ *   magnetic rotation, L the gyroradius      C = 1/24  -> 1/16
+ *   attractor, w and L at its reference      C = 0.64  -> 1  (Kepler e = 0.5;
+ *                                                     a circular orbit: 0.34)
+ *   velocity forces under Verlet or kicks    C = 0.39  -> 0.6 (linear drag;
+ *                                                     quadratic drag: 0.008)
+ * Turbulence has no closed form to measure; it takes the spring's. */
+#define AUTO_C_SPRING (1.0 / 16)
+#define AUTO_C_ROTATION (1.0 / 16)
+#define AUTO_C_ATTRACTOR 1.0
+#define AUTO_C_VELOCITY 0.6
+
+/* Length over which an oscillation's phase error turns into position error:
+ * the attractor's radius, the turbulence scale, 1 m for a spring. */
+static double force_length(const pfx_motion_force *f) {
+    if (f->kind == PFX_MOTION_ATTRACTOR)
+        return f->softening > 0 ? f->softening : f->ref_radius > 0 ? f->ref_radius : 1.0;
+    if (f->kind == PFX_MOTION_TURBULENCE)
+        return f->scale;
+    return 1.0;
+}
+
+/* C L w^3 of a position force (0 for the others). */
+static double oscillation_error(const pfx_motion_force *f) {
+    double w = pfx_motion_force_omega(f);
+    double c = f->kind == PFX_MOTION_ATTRACTOR ? AUTO_C_ATTRACTOR : AUTO_C_SPRING;
+    return w > 0 ? c * force_length(f) * w * w * w : 0;
+}
+
+/* C L W^3 of a magnetic field's rotation: W = |q/m| |B|, L the gyroradius
+ * of the fastest emitted particle plus the E x B drift, u / W. */
+static double rotation_error(const pfx_motion_force *f) {
+    double W = fabs(f->charge) / (f->mass > 0 ? f->mass : 1.0) * norm3(f->field);
+    if (!(W > 0))
+        return 0;
+    double u = f->speed_hint + norm3(f->electric) / norm3(f->field);
+    return AUTO_C_ROTATION * (u / W) * W * W * W;
+}
+
+/* The speeds a velocity force acts on: the emission speed relative to the
+ * wind, or the terminal speed under the gravities, whichever is larger. */
+static double velocity_scale(const pfx_motion *m, const pfx_motion_force *f) {
+    double g = gravity_magnitude(m), u = f->speed_hint + norm3(f->wind);
+    double terminal = f->c > 0 ? sqrt(g / f->c) : f->k > 0 ? g / f->k : 0;
+    if (f->kind == PFX_MOTION_SPRING)
+        u = f->speed_hint + sqrt(f->k); /* a unit displacement's speed */
+    return u > terminal ? u : terminal;
+}
+
+/* ---- Resolving ---- */
+
+bool pfx_motion_force_folded(const pfx_motion_force *f) {
+    if (f->region.kind != PFX_REGION_NONE)
+        return false;
+    return f->kind == PFX_MOTION_GRAVITY || (f->kind == PFX_MOTION_DRAG && f->k > 0) ||
+           (f->kind == PFX_MOTION_SPRING && f->zeta > 0);
+}
+
+bool pfx_motion_split_kicks(const pfx_motion *m) {
+    for (size_t i = 0; i < m->force_count; i++) {
+        const pfx_motion_force *f = &m->forces[i];
+        switch (f->kind) {
+        case PFX_MOTION_GRAVITY:
+            if (!pfx_motion_force_folded(f))
+                return true;
+            break;
+        case PFX_MOTION_DRAG:
+            if (!pfx_motion_force_folded(f) || f->c > 0)
+                return true;
+            break;
+        case PFX_MOTION_MAGNETIC:
+            if (norm3(f->electric) > 0)
+                return true;
+            break;
+        case PFX_MOTION_SPRING:
+        case PFX_MOTION_ATTRACTOR:
+        case PFX_MOTION_TURBULENCE:
+            return true;
+        default:
+            break;
+        }
+    }
+    return false;
+}
+
+static int ceil_steps(double dt, double h) {
+    if (!(h > 0) || !(dt / h < PFX_MOTION_MAX_SUBSTEPS))
+        return h > 0 && dt / h < 1 ? 1 : PFX_MOTION_MAX_SUBSTEPS;
+    int n = (int)ceil(dt / h * (1 - 1e-12));
+    return n < 1 ? 1 : n;
+}
+
+/* The auto rule, per emitter, from the forces it feels:
+ *  - only gravity and unregioned linear drag (springs' damping counts):
+ *    `exact`, the closed form, 1 step at any dt;
+ *  - plus position forces (attractor, spring, turbulence, E) and/or B but
+ *    no other velocity force: the split step (exact drift, kick-drift-kick,
+ *    Boris rotation for B) - second order and symplectic - named `exact`,
+ *    or `boris` when B is present;
+ *  - any other velocity force (quadratic drag, regioned drag): `verlet`
+ *    (2nd order, 2 evaluations), or `boris` with B;
+ *  - substeps: h = dt/n with omega h <= 1 (half the leapfrog limit of 2,
+ *    so the phase error stays below 5 %), k h <= 1 for the decay rates the
+ *    scheme does not integrate exactly (no sign flips, inside every limit),
+ *    and L omega^3 h^2 / 24 <= tolerance - the position error per second of
+ *    a second-order symplectic scheme on an oscillation of size L. */
+static void choose_auto(const pfx_motion *m, double tol, pfx_motion_choice *c) {
+    bool velocity = false, rotation = false, position = false;
+    double w2 = 0, kv = 0, h = INFINITY, err = 0;
+    const char *stiff = NULL;
+    for (size_t i = 0; i < m->force_count; i++) {
+        const pfx_motion_force *f = &m->forces[i];
+        const bool unreg = f->region.kind == PFX_REGION_NONE;
+        if (f->kind == PFX_MOTION_DRAG && (f->c > 0 || (!unreg && f->k > 0)))
+            velocity = true;
+        if (f->kind == PFX_MOTION_SPRING && f->zeta > 0 && !unreg)
+            velocity = true;
+        if (f->kind == PFX_MOTION_MAGNETIC && norm3(f->field) > 0) {
+            rotation = true;
+            err += rotation_error(f);
+        }
+        if (f->kind == PFX_MOTION_ATTRACTOR || f->kind == PFX_MOTION_SPRING ||
+            f->kind == PFX_MOTION_TURBULENCE || (f->kind == PFX_MOTION_GRAVITY && !unreg) ||
+            (f->kind == PFX_MOTION_MAGNETIC && norm3(f->electric) > 0))
+            position = true;
+        double w = pfx_motion_force_omega(f);
+        if (w > 0) {
+            w2 += w * w;
+            err += oscillation_error(f);
+            if (1 / w < h)
+                h = 1 / w, stiff = f->name;
+        }
+    }
+    if (!velocity) {
+        c->scheme = PFX_SCHEME_SPLIT;
+        c->chosen = rotation ? PFX_INTEGRATOR_BORIS : PFX_INTEGRATOR_EXACT;
+    } else {
+        c->scheme = rotation ? PFX_SCHEME_SPLIT : PFX_SCHEME_VERLET;
+        c->chosen = rotation ? PFX_INTEGRATOR_BORIS : PFX_INTEGRATOR_VERLET;
+        /* What the scheme evaluates explicitly: everything for Verlet, the
+         * unfolded velocity forces for the split step. */
+        for (size_t i = 0; i < m->force_count; i++) {
+            const pfx_motion_force *f = &m->forces[i];
+            double k = pfx_motion_force_damping(m, f);
+            bool unreg = f->region.kind == PFX_REGION_NONE;
+            if (c->scheme == PFX_SCHEME_SPLIT && unreg && f->kind == PFX_MOTION_SPRING)
+                k = 0;
+            if (c->scheme == PFX_SCHEME_SPLIT && unreg && f->kind == PFX_MOTION_DRAG)
+                k -= f->k;
+            kv += k;
+            if (k > 0)
+                err += AUTO_C_VELOCITY * velocity_scale(m, f) * k * k;
+        }
+        if (c->scheme == PFX_SCHEME_VERLET && w2 > 0 && 1 / sqrt(w2) < h)
+            h = 1 / sqrt(w2), stiff = "the forces together";
+        if (kv > 0 && 1 / kv < h)
+            h = 1 / kv, stiff = "the drag";
+    }
+    /* The tolerance: err h^2 <= tol. */
+    const bool accuracy = err > 0 && sqrt(tol / err) < h;
+    if (accuracy)
+        h = sqrt(tol / err), stiff = "the tolerance";
+    c->steps = ceil_steps(c->dt, h);
+    c->error_rate = err * (c->dt / c->steps) * (c->dt / c->steps);
+    const double hh = c->dt / c->steps;
+    int len;
+    if (!position && !velocity && !rotation)
+        len = snprintf(c->why, sizeof c->why,
+                       "exact: gravity and linear drag have a closed form, exact at any dt");
+    else if (c->scheme == PFX_SCHEME_SPLIT)
+        len = snprintf(c->why, sizeof c->why, "%s: exact gravity/drag drift%s%s",
+                       pfx_integrator_name(c->chosen),
+                       rotation ? ", Boris rotation keeps |v| in B" : "",
+                       position || velocity ? ", kick-drift-kick for the rest (2nd order)" : "");
+    else
+        len = snprintf(c->why, sizeof c->why,
+                       "verlet: a velocity-dependent force needs it (2nd order, 2 evaluations)");
+    if (len > 0 && (size_t)len < sizeof c->why && (c->steps > 1 || err > 0))
+        snprintf(c->why + len, sizeof c->why - len,
+                 "; %d substep%s (set by %s%s): omega*h = %.3g, k*h = %.3g, expected error "
+                 "%.2g m/s",
+                 c->steps, c->steps == 1 ? "" : "s", stiff ? stiff : "-",
+                 c->steps == PFX_MOTION_MAX_SUBSTEPS ? ", capped" : "", sqrt(w2) * hh, kv * hh,
+                 c->error_rate);
+}
+
+void pfx_motion_choose(pfx_motion *m, double dt) {
+    const double tol = m->tolerance > 0 ? m->tolerance : 1e-3;
+    pfx_motion_choice *c = &m->choice;
+    memset(c, 0, sizeof *c);
+    c->dt = dt;
+    if (m->integrator == PFX_INTEGRATOR_AUTO) {
+        choose_auto(m, tol, c);
+        if (m->substeps > 0)
+            c->steps = m->substeps;
+    } else {
+        c->chosen = m->integrator;
+        c->scheme = pfx_integrator_scheme(m->integrator);
+        c->steps = m->substeps > 0 ? m->substeps : 1;
+        snprintf(c->why, sizeof c->why, "%s as requested, %d substep%s",
+                 pfx_integrator_name(c->chosen), c->steps, c->steps == 1 ? "" : "s");
+    }
+}
+
+int pfx_motion_substeps_for(const pfx_motion_choice *c, double span) {
+    const int steps = c->steps > 0 ? c->steps : 1;
+    /* The full step (up to the last bits of t1 - t0) keeps its count. */
+    if (fabs(span - c->dt) <= 1e-9 * c->dt)
+        return steps;
+    double n = ceil(span * steps / c->dt * (1 - 1e-12));
+    return n < 1 ? 1 : n > 1e6 ? 1000000 : (int)n;
+}
+
+int pfx_motion_evals_per_step(const pfx_motion *m) {
+    const pfx_motion_choice *c = &m->choice;
+    int per = 1;
+    switch (c->scheme) {
+    case PFX_SCHEME_EULER:
+    case PFX_SCHEME_SYMPLECTIC:
+        per = 1;
+        break;
+    case PFX_SCHEME_MIDPOINT:
+    case PFX_SCHEME_VERLET:
+        per = 2;
+        break;
+    case PFX_SCHEME_RK4:
+        per = 4;
+        break;
+    case PFX_SCHEME_SPLIT:
+        per = pfx_motion_split_kicks(m) ? 2 : 1; /* 1: the closed-form update itself */
+        break;
+    }
+    return per * (c->steps > 0 ? c->steps : 1);
+}
