@@ -436,7 +436,7 @@ static int cmd_info(int argc, char **argv, const options *o) {
         printf("    %s: %s shape, %s rate up to %g particles/s%s%s, lifetime up to %g s, %s "
                "blend\n",
                em->name, pfx_kind_name(pfx_shape_names, (int)em->shape.type),
-               pfx_kind_name(pfx_rate_kind_names, (int)em->rate_kind), pfx_schedule_max_rate(em),
+               pfx_kind_name(pfx_rate_kind_names, (int)em->rate_kind), pfx_emitter_max_rate(em),
                em->burst_count ? " plus bursts" : "",
                em->spawned_peak > 0 ? " plus sub-emitters" : "", em->max_lifetime,
                em->blend == PFX_BLEND_ADD ? "additive" : "alpha");

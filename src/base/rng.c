@@ -3,13 +3,10 @@
  * splitmix64 mixer so similar names give unrelated streams. */
 #include "base/rng.h"
 
+#include "base/hash.h"
+
 uint64_t pfx_rng_stream_for(const char *name) {
-    uint64_t h = 1469598103934665603ULL;
-    for (const unsigned char *p = (const unsigned char *)name; *p; p++) {
-        h ^= *p;
-        h *= 1099511628211ULL;
-    }
-    return pfx_mix64(h);
+    return pfx_mix64(pfx_fnv1a_str(PFX_FNV_OFFSET, name));
 }
 
 void pfx_rng_advance(pfx_rng *r, uint64_t delta) {

@@ -18,8 +18,6 @@
 #include "compile/compile_shape.h"
 #include "compile/compile_spawn.h"
 #include "compile/read.h"
-#include "sim/birth.h"
-#include "sim/schedule.h"
 
 /* Bounds that keep any file's cost finite; each is documented in
  * man/pfx-effect.5. */
@@ -51,19 +49,6 @@ typedef struct compiler {
     pfx_effect *e;
     const pfx_compile_options *opt;
 } compiler;
-
-double pfx_value_max(const pfx_value *v) {
-    return v->dist == PFX_DIST_CONST ? v->a : v->dist == PFX_DIST_UNIFORM ? v->b : v->hi;
-}
-
-double pfx_value_min(const pfx_value *v) {
-    return v->dist == PFX_DIST_CONST ? v->a : v->dist == PFX_DIST_UNIFORM ? v->a : v->lo;
-}
-
-long pfx_effect_frame_count(const pfx_effect *e) {
-    long n = lround(e->duration * e->fps);
-    return n < 1 ? 1 : n;
-}
 
 /* Reads an optional number into *out (keeping the default when absent) and
  * checks it against [lo, hi] (strict bounds where asked). */
@@ -657,7 +642,7 @@ static void compile_loop(compiler *c, const pfx_node *root, const pfx_node *loop
 
 /* Its own births' peak plus what sub-emitters can feed it within one
  * lifetime. */
-static double pool_need(const pfx_emitter *em) { return pfx_schedule_peak(em) + em->spawned_peak; }
+static double pool_need(const pfx_emitter *em) { return pfx_emitter_peak(em) + em->spawned_peak; }
 
 /* Sizes each emitter's pool from its worst case (rate x max lifetime, plus
  * bursts and sub-emitters). When the total exceeds the particle budget, the
@@ -702,7 +687,7 @@ static void size_pools(compiler *c, const pfx_node *emitters) {
                              "lifetime %g s, plus bursts and sub-emitters) but gets %.0f of the "
                              "%.0f budget; it will saturate (raise --max-particles or lower "
                              "'rate' or 'lifetime')",
-                             em->name, need[i], pfx_schedule_max_rate(em) + em->spawned_rate,
+                             em->name, need[i], pfx_emitter_max_rate(em) + em->spawned_rate,
                              em->max_lifetime, cap[i], budget);
         }
         em->capacity = (uint32_t)(cap[i] < 1 ? 1 : cap[i]);

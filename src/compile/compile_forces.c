@@ -3,6 +3,8 @@
  * decide which emitter feels what or which integrator runs; compile.c does. */
 #include "compile/compile_forces.h"
 
+#include "base/hash.h"
+
 #include <math.h>
 #include <string.h>
 
@@ -253,10 +255,7 @@ bool pfx_compile_force(pfx_reader *r, const pfx_node *key, const pfx_node *f, ui
         number_in(r, f, "speed", &m->speed, -1e6, 1e6);
         /* The noise is seeded by the effect's seed and the force's name, so
          * --seed changes it and renaming another force does not. */
-        uint64_t h = seed ^ 0x9e3779b97f4a7c15ULL;
-        for (const char *p = out->name; *p; p++)
-            h = (h ^ (unsigned char)*p) * 1099511628211ULL;
-        m->seed = h;
+        m->seed = pfx_fnv1a_str(seed ^ 0x9e3779b97f4a7c15ULL, out->name);
         break;
     }
     case PFX_MOTION_SPEED_LIMIT:

@@ -3,7 +3,7 @@
 #define PFX_COMPILE_KILL_H
 
 #include "compile/read.h"
-#include "sim/kill.h"
+#include "model/kill_rules.h"
 
 /* Reads `kill:` node kill_node and `bounds:` node bounds_node (either may be
  * NULL: absent) into out, which it overwrites. Reports every problem at its

@@ -8,7 +8,6 @@
 #include <math.h>
 #include <string.h>
 
-#include "sim/schedule.h"
 
 #define MAX_SPAWNS 16
 #define MAX_DEPTH 16
@@ -223,8 +222,8 @@ bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) 
     double rate[1024], peak[1024], next_rate[1024], next_peak[1024], total_rate[1024],
         total_peak[1024];
     for (size_t i = 0; i < n; i++) {
-        rate[i] = pfx_schedule_max_rate(&e->emitters[i]);
-        peak[i] = pfx_schedule_peak(&e->emitters[i]);
+        rate[i] = pfx_emitter_max_rate(&e->emitters[i]);
+        peak[i] = pfx_emitter_peak(&e->emitters[i]);
         total_rate[i] = total_peak[i] = 0;
     }
     for (size_t g = 0; g < n + MAX_DEPTH; g++) {

@@ -285,4 +285,32 @@ double pfx_value_min(const pfx_value *v);
 /* Frames in the whole effect: round(duration * fps), at least 1. */
 long pfx_effect_frame_count(const pfx_effect *e);
 
+/* ---- Emission bounds (model/emission.c) ---- */
+
+/* Births per second the emitter can reach at most (for pool sizing). */
+double pfx_emitter_max_rate(const pfx_emitter *em);
+
+/* The most particles the emitter can have alive at once (pool size before
+ * the budget): continuous births within one maximum lifetime plus every
+ * burst that can overlap them. */
+double pfx_emitter_peak(const pfx_emitter *em);
+
+/* The expected number of continuous births in emitter time [0, tau] of one
+ * period: the integral of the rate (not for INTERVAL or RANDOM). */
+double pfx_emitter_births_by(const pfx_emitter *em, double tau);
+
+/* ---- Emitter placement (model/pose.c) ---- */
+
+/* The emitter's placement at effect time t: position, rotation matrix and
+ * the velocity of its keyframed motion. */
+typedef struct emitter_pose {
+    double position[3], rotation[9], velocity[3];
+} emitter_pose;
+
+/* Rotation degrees (x, y, z) -> row-major R = Rz * Ry * Rx: a point is
+ * turned about X first, then Y, then Z, all about the fixed world axes. */
+void pfx_rotation_from_degrees(const double deg[3], double m[9]);
+
+void pfx_emitter_pose_at(const pfx_emitter *em, double t, emitter_pose *p);
+
 #endif

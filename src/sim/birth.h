@@ -38,18 +38,6 @@ static inline bool pfx_needs_birth(const pfx_emitter *em) {
     return (pfx_motion_columns_of(em) & PFX_COLUMN_BIRTH) != 0;
 }
 
-/* The emitter's placement at effect time t: position, rotation matrix and
- * the velocity of its keyframed motion. */
-typedef struct emitter_pose {
-    double position[3], rotation[9], velocity[3];
-} emitter_pose;
-
-/* Rotation degrees (x, y, z) -> row-major R = Rz * Ry * Rx: a point is
- * turned about X first, then Y, then Z, all about the fixed world axes. */
-void pfx_rotation_from_degrees(const double deg[3], double m[9]);
-
-void pfx_emitter_pose_at(const pfx_emitter *em, double t, emitter_pose *p);
-
 /* What one birth draws (see pfx_birth_draw). */
 typedef struct birth_draws {
     double pos[3], vel[3];

@@ -46,16 +46,4 @@ uint64_t pfx_schedule_drop_until(pfx_schedule *s, const pfx_emitter *em, double 
  * how many were skipped. Births it cannot skip are left to peek and pop. */
 uint64_t pfx_schedule_skip_before(pfx_schedule *s, const pfx_emitter *em, double t);
 
-/* Births per second the emitter can reach at most (for pool sizing). */
-double pfx_schedule_max_rate(const pfx_emitter *em);
-
-/* The most particles the emitter can have alive at once (pool size before
- * the budget): continuous births within one maximum lifetime plus every
- * burst that can overlap them. */
-double pfx_schedule_peak(const pfx_emitter *em);
-
-/* The expected number of continuous births in emitter time [0, tau] of one
- * period: the integral of the rate (not for INTERVAL or RANDOM). */
-double pfx_schedule_integral(const pfx_emitter *em, double tau);
-
 #endif

@@ -11,42 +11,25 @@
 #include "base/rng.h"
 #include "model/effect.h"
 #include "sim/collide.h"
+#include "sim/columns.h"
 #include "sim/motion.h"
 #include "sim/schedule.h"
 
-/* Live particles of one emitter, dense: indices [0, count). Columns that the
- * emitter does not use are NULL (gravity_scale when constant; size0/size1
- * when the size is constant). Bytes per particle: 40 for the fixed columns
- * (position, velocity, lifetime, id; the birth time is 8 bytes) plus 4 per
- * optional column; an emitter keeps only the columns its attributes and
- * forces need. */
+/* Live particles of one emitter, dense: indices [0, count), one array per
+ * column of sim/columns.h. Columns the emitter does not keep are NULL
+ * (gravity_scale when constant, size0/size1 when the size is constant...),
+ * so an emitter pays only for its attributes and forces: 40 bytes per
+ * particle for the fixed columns (birth time 8, position, velocity,
+ * lifetime, id) plus each optional column. */
 typedef struct pfx_pool {
     uint32_t count, capacity;
     uint32_t newborn;  /* first index born in the step being taken */
     double time;       /* the time the state is at: a particle's age is time - birth */
     bool may_run_away; /* gravity-only: some particle's bound at birth reaches the
                           state check's limits, so the kernel checks each step */
-    float *px, *py, *pz;
-    float *vx, *vy, *vz;
-    double *birth;   /* seconds: the birth time, not an age summed step by step,
-                        so an age is exact (one subtraction, never a drifting
-                        sum) and the same at both ends of a step, and stepping
-                        writes nothing here */
-    float *lifetime; /* seconds; PFX_KILLED marks a particle killed in this
-                        step (a kill rule or deflector) */
-    uint32_t *id;    /* birth index within the emitter, from 0 */
-    float *gravity_scale;
-    float *size0, *size1;
-    float *charge, *mass; /* random charge / mass under a magnetic force */
-    float *bx, *by, *bz;  /* birth position, for springs anchored there */
-    float *tint;          /* random colour mix or gradient point (colour fixed at birth) */
-    float *generation;    /* sub-emitter generation, in cycles bounded by `depth` */
-    float *pr, *pg, *pb;  /* colour inherited from a parent (multiplies its own) */
-    float *size_scale;    /* size inherited from a parent (multiplies its own) */
-    float *angle0, *spin; /* random sprite angle at birth (deg) and spin (deg/s) */
-    uint8_t *stuck;       /* 1 once stuck to a deflector (only with a `stick` one) */
-    float *start[6];      /* scratch: x, y, z, vx, vy, vz at the start of the step,
-                             for the collision pass (only with deflectors) */
+#define PFX_POOL_FIELD(name, type, role, needed, what) type *name;
+    PFX_POOL_COLUMNS(PFX_POOL_FIELD)
+#undef PFX_POOL_FIELD
 } pfx_pool;
 
 typedef struct pfx_emitter_state {

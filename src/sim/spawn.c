@@ -1,27 +1,15 @@
 /* Sub-emitter events. Events are queued during a step (births, deaths at
  * their exact time and back-extrapolated place, deflector hits with the
  * surface normal, trail births along the path) and turned into particles
- * after every emitter has moved, so the result does not depend on the order
- * of emitters in the file. Queues are allocated once; an event past a full
- * queue is counted as dropped by its target, never silently lost. */
+ * after every emitter has moved (newborn.c), so the result does not depend
+ * on the order of emitters in the file. Queues are allocated once; an event
+ * past a full queue is counted as dropped by its target, never silently
+ * lost. */
 #include "sim/spawn.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include "sim/sample.h"
-
-typedef struct spawn_record {
-    pfx_parent parent;
-    double t;
-    const pfx_spawn *spawn;
-} spawn_record;
-
-typedef struct pfx_spawn_queue {
-    spawn_record *items;
-    uint32_t count, cap;
-} pfx_spawn_queue;
 
 bool pfx_spawn_has(const pfx_emitter *em, pfx_spawn_event event) {
     for (size_t k = 0; k < em->spawn_count; k++)
@@ -158,52 +146,5 @@ void pfx_spawn_trails(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t
                     r->parent.size = pfx_particle_size(em, p, j);
             }
         }
-    }
-}
-
-void pfx_spawn_process(pfx_sim *s, double t1) {
-    const pfx_effect *e = s->effect;
-    if (!s->queues)
-        return;
-    /* Births may queue further events (on_birth, cycles bounded by depth):
-     * repeat until every queue is empty; each pass consumes what was queued. */
-    for (int pass = 0; pass < 64; pass++) {
-        bool any = false;
-        for (size_t i = 0; i < e->emitter_count; i++) {
-            pfx_spawn_queue *q = &s->queues[i];
-            if (!q->count)
-                continue;
-            any = true;
-            /* Take the queued records; events the births queue for this same
-             * emitter land in the queue again for the next pass. */
-            uint32_t n = q->count;
-            for (uint32_t k = 0; k < n; k++) {
-                spawn_record r = q->items[k];
-                pfx_emitter_state *st = &s->emitters[i];
-                /* Two draws per event (count, probability) from the target's
-                 * spawn stream, whatever their values. */
-                double count = pfx_sample_value(&r.spawn->count, &st->spawn_rng);
-                double u = pfx_rng_unit(&st->spawn_rng);
-                if (u >= r.spawn->probability)
-                    continue;
-                uint64_t births = (uint64_t)floor(count);
-                const pfx_pool *p = &s->pools[i];
-                for (uint64_t c = 0; c < births; c++) {
-                    if (p->count == p->capacity) {
-                        /* None of the rest can be kept: dropped at once. */
-                        uint64_t rest = births - c;
-                        st->dropped += rest;
-                        st->born += rest;
-                        pfx_rng_advance(&st->rng, rest * st->draws_per_birth);
-                        break;
-                    }
-                    pfx_sim_make_particle(s, i, r.t, t1, &r.parent);
-                }
-            }
-            memmove(q->items, q->items + n, (q->count - n) * sizeof *q->items);
-            q->count -= n;
-        }
-        if (!any)
-            return;
     }
 }

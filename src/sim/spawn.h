@@ -15,6 +15,20 @@ typedef struct pfx_parent {
     float generation;
 } pfx_parent;
 
+/* One queued event: what the child takes from its parent, when, and which
+ * sub-emitter entry made it. */
+typedef struct spawn_record {
+    pfx_parent parent;
+    double t;
+    const pfx_spawn *spawn;
+} spawn_record;
+
+/* A target emitter's events of the step, in the order they were queued. */
+typedef struct pfx_spawn_queue {
+    spawn_record *items;
+    uint32_t count, cap;
+} pfx_spawn_queue;
+
 /* Creates one particle of emitter i born at tb (<= t1) and advanced to t1:
  * the draws, the partial step, the deflector sweep, and its own on_birth
  * events. `parent` is NULL for scheduled births. False when it is not
@@ -30,10 +44,6 @@ void pfx_spawn_event_of(pfx_sim *s, size_t i, pfx_spawn_event event, uint32_t j,
  * the step from t0 (or their birth, if later) to t1, whose end state they
  * hold: one per trail time, whatever the step rate. */
 void pfx_spawn_trails(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double t1);
-
-/* Makes every queued particle (and those their births queue in turn) for
- * the step ending at t1. */
-void pfx_spawn_process(pfx_sim *s, double t1);
 
 /* Allocates the event queues (at pfx_sim_create); false when out of memory. */
 bool pfx_spawn_queues_create(pfx_sim *s);

@@ -1,0 +1,49 @@
+/* The one list of particle columns. Each row is X(name, C type, role,
+ * needed, what): the pool struct's field, its element type, whether it is
+ * STATE (copied by views, moved by swap-remove, hashed) or SCRATCH (the
+ * step's own working space), the condition under which emitter `em` keeps
+ * it, and what it holds. Layout, allocation, swap-remove, copies, views,
+ * offsets and the state hash all expand from this list (sim/pool.c); a new
+ * particle attribute is one row here, where it is written at birth, and
+ * where it is read. The order is the hash's order. */
+#ifndef PFX_SIM_COLUMNS_H
+#define PFX_SIM_COLUMNS_H
+
+#include "sim/birth.h"
+
+#define PFX_POOL_COLUMNS(X)                                                                        \
+    X(birth, double, STATE, true, "birth time, s: ages are one subtraction")                       \
+    X(px, float, STATE, true, "position, m")                                                       \
+    X(py, float, STATE, true, "")                                                                  \
+    X(pz, float, STATE, true, "")                                                                  \
+    X(vx, float, STATE, true, "velocity, m/s")                                                     \
+    X(vy, float, STATE, true, "")                                                                  \
+    X(vz, float, STATE, true, "")                                                                  \
+    X(lifetime, float, STATE, true, "s; PFX_KILLED once a rule or deflector kills it")             \
+    X(id, uint32_t, STATE, true, "birth index within the emitter, from 0")                         \
+    X(gravity_scale, float, STATE, pfx_needs_gravity_scale(em), "random gravity multiplier")       \
+    X(size0, float, STATE, pfx_needs_size0(em), "random size at birth, m")                         \
+    X(size1, float, STATE, pfx_needs_size1(em), "random size at death, m")                         \
+    X(charge, float, STATE, pfx_needs_charge(em), "random charge under a magnetic force, C")       \
+    X(mass, float, STATE, pfx_needs_mass(em), "random mass under a magnetic force, kg")            \
+    X(bx, float, STATE, pfx_needs_birth(em), "birth position, for springs anchored there")         \
+    X(by, float, STATE, pfx_needs_birth(em), "")                                                   \
+    X(bz, float, STATE, pfx_needs_birth(em), "")                                                   \
+    X(tint, float, STATE, pfx_needs_tint(em), "random colour mix or gradient point")               \
+    X(generation, float, STATE, em->keeps_generation, "sub-emitter generation (bounded cycles)")   \
+    X(pr, float, STATE, em->keeps_parent_color, "colour inherited from a parent")                  \
+    X(pg, float, STATE, em->keeps_parent_color, "")                                                \
+    X(pb, float, STATE, em->keeps_parent_color, "")                                                \
+    X(size_scale, float, STATE, em->keeps_size_scale, "size inherited from a parent")              \
+    X(angle0, float, STATE, pfx_needs_angle(em), "random sprite angle at birth, rad")              \
+    X(spin, float, STATE, pfx_needs_spin(em), "random spin, rad/s")                                \
+    X(stuck, uint8_t, STATE, em->sticks, "1 once stuck to a deflector")                            \
+    X(start_px, float, SCRATCH, em->deflector_count > 0,                                           \
+      "start-of-step state the collision pass sweeps from")                                        \
+    X(start_py, float, SCRATCH, em->deflector_count > 0, "")                                       \
+    X(start_pz, float, SCRATCH, em->deflector_count > 0, "")                                       \
+    X(start_vx, float, SCRATCH, em->deflector_count > 0, "")                                       \
+    X(start_vy, float, SCRATCH, em->deflector_count > 0, "")                                       \
+    X(start_vz, float, SCRATCH, em->deflector_count > 0, "")
+
+#endif
