@@ -2,7 +2,7 @@
  * over its normalised age, from the emitter's tables and its own columns.
  * The one place appearance is computed: sprites, bakes and the colour and
  * size sub-emitters inherit all read it. */
-#include "sim/sim.h"
+#include "sim/appearance.h"
 
 #include <math.h>
 #include <string.h>

@@ -8,7 +8,7 @@
 #include <math.h>
 #include <stdint.h>
 
-#include "sim/sim.h"
+#include "sim/state.h"
 
 static_assert(PFX_KILL_ALPHA_LUT == PFX_GRADIENT_LUT, "alpha table indexed like the colour LUT");
 

@@ -4,7 +4,7 @@
 #ifndef PFX_SIM_POOL_H
 #define PFX_SIM_POOL_H
 
-#include "sim/sim.h"
+#include "sim/state.h"
 
 /* Bytes one particle of em takes: the columns it keeps, state and scratch. */
 size_t pfx_pool_bytes_per_particle(const pfx_emitter *em);

@@ -4,7 +4,8 @@
 #ifndef PFX_SPAWN_H
 #define PFX_SPAWN_H
 
-#include "sim/sim.h"
+#include "sim/appearance.h"
+#include "sim/state.h"
 
 /* What a spawned birth takes from its parent. */
 typedef struct pfx_parent {

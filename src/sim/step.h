@@ -3,7 +3,7 @@
 #ifndef PFX_SIM_STEP_H
 #define PFX_SIM_STEP_H
 
-#include "sim/sim.h"
+#include "sim/state.h"
 
 /* Exact constant-acceleration motion over dt for every live particle of a
  * gravity-only emitter; returns whether the fused state check saw

@@ -1,0 +1,68 @@
+/* The simulation's state: the particle pools, each emitter's streams and
+ * schedule, and the simulation that holds them. Plain data; sim.c drives
+ * it, the passes (step.c, newborn.c, spawn.c) work on it. */
+#ifndef PFX_SIM_STATE_H
+#define PFX_SIM_STATE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "base/rng.h"
+#include "model/effect.h"
+#include "sim/collide.h"
+#include "sim/columns.h"
+#include "sim/motion.h"
+#include "sim/schedule.h"
+
+/* Live particles of one emitter, dense: indices [0, count), one array per
+ * column of sim/columns.h. Columns the emitter does not keep are NULL
+ * (gravity_scale when constant, size0/size1 when the size is constant...),
+ * so an emitter pays only for its attributes and forces: 40 bytes per
+ * particle for the fixed columns (birth time 8, position, velocity,
+ * lifetime, id) plus each optional column. */
+typedef struct pfx_pool {
+    uint32_t count, capacity;
+    uint32_t newborn;  /* first index born in the step being taken */
+    double time;       /* the time the state is at: a particle's age is time - birth */
+    bool may_run_away; /* gravity-only: some particle's bound at birth reaches the
+                          state check's limits, so the kernel checks each step */
+#define PFX_POOL_FIELD(name, type, role, needed, what) type *name;
+    PFX_POOL_COLUMNS(PFX_POOL_FIELD)
+#undef PFX_POOL_FIELD
+} pfx_pool;
+
+typedef struct pfx_emitter_state {
+    pfx_rng rng;              /* the particles' attributes */
+    pfx_rng rng_base;         /* rng at time 0: a looping effect restarts it every period */
+    uint64_t rng_period;      /* the schedule period rng was last restarted for */
+    pfx_schedule sched;       /* when they are born */
+    uint64_t born;            /* births so far (each drawn, alive or not) */
+    uint64_t dropped;         /* births lost to a full pool */
+    uint64_t draws_per_birth; /* generator outputs one birth takes (fixed) */
+    pfx_rng collide_rng;      /* random resilience and friction per impact */
+    pfx_rng spawn_rng;        /* sub-emitter counts and probabilities it receives */
+    pfx_collide_stats collisions;
+} pfx_emitter_state;
+
+typedef struct pfx_sim {
+    const pfx_effect *effect;
+    double dt;
+    uint64_t step; /* steps taken; the simulation time is step * dt */
+    double time;   /* time of the state (after a partial step on a snapshot) */
+    pfx_pool *pools;
+    pfx_emitter_state *emitters;
+    void *storage; /* one allocation behind every pool */
+    size_t bytes;
+    struct pfx_spawn_queue *queues; /* per emitter: sub-emitter events of the step */
+    pfx_motion_plan *plans;         /* per emitter with a motion model: what its kernels run */
+    struct pfx_sim *loop_start;     /* a looping effect's state at frame 0, to wrap to */
+    bool failed;                    /* a state went non-finite or exploded: stop */
+    char error[768];                /* what, where, when and the likely cause */
+} pfx_sim;
+
+/* Particle i's age at the pool's time, seconds. */
+static inline double pfx_particle_age(const pfx_pool *p, uint32_t i) {
+    return p->time - p->birth[i];
+}
+
+#endif
