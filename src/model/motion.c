@@ -53,12 +53,6 @@ unsigned pfx_motion_columns(const pfx_motion *m) {
     return c;
 }
 
-double pfx_vortex_falloff(double r, double d) {
-    if (!(r >= 0 && r <= 1))
-        return 0;
-    double r2 = r * r;
-    return (r2 * r2 - 2 * r2 + 1) / (1 + d * r2);
-}
 
 /* ---- Representative rates, shared with stability.c ---- */
 

@@ -177,8 +177,13 @@ bool pfx_integrator_parse(const char *s, pfx_integrator *out);
 pfx_scheme pfx_integrator_scheme(pfx_integrator i);
 
 /* The Sims vortex falloff at normalised radius r: (r^4 - 2r^2 + 1)/(1 + d r^2)
- * for 0 <= r <= 1, else 0. */
-double pfx_vortex_falloff(double r, double d);
+ * for 0 <= r <= 1, else 0. Inline: the vortex kernel calls it per particle. */
+static inline double pfx_vortex_falloff(double r, double d) {
+    if (!(r >= 0 && r <= 1))
+        return 0;
+    double r2 = r * r;
+    return (r2 * r2 - 2 * r2 + 1) / (1 + d * r2);
+}
 
 /* ---- Stability (model/stability.c) ---- */
 

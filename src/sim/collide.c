@@ -746,13 +746,6 @@ bool pfx_deflector_affects(const pfx_deflector *d, uint32_t id) {
     return (double)(h >> 11) * (1.0 / 9007199254740992.0) < d->chance;
 }
 
-double pfx_deflector_distance(const pfx_deflector *d, const double x[3]) {
-    prep p;
-    double n[3];
-    prepare(d, &p);
-    return constraint(&p, 1, x, n);
-}
-
 /* The side of deflector k a particle starts the step on (see body). */
 static int8_t start_side(const prep *p, const body *b) {
     double n[3], g = constraint(p, 1, b->x, n);

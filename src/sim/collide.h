@@ -73,9 +73,4 @@ void pfx_collide(const pfx_deflector *defl, size_t n_defl, double dt, const pfx_
  * or always passes, the same deflector. */
 bool pfx_deflector_affects(const pfx_deflector *d, uint32_t id);
 
-/* Signed distance from x to the deflector's surface, positive on the
- * particles' side (for thin shapes: distance to the plane, positive in front
- * of the normal). For tests and diagnostics. */
-double pfx_deflector_distance(const pfx_deflector *d, const double x[3]);
-
 #endif

@@ -443,7 +443,7 @@ static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, 
                 double rp = sqrt(qx * qx + qy * qy + qz * qz), rn = rp * inv_rad;
                 if (!(rn < 1))
                     continue;
-                double r2 = rn * rn, fr = (r2 * r2 - 2 * r2 + 1) / (1 + d * r2);
+                double fr = pfx_vortex_falloff(rn, d);
                 double th = F->strength * fr * (double)w[j] * h, c = cos(th), s = sin(th);
                 double cx = uy * qz - uz * qy, cy = uz * qx - ux * qz, cz = ux * qy - uy * qx;
                 double nx = qx * c + cx * s, ny = qy * c + cy * s, nz = qz * c + cz * s;
