@@ -2,7 +2,7 @@
  * (sqrt for areas in r, cbrt for volumes, tables for an ellipse's rim and a
  * mesh's triangles), never rejection, so every call takes a fixed number of
  * draws; cos(theta) uniform for caps.
- * The biased textbook variants (REFERENCE.md section 3) are not here; the
+ * The biased textbook variants (docs/physics.md, Uniform sampling) are not here; the
  * tests carry them to show the uniformity tests can fail. */
 #include "sim/sample.h"
 

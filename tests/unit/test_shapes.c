@@ -692,7 +692,7 @@ static void test_mesh_surface(void) {
     compiled_free(&cc);
 }
 
-/* The uniform-angle cone of directions (REFERENCE.md section 3) fails the
+/* The uniform-angle cone of directions (docs/physics.md, Uniform sampling) fails the
  * cap test that the shipped sampler passes: (1 - cos theta) / (1 - cos
  * spread) quantiles (8) x azimuth (16) about +Y. */
 static double cap_cos_max;

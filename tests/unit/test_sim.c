@@ -1,5 +1,5 @@
 /* The fixed-step simulation against exact answers: constant-gravity motion
- * against x0 + v0 t + g t^2/2, the REFERENCE.md section 2 emission timeline
+ * against x0 + v0 t + g t^2/2, the emission timeline of docs/physics.md
  * at several step rates, birth counts against floor(T * rate), swap-remove
  * keeping the pool dense and consistent, pool sizing and saturation,
  * emitter independence, and the pinned state hash. Effects are written
@@ -116,7 +116,7 @@ static void exact_gravity(double gravity_scale) {
 static void test_exact_gravity(void) { exact_gravity(1.0); }
 static void test_exact_gravity_scaled(void) { exact_gravity(-0.5); }
 
-/* ---- The REFERENCE.md section 2 timeline ---- */
+/* ---- The emission timeline (docs/physics.md) ---- */
 
 /* 5 particles/s (one every 200 ms, the first at 200 ms), lifetime 300 ms,
  * launched up at 2 m/s under gravity. At 300 ms exactly one particle exists:
