@@ -201,10 +201,10 @@ static int cmd_validate(int argc, char **argv, const options *o) {
 }
 
 /* mkdir -p */
-static bool make_dirs(const char *path, char *err, size_t err_size) {
+static bool make_dirs(const char *path, pfx_diags *d) {
     char buf[4096];
     if (strlen(path) >= sizeof buf) {
-        snprintf(err, err_size, "output path is too long");
+        pfx_diag_error(d, "output path is too long");
         return false;
     }
     strcpy(buf, path);
@@ -214,11 +214,11 @@ static bool make_dirs(const char *path, char *err, size_t err_size) {
             *p = 0;
             struct stat st;
             if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
-                snprintf(err, err_size, "cannot create '%s': %s", buf, strerror(errno));
+                pfx_diag_error(d, "cannot create '%s': %s", buf, strerror(errno));
                 return false;
             }
             if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode)) {
-                snprintf(err, err_size, "cannot create '%s': Not a directory", buf);
+                pfx_diag_error(d, "cannot create '%s': Not a directory", buf);
                 return false;
             }
             *p = saved;
@@ -264,14 +264,6 @@ static void report_dropped(const pfx_sim *s, const options *o) {
                     s->effect->emitters[i].capacity);
 }
 
-/* A simulation that went non-finite stops the command with its message. */
-static bool sim_failed(const pfx_sim *sim, const pfx_sim *view, char *err, size_t size) {
-    const pfx_sim *bad = sim->failed ? sim : view->failed ? view : NULL;
-    if (bad)
-        snprintf(err, size, "%.200s: %.760s", sim->effect->path, bad->error);
-    return bad != NULL;
-}
-
 static int cmd_render(int argc, char **argv, const options *o) {
     if (optind != argc - 1)
         return usage_error("%s", "render takes one FILE and -o DIR");
@@ -281,6 +273,8 @@ static int cmd_render(int argc, char **argv, const options *o) {
     pfx_loaded l;
     pfx_effect *e = load(&l, path, o);
     int status = EXIT_INVALID;
+    pfx_diags run;
+    pfx_diags_init_runtime(&run);
     pfx_sim *sim = NULL, *view = NULL;
     pfx_renderer *r = NULL;
     pfx_png_queue *q = NULL;
@@ -293,35 +287,39 @@ static int cmd_render(int argc, char **argv, const options *o) {
         status = EXIT_USAGE;
         goto done;
     }
-    if (!make_dirs(o->output, err, sizeof err))
-        goto fail;
-    sim = pfx_sim_create(e);
-    view = pfx_sim_create(e);
+    if (!make_dirs(o->output, &run))
+        goto done;
+    sim = pfx_sim_create(e, &run);
+    view = pfx_sim_create(e, &run);
     sprites = malloc((pfx_sprites_capacity(e) + 1) * sizeof *sprites);
     if (!sim || !view || !sprites) {
-        snprintf(err, sizeof err, "out of memory for %zu particles", pfx_sprites_capacity(e));
-        goto fail;
+        pfx_diag_error(&run, "out of memory for %zu particles", pfx_sprites_capacity(e));
+        goto done;
     }
     r = pfx_renderer_create(e->width, e->height, err, sizeof err);
-    if (!r)
-        goto fail;
+    if (!r) {
+        pfx_diag_error(&run, "%s", err);
+        goto done;
+    }
     q = pfx_png_queue_create(e->width, e->height);
     if (!q) {
-        snprintf(err, sizeof err, "cannot start the PNG writer");
-        goto fail;
+        pfx_diag_error(&run, "cannot start the PNG writer");
+        goto done;
     }
     file_stem(path, stem, sizeof stem);
     const bool sort = pfx_sprites_need_sort(e);
     const bool progress = !o->quiet && isatty(2);
     for (long f = first; f <= last; f++) {
         const pfx_sim *state = pfx_sim_frame(sim, view, f);
-        if (sim_failed(sim, view, err, sizeof err))
-            goto fail;
+        if (sim->failed || view->failed)
+            goto done;
         size_t n = pfx_sprites_build(state, sprites);
         uint8_t *pixels = pfx_png_queue_buffer(q);
         if (!pfx_renderer_draw(r, &e->camera, e->background, sprites, n, sort, pixels, err,
-                               sizeof err))
-            goto fail;
+                               sizeof err)) {
+            pfx_diag_error(&run, "%s", err);
+            goto done;
+        }
         snprintf(name, sizeof name, "%s/%s_%04ld.png", o->output, stem, f);
         pfx_png_queue_submit(q, name);
         if (pfx_png_queue_failed(q))
@@ -331,18 +329,17 @@ static int cmd_render(int argc, char **argv, const options *o) {
     }
     if (progress)
         fputc('\n', stderr);
-    bool ok = pfx_png_queue_finish(q, err, sizeof err);
+    bool ok = pfx_png_queue_finish(q, &run);
     q = NULL;
     if (!ok)
-        goto fail;
+        goto done;
     report_dropped(sim, o);
     status = 0;
-    goto done;
-fail:
-    fprintf(stderr, "pfx: %s\n", err);
 done:
     if (q)
-        pfx_png_queue_finish(q, err, sizeof err);
+        pfx_png_queue_finish(q, NULL);
+    pfx_diags_print(&run, stderr, false);
+    pfx_diags_free(&run);
     pfx_renderer_destroy(r);
     free(sprites);
     pfx_sim_destroy(view);
@@ -359,7 +356,8 @@ static int cmd_bake(int argc, char **argv, const options *o) {
     pfx_loaded l;
     pfx_effect *e = load(&l, argv[optind], o);
     int status = EXIT_INVALID;
-    char err[1024] = "";
+    pfx_diags run;
+    pfx_diags_init_runtime(&run);
     long first, last;
     pfx_sim *sim = NULL, *view = NULL;
     pfx_bake *b = NULL;
@@ -369,34 +367,35 @@ static int cmd_bake(int argc, char **argv, const options *o) {
         status = EXIT_USAGE;
         goto done;
     }
-    sim = pfx_sim_create(e);
-    view = pfx_sim_create(e);
+    sim = pfx_sim_create(e, &run);
+    view = pfx_sim_create(e, &run);
     if (!sim || !view) {
-        fprintf(stderr, "pfx: out of memory\n");
+        pfx_diag_error(&run, "out of memory");
         goto done;
     }
-    b = pfx_bake_open(o->output, err, sizeof err);
-    if (!b) {
-        fprintf(stderr, "pfx: %s\n", err);
+    b = pfx_bake_open(o->output, &run);
+    if (!b)
         goto done;
-    }
     bool ok = true;
     for (long f = first; f <= last && ok; f++) {
         const pfx_sim *state = pfx_sim_frame(sim, view, f);
-        if (sim_failed(sim, view, err, sizeof err)) {
+        if (sim->failed || view->failed) {
             ok = false;
             break;
         }
         if ((f - first) % o->every == 0)
             ok = pfx_bake_frame(b, state, f, pfx_sim_frame_time(e, f));
     }
-    if (!pfx_bake_close(b, ok, err, sizeof err) || !ok) {
-        fprintf(stderr, "pfx: %s\n", err[0] ? err : "cannot write the bake");
+    if (!pfx_bake_close(b, ok, &run) || !ok) {
+        if (!run.errors)
+            pfx_diag_error(&run, "cannot write the bake");
         goto done;
     }
     report_dropped(sim, o);
     status = 0;
 done:
+    pfx_diags_print(&run, stderr, false);
+    pfx_diags_free(&run);
     pfx_sim_destroy(view);
     pfx_sim_destroy(sim);
     pfx_loaded_free(&l);

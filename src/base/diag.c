@@ -14,6 +14,32 @@ void pfx_diags_init(pfx_diags *d, const char *file, const char *source, size_t s
     d->source_len = source_len;
 }
 
+void pfx_diags_init_runtime(pfx_diags *d) { pfx_diags_init(d, NULL, NULL, 0); }
+
+void pfx_diag_error(pfx_diags *d, const char *fmt, ...) {
+    if (!d)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    pfx_diag_vadd(d, PFX_SEV_ERROR, 0, 0, 0, fmt, ap);
+    va_end(ap);
+}
+
+void pfx_diag_error_at(const pfx_diag_at *at, const char *fmt, ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    pfx_diag_vadd(at->d, PFX_SEV_ERROR, at->line, at->col, at->span > 0 ? at->span : 1, fmt, ap);
+    va_end(ap);
+}
+
+void pfx_diags_append(pfx_diags *dst, pfx_diags *src) {
+    for (size_t i = 0; i < src->count; i++) {
+        const pfx_diag *g = &src->items[i];
+        pfx_diag_add(dst, g->severity, g->line, g->col, g->span, "%s", g->message);
+    }
+    pfx_diags_free(src);
+}
+
 void pfx_diags_free(pfx_diags *d) {
     for (size_t i = 0; i < d->count; i++)
         free(d->items[i].message);
@@ -149,6 +175,13 @@ static void print_json_string(FILE *out, const char *s) {
 }
 
 static void print_text(const pfx_diags *d, const pfx_diag *g, FILE *out) {
+    if (!d->file) { /* a runtime failure: "pfx: message", git's form */
+        if (g->severity == PFX_SEV_ERROR)
+            fprintf(out, "pfx: %s\n", g->message);
+        else
+            fprintf(out, "pfx: %s: %s\n", severity_name(g->severity), g->message);
+        return;
+    }
     if (g->line > 0)
         fprintf(out, "%s:%d:%d: %s: %s\n", d->file, g->line, g->col, severity_name(g->severity),
                 g->message);
@@ -207,7 +240,10 @@ void pfx_diags_print(const pfx_diags *d, FILE *out, bool json) {
             const pfx_diag *g = &d->items[i];
             if (json) {
                 fputs("{\"file\":", out);
-                print_json_string(out, d->file);
+                if (d->file)
+                    print_json_string(out, d->file);
+                else
+                    fputs("null", out);
                 fprintf(out, ",\"line\":%d,\"column\":%d,\"severity\":\"%s\",\"message\":", g->line,
                         g->col, severity_name(g->severity));
                 print_json_string(out, g->message);
@@ -219,5 +255,6 @@ void pfx_diags_print(const pfx_diags *d, FILE *out, bool json) {
     }
     free(groups);
     if (d->dropped && !json)
-        fprintf(out, "%s: note: %d more diagnostics not shown\n", d->file, d->dropped);
+        fprintf(out, "%s: note: %d more diagnostics not shown\n", d->file ? d->file : "pfx",
+                d->dropped);
 }

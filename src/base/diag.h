@@ -1,6 +1,9 @@
-/* Diagnostics: collected per file, sorted by position, printed gcc-style
- * (file:line:col: severity: message, the source line, a caret) or as JSON
- * lines. No global state: every stage that can report takes a pfx_diags. */
+/* Diagnostics: the one error channel below main.c. Collected per file,
+ * sorted by position, printed gcc-style (file:line:col: severity: message,
+ * the source line, a caret) or as JSON lines. Runtime failures (a file
+ * that cannot be written, a simulation that blew up) go into a list with
+ * no file and print as "pfx: message". No global state: every stage that
+ * can fail takes a pfx_diags (or a pfx_diag_at). */
 #ifndef PFX_DIAG_H
 #define PFX_DIAG_H
 
@@ -20,7 +23,8 @@ typedef struct pfx_diag {
 } pfx_diag;
 
 typedef struct pfx_diags {
-    const char *file;   /* the name printed before each diagnostic */
+    const char *file;   /* the name printed before each diagnostic; NULL: runtime
+                           failures, printed after "pfx: " */
     const char *source; /* the file's text, for the quoted line; may be NULL */
     size_t source_len;
     pfx_diag *items;
@@ -34,12 +38,31 @@ typedef struct pfx_diags {
 #define PFX_DIAG_MAX 200
 
 void pfx_diags_init(pfx_diags *d, const char *file, const char *source, size_t source_len);
+/* A list for runtime failures: no file, no source. */
+void pfx_diags_init_runtime(pfx_diags *d);
 void pfx_diags_free(pfx_diags *d);
 
 void pfx_diag_add(pfx_diags *d, pfx_severity sev, int line, int col, int span, const char *fmt, ...)
     __attribute__((format(printf, 6, 7)));
 void pfx_diag_vadd(pfx_diags *d, pfx_severity sev, int line, int col, int span, const char *fmt,
                    va_list ap);
+
+/* An error without a position (a runtime failure), in git's wording:
+ * lowercase, no full stop, the subject in single quotes. d may be NULL. */
+void pfx_diag_error(pfx_diags *d, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* Moves every diagnostic of src to the end of dst (src is left empty). */
+void pfx_diags_append(pfx_diags *dst, pfx_diags *src);
+
+/* Where a stage that cannot locate a problem itself should blame it: the
+ * list and the position of the node that led there (a mesh file's key, a
+ * texture's key). */
+typedef struct pfx_diag_at {
+    pfx_diags *d;
+    int line, col, span;
+} pfx_diag_at;
+void pfx_diag_error_at(const pfx_diag_at *at, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
 
 /* Prints every diagnostic sorted by position (notes stay after the error they
  * follow). json: one object per line with file, line, column, severity and

@@ -292,7 +292,7 @@ pfx_acc_result pfx_acc_run_emitted(const pfx_acc_problem *pr, pfx_integrator int
     pfx_effect *e = NULL;
     if (pfx_parse(text, len, &doc, &d))
         e = pfx_compile(doc.root, "accuracy.yaml", NULL, &arena, &d);
-    pfx_sim *s = e ? pfx_sim_create(e) : NULL;
+    pfx_sim *s = e ? pfx_sim_create(e, NULL) : NULL;
     if (s) {
         r.failed = false;
         r.max_rate = 0;

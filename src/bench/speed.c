@@ -47,7 +47,7 @@ static pfx_effect *fountain(pfx_loaded *l, double n, const char *forces, const c
  * about 0.4 s of wall time (at least 5 steps), so a slow force set cannot
  * make the benchmark run for minutes. */
 static double steps_per_second(const pfx_effect *e) {
-    pfx_sim *s = pfx_sim_create(e);
+    pfx_sim *s = pfx_sim_create(e, NULL);
     if (!s)
         return 0;
     for (int i = 0; i < 250; i++) /* past one lifetime: steady state */
@@ -184,7 +184,7 @@ static int bench_render(FILE *out, const char *fire_path) {
         return 1;
     }
     char err[512] = "", dir[] = "/tmp/pfx-bench-XXXXXX", path[600];
-    pfx_sim *sim = pfx_sim_create(e), *view = pfx_sim_create(e);
+    pfx_sim *sim = pfx_sim_create(e, NULL), *view = pfx_sim_create(e, NULL);
     pfx_sprite *sprites = malloc((pfx_sprites_capacity(e) + 1) * sizeof *sprites);
     pfx_renderer *r = pfx_renderer_create(512, 512, err, sizeof err);
     pfx_png_queue *q = pfx_png_queue_create(512, 512);
@@ -205,7 +205,12 @@ static int bench_render(FILE *out, const char *fire_path) {
         snprintf(path, sizeof path, "%s/f_%04ld.png", dir, f);
         pfx_png_queue_submit(q, path);
     }
-    bool ok = pfx_png_queue_finish(q, err, sizeof err);
+    pfx_diags written;
+    pfx_diags_init_runtime(&written);
+    bool ok = pfx_png_queue_finish(q, &written);
+    if (!ok && written.count)
+        snprintf(err, sizeof err, "%s", written.items[0].message);
+    pfx_diags_free(&written);
     q = NULL;
     double full_fps = (double)frames / (now() - t0);
     for (long f = 0; f < frames; f++) {
@@ -230,7 +235,7 @@ done:
     if (status && err[0])
         fprintf(stderr, "pfx: %s\n", err);
     if (q)
-        pfx_png_queue_finish(q, err, sizeof err);
+        pfx_png_queue_finish(q, NULL);
     pfx_renderer_destroy(r);
     free(sprites);
     pfx_sim_destroy(view);

@@ -177,11 +177,9 @@ static void read_mesh(pfx_reader *r, const pfx_node *n, const pfx_node *type, pf
     memcpy(path, effect_path, dir);
     strcpy(path + dir, file);
     pfx_mesh m;
-    char err[256];
-    if (!pfx_mesh_load(path, file, scale, r->arena, &m, err, sizeof err)) {
-        pfx_read_error(r, v, "%s", err);
+    pfx_diag_at at = pfx_read_at(r, v);
+    if (!pfx_mesh_load(path, file, scale, r->arena, &m, &at))
         return;
-    }
     s->verts = m.verts;
     s->tris = m.tris;
     s->cum = m.cum;

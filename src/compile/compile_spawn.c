@@ -8,7 +8,6 @@
 #include <math.h>
 #include <string.h>
 
-
 #define MAX_SPAWNS 16
 #define MAX_DEPTH 16
 /* on_hit has no schedule to bound it: pools assume up to this many hits per

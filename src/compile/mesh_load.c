@@ -33,12 +33,11 @@ static bool grow_push(grow *g, const void *item) {
     return true;
 }
 
-static bool fail(char *err, size_t size, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
-static bool fail(char *err, size_t size, const char *fmt, ...) {
+static bool fail(const pfx_diag_at *at, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static bool fail(const pfx_diag_at *at, const char *fmt, ...) {
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(err, size, fmt, ap);
+    pfx_diag_vadd(at->d, PFX_SEV_ERROR, at->line, at->col, at->span > 0 ? at->span : 1, fmt, ap);
     va_end(ap);
     return false;
 }
@@ -105,8 +104,7 @@ static bool parse_index(const char *tok, size_t len, long long *out) {
 typedef struct parser {
     const char *name;
     grow verts, tris;
-    char *err;
-    size_t err_size;
+    const pfx_diag_at *at;
     long line;
 } parser;
 
@@ -117,19 +115,18 @@ static bool parse_vertex(parser *p, const char *c, const char *end, double scale
         size_t len;
         char q[32];
         if (!next_token(&c, end, &tok, &len))
-            return fail(p->err, p->err_size, "'%s' line %ld: a vertex needs 3 coordinates", p->name,
-                        p->line);
+            return fail(p->at, "'%s' line %ld: a vertex needs 3 coordinates", p->name, p->line);
         if (!parse_double(tok, len, &v[k]))
-            return fail(p->err, p->err_size, "'%s' line %ld: '%s' is not a number", p->name,
-                        p->line, quoted(tok, len, q));
+            return fail(p->at, "'%s' line %ld: '%s' is not a number", p->name, p->line,
+                        quoted(tok, len, q));
         v[k] *= scale;
     }
     if (p->verts.count / 3 >= PFX_MESH_MAX_VERTICES)
-        return fail(p->err, p->err_size, "'%s' line %ld: more than %u vertices", p->name, p->line,
+        return fail(p->at, "'%s' line %ld: more than %u vertices", p->name, p->line,
                     PFX_MESH_MAX_VERTICES);
     for (int k = 0; k < 3; k++)
         if (!grow_push(&p->verts, &v[k]))
-            return fail(p->err, p->err_size, "out of memory reading '%s'", p->name);
+            return fail(p->at, "out of memory reading '%s'", p->name);
     return true;
 }
 
@@ -143,31 +140,29 @@ static bool parse_face(parser *p, const char *c, const char *end) {
         long long i;
         char q[32];
         if (!parse_index(tok, len, &i))
-            return fail(p->err, p->err_size, "'%s' line %ld: '%s' is not a face index", p->name,
-                        p->line, quoted(tok, len, q));
+            return fail(p->at, "'%s' line %ld: '%s' is not a face index", p->name, p->line,
+                        quoted(tok, len, q));
         long long idx = i > 0 ? i - 1 : (long long)nv + i;
         if (i == 0 || idx < 0 || idx >= (long long)nv)
-            return fail(p->err, p->err_size,
-                        "'%s' line %ld: face index %lld is out of range (%u vertices)", p->name,
-                        p->line, i, nv);
+            return fail(p->at, "'%s' line %ld: face index %lld is out of range (%u vertices)",
+                        p->name, p->line, i, nv);
         uint32_t cur = (uint32_t)idx;
         if (corners == 0) {
             first = cur;
         } else if (corners >= 2) {
             if (p->tris.count / 3 >= PFX_MESH_MAX_TRIANGLES)
-                return fail(p->err, p->err_size, "'%s' line %ld: more than %u triangles", p->name,
-                            p->line, PFX_MESH_MAX_TRIANGLES);
+                return fail(p->at, "'%s' line %ld: more than %u triangles", p->name, p->line,
+                            PFX_MESH_MAX_TRIANGLES);
             uint32_t t[3] = {first, prev, cur};
             for (int k = 0; k < 3; k++)
                 if (!grow_push(&p->tris, &t[k]))
-                    return fail(p->err, p->err_size, "out of memory reading '%s'", p->name);
+                    return fail(p->at, "out of memory reading '%s'", p->name);
         }
         prev = cur;
         corners++;
     }
     if (corners < 3)
-        return fail(p->err, p->err_size, "'%s' line %ld: a face needs at least 3 vertices", p->name,
-                    p->line);
+        return fail(p->at, "'%s' line %ld: a face needs at least 3 vertices", p->name, p->line);
     return true;
 }
 
@@ -175,12 +170,12 @@ static bool parse_face(parser *p, const char *c, const char *end) {
 static bool finish(parser *p, pfx_arena *a, pfx_mesh *m) {
     size_t nt = p->tris.count / 3, nv = p->verts.count / 3;
     if (nt == 0)
-        return fail(p->err, p->err_size, "'%s' has no faces", p->name);
+        return fail(p->at, "'%s' has no faces", p->name);
     double *verts = pfx_arena_alloc(a, nv * 3 * sizeof *verts);
     uint32_t *tris = pfx_arena_alloc(a, nt * 3 * sizeof *tris);
     double *cum = pfx_arena_alloc(a, nt * sizeof *cum);
     if (!verts || !tris || !cum)
-        return fail(p->err, p->err_size, "out of memory reading '%s'", p->name);
+        return fail(p->at, "out of memory reading '%s'", p->name);
     memcpy(verts, p->verts.p, nv * 3 * sizeof *verts);
     memcpy(tris, p->tris.p, nt * 3 * sizeof *tris);
     double total = 0;
@@ -195,11 +190,10 @@ static bool finish(parser *p, pfx_arena *a, pfx_mesh *m) {
         cum[t] = total;
     }
     if (!isfinite(total))
-        return fail(p->err, p->err_size,
-                    "the faces of '%s' have an infinite total area (coordinates too large)",
+        return fail(p->at, "the faces of '%s' have an infinite total area (coordinates too large)",
                     p->name);
     if (total <= 0)
-        return fail(p->err, p->err_size, "the faces of '%s' have zero total area", p->name);
+        return fail(p->at, "the faces of '%s' have zero total area", p->name);
     m->verts = verts;
     m->tris = tris;
     m->cum = cum;
@@ -209,13 +203,12 @@ static bool finish(parser *p, pfx_arena *a, pfx_mesh *m) {
 }
 
 bool pfx_mesh_parse(const char *text, size_t len, const char *name, double scale, pfx_arena *a,
-                    pfx_mesh *m, char *err, size_t err_size) {
+                    pfx_mesh *m, const pfx_diag_at *at) {
     memset(m, 0, sizeof *m);
     parser p = {.name = name,
                 .verts = {.elem = sizeof(double)},
                 .tris = {.elem = sizeof(uint32_t)},
-                .err = err,
-                .err_size = err_size};
+                .at = at};
     size_t pos = 0;
     if (len >= 3 && !memcmp(text, "\xEF\xBB\xBF", 3))
         pos = 3; /* a UTF-8 byte order mark */
@@ -246,11 +239,11 @@ bool pfx_mesh_parse(const char *text, size_t len, const char *name, double scale
 }
 
 bool pfx_mesh_load(const char *path, const char *name, double scale, pfx_arena *a, pfx_mesh *m,
-                   char *err, size_t err_size) {
+                   const pfx_diag_at *at) {
     memset(m, 0, sizeof *m);
     FILE *f = fopen(path, "rb");
     if (!f)
-        return fail(err, err_size, "cannot open '%s': %s", name, strerror(errno));
+        return fail(at, "cannot open '%s': %s", name, strerror(errno));
     char *buf = NULL;
     size_t len = 0, cap = 0;
     bool ok = true;
@@ -258,8 +251,7 @@ bool pfx_mesh_load(const char *path, const char *name, double scale, pfx_arena *
     for (;;) {
         if (len == cap) {
             if (len > PFX_MESH_MAX_BYTES) {
-                ok = fail(err, err_size, "'%s' is larger than %u MiB", name,
-                          PFX_MESH_MAX_BYTES >> 20);
+                ok = fail(at, "'%s' is larger than %u MiB", name, PFX_MESH_MAX_BYTES >> 20);
                 break;
             }
             cap = cap ? 2 * cap : 1 << 16;
@@ -267,7 +259,7 @@ bool pfx_mesh_load(const char *path, const char *name, double scale, pfx_arena *
                 cap = (size_t)PFX_MESH_MAX_BYTES + 1;
             char *p = realloc(buf, cap);
             if (!p) {
-                ok = fail(err, err_size, "out of memory reading '%s'", name);
+                ok = fail(at, "out of memory reading '%s'", name);
                 break;
             }
             buf = p;
@@ -276,13 +268,13 @@ bool pfx_mesh_load(const char *path, const char *name, double scale, pfx_arena *
         len += got;
         if (got == 0) {
             if (ferror(f))
-                ok = fail(err, err_size, "cannot read '%s': %s", name, strerror(errno));
+                ok = fail(at, "cannot read '%s': %s", name, strerror(errno));
             break;
         }
     }
     fclose(f);
     if (ok)
-        ok = pfx_mesh_parse(buf ? buf : "", len, name, scale, a, m, err, err_size);
+        ok = pfx_mesh_parse(buf ? buf : "", len, name, scale, a, m, at);
     free(buf);
     return ok;
 }

@@ -8,6 +8,7 @@
 #include <stdint.h>
 
 #include "base/arena.h"
+#include "base/diag.h"
 
 #define PFX_MESH_MAX_TRIANGLES 1000000u
 #define PFX_MESH_MAX_VERTICES 3000000u
@@ -24,14 +25,14 @@ typedef struct pfx_mesh {
  * negative i counts back from the last vertex so far; polygons split into
  * a fan from their first vertex); every other statement is ignored. Every
  * coordinate is multiplied by `scale`. The arrays live in arena `a`. On a
- * malformed file, writes "'<name>' line 12: ..." into err and returns
- * false. */
+ * malformed file, reports "'<name>' line 12: ..." at `at` (the key that
+ * named the file) and returns false. */
 bool pfx_mesh_parse(const char *text, size_t len, const char *name, double scale, pfx_arena *a,
-                    pfx_mesh *m, char *err, size_t err_size);
+                    pfx_mesh *m, const pfx_diag_at *at);
 
 /* Reads file `path` and parses it as above; messages name the file `name`
  * (as the user wrote it): "cannot open 'x.obj': No such file or directory". */
 bool pfx_mesh_load(const char *path, const char *name, double scale, pfx_arena *a, pfx_mesh *m,
-                   char *err, size_t err_size);
+                   const pfx_diag_at *at);
 
 #endif

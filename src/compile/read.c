@@ -16,6 +16,10 @@ static void report(pfx_reader *r, pfx_severity sev, const pfx_node *n, const cha
     pfx_diag_vadd(r->d, sev, n->line, n->col, span, fmt, ap);
 }
 
+pfx_diag_at pfx_read_at(pfx_reader *r, const pfx_node *n) {
+    return (pfx_diag_at){r->d, n->line, n->col, n->kind == PFX_NODE_SCALAR ? n->span : 1};
+}
+
 void pfx_read_error(pfx_reader *r, const pfx_node *n, const char *fmt, ...) {
     va_list ap;
     va_start(ap, fmt);

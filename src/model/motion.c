@@ -53,7 +53,6 @@ unsigned pfx_motion_columns(const pfx_motion *m) {
     return c;
 }
 
-
 /* ---- Representative rates, shared with stability.c ---- */
 
 /* Sum of the gravities, for the terminal speed of quadratic drag. */

@@ -21,12 +21,12 @@ struct pfx_bake {
     size_t order_cap;
 };
 
-pfx_bake *pfx_bake_open(const char *path, char *err, size_t err_size) {
+pfx_bake *pfx_bake_open(const char *path, pfx_diags *d) {
     pfx_bake *b = calloc(1, sizeof *b);
     size_t n = strlen(path) + 32;
     char *tmp = malloc(n);
     if (!b || !tmp) {
-        snprintf(err, err_size, "out of memory");
+        pfx_diag_error(d, "out of memory");
         free(b);
         free(tmp);
         return NULL;
@@ -34,7 +34,7 @@ pfx_bake *pfx_bake_open(const char *path, char *err, size_t err_size) {
     snprintf(tmp, n, "%s.tmp-%ld", path, (long)getpid());
     b->f = fopen(tmp, "wb");
     if (!b->f) {
-        snprintf(err, err_size, "cannot write '%s': %s", path, strerror(errno));
+        pfx_diag_error(d, "cannot write '%s': %s", path, strerror(errno));
         free(tmp);
         free(b);
         return NULL;
@@ -96,14 +96,14 @@ bool pfx_bake_frame(pfx_bake *b, const pfx_sim *s, long frame, double time) {
     return !ferror(b->f);
 }
 
-bool pfx_bake_close(pfx_bake *b, bool commit, char *err, size_t err_size) {
+bool pfx_bake_close(pfx_bake *b, bool commit, pfx_diags *d) {
     bool ok = !ferror(b->f);
     if (fclose(b->f) != 0)
         ok = false;
     if (commit && ok && rename(b->tmp, b->path) != 0)
         ok = false;
     if (commit && !ok)
-        snprintf(err, err_size, "cannot write '%s': %s", b->path, strerror(errno));
+        pfx_diag_error(d, "cannot write '%s': %s", b->path, strerror(errno));
     if (!commit || !ok)
         unlink(b->tmp);
     free(b->order);

@@ -14,14 +14,15 @@
 typedef struct pfx_bake pfx_bake;
 
 /* Opens a temporary file beside `path` and writes the header. Returns NULL
- * with a message in err. */
-pfx_bake *pfx_bake_open(const char *path, char *err, size_t err_size);
+ * with the reason in d. */
+pfx_bake *pfx_bake_open(const char *path, pfx_diags *d);
 /* Appends frame `frame` at time `time`: every live particle of `s`, by
  * emitter in file order, then by id. Floats are printed with 9 significant
  * digits, enough to round-trip. */
 bool pfx_bake_frame(pfx_bake *b, const pfx_sim *s, long frame, double time);
 /* commit: flush and rename into place; otherwise remove the temporary file.
- * Returns false with err on failure (and nothing left at path). Frees b. */
-bool pfx_bake_close(pfx_bake *b, bool commit, char *err, size_t err_size);
+ * Returns false with the reason in d on failure (and nothing left at path).
+ * Frees b. */
+bool pfx_bake_close(pfx_bake *b, bool commit, pfx_diags *d);
 
 #endif

@@ -8,6 +8,8 @@
 
 #include "output/png_write.h"
 
+#include "base/diag.h"
+
 #include <errno.h>
 #include <png.h>
 #include <pthread.h>
@@ -70,15 +72,6 @@ static void pfx_png_on_write(png_structp png, png_bytep data, size_t length) {
 /* Nothing to do: pfx_png_write flushes once, after the last row. */
 static void pfx_png_on_flush(png_structp png) { (void)png; }
 
-static void pfx_set_err(char *err, size_t err_size, const char *fmt, ...) {
-    if (err == NULL || err_size == 0)
-        return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, err_size, fmt, ap);
-    va_end(ap);
-}
-
 /* Thread-safe strerror: the queue writes from its own thread. */
 static const char *pfx_errno_text(int errnum, char *buf, size_t size) {
     if (strerror_r(errnum, buf, size) != 0)
@@ -139,29 +132,26 @@ static char *pfx_temp_name(const char *path) {
     return temp;
 }
 
-bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height, char *err,
-                   size_t err_size) {
+bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height, pfx_diags *d) {
     char why[128];
     if (path == NULL || path[0] == '\0' || path[strlen(path) - 1] == '/') {
-        pfx_set_err(err, err_size, "cannot write '%s': not a file name", path ? path : "");
+        pfx_diag_error(d, "cannot write '%s': not a file name", path ? path : "");
         return false;
     }
     /* PNG allows up to 2^31-1 but libpng's default limit is 1000000. */
     if (rgba == NULL || width <= 0 || height <= 0 || width > 1000000 || height > 1000000) {
-        pfx_set_err(err, err_size, "cannot write '%s': invalid image size %dx%d", path, width,
-                    height);
+        pfx_diag_error(d, "cannot write '%s': invalid image size %dx%d", path, width, height);
         return false;
     }
     char *temp = pfx_temp_name(path);
     if (temp == NULL) {
-        pfx_set_err(err, err_size, "cannot write '%s': out of memory", path);
+        pfx_diag_error(d, "cannot write '%s': out of memory", path);
         return false;
     }
     /* "x": fail rather than follow or truncate something already there. */
     FILE *file = fopen(temp, "wbx");
     if (file == NULL) {
-        pfx_set_err(err, err_size, "cannot write '%s': %s", path,
-                    pfx_errno_text(errno, why, sizeof why));
+        pfx_diag_error(d, "cannot write '%s': %s", path, pfx_errno_text(errno, why, sizeof why));
         free(temp);
         return false;
     }
@@ -169,10 +159,10 @@ bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height,
     bool ok = pfx_png_encode(&ctx, rgba, width, height);
     if (!ok) {
         if (ctx.write_errno != 0)
-            pfx_set_err(err, err_size, "cannot write '%s': %s", path,
-                        pfx_errno_text(ctx.write_errno, why, sizeof why));
+            pfx_diag_error(d, "cannot write '%s': %s", path,
+                           pfx_errno_text(ctx.write_errno, why, sizeof why));
         else
-            pfx_set_err(err, err_size, "cannot encode '%s': %s", path, ctx.message);
+            pfx_diag_error(d, "cannot encode '%s': %s", path, ctx.message);
         fclose(file);
     } else {
         /* Buffered data can fail to land only at fflush or fclose. */
@@ -182,13 +172,13 @@ bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height,
         if (fclose(file) != 0 && failed_errno == 0)
             failed_errno = errno != 0 ? errno : EIO;
         if (failed_errno != 0) {
-            pfx_set_err(err, err_size, "cannot write '%s': %s", path,
-                        pfx_errno_text(failed_errno, why, sizeof why));
+            pfx_diag_error(d, "cannot write '%s': %s", path,
+                           pfx_errno_text(failed_errno, why, sizeof why));
             ok = false;
         } else if (rename(temp, path) != 0) {
             /* The temporary's name means nothing to the user; the path does. */
-            pfx_set_err(err, err_size, "cannot write '%s': %s", path,
-                        pfx_errno_text(errno, why, sizeof why));
+            pfx_diag_error(d, "cannot write '%s': %s", path,
+                           pfx_errno_text(errno, why, sizeof why));
             ok = false;
         }
     }
@@ -287,13 +277,14 @@ struct pfx_png_queue {
     bool caller_has_slot; /* pfx_png_queue_buffer called, submit not yet */
     bool stop;
     bool failed;
-    char error[512]; /* first failure, valid when failed */
+    pfx_diags failure; /* the first failure, under the lock; handed over by finish */
     pthread_t thread;
 };
 
 static void *pfx_png_queue_main(void *arg) {
     pfx_png_queue *q = arg;
-    char error[sizeof q->error];
+    pfx_diags error;
+    pfx_diags_init_runtime(&error);
     pthread_mutex_lock(&q->lock);
     for (;;) {
         while (q->pending == 0 && !q->stop)
@@ -307,15 +298,15 @@ static void *pfx_png_queue_main(void *arg) {
         pthread_mutex_unlock(&q->lock);
 
         /* After the first error, later frames are dropped, not written. */
-        bool ok =
-            skip || pfx_png_write(path, q->pixels[slot], q->width, q->height, error, sizeof error);
+        bool ok = skip || pfx_png_write(path, q->pixels[slot], q->width, q->height, &error);
         free(path);
 
         pthread_mutex_lock(&q->lock);
         if (!ok && !q->failed) {
             q->failed = true;
-            memcpy(q->error, error, sizeof error);
+            pfx_diags_append(&q->failure, &error);
         }
+        pfx_diags_free(&error);
         q->head = (q->head + 1) % 2;
         q->pending--;
         pthread_cond_signal(&q->slot_free);
@@ -379,8 +370,8 @@ void pfx_png_queue_submit(pfx_png_queue *q, const char *path) {
         /* Contract broken by the caller: nothing was rendered to submit. */
         if (!q->failed) {
             q->failed = true;
-            snprintf(q->error, sizeof q->error,
-                     "cannot write '%s': frame submitted without a buffer", path);
+            pfx_diag_error(&q->failure, "cannot write '%s': frame submitted without a buffer",
+                           path);
         }
         pthread_mutex_unlock(&q->lock);
         free(copy);
@@ -388,7 +379,7 @@ void pfx_png_queue_submit(pfx_png_queue *q, const char *path) {
     }
     if (copy == NULL && !q->failed) {
         q->failed = true;
-        snprintf(q->error, sizeof q->error, "cannot write '%s': out of memory", path);
+        pfx_diag_error(&q->failure, "cannot write '%s': out of memory", path);
     }
     q->path[(q->head + q->pending) % 2] = copy;
     q->pending++;
@@ -404,7 +395,7 @@ bool pfx_png_queue_failed(pfx_png_queue *q) {
     return failed;
 }
 
-bool pfx_png_queue_finish(pfx_png_queue *q, char *err, size_t err_size) {
+bool pfx_png_queue_finish(pfx_png_queue *q, pfx_diags *d) {
     if (q == NULL)
         return true;
     pthread_mutex_lock(&q->lock);
@@ -414,8 +405,9 @@ bool pfx_png_queue_finish(pfx_png_queue *q, char *err, size_t err_size) {
     pthread_join(q->thread, NULL);
 
     bool ok = !q->failed;
-    if (!ok)
-        pfx_set_err(err, err_size, "%s", q->error);
+    if (d)
+        pfx_diags_append(d, &q->failure);
+    pfx_diags_free(&q->failure);
     pthread_cond_destroy(&q->slot_free);
     pthread_cond_destroy(&q->work_ready);
     pthread_mutex_destroy(&q->lock);

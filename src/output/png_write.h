@@ -8,11 +8,12 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "base/diag.h"
+
 /* Writes width*height 8-bit straight-alpha RGBA pixels (top row first) to
- * `path` atomically. On failure returns false with a message in err and
+ * `path` atomically. On failure returns false with the reason in d and
  * leaves no file at `path` or at the temporary name. */
-bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height, char *err,
-                   size_t err_size);
+bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height, pfx_diags *d);
 
 /* Reads an 8-bit RGBA PNG (for tests). Returns a malloc'd buffer the caller
  * frees, or NULL. */
@@ -36,7 +37,7 @@ void pfx_png_queue_submit(pfx_png_queue *q, const char *path);
  * may stop rendering early. The error itself comes from finish. */
 bool pfx_png_queue_failed(pfx_png_queue *q);
 /* Waits for every submitted frame, stops the thread and frees the queue.
- * Returns false with the first write error in err. */
-bool pfx_png_queue_finish(pfx_png_queue *q, char *err, size_t err_size);
+ * Returns false with the first write error added to d (may be NULL). */
+bool pfx_png_queue_finish(pfx_png_queue *q, pfx_diags *d);
 
 #endif

@@ -44,11 +44,12 @@ static void init_emitters(pfx_sim *s) {
     }
 }
 
-pfx_sim *pfx_sim_create(const pfx_effect *e) {
+pfx_sim *pfx_sim_create(const pfx_effect *e, pfx_diags *d) {
     pfx_sim *s = calloc(1, sizeof *s);
     if (!s)
         return NULL;
     s->effect = e;
+    s->diags = d;
     s->dt = 1.0 / e->sim_rate;
     s->pools = calloc(e->emitter_count + 1, sizeof *s->pools);
     s->emitters = calloc(e->emitter_count + 1, sizeof *s->emitters);
@@ -212,7 +213,7 @@ const pfx_sim *pfx_sim_frame(pfx_sim *s, pfx_sim *view, long frame) {
     }
     pfx_sim_run_to(s, t);
     if (s->effect->loop && !s->loop_start && frame % s->effect->loop_frames == 0 &&
-        (s->loop_start = pfx_sim_create(s->effect)))
+        (s->loop_start = pfx_sim_create(s->effect, s->diags)))
         pfx_sim_view_at(s, s->loop_start, s->time);
     if (s->step == 0 && t <= s->time + 1e-12) {
         /* Births at exactly time 0 (a burst at 0) belong to frame 0, but no

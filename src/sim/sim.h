@@ -13,16 +13,17 @@
 #include "sim/state.h"
 
 /* Allocates every pool once (sized by the compiler) and seeds every emitter.
+ * A failure of the simulation is reported into d (may be NULL; not owned).
  * Returns NULL when out of memory. Free with pfx_sim_destroy. */
-pfx_sim *pfx_sim_create(const pfx_effect *e);
+pfx_sim *pfx_sim_create(const pfx_effect *e, pfx_diags *d);
 void pfx_sim_destroy(pfx_sim *s);
 
 /* Bytes each particle of emitter i occupies (the columns it keeps). */
 size_t pfx_sim_bytes_per_particle(const pfx_effect *e, size_t i);
 
 /* Advances by one fixed step. Never allocates. After a step that left a
- * non-finite or exploding state, s->failed is set with s->error and further
- * steps do nothing. */
+ * non-finite or exploding state, s->failed is set, the failure is in the
+ * diagnostics given at create, and further steps do nothing. */
 void pfx_sim_step(pfx_sim *s);
 
 /* Steps until the next step would pass simulation time t. */

@@ -7,6 +7,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "base/diag.h"
 #include "base/rng.h"
 #include "model/effect.h"
 #include "sim/collide.h"
@@ -57,7 +58,8 @@ typedef struct pfx_sim {
     pfx_motion_plan *plans;         /* per emitter with a motion model: what its kernels run */
     struct pfx_sim *loop_start;     /* a looping effect's state at frame 0, to wrap to */
     bool failed;                    /* a state went non-finite or exploded: stop */
-    char error[768];                /* what, where, when and the likely cause */
+    pfx_diags *diags;               /* where a failure says what, where, when and the likely
+                                       cause (not owned; may be NULL) */
 } pfx_sim;
 
 /* Particle i's age at the pool's time, seconds. */

@@ -112,13 +112,13 @@ void pfx_step_check_state(pfx_sim *s, size_t i, uint32_t first, double t) {
     else
         snprintf(cause, sizeof cause, "the emitter's speeds, gravity and lifetimes are too large");
     s->failed = true;
-    snprintf(s->error, sizeof s->error,
-             "emitter '%s': particle %u became %s at t = %.4g s; likely cause: %s", em->name,
-             p->id[first + bad],
-             why == PFX_BAD_NONFINITE ? "non-finite"
-             : why == PFX_BAD_SPEED   ? "faster than 1e6 m/s"
-                                      : "farther than 1e7 m",
-             t, cause);
+    pfx_diag_error(s->diags,
+                   "%s: emitter '%s': particle %u became %s at t = %.4g s; likely cause: %s",
+                   s->effect->path, em->name, p->id[first + bad],
+                   why == PFX_BAD_NONFINITE ? "non-finite"
+                   : why == PFX_BAD_SPEED   ? "faster than 1e6 m/s"
+                                            : "farther than 1e7 m",
+                   t, cause);
 }
 
 /* Any other force set: the emitter's motion model, prepared once for the

@@ -46,7 +46,7 @@ static void test_birth_step_is_the_schemes(void) {
         compiled c;
         if (!compile_text(&c, text))
             return;
-        pfx_sim *s = pfx_sim_create(c.e);
+        pfx_sim *s = pfx_sim_create(c.e, NULL);
         pfx_sim_step(s);
         pfx_sim_step(s);
         pfx_sim_step(s); /* t = 0.3: the first birth was at 1/3.7 = 0.27 */
@@ -102,7 +102,7 @@ static void test_exact_from_birth(void) {
             if (!compile_text(&c, text))
                 return;
             const double n = sqrt(0.09 + 1 + 0.01), v0[3] = {5 * 0.3 / n, 5 / n, -5 * 0.1 / n};
-            pfx_sim *s = pfx_sim_create(c.e);
+            pfx_sim *s = pfx_sim_create(c.e, NULL);
             double worst = 0;
             for (int step = 0; step < 30; step++) {
                 pfx_sim_step(s);
@@ -145,7 +145,7 @@ static void test_boris_from_birth(void) {
             compiled c;
             if (!compile_text(&c, text))
                 return;
-            pfx_sim *s = pfx_sim_create(c.e);
+            pfx_sim *s = pfx_sim_create(c.e, NULL);
             double worst = 0;
             for (int step = 0; step < 30; step++) {
                 pfx_sim_step(s);
@@ -180,7 +180,7 @@ static void test_vortex_from_birth(void) {
             return;
         /* f(r) = r^4 - 2 r^2 + 1 at r = 1/4; strength 0.5 degrees/s */
         const double r = 0.25, f = r * r * r * r - 2 * r * r + 1, rate = 0.5 * M_PI / 180 * f;
-        pfx_sim *s = pfx_sim_create(c.e);
+        pfx_sim *s = pfx_sim_create(c.e, NULL);
         double worst = 0;
         for (int step = 0; step < 60; step++) {
             pfx_sim_step(s);
@@ -325,7 +325,7 @@ static void test_trail_counts(void) {
             compiled c;
             if (!compile_text(&c, text))
                 return;
-            pfx_sim *s = pfx_sim_create(c.e);
+            pfx_sim *s = pfx_sim_create(c.e, NULL);
             pfx_sim_run_to(s, 3.9);
             const uint64_t parents = s->emitters[0].born, children = s->emitters[1].born;
             CHECK(s->emitters[0].dropped == 0 && s->emitters[1].dropped == 0);

@@ -13,7 +13,7 @@
 #include "test_compile.h"
 
 static pfx_sim *run(const pfx_effect *e, double t) {
-    pfx_sim *s = pfx_sim_create(e);
+    pfx_sim *s = pfx_sim_create(e, NULL);
     CHECK(s != NULL);
     if (s)
         pfx_sim_run_to(s, t);
@@ -72,7 +72,7 @@ static void test_reeves_windows(void) {
     if (!compile_text(&c, "pfx: 1\nduration: 300\nsim: { rate: 20 }\nemitters:\n  r:\n"
                           "    rate: { mean: 100, var: 40 }\n    lifetime: 0.01\n"))
         return;
-    pfx_sim *s = pfx_sim_create(c.e);
+    pfx_sim *s = pfx_sim_create(c.e, NULL);
     const int windows = 300;
     uint64_t before = 0;
     double sum = 0;

@@ -522,7 +522,7 @@ static void run_box(const char *mode) {
         return;
     }
     const bool wrap = !strcmp(mode, "wrap");
-    pfx_sim *s = pfx_sim_create(c.e);
+    pfx_sim *s = pfx_sim_create(c.e, NULL);
     CHECK(s != NULL);
     const float lo[3] = {-0.75f, 0, -1}, hi[3] = {1.25f, 2, 1};
     int outside = 0;
@@ -561,7 +561,7 @@ static void test_effect_kill_plane(void) {
         compiled_free(&c);
         return;
     }
-    pfx_sim *s = pfx_sim_create(c.e);
+    pfx_sim *s = pfx_sim_create(c.e, NULL);
     int below = 0;
     for (int step = 0; step < 300; step++) {
         pfx_sim_step(s);

@@ -15,6 +15,29 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+/* The writer reports into a diagnostics list; the tests read its first
+ * message as err ("" when it reported nothing). */
+static void first_message(pfx_diags *d, char *err) {
+    snprintf(err, 512, "%s", d->count ? d->items[0].message : "");
+    pfx_diags_free(d);
+}
+
+static bool write_png(const char *path, const uint8_t *rgba, int w, int h, char *err) {
+    pfx_diags d;
+    pfx_diags_init_runtime(&d);
+    bool ok = pfx_png_write(path, rgba, w, h, &d);
+    first_message(&d, err);
+    return ok;
+}
+
+static bool finish_queue(pfx_png_queue *q, char *err) {
+    pfx_diags d;
+    pfx_diags_init_runtime(&d);
+    bool ok = pfx_png_queue_finish(q, &d);
+    first_message(&d, err);
+    return ok;
+}
+
 static char test_dir[256];
 
 static void path_in(char *out, size_t size, const char *name) {
@@ -116,7 +139,7 @@ static void test_round_trip(void) {
     int w = 37, h = 23; /* odd sizes catch stride mistakes */
     uint8_t *rgba = make_image(w, h, 1);
     char err[512] = "";
-    CHECK(pfx_png_write(path, rgba, w, h, err, sizeof err));
+    CHECK(write_png(path, rgba, w, h, err));
     CHECK(err[0] == '\0');
     int rw = 0, rh = 0;
     uint8_t *back = pfx_png_read(path, &rw, &rh);
@@ -149,7 +172,7 @@ static void test_round_trip_edges(void) {
                 rgba[i] = mode == 3 ? (uint8_t)((i % 11) < 9 ? 0 : i) : v;
             }
             err[0] = '\0';
-            CHECK(pfx_png_write(path, rgba, w, h, err, sizeof err));
+            CHECK(write_png(path, rgba, w, h, err));
             int rw = 0, rh = 0;
             uint8_t *back = pfx_png_read(path, &rw, &rh);
             CHECK(back != NULL && rw == w && rh == h);
@@ -169,8 +192,8 @@ static void test_deterministic_bytes(void) {
     int w = 64, h = 40;
     uint8_t *rgba = make_image(w, h, 2);
     char err[512];
-    CHECK(pfx_png_write(a, rgba, w, h, err, sizeof err));
-    CHECK(pfx_png_write(b, rgba, w, h, err, sizeof err));
+    CHECK(write_png(a, rgba, w, h, err));
+    CHECK(write_png(b, rgba, w, h, err));
     size_t na = 0, nb = 0;
     uint8_t *da = read_file_bytes(a, &na);
     uint8_t *db = read_file_bytes(b, &nb);
@@ -179,7 +202,7 @@ static void test_deterministic_bytes(void) {
     if (da != NULL && db != NULL && na == nb)
         CHECK(memcmp(da, db, na) == 0);
     /* Overwriting an existing file replaces it with the same bytes. */
-    CHECK(pfx_png_write(a, rgba, w, h, err, sizeof err));
+    CHECK(write_png(a, rgba, w, h, err));
     size_t nc = 0;
     uint8_t *dc = read_file_bytes(a, &nc);
     CHECK(dc != NULL && nc == na);
@@ -197,7 +220,7 @@ static void test_deterministic_bytes(void) {
 static void check_write_fails(const char *path, const char *dir, int entries_before) {
     uint8_t *rgba = make_image(16, 16, 3);
     char err[512] = "";
-    CHECK(!pfx_png_write(path, rgba, 16, 16, err, sizeof err));
+    CHECK(!write_png(path, rgba, 16, 16, err));
     CHECK(strstr(err, path) != NULL);
     if (strstr(err, path) == NULL)
         fprintf(stderr, "  message was: %s\n", err);
@@ -213,7 +236,7 @@ static void test_missing_directory(void) {
     check_write_fails(path, test_dir, 0);
     char err[512] = "";
     uint8_t px[4] = {1, 2, 3, 4};
-    CHECK(!pfx_png_write(path, px, 1, 1, err, sizeof err));
+    CHECK(!write_png(path, px, 1, 1, err));
     CHECK(strstr(err, "No such file or directory") != NULL);
 }
 
@@ -230,7 +253,7 @@ static void test_read_only_directory(void) {
     check_write_fails(path, dir, 0);
     char err[512] = "";
     uint8_t px[4] = {1, 2, 3, 4};
-    CHECK(!pfx_png_write(path, px, 1, 1, err, sizeof err));
+    CHECK(!write_png(path, px, 1, 1, err));
     CHECK(strstr(err, "Permission denied") != NULL);
     chmod(dir, 0700);
     rmdir(dir);
@@ -263,7 +286,7 @@ static void test_write_error_mid_file(void) {
     for (size_t i = 0; i < (size_t)w * h; i++)
         rgba[i * 4 + 3] = rgba[i * 4];
     char err[512] = "";
-    bool ok = pfx_png_write(path, rgba, w, h, err, sizeof err);
+    bool ok = write_png(path, rgba, w, h, err);
 
     CHECK(setrlimit(RLIMIT_FSIZE, &old) == 0);
     signal(SIGXFSZ, old_handler);
@@ -281,7 +304,7 @@ static void test_invalid_size(void) {
     char path[512], err[512] = "";
     path_in(path, sizeof path, "empty.png");
     uint8_t px[4] = {0};
-    CHECK(!pfx_png_write(path, px, 0, 5, err, sizeof err));
+    CHECK(!write_png(path, px, 0, 5, err));
     CHECK(strstr(err, path) != NULL);
     CHECK(!file_exists(path));
     check_entries(test_dir, 0);
@@ -305,7 +328,7 @@ static void test_read_rejects_bad_files(void) {
     path_in(path, sizeof path, "truncated.png");
     uint8_t *rgba = make_image(64, 64, 5);
     char err[512];
-    CHECK(pfx_png_write(path, rgba, 64, 64, err, sizeof err));
+    CHECK(write_png(path, rgba, 64, 64, err));
     size_t n = 0;
     uint8_t *bytes = read_file_bytes(path, &n);
     CHECK(bytes != NULL && n > 200);
@@ -384,7 +407,7 @@ static void test_queue_order(void) {
     }
     CHECK(!pfx_png_queue_failed(q));
     char err[512] = "";
-    CHECK(pfx_png_queue_finish(q, err, sizeof err));
+    CHECK(finish_queue(q, err));
     CHECK(err[0] == '\0');
     for (int i = 0; i < frames; i++) {
         int rw = 0, rh = 0;
@@ -417,7 +440,7 @@ static void test_queue_first_error(void) {
         pfx_png_queue_submit(q, paths[i]);
     }
     char err[512] = "";
-    CHECK(!pfx_png_queue_finish(q, err, sizeof err));
+    CHECK(!finish_queue(q, err));
     CHECK(strstr(err, bad1) != NULL);
     if (strstr(err, bad1) == NULL)
         fprintf(stderr, "  message was: %s\n", err);
@@ -432,11 +455,11 @@ static void test_queue_first_error(void) {
 static void test_queue_empty(void) {
     pfx_png_queue *q = pfx_png_queue_create(4, 4);
     CHECK(q != NULL);
-    CHECK(pfx_png_queue_finish(q, NULL, 0));
+    CHECK(pfx_png_queue_finish(q, NULL));
     q = pfx_png_queue_create(4, 4);
     CHECK(q != NULL);
     CHECK(pfx_png_queue_buffer(q) != NULL);
-    CHECK(pfx_png_queue_finish(q, NULL, 0));
+    CHECK(pfx_png_queue_finish(q, NULL));
     CHECK(pfx_png_queue_create(0, 4) == NULL);
 }
 

@@ -759,8 +759,23 @@ static void test_old_shapes_unchanged(void) {
 
 /* ---- The OBJ reader ---- */
 
+/* The reader's diagnostics go to a list; err gets the first message. */
+static bool first_error(bool ok, pfx_diags *d, char *err) {
+    snprintf(err, 256, "%s", d->count ? d->items[0].message : "");
+    pfx_diags_free(d);
+    return ok;
+}
+
+static bool parse_scaled(const char *text, size_t len, double scale, pfx_arena *a, pfx_mesh *m,
+                         char *err) {
+    pfx_diags d;
+    pfx_diags_init_runtime(&d);
+    pfx_diag_at at = {&d, 0, 0, 0};
+    return first_error(pfx_mesh_parse(text, len, "t.obj", scale, a, m, &at), &d, err);
+}
+
 static bool parse(const char *text, pfx_arena *a, pfx_mesh *m, char *err) {
-    return pfx_mesh_parse(text, strlen(text), "t.obj", 1, a, m, err, 256);
+    return parse_scaled(text, strlen(text), 1, a, m, err);
 }
 
 static void check_error(const char *text, const char *want) {
@@ -803,8 +818,7 @@ static void test_obj_reader(void) {
 
     /* scale multiplies every coordinate (areas by scale^2). */
     memset(&a, 0, sizeof a);
-    CHECK(pfx_mesh_parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 32, "t.obj", 3, &a, &m, err,
-                         sizeof err));
+    CHECK(parse_scaled("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 32, 3, &a, &m, err));
     CHECK(m.verts[3] == 3 && m.verts[7] == 3);
     CHECK_NEAR(m.cum[0], 4.5, 1e-12);
     pfx_arena_free(&a);
@@ -852,7 +866,10 @@ static void test_obj_reader(void) {
 
     /* The file reader: a missing file says so. */
     memset(&a, 0, sizeof a);
-    CHECK(!pfx_mesh_load("/nonexistent/dir/x.obj", "x.obj", 1, &a, &m, err, sizeof err));
+    pfx_diags d;
+    pfx_diags_init_runtime(&d);
+    pfx_diag_at at = {&d, 0, 0, 0};
+    CHECK(!first_error(pfx_mesh_load("/nonexistent/dir/x.obj", "x.obj", 1, &a, &m, &at), &d, err));
     CHECK(!strcmp(err, "cannot open 'x.obj': No such file or directory"));
     pfx_arena_free(&a);
 }

@@ -91,7 +91,7 @@ static void exact_gravity(double gravity_scale) {
     compiled c;
     if (!compile_text(&c, text))
         return;
-    pfx_sim *s = pfx_sim_create(c.e), *v = pfx_sim_create(c.e);
+    pfx_sim *s = pfx_sim_create(c.e, NULL), *v = pfx_sim_create(c.e, NULL);
     const double x0[3] = {0.5, 1.0, -0.25}, dn = sqrt(1 + 4 + 0.25);
     const double v0[3] = {3 * 1 / dn, 3 * 2 / dn, 3 * 0.5 / dn};
     const double g[3] = {0, -9.81 * gravity_scale, 0};
@@ -155,7 +155,7 @@ static void test_timeline(void) {
             continue;
         int before = test_failures;
         /* By run_to + view_at. */
-        pfx_sim *s = pfx_sim_create(c.e), *v = pfx_sim_create(c.e);
+        pfx_sim *s = pfx_sim_create(c.e, NULL), *v = pfx_sim_create(c.e, NULL);
         pfx_sim_run_to(s, 0.3);
         pfx_sim_view_at(s, v, 0.3);
         check_only(v, 0.3, 0);
@@ -166,7 +166,7 @@ static void test_timeline(void) {
         pfx_sim_destroy(v);
         pfx_sim_destroy(s);
         /* By output frames: at 20 fps, frame 6 is 300 ms and frame 15 is 750 ms. */
-        s = pfx_sim_create(c.e), v = pfx_sim_create(c.e);
+        s = pfx_sim_create(c.e, NULL), v = pfx_sim_create(c.e, NULL);
         CHECK(pfx_sim_frame_time(c.e, 6) == 0.3 && pfx_sim_frame_time(c.e, 15) == 0.75);
         check_only(pfx_sim_frame(s, v, 6), 0.3, 0);
         check_only(pfx_sim_frame(s, v, 15), 0.75, 2);
@@ -207,8 +207,8 @@ static void test_step_rate_independent_random(void) {
         compiled c;
         if (!compile_text(&c, text))
             continue;
-        pfx_sim *s = pfx_sim_create(c.e), *v = pfx_sim_create(c.e);
-        pfx_sim *rs = pfx_sim_create(rc.e), *rv = pfx_sim_create(rc.e);
+        pfx_sim *s = pfx_sim_create(c.e, NULL), *v = pfx_sim_create(c.e, NULL);
+        pfx_sim *rs = pfx_sim_create(rc.e, NULL), *rv = pfx_sim_create(rc.e, NULL);
         int before = test_failures;
         for (size_t k = 0; k < sizeof times / sizeof *times; k++) {
             pfx_sim_run_to(rs, times[k]);
@@ -262,7 +262,7 @@ static void test_birth_counts(void) {
         compiled c;
         if (!compile_text(&c, text))
             continue;
-        pfx_sim *s = pfx_sim_create(c.e), *v = pfx_sim_create(c.e);
+        pfx_sim *s = pfx_sim_create(c.e, NULL), *v = pfx_sim_create(c.e, NULL);
         int before = test_failures;
         bool aged_ok = true, born_ok = true;
         for (size_t k = 0; k < sizeof times_ms / sizeof *times_ms; k++) {
@@ -362,7 +362,7 @@ static void test_swap_remove(void) {
     }
     const double x0[3] = {0.5, 1.0, -0.25}, dn = sqrt(1 + 4 + 0.25);
     const double v0[3] = {3 / dn, 6 / dn, 1.5 / dn}, g[3] = {0, -9.81, 0};
-    pfx_sim *s = pfx_sim_create(c.e), *v = pfx_sim_create(c.e);
+    pfx_sim *s = pfx_sim_create(c.e, NULL), *v = pfx_sim_create(c.e, NULL);
     uint32_t max_count = 0;
     bool out_of_order = false;                /* a survivor was moved: ids not ascending */
     for (int step = 0; step < 1200; step++) { /* 10 s: births up to 500 */
@@ -414,7 +414,7 @@ static void test_pool_sizing(void) {
         uint32_t want = (uint32_t)floor(cases[i].r * cases[i].max_life) + 1;
         CHECK(em->capacity == want);
         CHECK(!em->saturates);
-        pfx_sim *s = pfx_sim_create(c.e), *v = pfx_sim_create(c.e);
+        pfx_sim *s = pfx_sim_create(c.e, NULL), *v = pfx_sim_create(c.e, NULL);
         CHECK(s->pools[0].capacity == want);
         uint32_t most = 0;
         long steps = (long)(c.e->sim_rate * (3 * cases[i].max_life + 1));
@@ -448,7 +448,7 @@ static void test_pool_saturation(void) {
     CHECK(em->saturates);
     CHECK(em->capacity == 4); /* floor(4 * 11 / 11) */
     CHECK(c.diags.warnings >= 1);
-    pfx_sim *s = pfx_sim_create(c.e), *v = pfx_sim_create(c.e);
+    pfx_sim *s = pfx_sim_create(c.e, NULL), *v = pfx_sim_create(c.e, NULL);
     uint32_t most = 0;
     bool dense = true;
     for (int k = 0; k < 360; k++) {
@@ -502,7 +502,7 @@ static void test_emitter_independence(void) {
     if (!compile_text(&one, a) || !compile_text(&two, b))
         return;
     CHECK(!strcmp(two.e->emitters[1].name, "alpha"));
-    pfx_sim *s1 = pfx_sim_create(one.e), *s2 = pfx_sim_create(two.e);
+    pfx_sim *s1 = pfx_sim_create(one.e, NULL), *s2 = pfx_sim_create(two.e, NULL);
     bool same = true;
     for (int k = 0; k < 300; k++) {
         pfx_sim_step(s1);
@@ -523,7 +523,7 @@ static void test_emitter_independence(void) {
     snprintf(c, sizeof c, "%s", a);
     memcpy(strstr(c, "seed: 5"), "seed: 6", 7);
     if (compile_text(&other, c)) {
-        pfx_sim *s3 = pfx_sim_create(other.e);
+        pfx_sim *s3 = pfx_sim_create(other.e, NULL);
         for (int k = 0; k < 300; k++)
             pfx_sim_step(s3);
         CHECK(s3->pools[0].count != s1->pools[0].count ||
@@ -572,7 +572,7 @@ static const char determinism_effect[] =
     "    gravity_scale: { normal: [1, 0.25], clamp: [0, 2] }\n";
 
 static uint64_t run_hash(const pfx_effect *e, int steps, bool with_views) {
-    pfx_sim *s = pfx_sim_create(e), *v = pfx_sim_create(e);
+    pfx_sim *s = pfx_sim_create(e, NULL), *v = pfx_sim_create(e, NULL);
     for (int k = 0; k < steps; k++) {
         pfx_sim_step(s);
         if (with_views && k % 3 == 0)
@@ -599,7 +599,7 @@ static void test_determinism(void) {
     CHECK(run_hash(c1.e, 500, true) == h1);
     /* Nor do output frames (50 fps against 120 steps/s: most frames fall
      * between steps). */
-    pfx_sim *s = pfx_sim_create(c2.e), *v = pfx_sim_create(c2.e);
+    pfx_sim *s = pfx_sim_create(c2.e, NULL), *v = pfx_sim_create(c2.e, NULL);
     for (long f = 0; pfx_sim_frame_time(c2.e, f) < 499.5 / 120; f++)
         pfx_sim_frame(s, v, f);
     while (s->step < 500)
@@ -691,7 +691,7 @@ static void test_loop_hash(void) {
                           "    lifetime: [0.8, 1.6]\n"
                           "    bursts: [{ time: 0.5, count: 20 }]\n"))
         return;
-    pfx_sim *s = pfx_sim_create(c.e), *v = pfx_sim_create(c.e);
+    pfx_sim *s = pfx_sim_create(c.e, NULL), *v = pfx_sim_create(c.e, NULL);
     const pfx_sim *f0 = pfx_sim_frame(s, v, 0);
     uint64_t h0 = pfx_sim_hash(f0);
     fprintf(stderr, "  %-28s 0x%016llx\n", "loop, frame 0", (unsigned long long)h0);
