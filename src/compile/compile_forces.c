@@ -1,80 +1,27 @@
-/* The `forces:` entries: each type's keys, defaults and ranges, compiled into
- * a pfx_motion_force in SI units (degrees become radians here). It does not
- * decide which emitter feels what or which integrator runs; compile.c does. */
+/* The `forces:` entries: one key table per force kind (its keys, defaults,
+ * ranges and units, degrees becoming radians), compiled into a
+ * pfx_motion_force in SI units. It does not decide which emitter feels
+ * what or which integrator runs; compile.c does. */
 #include "compile/compile_forces.h"
 
-#include "base/hash.h"
-
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
-static const char *const force_types[] = {"gravity",     "attractor", "drag",   "vortex",
-                                          "magnetic",    "spiral",    "spring", "turbulence",
-                                          "speed_limit", NULL};
-static const pfx_motion_kind force_kinds[] = {
-    PFX_MOTION_GRAVITY, PFX_MOTION_ATTRACTOR,  PFX_MOTION_DRAG,
-    PFX_MOTION_VORTEX,  PFX_MOTION_MAGNETIC,   PFX_MOTION_SPIRAL,
-    PFX_MOTION_SPRING,  PFX_MOTION_TURBULENCE, PFX_MOTION_SPEED_LIMIT};
+#include "base/hash.h"
+#include "compile/keys.h"
 
-/* Keys per type, `type` and `region` included. */
-static const char *const *keys_for(pfx_motion_kind k) {
-    static const char *const gravity[] = {"type", "accel", "region", NULL};
-    static const char *const attractor[] = {"type",    "center", "strength",         "softening",
-                                            "falloff", "radius", "reference_radius", "region",
-                                            NULL};
-    static const char *const drag[] = {"type", "k", "c", "wind", "region", NULL};
-    static const char *const vortex[] = {"type", "center", "axis",   "strength", "radius",
-                                         "d",    "inflow", "region", NULL};
-    static const char *const magnetic[] = {"type", "field", "electric", "region", NULL};
-    static const char *const spiral[] = {"type", "center", "axis", "rate", "region", NULL};
-    static const char *const spring[] = {"type", "anchor", "k", "zeta", "region", NULL};
-    static const char *const turbulence[] = {"type",  "strength", "scale", "octaves",
-                                             "speed", "region",   NULL};
-    static const char *const speed_limit[] = {"type", "max", "region", NULL};
-    switch (k) {
-    case PFX_MOTION_GRAVITY:
-        return gravity;
-    case PFX_MOTION_ATTRACTOR:
-        return attractor;
-    case PFX_MOTION_DRAG:
-        return drag;
-    case PFX_MOTION_VORTEX:
-        return vortex;
-    case PFX_MOTION_MAGNETIC:
-        return magnetic;
-    case PFX_MOTION_SPIRAL:
-        return spiral;
-    case PFX_MOTION_SPRING:
-        return spring;
-    case PFX_MOTION_TURBULENCE:
-        return turbulence;
-    default:
-        return speed_limit;
-    }
-}
+#define F(field) offsetof(pfx_motion_force, field)
+#define R(field) offsetof(pfx_motion_region, field)
 
-/* An optional number within [lo, hi]; *out keeps its default when absent. */
-static bool number_in(pfx_reader *r, const pfx_node *map, const char *key, double *out, double lo,
-                      double hi) {
-    const pfx_node *n = pfx_node_get(map, key);
-    if (!n)
-        return true;
-    double v;
-    if (!pfx_read_number(r, n, key, &v))
-        return false;
-    if (!pfx_check_above(r, n, key, v, lo, false) || !pfx_check_below(r, n, key, v, hi, false))
-        return false;
-    *out = v;
-    return true;
-}
+/* ---- Hooks: keys that need code ---- */
 
-/* A unit axis (default +Y); the zero vector is an error. */
-static void axis(pfx_reader *r, const pfx_node *map, double out[3]) {
-    out[0] = out[2] = 0;
-    out[1] = 1;
-    const pfx_node *n = pfx_node_get(map, "axis");
+/* A unit axis; the zero vector is an error. */
+static void read_axis(pfx_reader *r, const pfx_node *map, const pfx_node *n, void *dest) {
+    (void)map;
+    pfx_motion_force *m = dest;
     double v[3];
-    if (!n || !pfx_read_numbers(r, n, "axis", v, 3))
+    if (!pfx_read_numbers(r, n, "axis", v, 3))
         return;
     double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     if (len == 0) {
@@ -82,188 +29,234 @@ static void axis(pfx_reader *r, const pfx_node *map, double out[3]) {
         return;
     }
     for (int i = 0; i < 3; i++)
-        out[i] = v[i] / len;
+        m->axis[i] = v[i] / len;
 }
 
-static void region(pfx_reader *r, const pfx_node *n, pfx_motion_region *out) {
-    static const char *const sphere_keys[] = {"type", "center", "radius", "falloff", NULL};
-    static const char *const box_keys[] = {"type", "center", "size", "falloff", NULL};
-    static const char *const types[] = {"sphere", "box", NULL};
-    if (!pfx_read_map(r, n, "region"))
+/* A spring's anchor: a point, or `birth` (each particle's birth place). */
+static void read_anchor(pfx_reader *r, const pfx_node *map, const pfx_node *n, void *dest) {
+    pfx_motion_force *m = dest;
+    if (n->kind == PFX_NODE_SCALAR && !strcmp(n->text, "birth"))
+        m->use_birth = true;
+    else if (n->kind != PFX_NODE_SEQ)
+        pfx_read_error(r, n, "'anchor' must be a point [x, y, z] or 'birth'");
+    else if (pfx_read_vec3_within(r, map, "anchor", m->center, 1e6))
+        m->use_birth = false;
+}
+
+static const pfx_key sphere_region_keys[] = {
+    {"type", PFX_KEY_CODE, .offset = -1, .doc = "sphere"},
+    {"center", PFX_KEY_VEC3, .hi = 1e6, .offset = R(center), .doc = "Its centre (m)."},
+    {"radius", PFX_KEY_NUMBER, .lo = 0, .hi = 1e6, .def = {1}, .offset = R(radius),
+     .doc = "Its radius (m), 0 to 1e6."},
+    {"falloff", PFX_KEY_NUMBER, .lo = 0, .hi = 1e6, .offset = R(falloff),
+     .doc = "Metres over which the force fades to zero outside it (0: a hard edge)."},
+};
+static PFX_KEY_TABLE(sphere_region, "region_sphere", "sphere",
+                     "A sphere where the force acts at full strength.", sphere_region_keys);
+
+/* A box region's size is its full edges, kept as half edges. */
+static void read_region_size(pfx_reader *r, const pfx_node *map, const pfx_node *sz, void *dest) {
+    (void)map;
+    pfx_motion_region *g = dest;
+    double size[3];
+    if (!pfx_read_numbers(r, sz, "size", size, 3))
         return;
-    const pfx_node *t = pfx_node_get(n, "type");
-    const char *name;
-    if (!t) {
-        pfx_read_error(r, n, "a region needs a 'type' (sphere or box)");
-        return;
-    }
-    if (!pfx_read_string(r, t, "type", &name))
-        return;
-    bool sphere = !strcmp(name, "sphere");
-    if (!sphere && strcmp(name, "box")) {
-        const char *s = pfx_suggest(name, types);
-        pfx_read_error(r, t, "unknown region type '%s'; %s%s%s", name,
-                       s ? "did you mean '" : "expected sphere or box", s ? s : "", s ? "'?" : "");
-        return;
-    }
-    pfx_read_check_keys(r, n, sphere ? sphere_keys : box_keys, "a region");
-    out->kind = sphere ? PFX_REGION_SPHERE : PFX_REGION_BOX;
-    pfx_read_vec3_within(r, n, "center", out->center, 1e6);
-    number_in(r, n, "falloff", &out->falloff, 0, 1e6);
-    if (sphere) {
-        out->radius = 1;
-        number_in(r, n, "radius", &out->radius, 0, 1e6);
-    } else {
-        double size[3] = {1, 1, 1};
-        const pfx_node *sz = pfx_node_get(n, "size");
-        if (sz && pfx_read_numbers(r, sz, "size", size, 3))
-            for (int i = 0; i < 3; i++)
-                if (size[i] < 0)
-                    pfx_read_error(r, sz->items[i], "region 'size' must be at least 0, got %g",
-                                   size[i]);
-        for (int i = 0; i < 3; i++)
-            out->half[i] = size[i] / 2;
+    for (int i = 0; i < 3; i++) {
+        if (size[i] < 0)
+            pfx_read_error(r, sz->items[i], "region 'size' must be at least 0, got %g", size[i]);
+        g->half[i] = size[i] / 2;
     }
 }
+
+static const pfx_key box_region_keys[] = {
+    {"type", PFX_KEY_CODE, .offset = -1, .doc = "box"},
+    {"center", PFX_KEY_VEC3, .hi = 1e6, .offset = R(center), .doc = "Its centre (m)."},
+    {"size", PFX_KEY_CODE, .offset = -1, .hook = read_region_size,
+     .schema = "{\"$ref\": \"#/$defs/vec3\", \"default\": [1, 1, 1]}",
+     .doc = "Its edge lengths along x, y, z (m), each at least 0."},
+    {"falloff", PFX_KEY_NUMBER, .lo = 0, .hi = 1e6, .offset = R(falloff),
+     .doc = "Metres over which the force fades to zero outside it (0: a hard edge)."},
+};
+static PFX_KEY_TABLE(box_region, "region_box", "box",
+                     "An axis-aligned box where the force acts at full strength.", box_region_keys);
+
+/* In the order of PFX_REGION_KINDS. */
+static const pfx_key_table *const region_tables[] = {&sphere_region, &box_region};
+
+static void read_region(pfx_reader *r, const pfx_node *map, const pfx_node *n, void *dest) {
+    (void)map;
+    pfx_motion_region *out = &((pfx_motion_force *)dest)->region;
+    if (!pfx_read_map(r, n, "region"))
+        return;
+    int k = pfx_keys_kind(r, n, n, "a region", "region type", pfx_region_names, false);
+    if (k < 0)
+        return;
+    const pfx_key_table *t = region_tables[k];
+    out->kind = (pfx_region_kind)(PFX_REGION_SPHERE + k);
+    pfx_keys_check(r, n, t, "a region");
+    out->half[0] = out->half[1] = out->half[2] = 0.5;
+    pfx_keys_defaults(t, out);
+    pfx_keys_read(r, n, t, out);
+}
+
+/* ---- The tables, one per force kind ---- */
+
+#define TYPE_ROW                                                                                   \
+    { "type", PFX_KEY_CODE, .offset = -1, .doc = "The force type." }
+#define REGION_ROW                                                                                 \
+    {                                                                                              \
+        "region", PFX_KEY_CODE,                                                                    \
+            .offset = -1, .hook = read_region, .schema = "{\"$ref\": \"#/$defs/region\"}",         \
+            .doc =                                                                                 \
+                "Where it acts: a sphere or box, fading out over `falloff` (default everywhere)."  \
+    }
+
+static const pfx_key gravity_keys[] = {
+    TYPE_ROW,
+    {"accel", PFX_KEY_VEC3, .hi = 1e6, .def = {0, -9.81, 0}, .offset = F(accel),
+     .doc = "The acceleration in m/s^2, each component within +-1e6."},
+    REGION_ROW,
+};
+static const pfx_key attractor_keys[] = {
+    TYPE_ROW,
+    {"center", PFX_KEY_VEC3, .hi = 1e6, .offset = F(center), .doc = "The point it pulls to (m)."},
+    {"strength", PFX_KEY_NUMBER, .lo = -1e9, .hi = 1e9, .def = {1}, .offset = F(strength),
+     .doc = "mu in m^3/s^2 (a = mu / r^2 at distance r); negative repels."},
+    {"softening", PFX_KEY_NUMBER, .lo = 0, .hi = 1e6, .offset = F(softening),
+     .doc = "Plummer softening radius in m: a = mu r / (r^2 + e^2)^(3/2)."},
+    {"falloff", PFX_KEY_ENUM, .offset = F(falloff), .names = pfx_falloff_names, .what = "falloff",
+     .doc = "How the pull falls with distance."},
+    {"radius", PFX_KEY_NUMBER, .lo = 0, .hi = 1e6, .offset = F(radius),
+     .doc = "No pull beyond this distance (0: everywhere)."},
+    {"reference_radius", PFX_KEY_NUMBER, .lo = 1e-6, .hi = 1e6, .def = {1}, .offset = F(ref_radius),
+     .doc = "L of the linear and constant falloffs, and where stability is judged."},
+    REGION_ROW,
+};
+static const pfx_key drag_keys[] = {
+    TYPE_ROW,
+    {"k", PFX_KEY_NUMBER, .lo = 0, .hi = 1e6, .def = {1}, .offset = F(k),
+     .doc = "Linear drag in 1/s, 0 to 1e6 (default 1, or 0 when only c is given)."},
+    {"c", PFX_KEY_NUMBER, .lo = 0, .hi = 1e6, .offset = F(c),
+     .doc = "Quadratic drag in 1/m, 0 to 1e6."},
+    {"wind", PFX_KEY_VEC3, .hi = 1e6, .offset = F(wind),
+     .doc = "The fluid's velocity in m/s, each within +-1e6."},
+    REGION_ROW,
+};
+static const pfx_key vortex_keys[] = {
+    TYPE_ROW,
+    {"center", PFX_KEY_VEC3, .hi = 1e6, .offset = F(center), .doc = "A point on its axis (m)."},
+    {"axis", PFX_KEY_VEC3, .def = {0, 1, 0}, .offset = F(axis), .hook = read_axis,
+     .doc = "Its axis direction (any length but zero)."},
+    {"strength", PFX_KEY_NUMBER, PFX_KEY_DEGREES, .lo = -1e6, .hi = 1e6, .def = {90},
+     .offset = F(strength), .doc = "Degrees per second at the axis, times Sims' falloff."},
+    {"radius", PFX_KEY_NUMBER, .lo = 1e-6, .hi = 1e6, .def = {1}, .offset = F(radius),
+     .doc = "Its radius in m: no turn beyond it."},
+    {"d", PFX_KEY_NUMBER, .lo = 0, .hi = 1e6, .offset = F(sims_d),
+     .doc = "d of the falloff (r^4 - 2r^2 + 1) / (1 + d r^2)."},
+    {"inflow", PFX_KEY_NUMBER, .lo = -1e6, .hi = 1e6, .offset = F(inflow),
+     .doc = "m/s towards the axis, times the falloff."},
+    REGION_ROW,
+};
+static const pfx_key magnetic_keys[] = {
+    TYPE_ROW,
+    {"field", PFX_KEY_VEC3, .hi = 1e6, .def = {0, 1, 0}, .offset = F(field),
+     .doc = "B in tesla, each component within +-1e6."},
+    {"electric", PFX_KEY_VEC3, .hi = 1e9, .offset = F(electric),
+     .doc = "E in V/m, each component within +-1e9."},
+    REGION_ROW,
+};
+static const pfx_key spiral_keys[] = {
+    TYPE_ROW,
+    {"center", PFX_KEY_VEC3, .hi = 1e6, .offset = F(center), .doc = "A point on its axis (m)."},
+    {"axis", PFX_KEY_VEC3, .def = {0, 1, 0}, .offset = F(axis), .hook = read_axis,
+     .doc = "The axis velocities turn about."},
+    {"rate", PFX_KEY_NUMBER, PFX_KEY_DEGREES, .lo = -1e6, .hi = 1e6, .def = {90}, .offset = F(rate),
+     .doc = "Degrees per second the velocity turns."},
+    REGION_ROW,
+};
+static const pfx_key spring_keys[] = {
+    TYPE_ROW,
+    {"anchor", PFX_KEY_CODE, .offset = -1, .hook = read_anchor,
+     .schema = "{\"oneOf\": [{\"$ref\": \"#/$defs/vec3\"}, {\"const\": \"birth\"}], "
+               "\"default\": \"birth\"}",
+     .doc = "The point it pulls to, or 'birth': each particle's own birth place."},
+    {"k", PFX_KEY_NUMBER, .lo = 0, .hi = 1e8, .def = {10}, .offset = F(k),
+     .doc = "Stiffness per mass in 1/s^2 (omega = sqrt(k))."},
+    {"zeta", PFX_KEY_NUMBER, .lo = 0, .hi = 1e3, .offset = F(zeta),
+     .doc = "Damping ratio (1: critical)."},
+    REGION_ROW,
+};
+static const pfx_key turbulence_keys[] = {
+    TYPE_ROW,
+    {"strength", PFX_KEY_NUMBER, .lo = 0, .hi = 1e6, .def = {1}, .offset = F(strength),
+     .doc = "Typical acceleration in m/s^2."},
+    {"scale", PFX_KEY_NUMBER, .lo = 1e-6, .hi = 1e6, .def = {1}, .offset = F(scale),
+     .doc = "Feature size in m."},
+    {"octaves", PFX_KEY_WHOLE, .lo = 1, .hi = 8, .def = {1}, .offset = F(octaves),
+     .doc = "Octaves of noise, 1 to 8, each half the amplitude of the last."},
+    {"speed", PFX_KEY_NUMBER, .lo = -1e6, .hi = 1e6, .offset = F(speed),
+     .doc = "How fast the pattern drifts, m/s."},
+    REGION_ROW,
+};
+static const pfx_key speed_limit_keys[] = {
+    TYPE_ROW,
+    {"max", PFX_KEY_NUMBER, .lo = 0, .hi = 1e6, .def = {10}, .offset = F(max_speed),
+     .doc = "The largest speed in m/s."},
+    REGION_ROW,
+};
+
+static PFX_KEY_TABLE(force_gravity, "force_gravity", "gravity", "Uniform acceleration.",
+                     gravity_keys);
+static PFX_KEY_TABLE(force_attractor, "force_attractor", "attractor",
+                     "A point that pulls (or pushes).", attractor_keys);
+static PFX_KEY_TABLE(force_drag, "force_drag", "drag",
+                     "Drag relative to a wind: a = -(k + c |u|) u, u = v - wind.", drag_keys);
+static PFX_KEY_TABLE(force_vortex, "force_vortex", "vortex",
+                     "Turns positions about an axis (Sims 1990).", vortex_keys);
+static PFX_KEY_TABLE(force_magnetic, "force_magnetic", "magnetic",
+                     "The Lorentz force (q/m)(E + v x B).", magnetic_keys);
+static PFX_KEY_TABLE(force_spiral, "force_spiral", "spiral", "Turns velocities about an axis.",
+                     spiral_keys);
+static PFX_KEY_TABLE(force_spring, "force_spring", "spring",
+                     "A damped spring: a = -k (x - anchor) - 2 zeta sqrt(k) v.", spring_keys);
+static PFX_KEY_TABLE(force_turbulence, "force_turbulence", "turbulence",
+                     "Divergence-free curl noise.", turbulence_keys);
+static PFX_KEY_TABLE(force_speed_limit, "force_speed_limit", "speed_limit", "Clamps the speed.",
+                     speed_limit_keys);
+
+/* One table per force kind, in the order of PFX_FORCE_KINDS. */
+const pfx_key_table *const pfx_force_tables[] = {
+    &force_gravity, &force_attractor, &force_drag,       &force_vortex,      &force_magnetic,
+    &force_spiral,  &force_spring,    &force_turbulence, &force_speed_limit, NULL};
+_Static_assert(sizeof pfx_force_tables / sizeof *pfx_force_tables == PFX_MOTION_KIND_COUNT + 1,
+               "a force kind without its key table");
+const pfx_key_table *const pfx_region_tables[] = {&sphere_region, &box_region, NULL};
 
 bool pfx_compile_force(pfx_reader *r, const pfx_node *key, const pfx_node *f, uint64_t seed,
                        pfx_force *out) {
-    const double deg = M_PI / 180;
     int errors = r->d->errors;
     out->name = pfx_arena_strndup(r->arena, key->text, key->len);
     pfx_motion_force *m = &out->spec;
     m->name = out->name;
     if (!pfx_read_map(r, f, key->text))
         return false;
-    const pfx_node *type = pfx_node_get(f, "type");
-    if (!type) {
-        pfx_read_error(r, key,
-                       "force '%s' needs a 'type' (gravity, attractor, drag, vortex, "
-                       "magnetic, spiral, spring, turbulence or speed_limit)",
-                       key->text);
+    char subject[160];
+    snprintf(subject, sizeof subject, "force '%s'", key->text);
+    int k = pfx_keys_kind(r, f, key, subject, "force type", pfx_force_names, false);
+    if (k < 0)
         return false;
-    }
-    const char *name;
-    if (!pfx_read_string(r, type, "type", &name))
-        return false;
-    int t = -1;
-    for (int i = 0; force_types[i]; i++)
-        if (!strcmp(force_types[i], name))
-            t = i;
-    if (t < 0) {
-        const char *s = pfx_suggest(name, force_types);
-        if (s)
-            pfx_read_error(r, type, "unknown force type '%s'; did you mean '%s'?", name, s);
-        else
-            pfx_read_error(r, type,
-                           "unknown force type '%s'; expected gravity, attractor, drag, vortex, "
-                           "magnetic, spiral, spring, turbulence or speed_limit",
-                           name);
-        return false;
-    }
-    m->kind = force_kinds[t];
-    char where[160];
-    snprintf(where, sizeof where, "force '%s'", key->text);
-    pfx_read_check_keys(r, f, keys_for(m->kind), where);
-    const pfx_node *n;
-    if ((n = pfx_node_get(f, "region")))
-        region(r, n, &m->region);
-    switch (m->kind) {
-    case PFX_MOTION_GRAVITY:
-        m->accel[1] = -9.81;
-        pfx_read_vec3_within(r, f, "accel", m->accel, 1e6);
-        break;
-    case PFX_MOTION_ATTRACTOR: {
-        static const char *const falloffs[] = {"inverse_square", "linear", "constant", NULL};
-        pfx_read_vec3_within(r, f, "center", m->center, 1e6);
-        m->strength = 1;
-        number_in(r, f, "strength", &m->strength, -1e9, 1e9);
-        number_in(r, f, "softening", &m->softening, 0, 1e6);
-        number_in(r, f, "radius", &m->radius, 0, 1e6);
-        m->ref_radius = 1;
-        number_in(r, f, "reference_radius", &m->ref_radius, 1e-6, 1e6);
-        if ((n = pfx_node_get(f, "falloff")) && pfx_read_string(r, n, "falloff", &name)) {
-            int k = -1;
-            for (int i = 0; falloffs[i]; i++)
-                if (!strcmp(falloffs[i], name))
-                    k = i;
-            if (k < 0)
-                pfx_read_error(r, n,
-                               "unknown falloff '%s'; expected inverse_square, linear or constant",
-                               name);
-            else
-                m->falloff = (pfx_falloff)k;
-        }
-        break;
-    }
-    case PFX_MOTION_DRAG:
-        m->k = 1;
-        if (pfx_node_get(f, "c") && !pfx_node_get(f, "k"))
-            m->k = 0; /* quadratic only */
-        number_in(r, f, "k", &m->k, 0, 1e6);
-        number_in(r, f, "c", &m->c, 0, 1e6);
-        pfx_read_vec3_within(r, f, "wind", m->wind, 1e6);
-        break;
-    case PFX_MOTION_VORTEX:
-        pfx_read_vec3_within(r, f, "center", m->center, 1e6);
-        axis(r, f, m->axis);
-        m->strength = 90;
-        number_in(r, f, "strength", &m->strength, -1e6, 1e6);
-        m->strength *= deg;
-        m->radius = 1;
-        number_in(r, f, "radius", &m->radius, 1e-6, 1e6);
-        number_in(r, f, "d", &m->sims_d, 0, 1e6);
-        number_in(r, f, "inflow", &m->inflow, -1e6, 1e6);
-        break;
-    case PFX_MOTION_MAGNETIC:
-        m->field[1] = 1;
-        pfx_read_vec3_within(r, f, "field", m->field, 1e6);
-        pfx_read_vec3_within(r, f, "electric", m->electric, 1e9);
-        break;
-    case PFX_MOTION_SPIRAL:
-        pfx_read_vec3_within(r, f, "center", m->center, 1e6);
-        axis(r, f, m->axis);
-        m->rate = 90;
-        number_in(r, f, "rate", &m->rate, -1e6, 1e6);
-        m->rate *= deg;
-        break;
-    case PFX_MOTION_SPRING:
-        m->k = 10;
-        number_in(r, f, "k", &m->k, 0, 1e8);
-        number_in(r, f, "zeta", &m->zeta, 0, 1e3);
-        if ((n = pfx_node_get(f, "anchor"))) {
-            if (n->kind == PFX_NODE_SCALAR && !strcmp(n->text, "birth"))
-                m->use_birth = true;
-            else if (n->kind != PFX_NODE_SEQ)
-                pfx_read_error(r, n, "'anchor' must be a point [x, y, z] or 'birth'");
-            else
-                pfx_read_vec3_within(r, f, "anchor", m->center, 1e6);
-        } else {
-            m->use_birth = true;
-        }
-        break;
-    case PFX_MOTION_TURBULENCE: {
-        m->strength = 1;
-        number_in(r, f, "strength", &m->strength, 0, 1e6);
-        m->scale = 1;
-        number_in(r, f, "scale", &m->scale, 1e-6, 1e6);
-        double oct = 1;
-        number_in(r, f, "octaves", &oct, 1, 8);
-        if (oct != floor(oct) && (n = pfx_node_get(f, "octaves")))
-            pfx_read_error(r, n, "'octaves' must be a whole number from 1 to 8, got %g", oct);
-        m->octaves = (int)oct;
-        number_in(r, f, "speed", &m->speed, -1e6, 1e6);
+    const pfx_key_table *t = pfx_force_tables[k];
+    m->kind = (pfx_motion_kind)k;
+    pfx_keys_check(r, f, t, subject);
+    pfx_keys_defaults(t, m);
+    if (m->kind == PFX_MOTION_DRAG && pfx_node_get(f, "c") && !pfx_node_get(f, "k"))
+        m->k = 0; /* quadratic only */
+    if (m->kind == PFX_MOTION_SPRING)
+        m->use_birth = true; /* the default anchor */
+    pfx_keys_read(r, f, t, m);
+    if (m->kind == PFX_MOTION_TURBULENCE)
         /* The noise is seeded by the effect's seed and the force's name, so
          * --seed changes it and renaming another force does not. */
         m->seed = pfx_fnv1a_str(seed ^ 0x9e3779b97f4a7c15ULL, out->name);
-        break;
-    }
-    case PFX_MOTION_SPEED_LIMIT:
-        m->max_speed = 10;
-        number_in(r, f, "max", &m->max_speed, 0, 1e6);
-        break;
-    default:
-        break;
-    }
     return r->d->errors == errors;
 }

@@ -28,61 +28,151 @@
 #include "compile/compile_shape.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
+#include "compile/keys.h"
 #include "compile/mesh_load.h"
-
-static const char *const shape_types[] = {"point",    "line", "rect",   "disc",
-                                          "ellipse",  "box",  "sphere", "hemisphere",
-                                          "cylinder", "cone", "mesh",   NULL};
-static const pfx_shape_type shape_enum[] = {
-    PFX_SHAPE_POINT,    PFX_SHAPE_LINE, PFX_SHAPE_RECT,   PFX_SHAPE_DISC,
-    PFX_SHAPE_ELLIPSE,  PFX_SHAPE_BOX,  PFX_SHAPE_SPHERE, PFX_SHAPE_HEMISPHERE,
-    PFX_SHAPE_CYLINDER, PFX_SHAPE_CONE, PFX_SHAPE_MESH};
-
-static const char *const emit_modes[] = {"volume", "surface", "edge", NULL};
-
-static const char *const point_keys[] = {"type", "emit_from", NULL};
-static const char *const line_keys[] = {"type", "from", "to", "emit_from", NULL};
-static const char *const rect_keys[] = {"type", "size", "emit_from", NULL};
-static const char *const disc_keys[] = {"type", "radius", "inner", "arc", "emit_from", NULL};
-static const char *const ellipse_keys[] = {"type", "radii", "emit_from", NULL};
-static const char *const box_keys[] = {"type", "size", "emit_from", NULL};
-static const char *const sphere_keys[] = {"type", "radius", "inner", "emit_from", NULL};
-static const char *const cylinder_keys[] = {"type", "radius", "height", "emit_from", NULL};
-static const char *const cone_keys[] = {"type", "radius", "height", "angle", "emit_from", NULL};
-static const char *const mesh_keys[] = {"type", "file", "scale", "emit_from", NULL};
 
 #define VOL (1u << PFX_EMIT_VOLUME)
 #define SURF (1u << PFX_EMIT_SURFACE)
 #define EDGE (1u << PFX_EMIT_EDGE)
 
-/* Per type, indexed by pfx_shape_type: its keys and its emit_from modes. */
-static const struct {
-    const char *const *keys;
-    unsigned modes;
-} kinds[] = {
-    [PFX_SHAPE_POINT] = {point_keys, VOL},
-    [PFX_SHAPE_SPHERE] = {sphere_keys, VOL | SURF},
-    [PFX_SHAPE_BOX] = {box_keys, VOL | SURF},
-    [PFX_SHAPE_DISC] = {disc_keys, VOL | EDGE},
-    [PFX_SHAPE_LINE] = {line_keys, VOL},
-    [PFX_SHAPE_RECT] = {rect_keys, VOL | EDGE},
-    [PFX_SHAPE_ELLIPSE] = {ellipse_keys, VOL | EDGE},
-    [PFX_SHAPE_HEMISPHERE] = {sphere_keys, VOL | SURF},
-    [PFX_SHAPE_CYLINDER] = {cylinder_keys, VOL | SURF},
-    [PFX_SHAPE_CONE] = {cone_keys, VOL | SURF},
-    [PFX_SHAPE_MESH] = {mesh_keys, SURF},
-};
+/* The emit_from modes each kind allows, in the order of PFX_SHAPE_KINDS. */
+static const unsigned kind_modes[] = {VOL,        VOL,        VOL | EDGE, VOL | EDGE,
+                                      VOL | EDGE, VOL | SURF, VOL | SURF, VOL | SURF,
+                                      VOL | SURF, VOL | SURF, SURF};
+
+#define S(field) offsetof(pfx_shape, field)
+#define TYPE(text)                                                                                 \
+    { "type", PFX_KEY_CODE, .offset = -1, .doc = text }
+#define EMIT_FROM(modes, def)                                                                      \
+    {                                                                                              \
+        "emit_from", PFX_KEY_CODE, .offset = -1,                                                   \
+                                   .schema = "{\"enum\": [" modes "], \"default\": \"" def "\"}",  \
+                                   .doc = "Where births are: " modes " (default " def ")."         \
+    }
+#define VOLUME_ONLY EMIT_FROM("\"volume\"", "volume")
+#define VOLUME_EDGE EMIT_FROM("\"volume\", \"edge\"", "volume")
+#define VOLUME_SURFACE EMIT_FROM("\"volume\", \"surface\"", "volume")
+/* Required keys: read by the code of pfx_compile_shape, which names the
+ * missing one in the shape's own words ("a box shape needs a 'size'"). */
+#define LENGTHS(n)                                                                                 \
+    "{\"type\": \"array\", \"items\": {\"type\": \"number\", \"minimum\": 0}, \"minItems\": " #n   \
+    ", \"maxItems\": " #n "}"
+#define RADIUS_ROW                                                                                 \
+    {                                                                                              \
+        "radius", PFX_KEY_NUMBER, PFX_KEY_REQUIRED | PFX_KEY_NO_DEFAULT,                           \
+            .lo = 0, .hi = INFINITY, .offset = -1, .doc = "Radius in metres, at least 0."          \
+    }
+#define INNER_ROW                                                                                  \
+    {                                                                                              \
+        "inner", PFX_KEY_NUMBER,                                                                   \
+            .lo = 0, .hi = INFINITY, .offset = -1,                                                 \
+            .doc =                                                                                 \
+                "Inner radius in metres (0 <= inner < radius): births between inner and radius; "  \
+                "emit_from: volume only."                                                          \
+    }
+#define HEIGHT_ROW                                                                                 \
+    {                                                                                              \
+        "height", PFX_KEY_NUMBER, PFX_KEY_REQUIRED | PFX_KEY_NO_DEFAULT,                           \
+            .lo = 0, .hi = INFINITY, .offset = -1,                                                 \
+            .doc = "Height in metres along local +Y from the base at y = 0, at least 0."           \
+    }
+
+static const pfx_key point_keys[] = {
+    TYPE("A point: every particle is born at the emitter's position."), VOLUME_ONLY};
+static const pfx_key line_keys[] = {TYPE("A segment from 'from' to 'to', uniform by length."),
+                                    {"from", PFX_KEY_VEC3, PFX_KEY_REQUIRED | PFX_KEY_NO_DEFAULT,
+                                     .offset = -1,
+                                     .doc = "One end [x, y, z] in the emitter's frame, metres."},
+                                    {"to", PFX_KEY_VEC3, PFX_KEY_REQUIRED | PFX_KEY_NO_DEFAULT,
+                                     .offset = -1, .doc = "The other end [x, y, z], metres."},
+                                    VOLUME_ONLY};
+static const pfx_key rect_keys[] = {
+    TYPE("A rectangle in the local XZ plane (normal +Y), centred: volume = its area, edge = its "
+         "perimeter."),
+    {"size", PFX_KEY_CODE, PFX_KEY_REQUIRED, .offset = -1, .schema = LENGTHS(2),
+     .doc = "[w, h]: edge lengths along X and Z in metres, each at least 0."},
+    VOLUME_EDGE};
+static void read_arc(pfx_reader *r, const pfx_node *map, const pfx_node *v, void *dest);
+static const pfx_key disc_keys[] = {
+    TYPE("A disc in the local XZ plane (normal +Y): volume = the area (a ring with inner, a sector "
+         "with arc), edge = the rim."),
+    RADIUS_ROW,
+    INNER_ROW,
+    {"arc", PFX_KEY_NUMBER, PFX_KEY_LO_STRICT, .lo = 0, .hi = 360, .def = {360}, .offset = -1,
+     .hook = read_arc,
+     .doc = "The sector in degrees, from +X towards +Z, greater than 0, at most 360."},
+    VOLUME_EDGE};
+static const pfx_key ellipse_keys[] = {
+    TYPE("An ellipse in the local XZ plane: volume = the area, edge = the rim by arc length."),
+    {"radii", PFX_KEY_CODE, PFX_KEY_REQUIRED, .offset = -1, .schema = LENGTHS(2),
+     .doc = "[a, b]: semi-axes along X and Z in metres, each at least 0."},
+    VOLUME_EDGE};
+static const pfx_key box_keys[] = {
+    TYPE("A box centred on the emitter: volume, or surface (the six faces by area)."),
+    {"size", PFX_KEY_CODE, PFX_KEY_REQUIRED, .offset = -1, .schema = LENGTHS(3),
+     .doc = "Full edge lengths [x, y, z] in metres, each at least 0."},
+    VOLUME_SURFACE};
+static const pfx_key sphere_keys[] = {
+    TYPE("A ball: volume (a thick shell with inner), or surface (the sphere r = radius)."),
+    RADIUS_ROW, INNER_ROW, VOLUME_SURFACE};
+static const pfx_key hemisphere_keys[] = {
+    TYPE("The y >= 0 half of a ball: volume, or surface (the dome only)."), RADIUS_ROW, INNER_ROW,
+    VOLUME_SURFACE};
+static const pfx_key cylinder_keys[] = {
+    TYPE("A cylinder on local +Y from y = 0 to y = height: volume, or surface (the side only, no "
+         "caps)."),
+    RADIUS_ROW, HEIGHT_ROW, VOLUME_SURFACE};
+static const pfx_key cone_keys[] = {
+    TYPE("A cone with its base (radius) at y = 0 and apex at y = height: volume, or surface (the "
+         "lateral surface only)."),
+    RADIUS_ROW,
+    HEIGHT_ROW,
+    {"angle", PFX_KEY_NUMBER, PFX_KEY_DEGREES, .lo = 0, .hi = 90, .offset = S(angle),
+     .doc = "Degrees, 0 to 90: the volume normal (direction: normal) tilts outward from +Y by "
+            "angle x rho / radius."},
+    VOLUME_SURFACE};
+static const pfx_key mesh_keys[] = {
+    TYPE("A Wavefront OBJ surface, uniform by triangle area."),
+    {"file", PFX_KEY_STRING, PFX_KEY_REQUIRED, .offset = -1,
+     .doc = "Path of the OBJ file, relative to the effect file's directory."},
+    {"scale", PFX_KEY_NUMBER, PFX_KEY_LO_STRICT, .lo = 0, .hi = INFINITY, .def = {1}, .offset = -1,
+     .doc = "Scale of the mesh's coordinates, greater than 0."},
+    EMIT_FROM("\"surface\"", "surface")};
+
+static PFX_KEY_TABLE(shape_point, "shape_point", "point", NULL, point_keys);
+static PFX_KEY_TABLE(shape_line, "shape_line", "line", NULL, line_keys);
+static PFX_KEY_TABLE(shape_rect, "shape_rect", "rect", NULL, rect_keys);
+static PFX_KEY_TABLE(shape_disc, "shape_disc", "disc", NULL, disc_keys);
+static PFX_KEY_TABLE(shape_ellipse, "shape_ellipse", "ellipse", NULL, ellipse_keys);
+static PFX_KEY_TABLE(shape_box, "shape_box", "box", NULL, box_keys);
+static PFX_KEY_TABLE(shape_sphere, "shape_sphere", "sphere", NULL, sphere_keys);
+static PFX_KEY_TABLE(shape_hemisphere, "shape_hemisphere", "hemisphere", NULL, hemisphere_keys);
+static PFX_KEY_TABLE(shape_cylinder, "shape_cylinder", "cylinder", NULL, cylinder_keys);
+static PFX_KEY_TABLE(shape_cone, "shape_cone", "cone", NULL, cone_keys);
+static PFX_KEY_TABLE(shape_mesh, "shape_mesh", "mesh", NULL, mesh_keys);
+
+/* One table per shape kind, in the order of PFX_SHAPE_KINDS. */
+const pfx_key_table *const pfx_shape_tables[] = {
+    &shape_point,  &shape_line,       &shape_rect,     &shape_disc, &shape_ellipse, &shape_box,
+    &shape_sphere, &shape_hemisphere, &shape_cylinder, &shape_cone, &shape_mesh,    NULL};
+_Static_assert(sizeof pfx_shape_tables / sizeof *pfx_shape_tables ==
+                   sizeof kind_modes / sizeof *kind_modes + 1,
+               "a shape kind without its key table or modes");
+
+/* `arc` in degrees, kept as a fraction of a turn. */
+static void read_arc(pfx_reader *r, const pfx_node *map, const pfx_node *v, void *dest) {
+    (void)map;
+    pfx_shape *s = dest;
+    double arc;
+    if (pfx_read_number(r, v, "arc", &arc) && pfx_check_above(r, v, "arc", arc, 0, true) &&
+        pfx_check_below(r, v, "arc", arc, 360, false))
+        s->arc_turns = arc / 360;
+}
 
 #define ELLIPSE_SEGMENTS 512
-
-const char *pfx_shape_type_name(pfx_shape_type t) {
-    for (size_t i = 0; i < sizeof shape_enum / sizeof *shape_enum; i++)
-        if (shape_enum[i] == t)
-            return shape_types[i];
-    return "?";
-}
 
 static const char *article(const char *word) { return strchr("aeiou", word[0]) ? "an" : "a"; }
 
@@ -193,37 +283,34 @@ bool pfx_compile_shape(pfx_reader *r, const pfx_node *n, pfx_shape *s, const cha
     snprintf(where, sizeof where, "the shape of emitter '%s'", emitter);
     if (!pfx_read_map(r, n, "shape"))
         return false;
-    const pfx_node *type = pfx_node_get(n, "type");
-    if (!type) {
-        pfx_read_error(r, n,
-                       "a shape needs a 'type' (point, line, rect, disc, ellipse, box, sphere, "
-                       "hemisphere, cylinder, cone or mesh)");
-        return false;
-    }
-    int t = pfx_read_enum(r, type, "type", "shape type", shape_types);
+    int t = pfx_keys_kind(r, n, n, "a shape", "shape type", pfx_shape_names, true);
     if (t < 0)
         return false;
+    const pfx_node *type = pfx_node_get(n, "type");
     memset(s, 0, sizeof *s);
-    s->type = shape_enum[t];
-    unsigned modes = kinds[s->type].modes;
-    pfx_read_check_keys(r, n, kinds[s->type].keys, where);
+    s->type = (pfx_shape_type)t;
+    unsigned modes = kind_modes[t];
+    const pfx_key_table *table = pfx_shape_tables[t];
+    pfx_keys_check(r, n, table, where);
 
     s->from = s->type == PFX_SHAPE_MESH ? PFX_EMIT_SURFACE : PFX_EMIT_VOLUME;
     const pfx_node *v;
     if ((v = pfx_node_get(n, "emit_from"))) {
-        int m = pfx_read_enum(r, v, "emit_from", "emit_from mode", emit_modes);
+        int m = pfx_read_enum(r, v, "emit_from", "emit_from mode", pfx_emit_from_names);
         if (m >= 0 && !(modes & (1u << m))) {
             char list[64] = "";
-            for (int i = 0; emit_modes[i]; i++)
+            for (int i = 0; pfx_emit_from_names[i]; i++)
                 if (modes & (1u << i))
                     snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
-                             list[0] ? " or " : "", emit_modes[i]);
+                             list[0] ? " or " : "", pfx_emit_from_names[i]);
             pfx_read_error(r, v, "%s %s shape cannot emit from '%s'; 'emit_from' must be %s",
-                           article(type->text), type->text, emit_modes[m], list);
+                           article(type->text), type->text, pfx_emit_from_names[m], list);
         } else if (m >= 0) {
             s->from = (pfx_emit_from)m;
         }
     }
+    /* The typed rows (arc, angle); the rest need the checks below. */
+    pfx_keys_read(r, n, table, s);
 
     bool radius_ok = false;
     switch (s->type) {
@@ -249,21 +336,11 @@ bool pfx_compile_shape(pfx_reader *r, const pfx_node *n, pfx_shape *s, const cha
     case PFX_SHAPE_HEMISPHERE:
         radius_ok = need_length(r, n, type, "radius", &s->radius);
         read_inner(r, n, s, radius_ok);
-        if (s->type == PFX_SHAPE_DISC && (v = pfx_node_get(n, "arc"))) {
-            double arc;
-            if (pfx_read_number(r, v, "arc", &arc) && pfx_check_above(r, v, "arc", arc, 0, true) &&
-                pfx_check_below(r, v, "arc", arc, 360, false))
-                s->arc_turns = arc / 360;
-        }
         break;
     case PFX_SHAPE_CYLINDER:
     case PFX_SHAPE_CONE:
         need_length(r, n, type, "radius", &s->radius);
         need_length(r, n, type, "height", &s->height);
-        if (s->type == PFX_SHAPE_CONE && (v = pfx_node_get(n, "angle")) &&
-            pfx_read_number(r, v, "angle", &s->angle_deg) &&
-            pfx_check_above(r, v, "angle", s->angle_deg, 0, false))
-            pfx_check_below(r, v, "angle", s->angle_deg, 90, false);
         break;
     case PFX_SHAPE_MESH:
         read_mesh(r, n, type, s, effect_path);

@@ -2,6 +2,7 @@
 #ifndef PFX_COMPILE_SHAPE_H
 #define PFX_COMPILE_SHAPE_H
 
+#include "compile/keys.h"
 #include "compile/read.h"
 #include "model/effect.h"
 
@@ -12,7 +13,8 @@
 bool pfx_compile_shape(pfx_reader *r, const pfx_node *n, pfx_shape *s, const char *emitter,
                        const char *effect_path);
 
-/* The shape type's name as written in effect files ("cylinder"). */
-const char *pfx_shape_type_name(pfx_shape_type t);
+/* The key table of each shape kind (PFX_SHAPE_KINDS order), NULL-terminated,
+ * for the schema. */
+extern const pfx_key_table *const pfx_shape_tables[];
 
 #endif

@@ -76,8 +76,8 @@ typedef struct pfx_shape {
     double arc_turns; /* disc: the arc as a fraction of a turn, in (0, 1]; 0: full */
     double radii[2];  /* ellipse: semi-axes a (X), b (Z) */
     double line_from[3], line_to[3];
-    double height;    /* cylinder, cone: along +Y from the base at y = 0 */
-    double angle_deg; /* cone: tilt of the volume normal at the rim */
+    double height; /* cylinder, cone: along +Y from the base at y = 0 */
+    double angle;  /* cone: tilt of the volume normal at the rim, radians */
     /* Ellipse edge: cum[i] = arc length from t = 0 to t = 2 pi i / (count - 1).
      * Mesh: cum[i] = total area of triangles 0..i. In the compile arena. */
     const double *cum;

@@ -1,6 +1,7 @@
 /* The name lists of model/kinds.h, each expanded from its one table. */
 #include "model/kinds.h"
 
+#include <stdio.h>
 #include <string.h>
 
 #define NAME2(e, name) name,
@@ -28,6 +29,18 @@ const char *const pfx_falloff_names[] = {PFX_FALLOFF_KINDS(NAME2) NULL};
 const char *const pfx_direction_mode_names[] = {PFX_DIRECTION_MODES(NAME2) NULL};
 const char *const pfx_region_names[] = {PFX_REGION_KINDS(NAME2) NULL};
 const char *const pfx_rate_kind_names[] = {PFX_RATE_KINDS(NAME2) NULL};
+
+void pfx_kind_list(const char *const *names, bool or_style, char *buf, size_t size) {
+    size_t n = pfx_kind_count(names), used = 0;
+    buf[0] = 0;
+    for (size_t i = 0; i < n && used < size; i++) {
+        const char *sep = i == 0 ? "" : (or_style && i == n - 1) ? " or " : ", ";
+        int w = snprintf(buf + used, size - used, "%s%s", sep, names[i]);
+        if (w < 0)
+            break;
+        used += (size_t)w;
+    }
+}
 
 size_t pfx_kind_count(const char *const *names) {
     size_t n = 0;

@@ -6,6 +6,7 @@
 #ifndef PFX_MODEL_KINDS_H
 #define PFX_MODEL_KINDS_H
 
+#include <stdbool.h>
 #include <stddef.h>
 
 /* Forces: X(ENUM, name, word in messages, what it is) */
@@ -31,16 +32,15 @@
     X(EXACT, "exact", "exact", "closed form for gravity and linear drag")                          \
     X(BORIS, "boris", "2", "split step with the Boris rotation")
 
-/* Emitter shapes: X(ENUM, name). The order is the enum's (the first four
- * keep their values; new ones are appended). */
+/* Emitter shapes: X(ENUM, name), in the order messages list them. */
 #define PFX_SHAPE_KINDS(X)                                                                         \
     X(POINT, "point")                                                                              \
-    X(SPHERE, "sphere")                                                                            \
-    X(BOX, "box")                                                                                  \
-    X(DISC, "disc")                                                                                \
     X(LINE, "line")                                                                                \
     X(RECT, "rect")                                                                                \
+    X(DISC, "disc")                                                                                \
     X(ELLIPSE, "ellipse")                                                                          \
+    X(BOX, "box")                                                                                  \
+    X(SPHERE, "sphere")                                                                            \
     X(HEMISPHERE, "hemisphere")                                                                    \
     X(CYLINDER, "cylinder")                                                                        \
     X(CONE, "cone")                                                                                \
@@ -135,6 +135,10 @@ extern const char *const pfx_falloff_names[];
 extern const char *const pfx_direction_mode_names[];
 extern const char *const pfx_region_names[];
 extern const char *const pfx_rate_kind_names[];
+
+/* The names as a list for a message: "a, b, c" (or_style false) or
+ * "a, b or c" (true), cut to fit buf. */
+void pfx_kind_list(const char *const *names, bool or_style, char *buf, size_t size);
 
 /* names[i] if i is within the NULL-terminated list, else "?". */
 const char *pfx_kind_name(const char *const *names, int i);

@@ -263,7 +263,7 @@ void pfx_sample_shape(const pfx_shape *s, pfx_rng *r, double out[3], double norm
             double q = cbrt(pfx_rng_unit(r)), rho = R * q * sqrt(pfx_rng_unit(r));
             set3(out, rho * c, h * (1 - q), rho * sn);
             /* +Y tilted outward by angle * rho / R (Unity's cone fan). */
-            double tilt = R > 0 ? s->angle_deg * (M_PI / 180.0) * rho / R : 0;
+            double tilt = R > 0 ? s->angle * rho / R : 0;
             set3(normal, sin(tilt) * c, cos(tilt), sin(tilt) * sn);
         }
         return;

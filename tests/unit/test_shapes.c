@@ -524,7 +524,7 @@ static bool normal_cone_side(const pfx_shape *s, const double p[3], const double
 }
 /* +Y tilted outward by angle * rho / R. */
 static bool normal_cone_fan(const pfx_shape *s, const double p[3], const double n[3]) {
-    double rho = hypot(p[0], p[2]), tilt = s->angle_deg * PI / 180 * rho / s->radius;
+    double rho = hypot(p[0], p[2]), tilt = s->angle * rho / s->radius;
     return near(n[1], cos(tilt)) && near(hypot(n[0], n[2]), sin(tilt)) &&
            (rho == 0 || near(n[0] * p[2] - n[2] * p[0], 0));
 }
