@@ -302,7 +302,7 @@ static int cmd_render(int argc, char **argv, const options *o) {
         snprintf(err, sizeof err, "out of memory for %zu particles", pfx_sprites_capacity(e));
         goto fail;
     }
-    r = pfx_renderer_create(e->width, e->height, err, sizeof err);
+    r = pfx_renderer_create(PFX_RENDERER_AUTO, e->width, e->height, err, sizeof err);
     if (!r)
         goto fail;
     q = pfx_png_queue_create(e->width, e->height);

@@ -186,7 +186,7 @@ static int bench_render(FILE *out, const char *fire_path) {
     char err[512] = "", dir[] = "/tmp/pfx-bench-XXXXXX", path[600];
     pfx_sim *sim = pfx_sim_create(e), *view = pfx_sim_create(e);
     pfx_sprite *sprites = malloc((pfx_sprites_capacity(e) + 1) * sizeof *sprites);
-    pfx_renderer *r = pfx_renderer_create(512, 512, err, sizeof err);
+    pfx_renderer *r = pfx_renderer_create(PFX_RENDERER_AUTO, 512, 512, err, sizeof err);
     pfx_png_queue *q = pfx_png_queue_create(512, 512);
     int status = 1;
     if (!sim || !view || !sprites || !r || !q || !mkdtemp(dir))
