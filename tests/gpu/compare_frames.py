@@ -2,7 +2,7 @@
 every channel of every pixel within MAX_DIFF (out of 255), and at most
 MAX_FRACTION of all channel values different at all.
 
-usage: compare_frames.py REFERENCE_DIR OTHER_DIR MAX_DIFF MAX_FRACTION
+usage: compare_frames.py BASE_DIR OTHER_DIR MAX_DIFF MAX_FRACTION
 Prints one line per frame and a summary; exits 0 within the tolerance, 1
 outside it, 2 when a frame is missing or unreadable."""
 import os
