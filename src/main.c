@@ -27,11 +27,11 @@
 static const char usage_text[] =
     "usage: pfx validate [--format text|json] [--max-particles N] FILE...\n"
     "       pfx render FILE -o DIR [--frames A:B] [--size WxH] [--fps N] [--seed N]\n"
-    "                  [--max-particles N] [-q]\n"
+    "                  [--max-particles N] [--renderer R] [-q]\n"
     "       pfx bake FILE -o OUT.csv [--every N] [--frames A:B] [--fps N] [--seed N]\n"
     "                  [--max-particles N]\n"
     "       pfx info FILE [--seed N] [--max-particles N]\n"
-    "       pfx bench\n"
+    "       pfx bench [--renderer R]\n"
     "       pfx bench accuracy -o DIR\n"
     "\n"
     "commands:\n"
@@ -50,6 +50,8 @@ static const char usage_text[] =
     "      --max-particles N   particle budget over all emitters (default 1000000)\n"
     "      --every N           bake every Nth frame (default 1)\n"
     "      --format FMT        diagnostics as 'text' (default) or 'json' lines\n"
+    "      --renderer R        how to get OpenGL (render, bench): auto (default: osmesa\n"
+    "                          where built, else egl-cpu), osmesa, egl-cpu, egl-gpu\n"
     "  -q, --quiet             no progress line and no notes\n"
     "  -h, --help              show this help\n"
     "      --version           show the version\n";
@@ -61,6 +63,8 @@ typedef struct options {
     bool json;
     bool quiet;
     long every;
+    pfx_renderer_kind renderer; /* --renderer */
+    bool has_renderer;
     pfx_compile_options compile;
 } options;
 
@@ -80,10 +84,48 @@ static bool parse_ulong(const char *s, unsigned long long *out) {
     return errno == 0 && *end == 0;
 }
 
+/* Looks up a renderer name; on a bad one prints the usage error, naming
+ * `what` (the option or variable) and every kind, and returns false. */
+static bool parse_renderer(const char *what, const char *name, pfx_renderer_kind *kind) {
+    if (pfx_renderer_kind_parse(name, kind))
+        return true;
+    char kinds[128] = "";
+    for (int k = 0; k < PFX_RENDERER_KIND_COUNT; k++)
+        snprintf(kinds + strlen(kinds), sizeof kinds - strlen(kinds), "%s'%s'",
+                 k == 0                             ? ""
+                 : k == PFX_RENDERER_KIND_COUNT - 1 ? " or "
+                                                    : ", ",
+                 pfx_renderer_kind_name((pfx_renderer_kind)k));
+    fprintf(stderr, "pfx: %s takes %s, got '%s'\n", what, kinds, name);
+    fputs("Try 'pfx --help' for more information.\n", stderr);
+    return false;
+}
+
+/* The renderer for render and bench: --renderer, else PFX_RENDERER, else
+ * auto. Returns false (after the usage error) on a bad PFX_RENDERER. */
+static bool renderer_kind(const options *o, pfx_renderer_kind *kind) {
+    const char *env = getenv("PFX_RENDERER");
+    *kind = PFX_RENDERER_AUTO;
+    if (o->has_renderer)
+        *kind = o->renderer;
+    else if (env && *env)
+        return parse_renderer("PFX_RENDERER", env, kind);
+    return true;
+}
+
 /* Parses the options after the command; returns -1 on success or the exit
  * status to stop with. Positional arguments are left in argv[optind..]. */
 static int parse_options(int argc, char **argv, options *o) {
-    enum { OPT_FRAMES = 256, OPT_SIZE, OPT_FPS, OPT_SEED, OPT_MAX, OPT_EVERY, OPT_FORMAT };
+    enum {
+        OPT_FRAMES = 256,
+        OPT_SIZE,
+        OPT_FPS,
+        OPT_SEED,
+        OPT_MAX,
+        OPT_EVERY,
+        OPT_FORMAT,
+        OPT_RENDERER
+    };
     static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
                                              {"frames", required_argument, 0, OPT_FRAMES},
                                              {"size", required_argument, 0, OPT_SIZE},
@@ -92,6 +134,7 @@ static int parse_options(int argc, char **argv, options *o) {
                                              {"max-particles", required_argument, 0, OPT_MAX},
                                              {"every", required_argument, 0, OPT_EVERY},
                                              {"format", required_argument, 0, OPT_FORMAT},
+                                             {"renderer", required_argument, 0, OPT_RENDERER},
                                              {"quiet", no_argument, 0, 'q'},
                                              {"help", no_argument, 0, 'h'},
                                              {0, 0, 0, 0}};
@@ -170,6 +213,11 @@ static int parse_options(int argc, char **argv, options *o) {
             if (strcmp(optarg, "text") && strcmp(optarg, "json"))
                 return usage_error("--format takes 'text' or 'json', got '%s'", optarg);
             o->json = !strcmp(optarg, "json");
+            break;
+        case OPT_RENDERER:
+            if (!parse_renderer("--renderer", optarg, &o->renderer))
+                return EXIT_USAGE;
+            o->has_renderer = true;
             break;
         case ':':
             return usage_error("option '%s' needs a value", argv[optind - 1]);
@@ -269,6 +317,9 @@ static int cmd_render(int argc, char **argv, const options *o) {
         return usage_error("%s", "render takes one FILE and -o DIR");
     if (!o->output)
         return usage_error("%s", "render needs -o DIR");
+    pfx_renderer_kind kind;
+    if (!renderer_kind(o, &kind))
+        return EXIT_USAGE;
     const char *path = argv[optind];
     pfx_loaded l;
     pfx_effect *e = load(&l, path, o);
@@ -287,6 +338,13 @@ static int cmd_render(int argc, char **argv, const options *o) {
         status = EXIT_USAGE;
         goto done;
     }
+    /* The renderer before the directory: one that cannot start writes
+     * nothing. */
+    r = pfx_renderer_create(kind, e->width, e->height, err, sizeof err);
+    if (!r) {
+        pfx_diag_error(&run, "%s", err);
+        goto done;
+    }
     if (!make_dirs(o->output, &run))
         goto done;
     sim = pfx_sim_create(e, &run);
@@ -294,11 +352,6 @@ static int cmd_render(int argc, char **argv, const options *o) {
     sprites = malloc((pfx_sprites_capacity(e) + 1) * sizeof *sprites);
     if (!sim || !view || !sprites) {
         pfx_diag_error(&run, "out of memory for %zu particles", pfx_sprites_capacity(e));
-        goto done;
-    }
-    r = pfx_renderer_create(e->width, e->height, err, sizeof err);
-    if (!r) {
-        pfx_diag_error(&run, "%s", err);
         goto done;
     }
     q = pfx_png_queue_create(e->width, e->height);
@@ -484,10 +537,13 @@ static int cmd_bench(int argc, char **argv, const options *o) {
     }
     if (optind < argc)
         return usage_error("unknown benchmark '%s'; try 'accuracy'", argv[optind]);
+    pfx_renderer_kind kind;
+    if (!renderer_kind(o, &kind))
+        return EXIT_USAGE;
     /* The rendering half draws the fire example: from the source tree, or
      * PFX_FIRE_EFFECT. */
     const char *fire = getenv("PFX_FIRE_EFFECT");
-    return pfx_bench_speed(stdout, fire ? fire : "effects/fire.yaml") == 0 ? 0 : EXIT_INVALID;
+    return pfx_bench_speed(stdout, fire ? fire : "effects/fire.yaml", kind) == 0 ? 0 : EXIT_INVALID;
 }
 
 int main(int argc, char **argv) {

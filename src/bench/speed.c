@@ -174,7 +174,7 @@ static void bench_sim(FILE *out) {
     }
 }
 
-static int bench_render(FILE *out, const char *fire_path) {
+static int bench_render(FILE *out, const char *fire_path, pfx_renderer *r) {
     pfx_loaded l;
     pfx_compile_options opt = {.width = 512, .height = 512};
     pfx_effect *e = pfx_load(&l, fire_path, &opt);
@@ -186,10 +186,9 @@ static int bench_render(FILE *out, const char *fire_path) {
     char err[512] = "", dir[] = "/tmp/pfx-bench-XXXXXX", path[600];
     pfx_sim *sim = pfx_sim_create(e, NULL), *view = pfx_sim_create(e, NULL);
     pfx_sprite *sprites = malloc((pfx_sprites_capacity(e) + 1) * sizeof *sprites);
-    pfx_renderer *r = pfx_renderer_create(512, 512, err, sizeof err);
     pfx_png_queue *q = pfx_png_queue_create(512, 512);
     int status = 1;
-    if (!sim || !view || !sprites || !r || !q || !mkdtemp(dir))
+    if (!sim || !view || !sprites || !q || !mkdtemp(dir))
         goto done;
     long frames = pfx_effect_frame_count(e);
     size_t sprite_total = 0;
@@ -224,11 +223,14 @@ static int bench_render(FILE *out, const char *fire_path) {
      * as many of them as the render drew on average. */
     size_t mean = frames ? sprite_total / (size_t)frames : 0;
     double raw_fps = pfx_renderer_bench_raw(r, &e->camera, sprites, mean, (int)frames);
-    fprintf(out, "rendering: %s at 512x512, %ld frames, %zu sprites a frame on average\n",
-            fire_path, frames, mean);
+    fprintf(out,
+            "rendering: %s at 512x512 through %s, %ld frames, %zu sprites a frame on average\n",
+            fire_path, pfx_renderer_name(r), frames, mean);
     fprintf(out, "  %-44s %8.1f frames/s\n", "pfx render (sim, sprites, draw, PNG overlapped)",
             full_fps);
-    fprintf(out, "  %-44s %8.1f frames/s\n", "raw OSMesa (upload, one draw, readback)", raw_fps);
+    char raw[64];
+    snprintf(raw, sizeof raw, "raw %s (upload, one draw, readback)", pfx_renderer_name(r));
+    fprintf(out, "  %-44s %8.1f frames/s\n", raw, raw_fps);
     fprintf(out, "  %-44s %7.0f%%\n", "ratio", 100 * full_fps / raw_fps);
     status = 0;
 done:
@@ -236,7 +238,6 @@ done:
         fprintf(stderr, "pfx: %s\n", err);
     if (q)
         pfx_png_queue_finish(q, NULL);
-    pfx_renderer_destroy(r);
     free(sprites);
     pfx_sim_destroy(view);
     pfx_sim_destroy(sim);
@@ -244,7 +245,15 @@ done:
     return status;
 }
 
-int pfx_bench_speed(FILE *out, const char *fire_path) {
+int pfx_bench_speed(FILE *out, const char *fire_path, pfx_renderer_kind renderer) {
+    char err[512] = "";
+    pfx_renderer *r = pfx_renderer_create(renderer, 512, 512, err, sizeof err);
+    if (!r) {
+        fprintf(stderr, "pfx: %s\n", err);
+        return 1;
+    }
     bench_sim(out);
-    return bench_render(out, fire_path);
+    int status = bench_render(out, fire_path, r);
+    pfx_renderer_destroy(r);
+    return status;
 }

@@ -5,11 +5,15 @@
 
 #include <stdio.h>
 
+#include "render/render.h"
+
 /* Prints particle-steps per second of the gravity-only simulation at 10^4,
  * 10^5 and 10^6 live particles next to a minimal SoA kernel doing the same
  * arithmetic (the roofline), and frames per second of rendering `fire_path`
- * (sim + sprites + draw + readback + PNG) next to raw OSMesa drawing of the
- * same sprites. Returns 0, or 1 with a message when something failed. */
-int pfx_bench_speed(FILE *out, const char *fire_path);
+ * (sim + sprites + draw + readback + PNG) next to raw drawing of the same
+ * sprites, both through the `renderer` kind, which it names. Returns 0, or 1
+ * with a message when something failed (a renderer that cannot start fails
+ * before anything is measured). */
+int pfx_bench_speed(FILE *out, const char *fire_path, pfx_renderer_kind renderer);
 
 #endif

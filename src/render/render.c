@@ -1,11 +1,14 @@
-/* Draws sprites with OSMesa (llvmpipe) into an offscreen float framebuffer and
- * reads the result back as 8-bit straight-alpha RGBA. One core-profile 3.3
- * context per renderer, one instanced draw per frame. It does not simulate,
- * choose colours or write files; it only turns sprites and a camera into
- * pixels. */
+/* Draws sprites into an offscreen float framebuffer and reads the result
+ * back as 8-bit straight-alpha RGBA. One core-profile 3.3 context per
+ * renderer, from a backend in gl_context.h, one instanced draw per frame. It
+ * does not make contexts, simulate, choose colours or write files; it only
+ * turns sprites and a camera into pixels. */
 #include "render/render.h"
+#include "render/gl_context.h"
 
-#include <GL/osmesa.h> /* includes GL/gl.h, which includes GL/glext.h */
+/* Types, enums and PFNGL...PROC typedefs only: without GL_GLEXT_PROTOTYPES
+ * it declares no function, so every call goes through the table below. */
+#include <GL/glcorearb.h>
 
 #include <math.h>
 #include <stdarg.h>
@@ -21,11 +24,23 @@
 #define PFX_FAR 1000.0
 #define PFX_PI 3.14159265358979323846 /* M_PI is not in strict C11 + POSIX */
 
-/* GL entry points above 1.1. The Linux ABI only promises the 1.x functions as
- * exported symbols (those we call directly); everything newer is fetched
- * through OSMesaGetProcAddress, which works whether or not this libOSMesa
- * also happens to export it. */
+/* Every GL entry point render.c calls, 1.0 ones included, fetched through
+ * the backend's GetProcAddress: with glvnd, libOpenGL's exported symbols
+ * dispatch to whichever vendor is current, while libOSMesa brings its own;
+ * asking the backend is right for both. */
 #define PFX_GL_FUNCS(X)                                                                            \
+    X(PFNGLGETERRORPROC, GetError)                                                                 \
+    X(PFNGLGETINTEGERVPROC, GetIntegerv)                                                           \
+    X(PFNGLENABLEPROC, Enable)                                                                     \
+    X(PFNGLDISABLEPROC, Disable)                                                                   \
+    X(PFNGLBLENDFUNCPROC, BlendFunc)                                                               \
+    X(PFNGLVIEWPORTPROC, Viewport)                                                                 \
+    X(PFNGLSCISSORPROC, Scissor)                                                                   \
+    X(PFNGLCLEARCOLORPROC, ClearColor)                                                             \
+    X(PFNGLCLEARPROC, Clear)                                                                       \
+    X(PFNGLPIXELSTOREIPROC, PixelStorei)                                                           \
+    X(PFNGLREADPIXELSPROC, ReadPixels)                                                             \
+    X(PFNGLFINISHPROC, Finish)                                                                     \
     X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                                                   \
     X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                                             \
     X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                                                   \
@@ -70,8 +85,7 @@ typedef struct pfx_gl {
 
 struct pfx_renderer {
     int width, height;
-    OSMesaContext ctx;
-    unsigned char os_buffer[4]; /* OSMesa insists on a colour buffer; we draw to the FBO */
+    pfx_gl_context *ctx;
     pfx_gl gl;
     GLuint fbo, colour_rb, vao, quad_vbo, instance_vbo, program;
     GLint view_loc, proj_loc;
@@ -146,13 +160,13 @@ static const char *fragment_src = "#version 330 core\n"
                                   "    frag = v_colour * (k * k);\n"
                                   "}\n";
 
-/* The cast goes through void (*)(void), the generic function pointer type
- * GCC accepts without -Wcast-function-type complaints. */
-static bool load_gl(pfx_gl *gl, char *err, size_t err_size) {
-#define PFX_GL_LOAD(type, name)                                                                    \
-    gl->name = (type)(void (*)(void))OSMesaGetProcAddress("gl" #name);                             \
-    if (!gl->name) {                                                                               \
-        set_err(err, err_size, "OSMesa does not provide 'gl%s'", #name);                           \
+/* pfx_gl_proc is void (*)(void), the generic function pointer type GCC
+ * accepts in casts without -Wcast-function-type complaints. */
+static bool load_gl(pfx_gl *gl, pfx_gl_context *ctx, char *err, size_t err_size) {
+#define PFX_GL_LOAD(type, fn)                                                                      \
+    gl->fn = (type)ctx->get_proc_address("gl" #fn);                                                \
+    if (!gl->fn) {                                                                                 \
+        set_err(err, err_size, "renderer '%s' does not provide 'gl%s'", ctx->name, #fn);           \
         return false;                                                                              \
     }
     PFX_GL_FUNCS(PFX_GL_LOAD)
@@ -254,7 +268,67 @@ static void build_vertex_arrays(pfx_renderer *r) {
     r->gl.VertexAttribDivisor(3, 1);
 }
 
-pfx_renderer *pfx_renderer_create(int width, int height, char *err, size_t err_size) {
+static const char *const kind_names[] = {
+#define PFX_RENDERER_NAME(kind, name) name,
+    PFX_RENDERER_KINDS(PFX_RENDERER_NAME)
+#undef PFX_RENDERER_NAME
+};
+
+const char *pfx_renderer_kind_name(pfx_renderer_kind kind) {
+    return (unsigned)kind < PFX_RENDERER_KIND_COUNT ? kind_names[kind] : "unknown";
+}
+
+bool pfx_renderer_kind_parse(const char *name, pfx_renderer_kind *kind) {
+    for (int k = 0; k < PFX_RENDERER_KIND_COUNT; k++)
+        if (!strcmp(name, kind_names[k])) {
+            *kind = (pfx_renderer_kind)k;
+            return true;
+        }
+    return false;
+}
+
+/* The backends this pfx was built with (PFX_HAVE_OSMESA, PFX_HAVE_EGL, set
+ * by CMake from what it found), for the message when one is missing. */
+static const char built_with[] = ""
+#ifdef PFX_HAVE_OSMESA
+                                 " osmesa"
+#endif
+#ifdef PFX_HAVE_EGL
+                                 " egl-cpu egl-gpu"
+#endif
+    ;
+
+/* A current context of the given kind. auto is OSMesa where it is built,
+ * else egl-cpu, and never a GPU: a GPU's pixels may differ from llvmpipe's. */
+static pfx_gl_context *create_context(pfx_renderer_kind kind, char *err, size_t err_size) {
+    if (kind == PFX_RENDERER_AUTO) {
+#ifdef PFX_HAVE_OSMESA
+        kind = PFX_RENDERER_OSMESA;
+#else
+        kind = PFX_RENDERER_EGL_CPU;
+#endif
+    }
+    switch (kind) {
+#ifdef PFX_HAVE_OSMESA
+    case PFX_RENDERER_OSMESA:
+        return pfx_gl_osmesa_create(err, err_size);
+#endif
+#ifdef PFX_HAVE_EGL
+    case PFX_RENDERER_EGL_CPU:
+    case PFX_RENDERER_EGL_GPU:
+        return pfx_gl_egl_create(kind == PFX_RENDERER_EGL_GPU, err, err_size);
+#endif
+    default:
+        set_err(err, err_size, "renderer '%s' is not built into this pfx (it has:%s)",
+                pfx_renderer_kind_name(kind), built_with);
+        return NULL;
+    }
+}
+
+const char *pfx_renderer_name(const pfx_renderer *r) { return r->ctx->name; }
+
+pfx_renderer *pfx_renderer_create(pfx_renderer_kind kind, int width, int height, char *err,
+                                  size_t err_size) {
     if (width <= 0 || height <= 0) {
         set_err(err, err_size, "invalid image size %dx%d", width, height);
         return NULL;
@@ -271,36 +345,13 @@ pfx_renderer *pfx_renderer_create(int width, int height, char *err, size_t err_s
     r->height = height;
     r->pixels = pixels;
 
-    const int attribs[] = {OSMESA_FORMAT,
-                           OSMESA_RGBA,
-                           OSMESA_DEPTH_BITS,
-                           0,
-                           OSMESA_STENCIL_BITS,
-                           0,
-                           OSMESA_ACCUM_BITS,
-                           0,
-                           OSMESA_PROFILE,
-                           OSMESA_CORE_PROFILE,
-                           OSMESA_CONTEXT_MAJOR_VERSION,
-                           3,
-                           OSMESA_CONTEXT_MINOR_VERSION,
-                           3,
-                           0};
-    r->ctx = OSMesaCreateContextAttribs(attribs, NULL);
-    if (!r->ctx) {
-        set_err(err, err_size, "cannot create an OSMesa OpenGL 3.3 core profile context");
+    r->ctx = create_context(kind, err, err_size);
+    if (!r->ctx)
         goto fail;
-    }
-    /* The context needs a buffer to be made current; a 1x1 one is enough
-     * because every draw goes to our own framebuffer object. */
-    if (!OSMesaMakeCurrent(r->ctx, r->os_buffer, GL_UNSIGNED_BYTE, 1, 1)) {
-        set_err(err, err_size, "cannot make the OSMesa context current");
-        goto fail;
-    }
-    if (!load_gl(&r->gl, err, err_size))
+    if (!load_gl(&r->gl, r->ctx, err, err_size))
         goto fail;
     GLint max_rb = 0;
-    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_rb);
+    r->gl.GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_rb);
     if (width > max_rb || height > max_rb) {
         set_err(err, err_size, "image size %dx%d exceeds the renderer limit of %d", width, height,
                 (int)max_rb);
@@ -312,12 +363,12 @@ pfx_renderer *pfx_renderer_create(int width, int height, char *err, size_t err_s
 
     /* Fixed state for every draw: premultiplied "over", which is additive
      * when the sprite's alpha is 0. */
-    glDisable(GL_DEPTH_TEST);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-    glViewport(0, 0, width, height);
-    glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    GLenum e = glGetError();
+    r->gl.Disable(GL_DEPTH_TEST);
+    r->gl.Enable(GL_BLEND);
+    r->gl.BlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    r->gl.Viewport(0, 0, width, height);
+    r->gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+    GLenum e = r->gl.GetError();
     if (e != GL_NO_ERROR) {
         set_err(err, err_size, "OpenGL error 0x%04x while setting up the renderer", (unsigned)e);
         goto fail;
@@ -331,13 +382,8 @@ fail:
 void pfx_renderer_destroy(pfx_renderer *r) {
     if (!r)
         return;
-    if (r->ctx) {
-        /* Destroying the context frees every GL object it owns; unbind it
-         * first so the thread is not left with a dangling current context. */
-        if (OSMesaGetCurrentContext() == r->ctx)
-            OSMesaMakeCurrent(NULL, NULL, 0, 0, 0);
-        OSMesaDestroyContext(r->ctx);
-    }
+    if (r->ctx)
+        r->ctx->destroy(r->ctx); /* frees every GL object it owns */
     free(r->pixels);
     free(r->keys);
     free(r->index);
@@ -524,10 +570,8 @@ static void upload_uniforms(pfx_renderer *r, const pfx_view *v) {
 
 /* Another renderer in this thread may have made its own context current. */
 static bool make_current(pfx_renderer *r, char *err, size_t err_size) {
-    if (OSMesaGetCurrentContext() == r->ctx)
-        return true;
-    if (!OSMesaMakeCurrent(r->ctx, r->os_buffer, GL_UNSIGNED_BYTE, 1, 1)) {
-        set_err(err, err_size, "cannot make the OSMesa context current");
+    if (!r->ctx->make_current(r->ctx)) {
+        set_err(err, err_size, "cannot make the '%s' context current", r->ctx->name);
         return false;
     }
     return true;
@@ -539,9 +583,9 @@ static bool make_current(pfx_renderer *r, char *err, size_t err_size) {
 static void submit_frame(pfx_renderer *r, const pfx_view *v, const float clear[4],
                          const pfx_sprite *sprites, size_t count) {
     r->gl.BindFramebuffer(GL_FRAMEBUFFER, r->fbo);
-    glViewport(0, 0, r->width, r->height);
-    glClearColor(clear[0], clear[1], clear[2], clear[3]);
-    glClear(GL_COLOR_BUFFER_BIT);
+    r->gl.Viewport(0, 0, r->width, r->height);
+    r->gl.ClearColor(clear[0], clear[1], clear[2], clear[3]);
+    r->gl.Clear(GL_COLOR_BUFFER_BIT);
     if (count > 0) {
         r->gl.UseProgram(r->program);
         upload_uniforms(r, v);
@@ -554,7 +598,7 @@ static void submit_frame(pfx_renderer *r, const pfx_view *v, const float clear[4
 }
 
 static void read_frame(pfx_renderer *r) {
-    glReadPixels(0, 0, r->width, r->height, GL_RGBA, GL_FLOAT, r->pixels);
+    r->gl.ReadPixels(0, 0, r->width, r->height, GL_RGBA, GL_FLOAT, r->pixels);
 }
 
 /* The pixels a frame's sprites can touch, in GL window coordinates (y up),
@@ -710,14 +754,14 @@ bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4]
     pixel_box box = sprites_box(r, &v, sprites, count);
     if (box.x1 > box.x0) {
         r->gl.BindFramebuffer(GL_FRAMEBUFFER, r->fbo);
-        glEnable(GL_SCISSOR_TEST);
-        glScissor(box.x0, box.y0, box.x1 - box.x0, box.y1 - box.y0);
+        r->gl.Enable(GL_SCISSOR_TEST);
+        r->gl.Scissor(box.x0, box.y0, box.x1 - box.x0, box.y1 - box.y0);
         submit_frame(r, &v, clear, sprites, count);
-        glDisable(GL_SCISSOR_TEST);
-        glReadPixels(box.x0, box.y0, box.x1 - box.x0, box.y1 - box.y0, GL_RGBA, GL_FLOAT,
-                     r->pixels);
+        r->gl.Disable(GL_SCISSOR_TEST);
+        r->gl.ReadPixels(box.x0, box.y0, box.x1 - box.x0, box.y1 - box.y0, GL_RGBA, GL_FLOAT,
+                         r->pixels);
     }
-    GLenum e = glGetError();
+    GLenum e = r->gl.GetError();
     if (e != GL_NO_ERROR) {
         set_err(err, err_size, "OpenGL error 0x%04x while drawing %zu sprites", (unsigned)e, count);
         return false;
@@ -737,11 +781,11 @@ double pfx_renderer_bench_raw(pfx_renderer *r, const pfx_camera *cam, const pfx_
     clock_gettime(CLOCK_MONOTONIC, &t0);
     for (int i = 0; i < frames; i++) {
         submit_frame(r, &v, clear, sprites, count);
-        glFinish();
+        r->gl.Finish();
         read_frame(r);
     }
     clock_gettime(CLOCK_MONOTONIC, &t1);
-    if (glGetError() != GL_NO_ERROR)
+    if (r->gl.GetError() != GL_NO_ERROR)
         return -1.0;
     double s = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
     return s > 0 ? frames / s : -1.0;

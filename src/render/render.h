@@ -1,6 +1,7 @@
-/* Offscreen rendering of particle sprites through OSMesa (Mesa llvmpipe): no
- * GPU, no window. This is the only part of pfx that includes GL or OSMesa
- * headers. It knows sprites and a camera, not emitters or the simulation. */
+/* Offscreen rendering of particle sprites through a GL context with no
+ * window: OSMesa, or EGL on Mesa's software device or on a GPU. This is the
+ * only part of pfx that includes GL, OSMesa or EGL headers. It knows sprites
+ * and a camera, not emitters or the simulation. */
 #ifndef PFX_RENDER_H
 #define PFX_RENDER_H
 
@@ -28,15 +29,42 @@ typedef struct pfx_sprite {
  * Square: the product of that falloff along the sprite's two axes,
  * (1 - x^2)^2 (1 - y^2)^2, a soft square whose rotation shows. */
 
+/* Where the GL context comes from, one row each: the kind and its name as
+ * --renderer and PFX_RENDERER spell it. auto is OSMesa where this pfx was
+ * built with it, else egl-cpu: never a GPU, whose pixels may differ. */
+#define PFX_RENDERER_KINDS(X)                                                                      \
+    X(PFX_RENDERER_AUTO, "auto")                                                                   \
+    X(PFX_RENDERER_OSMESA, "osmesa")                                                               \
+    X(PFX_RENDERER_EGL_CPU, "egl-cpu")                                                             \
+    X(PFX_RENDERER_EGL_GPU, "egl-gpu")
+
+typedef enum pfx_renderer_kind {
+#define PFX_RENDERER_ENUM(kind, name) kind,
+    PFX_RENDERER_KINDS(PFX_RENDERER_ENUM)
+#undef PFX_RENDERER_ENUM
+        PFX_RENDERER_KIND_COUNT
+} pfx_renderer_kind;
+
+/* The kind's name ("egl-cpu"); a static string. */
+const char *pfx_renderer_kind_name(pfx_renderer_kind kind);
+/* The kind named `name`, exactly as in the table; false if there is none. */
+bool pfx_renderer_kind_parse(const char *name, pfx_renderer_kind *kind);
+
 typedef struct pfx_renderer pfx_renderer;
 
-/* Creates an OSMesa core-profile context drawing into a width x height float
- * framebuffer. Returns NULL and writes a message into err on failure. The
- * caller owns the result and frees it with pfx_renderer_destroy. Each call on
- * a renderer makes its context current in the calling thread, so several
+/* Creates a core-profile 3.3 context of the given kind drawing into a width
+ * x height float framebuffer. Returns NULL and writes a one-line message
+ * into err on failure, naming what is missing when the kind cannot start
+ * here (not built in, no such device, an EGL extension lacking). The caller
+ * owns the result and frees it with pfx_renderer_destroy. Each call on a
+ * renderer makes its context current in the calling thread, so several
  * renderers may coexist, but one renderer must be used by one thread at a
  * time. */
-pfx_renderer *pfx_renderer_create(int width, int height, char *err, size_t err_size);
+pfx_renderer *pfx_renderer_create(pfx_renderer_kind kind, int width, int height, char *err,
+                                  size_t err_size);
+/* The renderer's kind as --renderer names it, auto resolved ("osmesa");
+ * a static string. */
+const char *pfx_renderer_name(const pfx_renderer *r);
 /* Frees the context, its GL objects and scratch memory; NULL is a no-op. */
 void pfx_renderer_destroy(pfx_renderer *r);
 

@@ -244,6 +244,49 @@ stderr_has "'$TMP/adir'"
 [ -z "$(find "$TMP" -maxdepth 1 -name 'adir.*')" ] || fail "a temporary was left behind"
 end
 
+# ---- renderers: --renderer wins over PFX_RENDERER; one that cannot start
+# is one line and exit 1, with nothing written. A hardware EGL device needs
+# a kernel driver node, so where there is none egl-gpu must refuse.
+begin "--renderer egl-cpu wins over PFX_RENDERER"
+PFX_RENDERER=frobnicate run render "$FIRE" -o "$TMP/egl-cpu" "${TINY[@]}" -q --renderer egl-cpu
+if grep -q "not built into this pfx" "$TMP/err"; then
+    want_status 1
+else
+    want_status 0
+    [ -s "$TMP/egl-cpu/fire_0002.png" ] || fail "no fire_0002.png"
+fi
+end
+
+# one_line_refusal NAME: exit 1, nothing on stdout, one line on stderr that
+# starts with "pfx: renderer 'NAME'".
+one_line_refusal() {
+    want_status 1
+    stdout_empty
+    [ "$(wc -l <"$TMP/err")" -eq 1 ] || fail "stderr has $(wc -l <"$TMP/err") lines, not 1"
+    stderr_has "pfx: renderer '$1'"
+}
+
+if ! ls /dev/dri/renderD* /dev/nvidia* >/dev/null 2>&1; then
+    begin "--renderer egl-gpu without a GPU is one line, exit 1, nothing written"
+    run render "$FIRE" -o "$TMP/gpu-out" "${TINY[@]}" --renderer egl-gpu
+    one_line_refusal egl-gpu
+    [ ! -e "$TMP/gpu-out" ] || fail "the output directory was created"
+    end
+
+    begin "PFX_RENDERER=egl-gpu without a GPU is one line, exit 1"
+    PFX_RENDERER=egl-gpu run render "$FIRE" -o "$TMP/gpu-out" "${TINY[@]}"
+    one_line_refusal egl-gpu
+    [ ! -e "$TMP/gpu-out" ] || fail "the output directory was created"
+    end
+
+    begin "bench --renderer egl-gpu without a GPU fails before measuring"
+    run bench --renderer egl-gpu
+    one_line_refusal egl-gpu
+    end
+else
+    echo "skip: egl-gpu refusals (this machine has a GPU device node)"
+fi
+
 # ---- usage errors: 2
 usage_error "no command" "no command given"
 usage_error "unknown command" "unknown command 'frobnicate'" frobnicate "$FIRE"
@@ -271,6 +314,16 @@ usage_error "--max-particles 0" "--max-particles takes a number" validate --max-
 usage_error "--every 0" "--every takes a whole number" bake "$FIRE" -o "$TMP/u.csv" --every 0
 usage_error "--format xml" "--format takes 'text' or 'json', got 'xml'" validate --format xml "$FIRE"
 usage_error "unknown benchmark" "unknown benchmark 'frobnicate'" bench frobnicate
+usage_error "--renderer frobnicate" \
+    "--renderer takes 'auto', 'osmesa', 'egl-cpu' or 'egl-gpu', got 'frobnicate'" \
+    render "$FIRE" -o "$TMP/u" "${TINY[@]}" --renderer frobnicate
+usage_error "bench --renderer frobnicate" "--renderer takes" bench --renderer frobnicate
+begin "PFX_RENDERER frobnicate"
+PFX_RENDERER=frobnicate run render "$FIRE" -o "$TMP/u" "${TINY[@]}"
+want_status 2
+stdout_empty
+stderr_has "pfx: PFX_RENDERER takes 'auto', 'osmesa', 'egl-cpu' or 'egl-gpu', got 'frobnicate'"
+end
 begin "usage errors create nothing"
 [ ! -e "$TMP/u" ] && [ ! -e "$TMP/u.csv" ] || fail "a usage error left output behind"
 end

@@ -5,7 +5,7 @@
 # of the period's ends is not yet "no visible seam": the last frame of the
 # period, N - 1, must lead into frame 0 as smoothly as any frame leads into
 # the next inside the loop, measured as the mean absolute difference of the
-# pixels (8-bit RGBA, decoded here in pure Python with zlib).
+# pixels (8-bit RGBA, decoded in pure Python by tests/png_rgba.py).
 #
 # The same effect with `loop: false` (a temporary copy, its duration
 # doubled so that frame N exists; its emitters run without end either way)
@@ -37,66 +37,10 @@ top_number() { sed -n "s/^$1:[[:space:]]*\([0-9.]*\).*/\1/p" "$2" | head -n 1; }
 # 0..N-2, and that k) and exits 0 when seam <= TOLERANCE x MAX, 1 when not,
 # 2 on a PNG it cannot read.
 cat >"$work/seam.py" <<'EOF'
-import struct
 import sys
 import zlib
 
-
-def decode(path):
-    """8-bit RGBA (colour type 6), non-interlaced PNG -> (width, height, bytes)."""
-    with open(path, "rb") as f:
-        data = f.read()
-    if data[:8] != b"\x89PNG\r\n\x1a\n":
-        raise ValueError(f"{path}: not a PNG")
-    pos, idat, head = 8, [], None
-    while pos < len(data):
-        (length,) = struct.unpack(">I", data[pos : pos + 4])
-        kind = data[pos + 4 : pos + 8]
-        body = data[pos + 8 : pos + 8 + length]
-        if kind == b"IHDR":
-            head = struct.unpack(">IIBBBBB", body)
-        elif kind == b"IDAT":
-            idat.append(body)
-        elif kind == b"IEND":
-            break
-        pos += 12 + length
-    if head is None:
-        raise ValueError(f"{path}: no IHDR")
-    w, h, depth, ctype, _, _, interlace = head
-    if depth != 8 or ctype != 6 or interlace != 0:
-        raise ValueError(f"{path}: expected 8-bit RGBA non-interlaced, got {head}")
-    raw = zlib.decompress(b"".join(idat))
-    stride, bpp = 4 * w, 4
-    out = bytearray(h * stride)
-    prev = bytearray(stride)
-    p = 0
-    for y in range(h):
-        ftype = raw[p]
-        line = bytearray(raw[p + 1 : p + 1 + stride])
-        p += 1 + stride
-        if ftype == 1:
-            for x in range(bpp, stride):
-                line[x] = (line[x] + line[x - bpp]) & 255
-        elif ftype == 2:
-            for x in range(stride):
-                line[x] = (line[x] + prev[x]) & 255
-        elif ftype == 3:
-            for x in range(stride):
-                left = line[x - bpp] if x >= bpp else 0
-                line[x] = (line[x] + ((left + prev[x]) >> 1)) & 255
-        elif ftype == 4:
-            for x in range(stride):
-                a = line[x - bpp] if x >= bpp else 0
-                b = prev[x]
-                c = prev[x - bpp] if x >= bpp else 0
-                pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
-                pred = a if pa <= pb and pa <= pc else (b if pb <= pc else c)
-                line[x] = (line[x] + pred) & 255
-        elif ftype != 0:
-            raise ValueError(f"{path}: bad filter type {ftype}")
-        out[y * stride : (y + 1) * stride] = line
-        prev = line
-    return w, h, bytes(out)
+from png_rgba import decode
 
 
 def mad(a, b):
@@ -159,7 +103,7 @@ if run loop "$pfx" render "$effect" -o "$work/loop" "${small[@]}" --frames "0:$l
         pass "fire_loop: the frames change inside the loop (frame 1 is not frame 0)"
     fi
     # The seam: frame N - 1 -> frame 0 against every k -> k + 1 inside.
-    result=$("$python" "$work/seam.py" "$work/loop" fire_loop "$n" "$tolerance")
+    result=$(PYTHONPATH="$src/tests" "$python" "$work/seam.py" "$work/loop" fire_loop "$n" "$tolerance")
     status=$?
     read -r seam worst at <<<"$result"
     if [[ $status -eq 0 ]]; then
@@ -187,7 +131,7 @@ elif run once "$pfx" render "$work/fire_once.yaml" -o "$work/once" "${small[@]}"
     else
         fail "fire_once (loop: false): frame $n differs from frame 0" "identical or missing"
     fi
-    result=$("$python" "$work/seam.py" "$work/once" fire_once "$n" "$tolerance")
+    result=$(PYTHONPATH="$src/tests" "$python" "$work/seam.py" "$work/once" fire_once "$n" "$tolerance")
     status=$?
     read -r seam worst at <<<"$result"
     if [[ $status -eq 1 ]]; then

@@ -1,7 +1,10 @@
-/* Unit tests of the OSMesa sprite renderer: blending sums and order, the
- * falloff shape, background handling, orientation, perspective size, the
- * stable depth sort and determinism. Expected pixels are computed here from
- * the documented formulas, never taken from the renderer's own output. */
+/* Unit tests of the sprite renderer: blending sums and order, the falloff
+ * shape, background handling, orientation, perspective size, the stable
+ * depth sort and determinism, through the renderer kind PFX_RENDERER names
+ * (auto when unset; CTest runs this once per built backend), and OSMesa
+ * against egl-cpu byte for byte where both are built. Expected pixels are
+ * computed here from the documented formulas, never taken from the
+ * renderer's own output. */
 #include "render/render.h"
 
 #include <math.h>
@@ -19,6 +22,9 @@
 #define MID 32
 
 static const float transparent[4] = {0, 0, 0, 0};
+
+/* The kind every test renders with, from PFX_RENDERER. */
+static pfx_renderer_kind kind = PFX_RENDERER_AUTO;
 
 static pfx_camera ortho_camera(double view_height) {
     pfx_camera c = {.position = {0, 0, 10},
@@ -47,14 +53,16 @@ static void check_pixel(const uint8_t *p, const int want[4], int tol) {
         CHECK_NEAR(p[i], want[i], tol);
 }
 
-static pfx_renderer *make(int width, int height) {
+static pfx_renderer *make_kind(pfx_renderer_kind k, int width, int height) {
     char err[256] = "";
-    pfx_renderer *r = pfx_renderer_create(width, height, err, sizeof err);
+    pfx_renderer *r = pfx_renderer_create(k, width, height, err, sizeof err);
     if (!r)
         fprintf(stderr, "pfx_renderer_create: %s\n", err);
     CHECK(r != NULL);
     return r;
 }
+
+static pfx_renderer *make(int width, int height) { return make_kind(kind, width, height); }
 
 static bool draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4], pfx_sprite *s, size_t n,
                  bool sort, uint8_t *img) {
@@ -329,11 +337,10 @@ static void random_sprites(pfx_sprite *s, size_t n, uint32_t seed) {
 #undef NEXT
 }
 
-/* Same input, byte-identical output: twice in one renderer and once in a
- * second renderer alive at the same time. */
-static void test_determinism(void) {
+/* Same input, byte-identical output: twice in r1 and once in r2, both alive
+ * at the same time and taking turns in this thread. */
+static void same_pixels(pfx_renderer *r1, pfx_renderer *r2) {
     enum { D = 128, N = 5000 };
-    pfx_renderer *r1 = make(D, D), *r2 = make(D, D);
     static uint8_t a[D * D * 4], b[D * D * 4], c[D * D * 4];
     static pfx_sprite src[N], s[N];
     random_sprites(src, N, 99);
@@ -354,13 +361,58 @@ static void test_determinism(void) {
             lit += a[i + 3] > 128;
         CHECK(lit > 100); /* the scene really drew something */
     }
+}
+
+static void test_determinism(void) {
+    pfx_renderer *r1 = make(128, 128), *r2 = make(128, 128);
+    same_pixels(r1, r2);
     pfx_renderer_destroy(r1);
     pfx_renderer_destroy(r2);
 }
 
+/* OSMesa and EGL on Mesa's software device are the same llvmpipe behind two
+ * doors: the same scene (alpha and additive sprites, depth sorted) gives the
+ * same bytes, with the two contexts alive in one thread and taking turns. */
+static void test_osmesa_equals_egl_cpu(void) {
+#if defined(PFX_HAVE_OSMESA) && defined(PFX_HAVE_EGL)
+    pfx_renderer *r1 = make_kind(PFX_RENDERER_OSMESA, 128, 128);
+    pfx_renderer *r2 = make_kind(PFX_RENDERER_EGL_CPU, 128, 128);
+    same_pixels(r1, r2);
+    pfx_renderer_destroy(r1);
+    pfx_renderer_destroy(r2);
+#else
+    fprintf(stderr, "skip test_osmesa_equals_egl_cpu: pfx is built with only one backend\n");
+#endif
+}
+
+/* Every kind's name parses back to it, nothing else parses, and a renderer
+ * reports the kind it runs (auto resolved, never to a GPU). */
+static void test_kinds(void) {
+    for (int k = 0; k < PFX_RENDERER_KIND_COUNT; k++) {
+        pfx_renderer_kind back = PFX_RENDERER_KIND_COUNT;
+        CHECK(pfx_renderer_kind_parse(pfx_renderer_kind_name((pfx_renderer_kind)k), &back));
+        CHECK(back == (pfx_renderer_kind)k);
+    }
+    pfx_renderer_kind unused;
+    CHECK(!pfx_renderer_kind_parse("frobnicate", &unused));
+    CHECK(!pfx_renderer_kind_parse("EGL-CPU", &unused));
+    CHECK(!pfx_renderer_kind_parse("", &unused));
+    pfx_renderer *r = make(8, 8);
+    if (!r)
+        return;
+#ifdef PFX_HAVE_OSMESA
+    const char *auto_name = "osmesa";
+#else
+    const char *auto_name = "egl-cpu";
+#endif
+    CHECK(!strcmp(pfx_renderer_name(r),
+                  kind == PFX_RENDERER_AUTO ? auto_name : pfx_renderer_kind_name(kind)));
+    pfx_renderer_destroy(r);
+}
+
 static void test_errors(void) {
     char err[256] = "";
-    CHECK(pfx_renderer_create(0, 10, err, sizeof err) == NULL);
+    CHECK(pfx_renderer_create(kind, 0, 10, err, sizeof err) == NULL);
     CHECK(strlen(err) > 0);
     pfx_renderer *r = make(8, 8);
     if (!r)
@@ -444,6 +496,13 @@ static void test_square_rotation(void) {
 }
 
 int main(void) {
+    const char *env = getenv("PFX_RENDERER");
+    if (env && !pfx_renderer_kind_parse(env, &kind)) {
+        fprintf(stderr, "PFX_RENDERER: no renderer '%s'\n", env);
+        return 1;
+    }
+    fprintf(stderr, "renderer %s\n", pfx_renderer_kind_name(kind));
+    RUN(test_kinds);
     RUN(test_square_rotation);
     RUN(test_additive_overlap_sums);
     RUN(test_alpha_order);
@@ -454,6 +513,7 @@ int main(void) {
     RUN(test_backgrounds);
     RUN(test_perspective_size);
     RUN(test_determinism);
+    RUN(test_osmesa_equals_egl_cpu);
     RUN(test_errors);
     RUN(test_bench_raw);
     return TEST_EXIT();
