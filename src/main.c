@@ -12,8 +12,8 @@
 
 #include "bench/accuracy.h"
 #include "bench/speed.h"
-#include "compile/compile.h"
-#include "compile/compile_shape.h"
+#include "compile/schema.h"
+#include "jobs/load.h"
 #include "output/bake_csv.h"
 #include "output/png_write.h"
 #include "render/render.h"
@@ -33,6 +33,7 @@ static const char usage_text[] =
     "       pfx info FILE [--seed N] [--max-particles N]\n"
     "       pfx bench [--renderer R]\n"
     "       pfx bench accuracy -o DIR\n"
+    "       pfx schema\n"
     "\n"
     "commands:\n"
     "  validate   check effect files like a compiler; exit 1 if any has an error\n"
@@ -40,6 +41,7 @@ static const char usage_text[] =
     "  bake       write the particle state of every output frame as CSV\n"
     "  info       show what the compiled effect holds\n"
     "  bench      measure simulation and rendering speed (or integrator accuracy)\n"
+    "  schema     print the JSON Schema of the effect format\n"
     "\n"
     "options:\n"
     "  -o, --output PATH       output directory (render, bench accuracy) or file (bake)\n"
@@ -529,6 +531,21 @@ static int cmd_info(int argc, char **argv, const options *o) {
     return 0;
 }
 
+/* The JSON Schema of the effect format, from the key tables. */
+static int cmd_schema(int argc, char **argv) {
+    if (optind != argc)
+        return usage_error("%s", "schema takes no FILE");
+    (void)argv;
+    char *text = pfx_schema_text();
+    if (!text) {
+        fputs("pfx: out of memory\n", stderr);
+        return EXIT_INVALID;
+    }
+    puts(text);
+    free(text);
+    return ferror(stdout) ? EXIT_INVALID : 0;
+}
+
 static int cmd_bench(int argc, char **argv, const options *o) {
     if (optind < argc && !strcmp(argv[optind], "accuracy")) {
         if (!o->output)
@@ -572,5 +589,7 @@ int main(int argc, char **argv) {
         return cmd_info(argc, argv, &o);
     if (!strcmp(cmd, "bench"))
         return cmd_bench(argc, argv, &o);
+    if (!strcmp(cmd, "schema"))
+        return cmd_schema(argc, argv);
     return usage_error("unknown command '%s'", cmd);
 }

@@ -9,7 +9,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "compile/compile.h"
+#include "jobs/load.h"
 #include "output/png_write.h"
 #include "render/render.h"
 #include "render/sprites.h"

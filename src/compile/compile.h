@@ -22,21 +22,4 @@ typedef struct pfx_compile_options {
 pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compile_options *opt,
                         pfx_arena *arena, pfx_diags *d);
 
-/* Reads, parses and compiles the file at path in one call, printing nothing:
- * diagnostics go to d, which the caller initialises with pfx_load's source
- * buffer; see main.c for the usual use. */
-typedef struct pfx_loaded {
-    char *source; /* the file's bytes (malloc'd), NUL-terminated */
-    size_t source_len;
-    pfx_doc doc;
-    pfx_arena arena; /* the effect's */
-    pfx_effect *effect;
-    pfx_diags diags;
-} pfx_loaded;
-
-/* Loads path into l. Returns the effect or NULL (errors in l->diags; an I/O
- * failure is an error without position). Free with pfx_loaded_free. */
-pfx_effect *pfx_load(pfx_loaded *l, const char *path, const pfx_compile_options *opt);
-void pfx_loaded_free(pfx_loaded *l);
-
 #endif

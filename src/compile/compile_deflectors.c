@@ -36,7 +36,7 @@ static void read_size(pfx_reader *r, const pfx_node *map, const pfx_node *v, voi
     {"point", PFX_KEY_VEC3, .hi = 1e6, .offset = D(point),                                         \
      .doc = "A point on it in metres (the centre when bounded), each within +-1e6."},              \
     {                                                                                              \
-        "normal", PFX_KEY_VEC3,                                                                    \
+        "normal", PFX_KEY_VEC3, PFX_KEY_NONZERO,                                                   \
             .hi = 1e6, .def = {0, 1, 0}, .offset = D(normal), .hook = read_normal,                 \
             .doc = "Its normal (any length, not [0, 0, 0]), each within +-1e6."                    \
     }
@@ -74,8 +74,8 @@ static void read_size(pfx_reader *r, const pfx_node *map, const pfx_node *v, voi
          .lo = 0,                                                                                  \
          .hi = 1,                                                                                  \
          .offset = D(friction),                                                                    \
-         .doc = "Friction mu, 0 to 1: a number, or a range [min, max] drawn per impact; the "      \
-                "tangential speed after a bounce is (1 - mu) times the speed before."},            \
+         .doc = "Friction mu, 0 to 1 (or a range drawn per impact): the tangential velocity is "   \
+                "multiplied by 1 - mu at an impact; sliding decelerates by mu |a_N|."},            \
         {"lifetime_loss",                                                                          \
          PFX_KEY_NUMBER,                                                                           \
          .lo = 0,                                                                                  \

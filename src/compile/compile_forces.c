@@ -105,31 +105,32 @@ static void read_region(pfx_reader *r, const pfx_node *map, const pfx_node *n, v
     { "type", PFX_KEY_CODE, .offset = -1, .doc = "The force type." }
 #define REGION_ROW                                                                                 \
     {                                                                                              \
-        "region", PFX_KEY_CODE,                                                                    \
-            .offset = -1, .hook = read_region, .schema = "{\"$ref\": \"#/$defs/region\"}",         \
-            .doc =                                                                                 \
-                "Where it acts: a sphere or box, fading out over `falloff` (default everywhere)."  \
+        "region", PFX_KEY_CODE, .offset = -1, .hook = read_region,                                 \
+                                .schema = "{\"$ref\": \"#/$defs/region\"}",                        \
+                                .doc = "Restrict the force to a sphere or box, with a falloff."    \
     }
 
 static const pfx_key gravity_keys[] = {
     TYPE_ROW,
     {"accel", PFX_KEY_VEC3, .hi = 1e6, .def = {0, -9.81, 0}, .offset = F(accel),
-     .doc = "The acceleration in m/s^2, each component within +-1e6."},
+     .doc = "Acceleration in m/s^2, each component within +-1e6."},
     REGION_ROW,
 };
 static const pfx_key attractor_keys[] = {
     TYPE_ROW,
-    {"center", PFX_KEY_VEC3, .hi = 1e6, .offset = F(center), .doc = "The point it pulls to (m)."},
+    {"center", PFX_KEY_VEC3, .hi = 1e6, .offset = F(center),
+     .doc = "A point in metres, each component within +-1e6."},
     {"strength", PFX_KEY_NUMBER, .lo = -1e9, .hi = 1e9, .def = {1}, .offset = F(strength),
-     .doc = "mu in m^3/s^2 (a = mu / r^2 at distance r); negative repels."},
+     .doc = "m^3/s^2 (GM) for inverse_square; -1e9 to 1e9; negative repels."},
     {"softening", PFX_KEY_NUMBER, .lo = 0, .hi = 1e6, .offset = F(softening),
-     .doc = "Plummer softening radius in m: a = mu r / (r^2 + e^2)^(3/2)."},
+     .doc = "Plummer softening radius in metres, 0 to 1e6."},
     {"falloff", PFX_KEY_ENUM, .offset = F(falloff), .names = pfx_falloff_names, .what = "falloff",
-     .doc = "How the pull falls with distance."},
+     .doc = "inverse_square (s/r^2), linear (s/(L r)) or constant (s/L^2), L = reference_radius."},
     {"radius", PFX_KEY_NUMBER, .lo = 0, .hi = 1e6, .offset = F(radius),
-     .doc = "No pull beyond this distance (0: everywhere)."},
+     .doc = "Cut-off in metres: no force beyond it; 0: none."},
     {"reference_radius", PFX_KEY_NUMBER, .lo = 1e-6, .hi = 1e6, .def = {1}, .offset = F(ref_radius),
-     .doc = "L of the linear and constant falloffs, and where stability is judged."},
+     .doc = "L in metres of the linear and constant falloffs (all three agree at r = L), 1e-6 to "
+            "1e6."},
     REGION_ROW,
 };
 static const pfx_key drag_keys[] = {
@@ -144,85 +145,101 @@ static const pfx_key drag_keys[] = {
 };
 static const pfx_key vortex_keys[] = {
     TYPE_ROW,
-    {"center", PFX_KEY_VEC3, .hi = 1e6, .offset = F(center), .doc = "A point on its axis (m)."},
-    {"axis", PFX_KEY_VEC3, .def = {0, 1, 0}, .offset = F(axis), .hook = read_axis,
-     .doc = "Its axis direction (any length but zero)."},
+    {"center", PFX_KEY_VEC3, .hi = 1e6, .offset = F(center),
+     .doc = "A point in metres, each component within +-1e6."},
+    {"axis", PFX_KEY_VEC3, PFX_KEY_NONZERO, .def = {0, 1, 0}, .offset = F(axis), .hook = read_axis,
+     .doc = "The axis direction (any length, not [0, 0, 0])."},
     {"strength", PFX_KEY_NUMBER, PFX_KEY_DEGREES, .lo = -1e6, .hi = 1e6, .def = {90},
-     .offset = F(strength), .doc = "Degrees per second at the axis, times Sims' falloff."},
+     .offset = F(strength), .doc = "Degrees per second of rotation at the axis, -1e6 to 1e6."},
     {"radius", PFX_KEY_NUMBER, .lo = 1e-6, .hi = 1e6, .def = {1}, .offset = F(radius),
-     .doc = "Its radius in m: no turn beyond it."},
+     .doc = "Radius in metres where the falloff reaches 0, 1e-6 to 1e6."},
     {"d", PFX_KEY_NUMBER, .lo = 0, .hi = 1e6, .offset = F(sims_d),
-     .doc = "d of the falloff (r^4 - 2r^2 + 1) / (1 + d r^2)."},
+     .doc = "The falloff's d, 0 to 1e6."},
     {"inflow", PFX_KEY_NUMBER, .lo = -1e6, .hi = 1e6, .offset = F(inflow),
-     .doc = "m/s towards the axis, times the falloff."},
+     .doc = "m/s towards the axis, times f(r); -1e6 to 1e6."},
     REGION_ROW,
 };
 static const pfx_key magnetic_keys[] = {
     TYPE_ROW,
     {"field", PFX_KEY_VEC3, .hi = 1e6, .def = {0, 1, 0}, .offset = F(field),
-     .doc = "B in tesla, each component within +-1e6."},
+     .doc = "Magnetic field B in tesla, each within +-1e6."},
     {"electric", PFX_KEY_VEC3, .hi = 1e9, .offset = F(electric),
-     .doc = "E in V/m, each component within +-1e9."},
+     .doc = "Electric field E in V/m, each within +-1e9."},
     REGION_ROW,
 };
 static const pfx_key spiral_keys[] = {
     TYPE_ROW,
-    {"center", PFX_KEY_VEC3, .hi = 1e6, .offset = F(center), .doc = "A point on its axis (m)."},
-    {"axis", PFX_KEY_VEC3, .def = {0, 1, 0}, .offset = F(axis), .hook = read_axis,
-     .doc = "The axis velocities turn about."},
+    {"center", PFX_KEY_VEC3, .hi = 1e6, .offset = F(center),
+     .doc = "A point in metres, each component within +-1e6."},
+    {"axis", PFX_KEY_VEC3, PFX_KEY_NONZERO, .def = {0, 1, 0}, .offset = F(axis), .hook = read_axis,
+     .doc = "The axis direction (any length, not [0, 0, 0])."},
     {"rate", PFX_KEY_NUMBER, PFX_KEY_DEGREES, .lo = -1e6, .hi = 1e6, .def = {90}, .offset = F(rate),
-     .doc = "Degrees per second the velocity turns."},
+     .doc = "Degrees per second, -1e6 to 1e6."},
     REGION_ROW,
 };
 static const pfx_key spring_keys[] = {
     TYPE_ROW,
     {"anchor", PFX_KEY_CODE, .offset = -1, .hook = read_anchor,
-     .schema = "{\"oneOf\": [{\"$ref\": \"#/$defs/vec3\"}, {\"const\": \"birth\"}], "
-               "\"default\": \"birth\"}",
-     .doc = "The point it pulls to, or 'birth': each particle's own birth place."},
+     .schema = "{\"default\": \"birth\", \"oneOf\": [{\"description\": \"A point in metres.\", "
+               "\"type\": \"array\", \"items\": {\"type\": \"number\", \"minimum\": -1000000, "
+               "\"maximum\": 1000000}, \"minItems\": 3, \"maxItems\": 3}, {\"const\": \"birth\"}]}",
+     .doc = "The anchor: a point [x, y, z] (each within +-1e6) or 'birth' (each particle's birth "
+            "position)."},
     {"k", PFX_KEY_NUMBER, .lo = 0, .hi = 1e8, .def = {10}, .offset = F(k),
-     .doc = "Stiffness per mass in 1/s^2 (omega = sqrt(k))."},
+     .doc = "Stiffness per unit mass in 1/s^2 (omega = sqrt(k)), 0 to 1e8."},
     {"zeta", PFX_KEY_NUMBER, .lo = 0, .hi = 1e3, .offset = F(zeta),
-     .doc = "Damping ratio (1: critical)."},
+     .doc = "Damping ratio (1: critical), 0 to 1000."},
     REGION_ROW,
 };
 static const pfx_key turbulence_keys[] = {
     TYPE_ROW,
     {"strength", PFX_KEY_NUMBER, .lo = 0, .hi = 1e6, .def = {1}, .offset = F(strength),
-     .doc = "Typical acceleration in m/s^2."},
+     .doc = "Acceleration scale in m/s^2, 0 to 1e6."},
     {"scale", PFX_KEY_NUMBER, .lo = 1e-6, .hi = 1e6, .def = {1}, .offset = F(scale),
-     .doc = "Feature size in m."},
+     .doc = "Feature size in metres, 1e-6 to 1e6."},
     {"octaves", PFX_KEY_WHOLE, .lo = 1, .hi = 8, .def = {1}, .offset = F(octaves),
-     .doc = "Octaves of noise, 1 to 8, each half the amplitude of the last."},
+     .doc = "Octaves of noise, each half the amplitude of the last, 1 to 8."},
     {"speed", PFX_KEY_NUMBER, .lo = -1e6, .hi = 1e6, .offset = F(speed),
-     .doc = "How fast the pattern drifts, m/s."},
+     .doc = "Drift of the pattern in m/s (time evolution), -1e6 to 1e6."},
     REGION_ROW,
 };
 static const pfx_key speed_limit_keys[] = {
     TYPE_ROW,
     {"max", PFX_KEY_NUMBER, .lo = 0, .hi = 1e6, .def = {10}, .offset = F(max_speed),
-     .doc = "The largest speed in m/s."},
+     .doc = "Largest speed in m/s, 0 to 1e6."},
     REGION_ROW,
 };
 
-static PFX_KEY_TABLE(force_gravity, "force_gravity", "gravity", "Uniform acceleration.",
-                     gravity_keys);
+static PFX_KEY_TABLE(
+    force_gravity, "force_gravity", "gravity",
+    "Uniform gravity: a constant acceleration, times each particle's gravity_scale.", gravity_keys);
 static PFX_KEY_TABLE(force_attractor, "force_attractor", "attractor",
-                     "A point that pulls (or pushes).", attractor_keys);
+                     "Radial gravity towards a centre: a = strength d / (r^2 + softening^2)^(3/2) "
+                     "(inverse_square); strength < 0 repels.",
+                     attractor_keys);
 static PFX_KEY_TABLE(force_drag, "force_drag", "drag",
                      "Drag relative to a wind: a = -(k + c |u|) u, u = v - wind.", drag_keys);
 static PFX_KEY_TABLE(force_vortex, "force_vortex", "vortex",
-                     "Turns positions about an axis (Sims 1990).", vortex_keys);
-static PFX_KEY_TABLE(force_magnetic, "force_magnetic", "magnetic",
-                     "The Lorentz force (q/m)(E + v x B).", magnetic_keys);
-static PFX_KEY_TABLE(force_spiral, "force_spiral", "spiral", "Turns velocities about an axis.",
-                     spiral_keys);
+                     "Sims vortex: turns positions about an axis at strength f(r) degrees per "
+                     "second, f(r) = (r^4 - 2r^2 + 1)/(1 + d r^2), r = distance / radius <= 1.",
+                     vortex_keys);
+static PFX_KEY_TABLE(
+    force_magnetic, "force_magnetic", "magnetic",
+    "Lorentz force: a = (q/m)(E + v x B), q = the emitter's charge (C), m = its mass (kg).",
+    magnetic_keys);
+static PFX_KEY_TABLE(
+    force_spiral, "force_spiral", "spiral",
+    "Turns each particle's velocity about the axis direction at 'rate' degrees per second.",
+    spiral_keys);
 static PFX_KEY_TABLE(force_spring, "force_spring", "spring",
-                     "A damped spring: a = -k (x - anchor) - 2 zeta sqrt(k) v.", spring_keys);
+                     "Damped spring per unit mass: a = -k (x - anchor) - 2 zeta sqrt(k) v.",
+                     spring_keys);
 static PFX_KEY_TABLE(force_turbulence, "force_turbulence", "turbulence",
-                     "Divergence-free curl noise.", turbulence_keys);
-static PFX_KEY_TABLE(force_speed_limit, "force_speed_limit", "speed_limit", "Clamps the speed.",
-                     speed_limit_keys);
+                     "Divergence-free curl noise: a = strength x curl of a noise potential at "
+                     "position / scale; seeded by the effect's seed and the force's name.",
+                     turbulence_keys);
+static PFX_KEY_TABLE(force_speed_limit, "force_speed_limit", "speed_limit",
+                     "Scales |v| down to 'max' after each step.", speed_limit_keys);
 
 /* One table per force kind, in the order of PFX_FORCE_KINDS. */
 const pfx_key_table *const pfx_force_tables[] = {

@@ -46,15 +46,15 @@ static const unsigned kind_modes[] = {VOL,        VOL,        VOL | EDGE, VOL | 
 #define S(field) offsetof(pfx_shape, field)
 #define TYPE(text)                                                                                 \
     { "type", PFX_KEY_CODE, .offset = -1, .doc = text }
-#define EMIT_FROM(modes, def)                                                                      \
+#define EMIT_FROM(modes, words, def)                                                               \
     {                                                                                              \
         "emit_from", PFX_KEY_CODE, .offset = -1,                                                   \
                                    .schema = "{\"enum\": [" modes "], \"default\": \"" def "\"}",  \
-                                   .doc = "Where births are: " modes " (default " def ")."         \
+                                   .doc = "Where births are: " words " (default " def ")."         \
     }
-#define VOLUME_ONLY EMIT_FROM("\"volume\"", "volume")
-#define VOLUME_EDGE EMIT_FROM("\"volume\", \"edge\"", "volume")
-#define VOLUME_SURFACE EMIT_FROM("\"volume\", \"surface\"", "volume")
+#define VOLUME_ONLY EMIT_FROM("\"volume\"", "volume", "volume")
+#define VOLUME_EDGE EMIT_FROM("\"volume\", \"edge\"", "volume, edge", "volume")
+#define VOLUME_SURFACE EMIT_FROM("\"volume\", \"surface\"", "volume, surface", "volume")
 /* Required keys: read by the code of pfx_compile_shape, which names the
  * missing one in the shape's own words ("a box shape needs a 'size'"). */
 #define LENGTHS(n)                                                                                 \
@@ -140,16 +140,24 @@ static const pfx_key mesh_keys[] = {
      .doc = "Path of the OBJ file, relative to the effect file's directory."},
     {"scale", PFX_KEY_NUMBER, PFX_KEY_LO_STRICT, .lo = 0, .hi = INFINITY, .def = {1}, .offset = -1,
      .doc = "Scale of the mesh's coordinates, greater than 0."},
-    EMIT_FROM("\"surface\"", "surface")};
+    EMIT_FROM("\"surface\"", "surface", "surface")};
 
+#define INNER_VOLUME_ONLY                                                                          \
+    "{\"if\": {\"required\": [\"inner\"]}, \"then\": {\"properties\": {\"emit_from\": "            \
+    "{\"const\": \"volume\"}}}}"
 static PFX_KEY_TABLE(shape_point, "shape_point", "point", NULL, point_keys);
 static PFX_KEY_TABLE(shape_line, "shape_line", "line", NULL, line_keys);
 static PFX_KEY_TABLE(shape_rect, "shape_rect", "rect", NULL, rect_keys);
-static PFX_KEY_TABLE(shape_disc, "shape_disc", "disc", NULL, disc_keys);
+/* inner is for volume samples only */
+static PFX_KEY_TABLE_EXTRA(shape_disc, "shape_disc", "disc", NULL, disc_keys, INNER_VOLUME_ONLY);
 static PFX_KEY_TABLE(shape_ellipse, "shape_ellipse", "ellipse", NULL, ellipse_keys);
 static PFX_KEY_TABLE(shape_box, "shape_box", "box", NULL, box_keys);
-static PFX_KEY_TABLE(shape_sphere, "shape_sphere", "sphere", NULL, sphere_keys);
-static PFX_KEY_TABLE(shape_hemisphere, "shape_hemisphere", "hemisphere", NULL, hemisphere_keys);
+/* inner is for volume samples only */
+static PFX_KEY_TABLE_EXTRA(shape_sphere, "shape_sphere", "sphere", NULL, sphere_keys,
+                           INNER_VOLUME_ONLY);
+/* inner is for volume samples only */
+static PFX_KEY_TABLE_EXTRA(shape_hemisphere, "shape_hemisphere", "hemisphere", NULL,
+                           hemisphere_keys, INNER_VOLUME_ONLY);
 static PFX_KEY_TABLE(shape_cylinder, "shape_cylinder", "cylinder", NULL, cylinder_keys);
 static PFX_KEY_TABLE(shape_cone, "shape_cone", "cone", NULL, cone_keys);
 static PFX_KEY_TABLE(shape_mesh, "shape_mesh", "mesh", NULL, mesh_keys);

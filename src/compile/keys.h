@@ -32,7 +32,8 @@ enum {
     PFX_KEY_REQUIRED = 1u << 2,   /* the mapping needs it (its code says so, with
                                      the wording that fits) */
     PFX_KEY_NO_DEFAULT = 1u << 3, /* no default is written or published */
-    PFX_KEY_DEGREES = 1u << 4     /* NUMBER: written in degrees, stored in radians */
+    PFX_KEY_DEGREES = 1u << 4,    /* NUMBER: written in degrees, stored in radians */
+    PFX_KEY_NONZERO = 1u << 5     /* VEC3: not [0, 0, 0] (its code says so) */
 };
 
 typedef struct pfx_key_table pfx_key_table;
@@ -64,10 +65,13 @@ struct pfx_key_table {
     const char *kind; /* for one kind's table (force_drag): its `type` ("drag") */
     const pfx_key *keys;
     size_t count;
+    const char *extra; /* rules across keys, as JSON Schema to merge (or NULL) */
 };
 
 #define PFX_KEY_TABLE(var, nm, kd, dc, rows)                                                       \
-    const pfx_key_table var = {nm, dc, kd, rows, sizeof rows / sizeof rows[0]}
+    const pfx_key_table var = {nm, dc, kd, rows, sizeof rows / sizeof rows[0], NULL}
+#define PFX_KEY_TABLE_EXTRA(var, nm, kd, dc, rows, ex)                                             \
+    const pfx_key_table var = {nm, dc, kd, rows, sizeof rows / sizeof rows[0], ex}
 
 /* Every key of map is a row of t; reports the others at their key, with
  * the nearest row's name as a suggestion. `where` names the mapping in

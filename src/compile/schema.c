@@ -72,6 +72,8 @@ static json_t *row_schema(const pfx_key_table *t, const pfx_key *k) {
         json_object_set_new(p, "const", json_string(t->kind));
         return p;
     }
+    if (k->schema && k->type != PFX_KEY_COLOUR && k->type != PFX_KEY_CODE)
+        return parse_fragment(k->schema); /* a row whose syntax is richer than its type */
     switch (k->type) {
     case PFX_KEY_NUMBER:
     case PFX_KEY_WHOLE:
@@ -90,6 +92,8 @@ static json_t *row_schema(const pfx_key_table *t, const pfx_key *k) {
         return p;
     case PFX_KEY_VEC3:
         p = vec3_schema(k->hi);
+        if (k->flags & PFX_KEY_NONZERO)
+            json_object_set_new(p, "not", json_pack("{s:{s:i}}", "items", "const", 0));
         if (def) {
             json_t *d = json_array();
             for (int i = 0; i < 3; i++)
@@ -160,18 +164,29 @@ static json_t *row_schema(const pfx_key_table *t, const pfx_key *k) {
     }
 }
 
-/* A table as an object schema: its rows as properties, nothing else. */
+/* What a table is: its doc, or for one kind's table its type row's. */
+static const char *table_doc(const pfx_key_table *t) {
+    if (t->doc)
+        return t->doc;
+    const pfx_key *type = t->kind ? pfx_keys_find(t, "type") : NULL;
+    return type ? type->doc : NULL;
+}
+
+/* A table as an object schema: its rows as properties, its extra rules. */
 static json_t *table_schema(const pfx_key_table *t) {
     json_t *o = json_object(), *props = json_object(), *req = json_array();
-    if (t->doc)
-        json_object_set_new(o, "description", json_string(t->doc));
+    const char *doc = table_doc(t);
+    if (doc)
+        json_object_set_new(o, "description", json_string(doc));
     json_object_set_new(o, "type", json_string("object"));
     json_object_set_new(o, "additionalProperties", json_false());
     for (size_t i = 0; i < t->count; i++) {
         const pfx_key *k = &t->keys[i];
         json_t *p = json_object(), *s = row_schema(t, k);
-        if (k->doc && k->doc[0])
-            json_object_set_new(p, "description", json_string(k->doc));
+        /* a kind's type row says what the kind is */
+        const char *rdoc = t->kind && !strcmp(k->name, "type") && doc ? doc : k->doc;
+        if (rdoc && rdoc[0])
+            json_object_set_new(p, "description", json_string(rdoc));
         json_object_update(p, s);
         json_decref(s);
         json_object_set_new(props, k->name, p);
@@ -183,6 +198,11 @@ static json_t *table_schema(const pfx_key_table *t) {
         json_object_set_new(o, "required", req);
     else
         json_decref(req);
+    if (t->extra) {
+        json_t *x = parse_fragment(t->extra);
+        json_object_update(o, x);
+        json_decref(x);
+    }
     return o;
 }
 

@@ -452,29 +452,37 @@ else
     fail "$python cannot import jsonschema and yaml (apt-get install python3-jsonschema python3-yaml)"
 fi
 
-# --- (e) every key and name compile.c accepts is described in pfx-effect.5 --
-# "<array> <string>" for every string of every static string array in
-# src/compile/*.c (top_keys, emitter_keys, shape_types, blend_modes,
-# value_keys, ...): a key added there without docs fails here.
+# --- (e) every key and name of the key tables is described in pfx-effect.5 -
+# "<table> <name>" for every property of every table and every name of every
+# enum, read from `pfx schema` (which the key tables generate): a key added
+# there without docs fails here. top_keys and emitter_keys are the top
+# level's and an emitter's keys.
 string_arrays() {
-    awk '
-        /static const char \*const [a-z_]+\[\] *= *[{]/ {
-            match($0, /const [a-z_]+\[\]/)
-            name = substr($0, RSTART + 6, RLENGTH - 8)
-            inarr = 1
-        }
-        inarr {
-            line = $0
-            while (match(line, /"[^"]*"/)) {
-                print name, substr(line, RSTART + 1, RLENGTH - 2)
-                line = substr(line, RSTART + RLENGTH)
-            }
-            if (line ~ /[}]/)
-                inarr = 0
-        }
-    ' "$@"
+    "$pfx" schema | "$python" -c '
+import json, sys
+s = json.load(sys.stdin)
+def walk(table, node):
+    if isinstance(node, dict):
+        for k, v in node.get("properties", {}).items():
+            print(table, k)
+            walk(table.replace("_keys", "") + "_nested", v)
+        for e in node.get("enum", []):
+            if isinstance(e, str):
+                print(table + "_names", e)
+        for k, v in node.items():
+            if k != "properties":
+                walk(table, v)
+    elif isinstance(node, list):
+        for v in node:
+            walk(table, v)
+for k, v in s.get("properties", {}).items():
+    print("top_keys", k)
+    walk("top", v)
+for name, d in s["$defs"].items():
+    walk("emitter_keys" if name == "emitter" else name, d)
+'
 }
-arrays=$(string_arrays "$src"/src/compile/*.c)
+arrays=$(string_arrays)
 # Bold text of the page: \fB...\fR runs, .B lines, first words of .BR/.BI.
 bold=$(
     sed -e 's/\\-/-/g' "$man5" | grep -oE '\\fB([^\\]|\\[^f])*' | sed 's/^\\fB//'
@@ -494,7 +502,7 @@ tags=$(sed -e 's/\\-/-/g' "$man5" | awk '
 ')
 for want in top_keys emitter_keys; do
     if ! printf '%s\n' "$arrays" | grep -q "^$want "; then
-        fail "could not read the $want[] array from src/compile/compile.c"
+        fail "pfx schema lists no $want"
     fi
 done
 undescribed=""

@@ -1,0 +1,83 @@
+/* `loop: true`: a seamless loop of period `duration`. */
+#include <math.h>
+#include <string.h>
+
+#include "compile/compiler.h"
+
+/* A seamless loop of period P = duration: every emitter's schedule repeats
+ * with period P (or a divisor it states) and draws the same values each
+ * period; keyframes repeat too. Frames come from one period starting once
+ * every particle alive belongs to the periodic regime (after the longest
+ * start + lifetime chain), so frame N = duration x fps is frame 0. What
+ * cannot repeat is a warning at the place that says it. */
+void pfx_compile_loop(compiler *c, const pfx_node *root, const pfx_node *loop,
+                      const pfx_node *emitters) {
+    pfx_effect *e = c->e;
+    const double period = e->duration;
+    double frames = period * e->fps;
+    if (fabs(frames - round(frames)) > 1e-9 * frames) {
+        pfx_read_error(&c->r, loop,
+                       "a looping effect needs duration x fps to be whole frames, got %g", frames);
+        return;
+    }
+    e->loop_frames = lround(frames);
+    double settle = 0;
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        pfx_emitter *em = &e->emitters[i];
+        const pfx_node *n = emitters->pairs[i].value, *v;
+        settle += em->max_lifetime; /* a chain of sub-emitters at worst */
+        if (em->start > settle)
+            settle = em->start + em->max_lifetime;
+        em->key_period = period;
+        if (!em->loop) {
+            em->loop = true;
+            em->duration = period;
+        } else if (fabs(period / em->duration - round(period / em->duration)) > 1e-9) {
+            pfx_read_warning(&c->r, pfx_node_get(n, "duration"),
+                             "emitter '%s' repeats every %g s, which does not divide the loop's "
+                             "%g s: the loop will show a seam",
+                             em->name, em->duration, period);
+        }
+        const char *keys[] = {"position", "rotation"};
+        const pfx_keys3 *kf[] = {&em->position_keys, &em->rotation_keys};
+        for (int k = 0; k < 2; k++)
+            if (kf[k]->count > 1 &&
+                memcmp(kf[k]->v[0], kf[k]->v[kf[k]->count - 1], sizeof(double[3])))
+                pfx_read_warning(&c->r, pfx_node_get(n, keys[k]),
+                                 "'%s' keyframes end elsewhere than they start: the loop will "
+                                 "jump at the seam",
+                                 keys[k]);
+        if (em->rate_kind == PFX_RATE_CURVE &&
+            em->rate_curve.v[0] != em->rate_curve.v[em->rate_curve.count - 1])
+            pfx_read_warning(&c->r, pfx_node_get(n, "rate"),
+                             "the rate curve ends at another value than it starts: the loop will "
+                             "change rate at the seam");
+        for (size_t b = 0; b < em->burst_count; b++)
+            if (em->bursts[b].cycles == 1 && (v = pfx_node_get(n, "bursts")))
+                pfx_read_warning(&c->r, v->items[b],
+                                 "a one-shot burst repeats every %g s when the effect loops",
+                                 period);
+        if (em->spawn_count)
+            pfx_read_warning(&c->r, emitters->pairs[i].key,
+                             "emitter '%s' has sub-emitters: their random counts do not repeat "
+                             "every period, so the loop is not exact",
+                             em->name);
+        for (size_t d = 0; d < em->deflector_count; d++) {
+            const pfx_deflector *df = &em->deflectors[d];
+            if (df->resilience[0] != df->resilience[1] || df->friction[0] != df->friction[1])
+                pfx_read_warning(&c->r, emitters->pairs[i].key,
+                                 "deflector '%s' draws a random response per hit: the loop is "
+                                 "not exact",
+                                 df->name);
+        }
+    }
+    for (size_t f = 0; f < e->force_count; f++)
+        if (e->forces[f].spec.kind == PFX_MOTION_TURBULENCE && e->forces[f].spec.speed != 0) {
+            const pfx_node *fn = pfx_node_get(pfx_node_get(root, "forces"), e->forces[f].name);
+            const pfx_node *at = pfx_node_get(fn, "speed");
+            pfx_read_warning(&c->r, at ? at : root,
+                             "turbulence '%s' drifts with 'speed': the loop will show a seam",
+                             e->forces[f].name);
+        }
+    e->loop_start = fmax(e->prewarm, ceil(settle / period - 1e-9) * period);
+}

@@ -1,0 +1,83 @@
+/* Loading an effect file: read it (bounded), parse it, compile it. The
+ * only place that opens an effect file; compile works on the node tree. */
+#include "jobs/load.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+
+pfx_effect *pfx_load(pfx_loaded *l, const char *path, const pfx_compile_options *opt) {
+    memset(l, 0, sizeof *l);
+    pfx_diags_init(&l->diags, path, NULL, 0);
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0, "cannot open '%s': %s", path,
+                     strerror(errno));
+        return NULL;
+    }
+    /* Read at most one byte past the limit, so a huge file costs bounded
+     * memory and is reported rather than loaded. */
+    size_t cap = 65536, len = 0;
+    char *buf = malloc(cap + 1);
+    while (buf) {
+        if (len == cap) {
+            if (cap > PFX_MAX_FILE_BYTES)
+                break;
+            cap *= 2;
+            char *nb = realloc(buf, cap + 1);
+            if (!nb) {
+                free(buf);
+                buf = NULL;
+                break;
+            }
+            buf = nb;
+        }
+        size_t got = fread(buf + len, 1, cap - len, f);
+        len += got;
+        if (got == 0)
+            break;
+    }
+    bool read_error = ferror(f);
+    fclose(f);
+    if (!buf || read_error) {
+        pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0, "cannot read '%s'", path);
+        free(buf);
+        return NULL;
+    }
+    buf[len] = 0;
+    l->source = buf;
+    l->source_len = len;
+    l->diags.source = buf;
+    l->diags.source_len = len;
+    if (len > PFX_MAX_FILE_BYTES) {
+        pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0,
+                     "the file is larger than %u MiB; an effect file is a few kilobytes",
+                     PFX_MAX_FILE_BYTES >> 20);
+        return NULL;
+    }
+    const char *nul = memchr(buf, 0, len);
+    if (nul) {
+        int line = 1, col = 1;
+        for (const char *p = buf; p < nul; p++) {
+            if (*p == '\n')
+                line++, col = 1;
+            else if (((unsigned char)*p & 0xc0) != 0x80)
+                col++;
+        }
+        pfx_diag_add(&l->diags, PFX_SEV_ERROR, line, col, 1,
+                     "the file contains NUL bytes; an effect file is UTF-8 text");
+        return NULL;
+    }
+    if (!pfx_parse(buf, len, &l->doc, &l->diags))
+        return NULL;
+    l->effect = pfx_compile(l->doc.root, path, opt, &l->arena, &l->diags);
+    return l->effect;
+}
+
+void pfx_loaded_free(pfx_loaded *l) {
+    pfx_doc_free(&l->doc);
+    pfx_arena_free(&l->arena);
+    pfx_diags_free(&l->diags);
+    free(l->source);
+    memset(l, 0, sizeof *l);
+}
