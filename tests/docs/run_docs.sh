@@ -4,47 +4,18 @@
 #
 # Usage: bash run_docs.sh <path-to-pfx> <source-dir>   (run by CTest)
 # The schema checks use Debian's python3-jsonschema and python3-yaml, which
-# belong to /usr/bin/python3 (not necessarily the first python3 on PATH).
-# Each check prints "ok: ..." or "FAIL: ..." with what went wrong; the last
-# line is "N passed, M failed", and the exit status is 1 if any failed.
+# belong to /usr/bin/python3 (the harness's $py).
 set -u
-
-if [ $# -ne 2 ]; then
-    echo "usage: bash run_docs.sh <path-to-pfx> <source-dir>" >&2
-    exit 2
-fi
-pfx=$1
-src=$2
-# Absolute, since some checks run pfx from a temporary directory.
-case $pfx in /*) ;; *) pfx=$PWD/$pfx ;; esac
-case $src in /*) ;; *) src=$PWD/$src ;; esac
+source "$(dirname "${BASH_SOURCE[0]}")/../harness.sh" docs "$@"
 man1=$src/man/pfx.1
 man5=$src/man/pfx-effect.5
 schema=$src/schemas/pfx-effect.schema.json
 compile_c=$src/src/compile/compile.c
-python=/usr/bin/python3
 
 # The sections of pfx-effect.5 where top-level and emitter keys must each
 # have their own tagged paragraph.
 top_section="TOP-LEVEL KEYS"
 emitter_section="EMITTERS"
-
-passed=0
-failed=0
-pass() {
-    passed=$((passed + 1))
-    echo "ok: $1"
-}
-fail() {
-    failed=$((failed + 1))
-    echo "FAIL: $1"
-    if [ $# -gt 1 ] && [ -n "$2" ]; then
-        printf '%s\n' "$2" | sed 's/^/    /'
-    fi
-}
-
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/pfx-docs.XXXXXX") || exit 1
-trap 'rm -rf "$tmp"' EXIT
 
 for f in "$pfx" "$man1" "$man5" "$schema" "$compile_c"; do
     if [ ! -e "$f" ]; then
@@ -52,8 +23,8 @@ for f in "$pfx" "$man1" "$man5" "$schema" "$compile_c"; do
     fi
 done
 if [ "$failed" -gt 0 ]; then
-    echo "$passed passed, $failed failed"
-    exit 1
+    summary
+    exit
 fi
 
 # Roff source -> plain text for grepping: hyphen and quote escapes become the
@@ -153,17 +124,18 @@ fi
 # --- (c), (d) the schema: valid, accepts the examples, rejects bad files ----
 # The same documents also go through `pfx validate`, so the test data is
 # known to be good or bad by the compiler's own judgement.
-examples_of "$man5" EXAMPLES >"$tmp/man5-examples"
-if "$python" -c 'import jsonschema, yaml' 2>/dev/null; then
-    out=$("$python" - "$schema" "$pfx" "$tmp" "$src"/effects/*.yaml <<'PY'
+examples_of "$man5" EXAMPLES >"$work/man5-examples"
+if "$py" -c 'import jsonschema, yaml' 2>/dev/null; then
+    out=$("$py" - "$schema" "$pfx" "$work" "$src"/effects/*.yaml <<'PY'
 import glob, json, os, subprocess, sys
 import jsonschema, yaml
 
 schema_path, pfx, tmp, effects = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
 
-def ok(msg): print("ok: " + msg)
+# The harness's report lines (tests/harness.sh, tally).
+def ok(msg): print("ok   " + msg)
 def fail(msg, detail=""):
-    print("FAIL: " + msg)
+    print("FAIL " + msg)
     for line in detail.splitlines():
         print("    " + line)
 
@@ -442,14 +414,9 @@ for i, text in enumerate(blocks, 1):
         ok("example %d of pfx-effect.5 is valid for pfx and the schema" % i)
 PY
 )
-    printf '%s\n' "$out"
-    passed=$((passed + $(printf '%s\n' "$out" | grep -c '^ok:')))
-    failed=$((failed + $(printf '%s\n' "$out" | grep -c '^FAIL:')))
-    if ! printf '%s\n' "$out" | grep -qE '^(ok|FAIL):'; then
-        fail "the schema checks printed nothing"
-    fi
+    tally "$out"
 else
-    fail "$python cannot import jsonschema and yaml (apt-get install python3-jsonschema python3-yaml)"
+    fail "$py cannot import jsonschema and yaml (apt-get install python3-jsonschema python3-yaml)"
 fi
 
 # --- (e) every key and name compile.c accepts is described in pfx-effect.5 --
@@ -527,21 +494,20 @@ else
 fi
 
 # --- (f) the diagnostics example of pfx.1 is what pfx prints --------------
-examples_of "$man1" DIAGNOSTICS >"$tmp/man1-diag"
-nth_block "$tmp/man1-diag" 1 >"$tmp/flame.yaml"
-nth_block "$tmp/man1-diag" 2 >"$tmp/flame.expected"
-if [ ! -s "$tmp/flame.yaml" ] || [ ! -s "$tmp/flame.expected" ]; then
+examples_of "$man1" DIAGNOSTICS >"$work/man1-diag"
+nth_block "$work/man1-diag" 1 >"$work/flame.yaml"
+nth_block "$work/man1-diag" 2 >"$work/flame.expected"
+if [ ! -s "$work/flame.yaml" ] || [ ! -s "$work/flame.expected" ]; then
     fail "could not find the example file and its diagnostics in DIAGNOSTICS of man/pfx.1"
 else
-    (cd "$tmp" && "$pfx" validate flame.yaml) >"$tmp/flame.stdout" 2>"$tmp/flame.actual"
+    (cd "$work" && "$pfx" validate flame.yaml) >"$work/flame.stdout" 2>"$work/flame.actual"
     rc=$?
-    if [ $rc -eq 1 ] && [ ! -s "$tmp/flame.stdout" ] && cmp -s "$tmp/flame.expected" "$tmp/flame.actual"; then
+    if [ $rc -eq 1 ] && [ ! -s "$work/flame.stdout" ] && cmp -s "$work/flame.expected" "$work/flame.actual"; then
         pass "the diagnostics shown in man/pfx.1 are what pfx validate prints"
     else
         fail "pfx validate on the example of man/pfx.1 (status $rc) differs from the page" \
-            "$(diff "$tmp/flame.expected" "$tmp/flame.actual")"
+            "$(diff "$work/flame.expected" "$work/flame.actual")"
     fi
 fi
 
-echo "$passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+summary
