@@ -21,6 +21,21 @@ usage_error() {
     want_status 2
     stdout_empty
     stderr_has "pfx: $msg"
+    stderr_has "Try 'pfx --help' for more information."
+    end
+}
+
+# frames_error NAME MESSAGE ARGS...: the same without the --help hint, which
+# pfx does not give here: the options parse, but name frames the effect does
+# not have (src/main.c reports it after loading the effect).
+frames_error() {
+    begin "$1"
+    local msg=$2
+    shift 2
+    pfx_run "$@"
+    want_status 2
+    stdout_empty
+    stderr_has "pfx: $msg"
     end
 }
 
@@ -206,9 +221,9 @@ usage_error "render with two files" "render takes one FILE" render "$FIRE" "$FIR
 usage_error "--frames 5:2" "--frames takes A:B with 0 <= A <= B <= 100000000, got '5:2'" \
     render "$FIRE" -o "$work/u" --frames 5:2
 usage_error "--frames without a colon" "--frames takes A:B" render "$FIRE" -o "$work/u" --frames 5
-usage_error "--frames beyond the last frame" "--frames 0:1000000 is outside the effect's frames" \
+frames_error "--frames beyond the last frame" "--frames 0:1000000 is outside the effect's frames" \
     render "$FIRE" -o "$work/u" --frames 0:1000000 --size 64x64
-usage_error "bake --frames beyond the last frame" "--frames 0:1000000 is outside the effect's frames" \
+frames_error "bake --frames beyond the last frame" "--frames 0:1000000 is outside the effect's frames" \
     bake "$FIRE" -o "$work/u.csv" --frames 0:1000000
 usage_error "--size 0x10" "--size takes WxH" render "$FIRE" -o "$work/u" --size 0x10
 usage_error "--size 64" "--size takes WxH" render "$FIRE" -o "$work/u" --size 64
