@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 static int test_failures = 0;
 static int test_checks = 0;
@@ -38,6 +39,22 @@ static int test_checks = 0;
         test_fn();                                                                                 \
         fprintf(stderr, "%s %s\n", test_failures == before_ ? "ok  " : "FAIL", #test_fn);          \
     } while (0)
+
+/* The source tree, for the committed files a test reads: $PFX_SOURCE_DIR,
+ * as CTest sets it, or else the directory above this header's. */
+static inline const char *test_source_dir(void) {
+    static char dir[4096];
+    const char *env = getenv("PFX_SOURCE_DIR");
+    if (env && *env)
+        return env;
+    snprintf(dir, sizeof dir, "%s", __FILE__);
+    char *cut = strstr(dir, "/tests/test.h");
+    if (cut)
+        *cut = '\0';
+    else
+        snprintf(dir, sizeof dir, ".");
+    return dir;
+}
 
 #define TEST_EXIT()                                                                                \
     (fprintf(stderr, "%d checks, %d failed\n", test_checks, test_failures),                        \
