@@ -184,10 +184,10 @@ static void test_timeline(void) {
  * consumes a fixed number of draws" and the stream stays aligned. Compared
  * with 1000 steps/s at 0.3, 0.75 and 1.9 s: the same ids, the same lifetime
  * (bit for bit: the same draw), positions within float round-off. The step
- * rates include 1/s, a step (1 s) longer than the lifetime (0.3 s).
- * Known failure at 1 step/s: emit() skips births that are already dead at
- * the step's end without drawing their values, so every later birth takes
- * an earlier birth's draws (id 2 gets birth 1's). Kept failing until fixed. */
+ * rates include 1/s, a step (1 s) longer than the lifetime (0.3 s): there
+ * emit() passes over births already dead at the step's end, and must jump
+ * the stream by their draws, or every later birth takes an earlier birth's
+ * values (id 2 would get birth 1's). */
 static const char random_fmt[] =
     "pfx: 1\nseed: 12\nsim: { rate: %g }\n"
     "forces:\n  g: { type: gravity, accel: [0, -9.81, 0] }\n"
