@@ -379,6 +379,84 @@ bad = {
     "unknown inherited attribute": "pfx: 1\nemitters:\n  a: { on_death: { emit: b, inherit: [spin] } }\n  b: {}\n",
 }
 
+# What pfx must say about each bad document: its own error, not another
+# one (a document rejected for the wrong reason shows nothing about the
+# rule it was written for). Each is part of an `error:` line.
+reason = {
+    "unknown top-level key": "unknown key 'durration' in the effect",
+    "unknown emitter key": "unknown key 'no_such_key' in emitter 'a'",
+    "unknown shape type": "unknown shape type 'cube'",
+    "shape with another type's key": "unknown key 'size' in the shape of emitter 'a'",
+    "sphere without radius": "a sphere shape needs a 'radius'",
+    "point with a radius": "unknown key 'radius' in the shape of emitter 'a'",
+    "unknown force type": "unknown force type 'no_such_force'",
+    "unknown gravity key": "unknown key 'accell' in force 'g'",
+    "force without type": "force 'g' needs a 'type'",
+    "missing pfx": "missing 'pfx: 1'",
+    "wrong version": "unsupported format version '2'",
+    "unknown sim key": "unknown key 'no_such_key' in 'sim'",
+    "unknown camera key": "unknown key 'no_such_key' in 'camera'",
+    "fov and ortho": "'camera' takes either 'fov' or 'ortho', not both",
+    "fov 180": "'fov' must be between 0 and 180 degrees (exclusive), got 180",
+    "image size 0": "image 'size' must be whole numbers of pixels from 1 to 16384, got 0",
+    "image size too big": "image 'size' must be whole numbers of pixels from 1 to 16384, got 16385",
+    "malformed colour": "malformed colour '#12345' in 'background'",
+    "colour above 1": "colour components of 'background' must be in 0..1, got 2",
+    "negative rate": "'rate' must be at least 0, got -3",
+    "zero lifetime": "'lifetime' must be greater than 0, got 0",
+    "negative var": "'var' of 'lifetime' must be at least 0, got -1",
+    "mean with normal": "'speed' must be a number, [min, max], {mean: m, var: v} or {normal:",
+    "range of three": "'speed' as a list must be [min, max]",
+    "negative size range": "'size' must be at least 0, got -1",
+    "unknown size key": "unknown key 'middle' in 'size'",
+    "zero direction": "'direction' must not be the zero vector",
+    "spread above 180": "'spread' must be at most 180, got 181",
+    "unknown blend": "unknown blend mode 'multiply'",
+    "unknown stop key": "unknown key 'alpha' in a gradient stop",
+    "empty gradient": "gradient 'color' needs at least one colour",
+    "gravity_scale too big": "'gravity_scale' must be at most 1000, got 1001",
+    "emitter not a mapping": "'a' must be a mapping, got a scalar",
+    "rate and interval": "an emitter takes either 'rate' or 'interval', not both",
+    "lod and rate": "'lod' sets the rate from the screen area; drop 'rate'",
+    "empty rate mapping": "'rate' must be a number, {mean, var}, {initial, delta} or a curve",
+    "loop without duration": "a looping emitter needs a 'duration'",
+    "loop not a boolean": "'loop' must be true or false",
+    "burst cycles without interval": "a burst with 'cycles' above 1 needs an 'interval' above 0",
+    "burst probability above 1": "'probability' must be at most 1, got 1.5",
+    "inner on a surface": "'inner' applies only to emit_from: volume",
+    "emit_from the shape lacks": "a point shape cannot emit from 'surface'",
+    "mesh by volume": "a mesh shape cannot emit from 'volume'",
+    "cone angle above 90": "'angle' must be at most 90, got 91",
+    "unknown direction word": "unknown direction 'outward'",
+    "two-angle spread above 360": "'spread' must be at most 360, got 400",
+    "zero mass": "'mass' must be greater than 0, got 0",
+    "alpha above 1": "'alpha' must be at most 1, got 1.5",
+    "size curve past death": "'at' must be in 0..1, got 1.5",
+    "unknown colour mapping": "unknown key 'mix' in 'color'",
+    "unknown integrator": "unknown integrator 'leapfrog'",
+    "too many substeps": "'substeps' must be at most 1024, got 1025",
+    "fractional substeps": "'substeps' must be a whole number, got 1.5",
+    "zero tolerance": "'tolerance' must be at least 1e-12, got 0",
+    "turbulence octaves 9": "'octaves' must be at most 8, got 9",
+    "spring anchor word": "'anchor' must be a point [x, y, z] or 'birth'",
+    "vortex zero axis": "'axis' must not be the zero vector",
+    "attractor unknown falloff": "unknown falloff 'cubic'",
+    "drag key of another force": "unknown key 'strength' in force 'd'",
+    "unknown region type": "unknown region type 'cylinder'",
+    "unknown deflector type": "unknown deflector type 'cube'",
+    "sphere deflector with a normal": "unknown key 'normal' in deflector 'd'",
+    "resilience above 1": "'resilience' must be at most 1, got 1.5",
+    "unknown response": "unknown response 'slide'",
+    "kill rule with two keys": "a kill rule has one key",
+    "kill sphere without radius": "a sphere needs a 'radius'",
+    "wrapping box with a zero edge": "a wrapping box's 'size' must be greater than 0, got 0",
+    "bounds without box": "'bounds' needs a 'box'",
+    "sub-emitter without emit": "a sub-emitter needs 'emit: <emitter name>'",
+    "trail with a count": "unknown key 'count' in a trail",
+    "depth 17": "'depth' must be at most 16, got 17",
+    "unknown inherited attribute": "unknown inherited attribute 'spin'",
+}
+
 for name, text in good.items():
     errs = schema_errors(text)
     rc, err = pfx_validate("good", text)
@@ -391,8 +469,12 @@ for name, text in good.items():
 for name, text in bad.items():
     errs = schema_errors(text)
     rc, err = pfx_validate("bad", text)
+    said = [line for line in err.splitlines() if ": error: " in line and reason[name] in line]
     if rc != 1:
         fail("pfx validate exits %d, not 1, on the bad test document (%s)" % (rc, name), err)
+    elif not said:
+        fail("pfx validate rejects the bad test document (%s) without the error '%s'"
+             % (name, reason[name]), err)
     elif not errs:
         fail("the schema accepts a bad document (%s)" % name, text)
     else:
