@@ -56,8 +56,11 @@ static inline const char *test_source_dir(void) {
     return dir;
 }
 
+/* The closing line and the exit status: 0 only if no check failed and at
+ * least one ran (a test whose cases all returned early proves nothing). */
 #define TEST_EXIT()                                                                                \
-    (fprintf(stderr, "%d checks, %d failed\n", test_checks, test_failures),                        \
-     test_failures == 0 ? 0 : 1)
+    (fprintf(stderr, "%d checks, %d failed%s\n", test_checks, test_failures,                       \
+             test_checks == 0 ? " (no check ran)" : ""),                                           \
+     test_failures == 0 && test_checks > 0 ? 0 : 1)
 
 #endif
