@@ -504,7 +504,10 @@ fi
 # --- (e) every key and name compile.c accepts is described in pfx-effect.5 --
 # "<array> <string>" for every string of every static string array in
 # src/compile/*.c (top_keys, emitter_keys, shape_types, blend_modes,
-# value_keys, ...): a key added there without docs fails here.
+# value_keys, ...): a key added there without docs fails here. That reads
+# the compiler's source as text, so the names the schema lists (property
+# names, enum and const strings) are checked as well: should the compiler's
+# tables stop being plain string arrays, the check does not shrink unseen.
 string_arrays() {
     awk '
         /static const char \*const [a-z_]+\[\] *= *[{]/ {
@@ -524,6 +527,37 @@ string_arrays() {
     ' "$@"
 }
 arrays=$(string_arrays "$src"/src/compile/*.c)
+schema_names=$("$py" - "$schema" <<'PY'
+import json, sys
+names = set()
+def walk(o):
+    if isinstance(o, dict):
+        for k, v in o.items():
+            if k == "properties" and isinstance(v, dict):
+                names.update(v)
+            elif k == "enum" and isinstance(v, list):
+                names.update(x for x in v if isinstance(x, str))
+            elif k == "const" and isinstance(v, str):
+                names.add(v)
+            walk(v)
+    elif isinstance(o, list):
+        for x in o:
+            walk(x)
+walk(json.load(open(sys.argv[1])))
+print("\n".join(sorted(n for n in names if n.replace("_", "").isalnum())))
+PY
+)
+compiler_names=$(printf '%s\n' "$arrays" | awk 'NF == 2 { print $2 }' | sort -u)
+not_in_schema=$(comm -23 <(printf '%s\n' "$compiler_names") <(printf '%s\n' "$schema_names" | sort -u))
+schema_only=$(comm -13 <(printf '%s\n' "$compiler_names") <(printf '%s\n' "$schema_names" | sort -u) |
+    sed '/^$/d; s/^/schema /')
+if [ -z "$schema_names" ]; then
+    fail "could not read the property names and enums of $schema"
+elif [ -n "$not_in_schema" ]; then
+    fail "keys and names the compiler accepts that the schema does not list:" "$not_in_schema"
+else
+    pass "all $(printf '%s\n' "$compiler_names" | grep -c .) keys and names of the compiler's string arrays are in the schema"
+fi
 # Bold text of the page: \fB...\fR runs, .B lines, first words of .BR/.BI.
 bold=$(
     sed -e 's/\\-/-/g' "$man5" | grep -oE '\\fB([^\\]|\\[^f])*' | sed 's/^\\fB//'
@@ -563,11 +597,11 @@ while read -r array key; do
     if [ -n "$section" ] && ! printf '%s\n' "$tags" | grep -qxF "$section	$key"; then
         untagged="$untagged $key"
     fi
-done <<<"$arrays"
+done <<<"$arrays${schema_only:+$'\n'$schema_only}"
 if [ -n "$undescribed" ]; then
-    fail "keys and names accepted by the compiler but not described (in bold) in man/pfx-effect.5:$undescribed"
+    fail "keys and names accepted by the compiler or listed by the schema but not described (in bold) in man/pfx-effect.5:$undescribed"
 else
-    pass "all $count keys and names of the compiler's string arrays are described in man/pfx-effect.5"
+    pass "all $count keys and names of the compiler's string arrays and the schema are described in man/pfx-effect.5"
 fi
 if [ -n "$untagged" ]; then
     fail "top-level or emitter keys without their own paragraph in sections '$top_section' or '$emitter_section' of man/pfx-effect.5:$untagged"
