@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The command line: exit statuses (0 success, 1 invalid input or I/O failure,
 # 2 usage error), where help and errors go, that a failed write leaves
-# nothing behind, quiet rendering, and the per-particle footprint that
-# `pfx info` reports. Renders are tiny (64x64, frames 0:2) to stay fast.
+# nothing behind, quiet rendering, that every example validates cleanly and
+# renders, and the per-particle footprint that `pfx info` reports. Renders
+# are tiny (64x64, frames 0:2; the examples 32x32, one frame) to stay fast.
 #
 #   bash run_cli.sh PATH-TO-PFX SOURCE-DIR
 set -u
@@ -62,7 +63,23 @@ end
 begin "validate every example"
 pfx_run validate effects/*.yaml
 want_status 0
+stderr_empty
 end
+
+# Every example renders (STYLE.md: effects/ are "each compiled and rendered
+# by the tests"; the golden tests render only fire, smoke and fire_loop):
+# frame 15 of each, tiny.
+for effect in effects/*.yaml; do
+    stem=${effect##*/}
+    stem=${stem%.yaml}
+    begin "render the example $stem"
+    pfx_run render "$effect" -o "$work/examples" --size 32x32 --frames 15:15 -q
+    want_status 0
+    stderr_empty
+    png=$work/examples/${stem}_0015.png
+    [ -s "$png" ] && [ "$(head -c 4 "$png" | tail -c 3)" = PNG ] || flunk "no PNG ${stem}_0015.png"
+    end
+done
 
 begin "info"
 pfx_run info "$FIRE"
