@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 static int test_failures = 0;
 static int test_checks = 0;
@@ -39,8 +40,27 @@ static int test_checks = 0;
         fprintf(stderr, "%s %s\n", test_failures == before_ ? "ok  " : "FAIL", #test_fn);          \
     } while (0)
 
+/* The source tree, for the committed files a test reads: $PFX_SOURCE_DIR,
+ * as CTest sets it, or else the directory above this header's. */
+static inline const char *test_source_dir(void) {
+    static char dir[4096];
+    const char *env = getenv("PFX_SOURCE_DIR");
+    if (env && *env)
+        return env;
+    snprintf(dir, sizeof dir, "%s", __FILE__);
+    char *cut = strstr(dir, "/tests/test.h");
+    if (cut)
+        *cut = '\0';
+    else
+        snprintf(dir, sizeof dir, ".");
+    return dir;
+}
+
+/* The closing line and the exit status: 0 only if no check failed and at
+ * least one ran (a test whose cases all returned early proves nothing). */
 #define TEST_EXIT()                                                                                \
-    (fprintf(stderr, "%d checks, %d failed\n", test_checks, test_failures),                        \
-     test_failures == 0 ? 0 : 1)
+    (fprintf(stderr, "%d checks, %d failed%s\n", test_checks, test_failures,                       \
+             test_checks == 0 ? " (no check ran)" : ""),                                           \
+     test_failures == 0 && test_checks > 0 ? 0 : 1)
 
 #endif

@@ -4,47 +4,18 @@
 #
 # Usage: bash run_docs.sh <path-to-pfx> <source-dir>   (run by CTest)
 # The schema checks use Debian's python3-jsonschema and python3-yaml, which
-# belong to /usr/bin/python3 (not necessarily the first python3 on PATH).
-# Each check prints "ok: ..." or "FAIL: ..." with what went wrong; the last
-# line is "N passed, M failed", and the exit status is 1 if any failed.
+# belong to /usr/bin/python3 (the harness's $py).
 set -u
-
-if [ $# -ne 2 ]; then
-    echo "usage: bash run_docs.sh <path-to-pfx> <source-dir>" >&2
-    exit 2
-fi
-pfx=$1
-src=$2
-# Absolute, since some checks run pfx from a temporary directory.
-case $pfx in /*) ;; *) pfx=$PWD/$pfx ;; esac
-case $src in /*) ;; *) src=$PWD/$src ;; esac
+source "$(dirname "${BASH_SOURCE[0]}")/../harness.sh" docs "$@"
 man1=$src/man/pfx.1
 man5=$src/man/pfx-effect.5
 schema=$src/schemas/pfx-effect.schema.json
 compile_c=$src/src/compile/compile.c
-python=/usr/bin/python3
 
 # The sections of pfx-effect.5 where top-level and emitter keys must each
 # have their own tagged paragraph.
 top_section="TOP-LEVEL KEYS"
 emitter_section="EMITTERS"
-
-passed=0
-failed=0
-pass() {
-    passed=$((passed + 1))
-    echo "ok: $1"
-}
-fail() {
-    failed=$((failed + 1))
-    echo "FAIL: $1"
-    if [ $# -gt 1 ] && [ -n "$2" ]; then
-        printf '%s\n' "$2" | sed 's/^/    /'
-    fi
-}
-
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/pfx-docs.XXXXXX") || exit 1
-trap 'rm -rf "$tmp"' EXIT
 
 for f in "$pfx" "$man1" "$man5" "$schema" "$compile_c"; do
     if [ ! -e "$f" ]; then
@@ -52,8 +23,8 @@ for f in "$pfx" "$man1" "$man5" "$schema" "$compile_c"; do
     fi
 done
 if [ "$failed" -gt 0 ]; then
-    echo "$passed passed, $failed failed"
-    exit 1
+    summary
+    exit
 fi
 
 # Roff source -> plain text for grepping: hyphen and quote escapes become the
@@ -153,17 +124,18 @@ fi
 # --- (c), (d) the schema: valid, accepts the examples, rejects bad files ----
 # The same documents also go through `pfx validate`, so the test data is
 # known to be good or bad by the compiler's own judgement.
-examples_of "$man5" EXAMPLES >"$tmp/man5-examples"
-if "$python" -c 'import jsonschema, yaml' 2>/dev/null; then
-    out=$("$python" - "$schema" "$pfx" "$tmp" "$src"/effects/*.yaml <<'PY'
+examples_of "$man5" EXAMPLES >"$work/man5-examples"
+if "$py" -c 'import jsonschema, yaml' 2>/dev/null; then
+    out=$("$py" - "$schema" "$pfx" "$work" "$src"/effects/*.yaml <<'PY'
 import glob, json, os, subprocess, sys
 import jsonschema, yaml
 
 schema_path, pfx, tmp, effects = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
 
-def ok(msg): print("ok: " + msg)
+# The harness's report lines (tests/harness.sh, tally).
+def ok(msg): print("ok   " + msg)
 def fail(msg, detail=""):
-    print("FAIL: " + msg)
+    print("FAIL " + msg)
     for line in detail.splitlines():
         print("    " + line)
 
@@ -407,6 +379,84 @@ bad = {
     "unknown inherited attribute": "pfx: 1\nemitters:\n  a: { on_death: { emit: b, inherit: [spin] } }\n  b: {}\n",
 }
 
+# What pfx must say about each bad document: its own error, not another
+# one (a document rejected for the wrong reason shows nothing about the
+# rule it was written for). Each is part of an `error:` line.
+reason = {
+    "unknown top-level key": "unknown key 'durration' in the effect",
+    "unknown emitter key": "unknown key 'no_such_key' in emitter 'a'",
+    "unknown shape type": "unknown shape type 'cube'",
+    "shape with another type's key": "unknown key 'size' in the shape of emitter 'a'",
+    "sphere without radius": "a sphere shape needs a 'radius'",
+    "point with a radius": "unknown key 'radius' in the shape of emitter 'a'",
+    "unknown force type": "unknown force type 'no_such_force'",
+    "unknown gravity key": "unknown key 'accell' in force 'g'",
+    "force without type": "force 'g' needs a 'type'",
+    "missing pfx": "missing 'pfx: 1'",
+    "wrong version": "unsupported format version '2'",
+    "unknown sim key": "unknown key 'no_such_key' in 'sim'",
+    "unknown camera key": "unknown key 'no_such_key' in 'camera'",
+    "fov and ortho": "'camera' takes either 'fov' or 'ortho', not both",
+    "fov 180": "'fov' must be between 0 and 180 degrees (exclusive), got 180",
+    "image size 0": "image 'size' must be whole numbers of pixels from 1 to 16384, got 0",
+    "image size too big": "image 'size' must be whole numbers of pixels from 1 to 16384, got 16385",
+    "malformed colour": "malformed colour '#12345' in 'background'",
+    "colour above 1": "colour components of 'background' must be in 0..1, got 2",
+    "negative rate": "'rate' must be at least 0, got -3",
+    "zero lifetime": "'lifetime' must be greater than 0, got 0",
+    "negative var": "'var' of 'lifetime' must be at least 0, got -1",
+    "mean with normal": "'speed' must be a number, [min, max], {mean: m, var: v} or {normal:",
+    "range of three": "'speed' as a list must be [min, max]",
+    "negative size range": "'size' must be at least 0, got -1",
+    "unknown size key": "unknown key 'middle' in 'size'",
+    "zero direction": "'direction' must not be the zero vector",
+    "spread above 180": "'spread' must be at most 180, got 181",
+    "unknown blend": "unknown blend mode 'multiply'",
+    "unknown stop key": "unknown key 'alpha' in a gradient stop",
+    "empty gradient": "gradient 'color' needs at least one colour",
+    "gravity_scale too big": "'gravity_scale' must be at most 1000, got 1001",
+    "emitter not a mapping": "'a' must be a mapping, got a scalar",
+    "rate and interval": "an emitter takes either 'rate' or 'interval', not both",
+    "lod and rate": "'lod' sets the rate from the screen area; drop 'rate'",
+    "empty rate mapping": "'rate' must be a number, {mean, var}, {initial, delta} or a curve",
+    "loop without duration": "a looping emitter needs a 'duration'",
+    "loop not a boolean": "'loop' must be true or false",
+    "burst cycles without interval": "a burst with 'cycles' above 1 needs an 'interval' above 0",
+    "burst probability above 1": "'probability' must be at most 1, got 1.5",
+    "inner on a surface": "'inner' applies only to emit_from: volume",
+    "emit_from the shape lacks": "a point shape cannot emit from 'surface'",
+    "mesh by volume": "a mesh shape cannot emit from 'volume'",
+    "cone angle above 90": "'angle' must be at most 90, got 91",
+    "unknown direction word": "unknown direction 'outward'",
+    "two-angle spread above 360": "'spread' must be at most 360, got 400",
+    "zero mass": "'mass' must be greater than 0, got 0",
+    "alpha above 1": "'alpha' must be at most 1, got 1.5",
+    "size curve past death": "'at' must be in 0..1, got 1.5",
+    "unknown colour mapping": "unknown key 'mix' in 'color'",
+    "unknown integrator": "unknown integrator 'leapfrog'",
+    "too many substeps": "'substeps' must be at most 1024, got 1025",
+    "fractional substeps": "'substeps' must be a whole number, got 1.5",
+    "zero tolerance": "'tolerance' must be at least 1e-12, got 0",
+    "turbulence octaves 9": "'octaves' must be at most 8, got 9",
+    "spring anchor word": "'anchor' must be a point [x, y, z] or 'birth'",
+    "vortex zero axis": "'axis' must not be the zero vector",
+    "attractor unknown falloff": "unknown falloff 'cubic'",
+    "drag key of another force": "unknown key 'strength' in force 'd'",
+    "unknown region type": "unknown region type 'cylinder'",
+    "unknown deflector type": "unknown deflector type 'cube'",
+    "sphere deflector with a normal": "unknown key 'normal' in deflector 'd'",
+    "resilience above 1": "'resilience' must be at most 1, got 1.5",
+    "unknown response": "unknown response 'slide'",
+    "kill rule with two keys": "a kill rule has one key",
+    "kill sphere without radius": "a sphere needs a 'radius'",
+    "wrapping box with a zero edge": "a wrapping box's 'size' must be greater than 0, got 0",
+    "bounds without box": "'bounds' needs a 'box'",
+    "sub-emitter without emit": "a sub-emitter needs 'emit: <emitter name>'",
+    "trail with a count": "unknown key 'count' in a trail",
+    "depth 17": "'depth' must be at most 16, got 17",
+    "unknown inherited attribute": "unknown inherited attribute 'spin'",
+}
+
 for name, text in good.items():
     errs = schema_errors(text)
     rc, err = pfx_validate("good", text)
@@ -419,8 +469,12 @@ for name, text in good.items():
 for name, text in bad.items():
     errs = schema_errors(text)
     rc, err = pfx_validate("bad", text)
+    said = [line for line in err.splitlines() if ": error: " in line and reason[name] in line]
     if rc != 1:
         fail("pfx validate exits %d, not 1, on the bad test document (%s)" % (rc, name), err)
+    elif not said:
+        fail("pfx validate rejects the bad test document (%s) without the error '%s'"
+             % (name, reason[name]), err)
     elif not errs:
         fail("the schema accepts a bad document (%s)" % name, text)
     else:
@@ -442,14 +496,9 @@ for i, text in enumerate(blocks, 1):
         ok("example %d of pfx-effect.5 is valid for pfx and the schema" % i)
 PY
 )
-    printf '%s\n' "$out"
-    passed=$((passed + $(printf '%s\n' "$out" | grep -c '^ok:')))
-    failed=$((failed + $(printf '%s\n' "$out" | grep -c '^FAIL:')))
-    if ! printf '%s\n' "$out" | grep -qE '^(ok|FAIL):'; then
-        fail "the schema checks printed nothing"
-    fi
+    tally "$out"
 else
-    fail "$python cannot import jsonschema and yaml (apt-get install python3-jsonschema python3-yaml)"
+    fail "$py cannot import jsonschema and yaml (apt-get install python3-jsonschema python3-yaml)"
 fi
 
 # --- (e) every key and name of the key tables is described in pfx-effect.5 -
@@ -458,7 +507,7 @@ fi
 # there without docs fails here. top_keys and emitter_keys are the top
 # level's and an emitter's keys.
 string_arrays() {
-    "$pfx" schema | "$python" -c '
+    "$pfx" schema | "$py" -c '
 import json, sys
 s = json.load(sys.stdin)
 def walk(table, node):
@@ -524,9 +573,9 @@ while read -r array key; do
     fi
 done <<<"$arrays"
 if [ -n "$undescribed" ]; then
-    fail "keys and names accepted by the compiler but not described (in bold) in man/pfx-effect.5:$undescribed"
+    fail "keys and names accepted by the compiler or listed by the schema but not described (in bold) in man/pfx-effect.5:$undescribed"
 else
-    pass "all $count keys and names of the compiler's string arrays are described in man/pfx-effect.5"
+    pass "all $count keys and names of the compiler's string arrays and the schema are described in man/pfx-effect.5"
 fi
 if [ -n "$untagged" ]; then
     fail "top-level or emitter keys without their own paragraph in sections '$top_section' or '$emitter_section' of man/pfx-effect.5:$untagged"
@@ -535,21 +584,20 @@ else
 fi
 
 # --- (f) the diagnostics example of pfx.1 is what pfx prints --------------
-examples_of "$man1" DIAGNOSTICS >"$tmp/man1-diag"
-nth_block "$tmp/man1-diag" 1 >"$tmp/flame.yaml"
-nth_block "$tmp/man1-diag" 2 >"$tmp/flame.expected"
-if [ ! -s "$tmp/flame.yaml" ] || [ ! -s "$tmp/flame.expected" ]; then
+examples_of "$man1" DIAGNOSTICS >"$work/man1-diag"
+nth_block "$work/man1-diag" 1 >"$work/flame.yaml"
+nth_block "$work/man1-diag" 2 >"$work/flame.expected"
+if [ ! -s "$work/flame.yaml" ] || [ ! -s "$work/flame.expected" ]; then
     fail "could not find the example file and its diagnostics in DIAGNOSTICS of man/pfx.1"
 else
-    (cd "$tmp" && "$pfx" validate flame.yaml) >"$tmp/flame.stdout" 2>"$tmp/flame.actual"
+    (cd "$work" && "$pfx" validate flame.yaml) >"$work/flame.stdout" 2>"$work/flame.actual"
     rc=$?
-    if [ $rc -eq 1 ] && [ ! -s "$tmp/flame.stdout" ] && cmp -s "$tmp/flame.expected" "$tmp/flame.actual"; then
+    if [ $rc -eq 1 ] && [ ! -s "$work/flame.stdout" ] && cmp -s "$work/flame.expected" "$work/flame.actual"; then
         pass "the diagnostics shown in man/pfx.1 are what pfx validate prints"
     else
         fail "pfx validate on the example of man/pfx.1 (status $rc) differs from the page" \
-            "$(diff "$tmp/flame.expected" "$tmp/flame.actual")"
+            "$(diff "$work/flame.expected" "$work/flame.actual")"
     fi
 fi
 
-echo "$passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+summary

@@ -5,9 +5,7 @@
 #
 #   bash run_schema.sh PATH-TO-PFX SOURCE-DIR
 set -u
-pfx=$1
-src=$2
-source "$src/tests/harness.sh" schema
+source "$(dirname "${BASH_SOURCE[0]}")/../harness.sh" schema "$@"
 if ! "$pfx" schema >"$work/schema.json"; then
     fail "pfx schema failed"
 elif cmp -s "$work/schema.json" "$src/schemas/pfx-effect.schema.json"; then

@@ -1,18 +1,21 @@
 #!/bin/bash
 # Every C source and header the repository tracks is formatted as
-# .clang-format says (STYLE.md: CI checks the format).
+# .clang-format says (STYLE.md: CI checks the format). One check per file.
+#
+#   bash run_format.sh PATH-TO-PFX SOURCE-DIR
 set -u
-src=$2
-cd "$src" || exit 1
-command -v clang-format >/dev/null || { echo "clang-format is missing (./install-deps --test)"; exit 1; }
-passed=0 failed=0
+source "$(dirname "${BASH_SOURCE[0]}")/../harness.sh" format "$@"
+cd "$src" || exit 2
+if ! command -v clang-format >/dev/null; then
+    fail "clang-format is missing (./install-deps --test)"
+    summary
+    exit
+fi
 while read -r f; do
     if clang-format --dry-run -Werror "$f" >/dev/null 2>&1; then
-        passed=$((passed + 1))
+        pass "$f"
     else
-        echo "FAIL $f is not clang-formatted (clang-format -i $f)"
-        failed=$((failed + 1))
+        fail "$f is not clang-formatted (clang-format -i $f)"
     fi
 done < <(git ls-files '*.c' '*.h' 2>/dev/null || find src tests -name '*.[ch]')
-echo "$passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+summary

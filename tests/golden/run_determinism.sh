@@ -8,14 +8,10 @@
 #
 # usage: bash run_determinism.sh PATH-TO-PFX SOURCE-DIR
 set -u
-
-pfx=${1:?usage: run_determinism.sh PATH-TO-PFX SOURCE-DIR}
-src=${2:?usage: run_determinism.sh PATH-TO-PFX SOURCE-DIR}
+source "$(dirname "${BASH_SOURCE[0]}")/../harness.sh" determinism "$@"
 fire=$src/effects/fire.yaml
 smoke=$src/effects/smoke.yaml
 small=(--size 128x128)
-
-source "$src/tests/harness.sh" determinism
 
 # same_frames DIR_A DIR_B STEM FIRST LAST: frames FIRST..LAST exist in both
 # and are byte-identical; prints the first difference.

@@ -15,16 +15,11 @@
 #
 # usage: bash run_loop.sh PATH-TO-PFX SOURCE-DIR
 set -u
-
-pfx=${1:?usage: run_loop.sh PATH-TO-PFX SOURCE-DIR}
-src=${2:?usage: run_loop.sh PATH-TO-PFX SOURCE-DIR}
+source "$(dirname "${BASH_SOURCE[0]}")/../harness.sh" loop "$@"
 effect=$src/effects/fire_loop.yaml
 small=(--size 128x128)
-python=/usr/bin/python3
 # The seam may be at most this many times the largest step inside the loop.
 tolerance=1.5
-
-source "$src/tests/harness.sh" loop
 
 # frame DIR STEM K: the path of frame K's PNG.
 frame() { printf '%s/%s_%04d.png' "$1" "$2" "$3"; }
@@ -75,8 +70,8 @@ if grep -q '^loop:[[:space:]]*true' "$effect" && [[ $n -ge 3 ]]; then
     pass "fire_loop: loops, duration $duration s x $fps fps = $n frames a period"
 else
     fail "fire_loop: loops with a period of at least 3 frames" "loop: true, duration '$duration', fps '$fps'"
-    echo "$passed passed, $failed failed"
-    exit 1
+    summary
+    exit
 fi
 
 # ---- The looping effect: no warnings, frame N = frame 0, N + 5 = 5 ----
@@ -103,7 +98,7 @@ if run loop "$pfx" render "$effect" -o "$work/loop" "${small[@]}" --frames "0:$l
         pass "fire_loop: the frames change inside the loop (frame 1 is not frame 0)"
     fi
     # The seam: frame N - 1 -> frame 0 against every k -> k + 1 inside.
-    result=$(PYTHONPATH="$src/tests" "$python" "$work/seam.py" "$work/loop" fire_loop "$n" "$tolerance")
+    result=$(PYTHONPATH="$src/tests" "$py" "$work/seam.py" "$work/loop" fire_loop "$n" "$tolerance")
     status=$?
     read -r seam worst at <<<"$result"
     if [[ $status -eq 0 ]]; then
@@ -131,7 +126,7 @@ elif run once "$pfx" render "$work/fire_once.yaml" -o "$work/once" "${small[@]}"
     else
         fail "fire_once (loop: false): frame $n differs from frame 0" "identical or missing"
     fi
-    result=$(PYTHONPATH="$src/tests" "$python" "$work/seam.py" "$work/once" fire_once "$n" "$tolerance")
+    result=$(PYTHONPATH="$src/tests" "$py" "$work/seam.py" "$work/once" fire_once "$n" "$tolerance")
     status=$?
     read -r seam worst at <<<"$result"
     if [[ $status -eq 1 ]]; then

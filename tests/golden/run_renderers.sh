@@ -23,7 +23,7 @@ src=${2:?usage: run_renderers.sh PATH-TO-PFX SOURCE-DIR}
 cases=(fire:0:3 smoke:0:3 explosion:8:11 fountain_basin:0:3 galaxy:0:3)
 small=(--size 96x96 -q)
 
-source "$src/tests/harness.sh" renderers
+source "$src/tests/harness.sh" renderers "$@"
 
 # same_pngs DIR_A DIR_B: the same PNG names in both, and every pair
 # byte-identical; prints what differs.

@@ -21,7 +21,7 @@ max_fraction=0.01 # of all channel values
 cases=(fire:0:3 smoke:0:3 explosion:8:11)
 small=(--size 96x96 -q)
 
-source "$src/tests/harness.sh" egl-gpu
+source "$src/tests/harness.sh" egl-gpu "$@"
 
 # compare REF OTHER: the comparison of two folders of frames, within the
 # tolerance; its report goes to $work/compare.out.

@@ -32,22 +32,6 @@ typedef struct compiled {
     pfx_effect *e;
 } compiled;
 
-/* The source tree (for the committed OBJ): $PFX_SOURCE_DIR, as CTest sets
- * it, or this file's directory two levels up. */
-static const char *source_dir(void) {
-    static char dir[4096];
-    const char *env = getenv("PFX_SOURCE_DIR");
-    if (env && *env)
-        return env;
-    snprintf(dir, sizeof dir, "%s", __FILE__);
-    char *cut = strstr(dir, "/tests/unit/");
-    if (cut)
-        *cut = '\0';
-    else
-        snprintf(dir, sizeof dir, ".");
-    return dir;
-}
-
 /* Compiles one emitter whose `shape:` is `shape` (a flow mapping), as if
  * the file were at `path`. Returns the shape, or NULL after printing. */
 static const pfx_shape *compile_shape_text(compiled *c, const char *shape, const char *path) {
@@ -657,7 +641,7 @@ static void test_ellipse_edge(void) {
  * samples within 5 binomial standard errors. */
 static void test_mesh_surface(void) {
     char path[4200];
-    snprintf(path, sizeof path, "%s/tests/diag/inline.yaml", source_dir());
+    snprintf(path, sizeof path, "%s/tests/diag/inline.yaml", test_source_dir());
     compiled cc;
     const pfx_shape *s =
         compile_shape_text(&cc, "{type: mesh, file: shape_mesh_two_triangles.obj}", path);

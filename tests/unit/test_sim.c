@@ -184,10 +184,10 @@ static void test_timeline(void) {
  * consumes a fixed number of draws" and the stream stays aligned. Compared
  * with 1000 steps/s at 0.3, 0.75 and 1.9 s: the same ids, the same lifetime
  * (bit for bit: the same draw), positions within float round-off. The step
- * rates include 1/s, a step (1 s) longer than the lifetime (0.3 s).
- * Known failure at 1 step/s: emit() skips births that are already dead at
- * the step's end without drawing their values, so every later birth takes
- * an earlier birth's draws (id 2 gets birth 1's). Kept failing until fixed. */
+ * rates include 1/s, a step (1 s) longer than the lifetime (0.3 s): there
+ * emit() passes over births already dead at the step's end, and must jump
+ * the stream by their draws, or every later birth takes an earlier birth's
+ * values (id 2 would get birth 1's). */
 static const char random_fmt[] =
     "pfx: 1\nseed: 12\nsim: { rate: %g }\n"
     "forces:\n  g: { type: gravity, accel: [0, -9.81, 0] }\n"
@@ -483,6 +483,75 @@ static void test_pool_saturation(void) {
     compiled_free(&c);
 }
 
+/* ---- Footprint ---- */
+
+/* Bytes one particle of pool p takes in the columns pfx_sim_create laid out
+ * (an emitter's unused columns are NULL): the 8-byte birth time, 4 per float
+ * or id column, 1 for the stuck flag. Counted here from the pool itself, not
+ * from pfx_sim_bytes_per_particle, so a column added to the layout and not
+ * to the reported size (or the reverse) shows. */
+static size_t pool_particle_bytes(const pfx_pool *p) {
+    const void *four[] = {p->px,         p->py,       p->pz,
+                          p->vx,         p->vy,       p->vz,
+                          p->lifetime,   p->id,       p->gravity_scale,
+                          p->size0,      p->size1,    p->charge,
+                          p->mass,       p->bx,       p->by,
+                          p->bz,         p->tint,     p->generation,
+                          p->pr,         p->pg,       p->pb,
+                          p->size_scale, p->angle0,   p->spin,
+                          p->start_px,   p->start_py, p->start_pz,
+                          p->start_vx,   p->start_vy, p->start_vz};
+    size_t bytes = p->birth ? 8 : 0;
+    for (size_t k = 0; k < sizeof four / sizeof *four; k++)
+        bytes += four[k] ? 4 : 0;
+    return bytes + (p->stuck ? 1 : 0);
+}
+
+/* effects/fire.yaml, the example the README draws, keeps every emitter at
+ * 48 bytes a particle or less. The size pfx info reports
+ * (pfx_sim_bytes_per_particle) is the pool's real layout, and the one
+ * allocation behind the pools is capacity x that size per emitter, plus at
+ * most 7 bytes of alignment each. (tests/cli/run_cli.sh checks that pfx
+ * info prints the figure; this checks the figure.) */
+static void test_footprint(void) {
+    char path[4096];
+    int n = snprintf(path, sizeof path, "%s/effects/fire.yaml", test_source_dir());
+    FILE *f = n > 0 && (size_t)n < sizeof path ? fopen(path, "rb") : NULL;
+    CHECK(f != NULL);
+    if (!f) {
+        fprintf(stderr, "  cannot open '%s'\n", path);
+        return;
+    }
+    static char text[1 << 16];
+    size_t len = fread(text, 1, sizeof text - 1, f);
+    fclose(f);
+    CHECK(len > 0 && len < sizeof text - 1);
+    text[len] = '\0';
+    compiled c;
+    if (!compile_text(&c, text)) {
+        compiled_free(&c);
+        return;
+    }
+    pfx_sim *s = pfx_sim_create(c.e, NULL);
+    CHECK(s != NULL);
+    CHECK(c.e->emitter_count >= 2);
+    size_t total = 0;
+    for (size_t i = 0; s && i < c.e->emitter_count; i++) {
+        const pfx_emitter *em = &c.e->emitters[i];
+        size_t reported = pfx_sim_bytes_per_particle(c.e, i);
+        size_t laid_out = pool_particle_bytes(&s->pools[i]);
+        fprintf(stderr, "  %s: %zu bytes a particle (%zu in its pool's columns), capacity %u\n",
+                em->name, reported, laid_out, em->capacity);
+        CHECK(reported <= 48);
+        CHECK(reported == laid_out);
+        total += (size_t)em->capacity * reported;
+    }
+    if (s)
+        CHECK(s->bytes >= total && s->bytes <= total + 8 * c.e->emitter_count);
+    pfx_sim_destroy(s);
+    compiled_free(&c);
+}
+
 /* ---- Emitter independence ---- */
 
 #define ALPHA_EMITTER                                                                              \
@@ -713,6 +782,7 @@ int main(void) {
     RUN(test_swap_remove);
     RUN(test_pool_sizing);
     RUN(test_pool_saturation);
+    RUN(test_footprint);
     RUN(test_emitter_independence);
     RUN(test_determinism);
     RUN(test_subsystem_hashes);

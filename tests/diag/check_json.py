@@ -1,0 +1,42 @@
+#!/usr/bin/python3
+"""The --format json form of a diagnostics run against its text form.
+
+    check_json.py TEXT_STDERR JSON_STDERR FILE
+
+Every JSON line is an object with exactly file, line, column, severity and
+message, in valid UTF-8, and the objects are the text diagnostics (their
+`FILE:LINE:COL: severity: message` headers) in the same order. Exits 0 when
+they agree; otherwise prints why and exits 1. Standard library only.
+"""
+import json
+import re
+import sys
+
+text_path, json_path, file = sys.argv[1:4]
+raw = open(json_path, "rb").read()
+try:
+    lines = raw.decode("utf-8").splitlines()
+except UnicodeDecodeError as e:
+    sys.exit(f"--format json output is not UTF-8: {e}")
+got = []
+for i, line in enumerate(lines, 1):
+    try:
+        o = json.loads(line)
+    except ValueError as e:
+        sys.exit(f"json line {i} does not parse ({e}): {line[:200]!r}")
+    if not isinstance(o, dict) or set(o) != {"file", "line", "column", "severity", "message"}:
+        sys.exit(f"json line {i} is not an object with file, line, column, severity, message: {line[:200]!r}")
+    if o["file"] != file or not isinstance(o["line"], int) or not isinstance(o["column"], int) \
+            or o["severity"] not in ("error", "warning", "note") or not isinstance(o["message"], str):
+        sys.exit(f"json line {i} has a bad field: {line[:200]!r}")
+    got.append((o["line"], o["column"], o["severity"], o["message"]))
+# The text form's headers, in order (the "N more not shown" note has no JSON twin).
+head = re.compile(r"^(.*?)(?::(\d+):(\d+))?: (error|warning|note): (.*)$")
+want = []
+for line in open(text_path, "rb").read().decode("utf-8", "replace").splitlines():
+    if line.startswith(file + ":") or line.startswith(file + ": "):
+        m = head.match(line)
+        if m and m.group(1) == file and not re.fullmatch(r"\d+ more diagnostics not shown", m.group(5)):
+            want.append((int(m.group(2) or 0), int(m.group(3) or 0), m.group(4), m.group(5)))
+if got != want:
+    sys.exit(f"json diagnostics differ from the text ones:\n  json: {got[:5]}\n  text: {want[:5]}")
