@@ -14,8 +14,8 @@
 #include "bench/speed.h"
 #include "compile/schema.h"
 #include "jobs/load.h"
+#include "jobs/render_job.h"
 #include "output/bake_csv.h"
-#include "output/png_write.h"
 #include "render/render.h"
 #include "render/sprites.h"
 #include "sim/schedule.h"
@@ -302,18 +302,6 @@ static bool frame_range(const pfx_effect *e, const options *o, long *first, long
     return true;
 }
 
-static void report_dropped(const pfx_sim *s, const options *o) {
-    if (o->quiet)
-        return;
-    for (size_t i = 0; i < s->effect->emitter_count; i++)
-        if (s->emitters[i].dropped)
-            fprintf(stderr,
-                    "pfx: note: emitter '%s' dropped %llu births: its pool of %u particles was "
-                    "full\n",
-                    s->effect->emitters[i].name, (unsigned long long)s->emitters[i].dropped,
-                    s->effect->emitters[i].capacity);
-}
-
 static int cmd_render(int argc, char **argv, const options *o) {
     if (optind != argc - 1)
         return usage_error("%s", "render takes one FILE and -o DIR");
@@ -328,77 +316,31 @@ static int cmd_render(int argc, char **argv, const options *o) {
     int status = EXIT_INVALID;
     pfx_diags run;
     pfx_diags_init_runtime(&run);
-    pfx_sim *sim = NULL, *view = NULL;
-    pfx_renderer *r = NULL;
-    pfx_png_queue *q = NULL;
-    pfx_sprite *sprites = NULL;
-    char err[1024] = "", stem[256], name[4600];
-    long first, last;
+    char stem[256];
+    file_stem(path, stem, sizeof stem);
+    pfx_render_job job = {
+        .effect = e, .dir = o->output, .stem = stem, .progress = !o->quiet && isatty(2)};
     if (!e)
         goto done;
-    if (!frame_range(e, o, &first, &last)) {
+    if (!frame_range(e, o, &job.first, &job.last)) {
         status = EXIT_USAGE;
         goto done;
     }
     /* The renderer before the directory: one that cannot start writes
      * nothing. */
-    r = pfx_renderer_create(kind, e->width, e->height, err, sizeof err);
-    if (!r) {
-        pfx_diag_error(&run, "%s", err);
+    job.renderer = pfx_renderer_create(kind, e->width, e->height, &run);
+    if (!job.renderer || !make_dirs(o->output, &run))
         goto done;
-    }
-    if (!make_dirs(o->output, &run))
+    if (!pfx_render_job_run(&job, &run))
         goto done;
-    sim = pfx_sim_create(e, &run);
-    view = pfx_sim_create(e, &run);
-    sprites = malloc((pfx_sprites_capacity(e) + 1) * sizeof *sprites);
-    if (!sim || !view || !sprites) {
-        pfx_diag_error(&run, "out of memory for %zu particles", pfx_sprites_capacity(e));
-        goto done;
-    }
-    q = pfx_png_queue_create(e->width, e->height);
-    if (!q) {
-        pfx_diag_error(&run, "cannot start the PNG writer");
-        goto done;
-    }
-    file_stem(path, stem, sizeof stem);
-    const bool sort = pfx_sprites_need_sort(e);
-    const bool progress = !o->quiet && isatty(2);
-    for (long f = first; f <= last; f++) {
-        const pfx_sim *state = pfx_sim_frame(sim, view, f);
-        if (sim->failed || view->failed)
-            goto done;
-        size_t n = pfx_sprites_build(state, sprites);
-        uint8_t *pixels = pfx_png_queue_buffer(q);
-        if (!pfx_renderer_draw(r, &e->camera, e->background, sprites, n, sort, pixels, err,
-                               sizeof err)) {
-            pfx_diag_error(&run, "%s", err);
-            goto done;
-        }
-        snprintf(name, sizeof name, "%s/%s_%04ld.png", o->output, stem, f);
-        pfx_png_queue_submit(q, name);
-        if (pfx_png_queue_failed(q))
-            break;
-        if (progress)
-            fprintf(stderr, "\rpfx: frame %ld of %ld-%ld (%zu particles)   ", f, first, last, n);
-    }
-    if (progress)
-        fputc('\n', stderr);
-    bool ok = pfx_png_queue_finish(q, &run);
-    q = NULL;
-    if (!ok)
-        goto done;
-    report_dropped(sim, o);
+    if (!o->quiet)
+        pfx_sim_note_dropped(job.sim, &run);
     status = 0;
 done:
-    if (q)
-        pfx_png_queue_finish(q, NULL);
     pfx_diags_print(&run, stderr, false);
     pfx_diags_free(&run);
-    pfx_renderer_destroy(r);
-    free(sprites);
-    pfx_sim_destroy(view);
-    pfx_sim_destroy(sim);
+    pfx_renderer_destroy(job.renderer);
+    pfx_render_job_free(&job);
     pfx_loaded_free(&l);
     return status;
 }
@@ -446,7 +388,8 @@ static int cmd_bake(int argc, char **argv, const options *o) {
             pfx_diag_error(&run, "cannot write the bake");
         goto done;
     }
-    report_dropped(sim, o);
+    if (!o->quiet)
+        pfx_sim_note_dropped(sim, &run);
     status = 0;
 done:
     pfx_diags_print(&run, stderr, false);
@@ -560,7 +503,12 @@ static int cmd_bench(int argc, char **argv, const options *o) {
     /* The rendering half draws the fire example: from the source tree, or
      * PFX_FIRE_EFFECT. */
     const char *fire = getenv("PFX_FIRE_EFFECT");
-    return pfx_bench_speed(stdout, fire ? fire : "effects/fire.yaml", kind) == 0 ? 0 : EXIT_INVALID;
+    pfx_diags run;
+    pfx_diags_init_runtime(&run);
+    bool ok = pfx_bench_speed(stdout, fire ? fire : "effects/fire.yaml", kind, &run);
+    pfx_diags_print(&run, stderr, false);
+    pfx_diags_free(&run);
+    return ok ? 0 : EXIT_INVALID;
 }
 
 int main(int argc, char **argv) {

@@ -50,6 +50,8 @@ void pfx_diags_free(pfx_diags *d) {
 
 void pfx_diag_vadd(pfx_diags *d, pfx_severity sev, int line, int col, int span, const char *fmt,
                    va_list ap) {
+    if (!d)
+        return;
     if (sev == PFX_SEV_ERROR)
         d->errors++;
     else if (sev == PFX_SEV_WARNING)

@@ -3,6 +3,7 @@
  * machine, so the ratio means something where absolute speeds do not. */
 #include "bench/speed.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,6 +11,7 @@
 #include <unistd.h>
 
 #include "jobs/load.h"
+#include "jobs/render_job.h"
 #include "output/png_write.h"
 #include "render/render.h"
 #include "render/sprites.h"
@@ -174,86 +176,63 @@ static void bench_sim(FILE *out) {
     }
 }
 
-static int bench_render(FILE *out, const char *fire_path, pfx_renderer *r) {
+static bool bench_render(FILE *out, const char *fire_path, pfx_renderer *r, pfx_diags *d) {
     pfx_loaded l;
     pfx_compile_options opt = {.width = 512, .height = 512};
     pfx_effect *e = pfx_load(&l, fire_path, &opt);
     if (!e) {
-        pfx_diags_print(&l.diags, stderr, false);
+        pfx_diags_append(d, &l.diags);
         pfx_loaded_free(&l);
-        return 1;
+        return false;
     }
-    char err[512] = "", dir[] = "/tmp/pfx-bench-XXXXXX", path[600];
-    pfx_sim *sim = pfx_sim_create(e, NULL), *view = pfx_sim_create(e, NULL);
-    pfx_sprite *sprites = malloc((pfx_sprites_capacity(e) + 1) * sizeof *sprites);
-    pfx_png_queue *q = pfx_png_queue_create(512, 512);
-    int status = 1;
-    if (!sim || !view || !sprites || !q || !mkdtemp(dir))
-        goto done;
-    long frames = pfx_effect_frame_count(e);
-    size_t sprite_total = 0;
+    char dir[] = "/tmp/pfx-bench-XXXXXX";
+    pfx_render_job job = {.effect = e,
+                          .renderer = r,
+                          .dir = dir,
+                          .stem = "f",
+                          .first = 0,
+                          .last = pfx_effect_frame_count(e) - 1};
+    if (!mkdtemp(dir)) {
+        pfx_diag_error(d, "cannot create '%s': %s", dir, strerror(errno));
+        pfx_loaded_free(&l);
+        return false;
+    }
     double t0 = now();
-    for (long f = 0; f < frames; f++) {
-        const pfx_sim *state = pfx_sim_frame(sim, view, f);
-        size_t n = pfx_sprites_build(state, sprites);
-        sprite_total += n;
-        uint8_t *px = pfx_png_queue_buffer(q);
-        if (!pfx_renderer_draw(r, &e->camera, e->background, sprites, n, pfx_sprites_need_sort(e),
-                               px, err, sizeof err))
-            goto done;
-        snprintf(path, sizeof path, "%s/f_%04ld.png", dir, f);
-        pfx_png_queue_submit(q, path);
-    }
-    pfx_diags written;
-    pfx_diags_init_runtime(&written);
-    bool ok = pfx_png_queue_finish(q, &written);
-    if (!ok && written.count)
-        snprintf(err, sizeof err, "%s", written.items[0].message);
-    pfx_diags_free(&written);
-    q = NULL;
-    double full_fps = (double)frames / (now() - t0);
-    for (long f = 0; f < frames; f++) {
+    bool ok = pfx_render_job_run(&job, d);
+    double full_fps = (double)job.frames_done / (now() - t0);
+    char path[600];
+    for (long f = 0; f < job.frames_done; f++) {
         snprintf(path, sizeof path, "%s/f_%04ld.png", dir, f);
         unlink(path);
     }
     rmdir(dir);
-    if (!ok)
-        goto done;
-    /* The raw reference draws the last frame's sprites (the steady state),
-     * as many of them as the render drew on average. */
-    size_t mean = frames ? sprite_total / (size_t)frames : 0;
-    double raw_fps = pfx_renderer_bench_raw(r, &e->camera, sprites, mean, (int)frames);
-    fprintf(out,
-            "rendering: %s at 512x512 through %s, %ld frames, %zu sprites a frame on average\n",
-            fire_path, pfx_renderer_name(r), frames, mean);
-    fprintf(out, "  %-44s %8.1f frames/s\n", "pfx render (sim, sprites, draw, PNG overlapped)",
-            full_fps);
-    char raw[64];
-    snprintf(raw, sizeof raw, "raw %s (upload, one draw, readback)", pfx_renderer_name(r));
-    fprintf(out, "  %-44s %8.1f frames/s\n", raw, raw_fps);
-    fprintf(out, "  %-44s %7.0f%%\n", "ratio", 100 * full_fps / raw_fps);
-    status = 0;
-done:
-    if (status && err[0])
-        fprintf(stderr, "pfx: %s\n", err);
-    if (q)
-        pfx_png_queue_finish(q, NULL);
-    free(sprites);
-    pfx_sim_destroy(view);
-    pfx_sim_destroy(sim);
+    if (ok) {
+        /* The raw reference draws the last frame's sprites (the steady
+         * state), as many of them as the render drew on average. */
+        long frames = job.frames_done;
+        size_t mean = frames ? job.sprites_drawn / (size_t)frames : 0;
+        double raw_fps = pfx_renderer_bench_raw(r, &e->camera, job.sprites, mean, (int)frames);
+        fprintf(out,
+                "rendering: %s at 512x512 through %s, %ld frames, %zu sprites a frame on average\n",
+                fire_path, pfx_renderer_name(r), frames, mean);
+        fprintf(out, "  %-44s %8.1f frames/s\n", "pfx render (sim, sprites, draw, PNG overlapped)",
+                full_fps);
+        char raw[64];
+        snprintf(raw, sizeof raw, "raw %s (upload, one draw, readback)", pfx_renderer_name(r));
+        fprintf(out, "  %-44s %8.1f frames/s\n", raw, raw_fps);
+        fprintf(out, "  %-44s %7.0f%%\n", "ratio", 100 * full_fps / raw_fps);
+    }
+    pfx_render_job_free(&job);
     pfx_loaded_free(&l);
-    return status;
+    return ok;
 }
 
-int pfx_bench_speed(FILE *out, const char *fire_path, pfx_renderer_kind renderer) {
-    char err[512] = "";
-    pfx_renderer *r = pfx_renderer_create(renderer, 512, 512, err, sizeof err);
-    if (!r) {
-        fprintf(stderr, "pfx: %s\n", err);
-        return 1;
-    }
+bool pfx_bench_speed(FILE *out, const char *fire_path, pfx_renderer_kind renderer, pfx_diags *d) {
+    pfx_renderer *r = pfx_renderer_create(renderer, 512, 512, d);
+    if (!r)
+        return false;
     bench_sim(out);
-    int status = bench_render(out, fire_path, r);
+    bool ok = bench_render(out, fire_path, r, d);
     pfx_renderer_destroy(r);
-    return status;
+    return ok;
 }

@@ -47,9 +47,12 @@ static void read_fov(pfx_reader *r, const pfx_node *map, const pfx_node *v, void
     pfx_camera *k = dest;
     if (pfx_node_get(map, "ortho"))
         return; /* reported at 'ortho' */
-    if (pfx_read_number(r, v, "fov", &k->fov_deg) && !(k->fov_deg > 0 && k->fov_deg < 180))
-        pfx_read_error(r, v, "'fov' must be between 0 and 180 degrees (exclusive), got %g",
-                       k->fov_deg);
+    double deg;
+    if (!pfx_read_number(r, v, "fov", &deg))
+        return;
+    if (!(deg > 0 && deg < 180))
+        pfx_read_error(r, v, "'fov' must be between 0 and 180 degrees (exclusive), got %g", deg);
+    k->fov = deg * (M_PI / 180);
 }
 
 static void read_ortho(pfx_reader *r, const pfx_node *map, const pfx_node *v, void *dest) {
@@ -71,8 +74,8 @@ static const pfx_key camera_keys[] = {
      .doc = "The point it looks at; not the position."},
     {"up", PFX_KEY_VEC3, .def = {0, 1, 0}, .offset = C(up),
      .doc = "Up in the picture; not parallel to the view direction."},
-    {"fov", PFX_KEY_NUMBER, PFX_KEY_LO_STRICT | PFX_KEY_HI_STRICT, .lo = 0, .hi = 180, .def = {40},
-     .offset = C(fov_deg), .hook = read_fov,
+    {"fov", PFX_KEY_NUMBER, PFX_KEY_LO_STRICT | PFX_KEY_HI_STRICT | PFX_KEY_DEGREES, .lo = 0,
+     .hi = 180, .def = {40}, .offset = C(fov), .hook = read_fov,
      .doc = "Vertical field of view in degrees, between 0 and 180 (exclusive)."},
     {"ortho", PFX_KEY_NUMBER, PFX_KEY_LO_STRICT | PFX_KEY_NO_DEFAULT, .lo = 0, .hi = INFINITY,
      .offset = -1, .hook = read_ortho,
@@ -111,20 +114,19 @@ static void compile_camera(compiler *c, const pfx_node *cam) {
               vec3_read(pfx_node_get(cam, "up"));
     if (!ok)
         return;
-    double dir[3], cross[3];
-    for (int i = 0; i < 3; i++)
-        dir[i] = k->target[i] - k->position[i];
-    cross[0] = dir[1] * k->up[2] - dir[2] * k->up[1];
-    cross[1] = dir[2] * k->up[0] - dir[0] * k->up[2];
-    cross[2] = dir[0] * k->up[1] - dir[1] * k->up[0];
-    double dlen = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-    double clen = sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
+    double side[3], up_axis[3], forward[3];
     const pfx_node *target = pfx_node_get(cam, "target"), *up = pfx_node_get(cam, "up");
-    if (dlen == 0)
+    switch (pfx_camera_frame(k, side, up_axis, forward)) {
+    case PFX_CAMERA_SAME_POINT:
         pfx_read_error(&c->r, target ? target : cam,
                        "camera 'position' and 'target' are the same point");
-    else if (clen == 0)
+        break;
+    case PFX_CAMERA_UP_PARALLEL:
         pfx_read_error(&c->r, up ? up : cam, "camera 'up' is parallel to the view direction");
+        break;
+    case PFX_CAMERA_OK:
+        break;
+    }
 }
 
 /* ---- image ---- */

@@ -421,8 +421,7 @@ static void compile_lod(compiler *c, const pfx_node *v, const pfx_node *n, pfx_e
         depth += to[a] * view[a] / (vlen > 0 ? vlen : 1);
     double pixels_per_metre =
         k->ortho ? c->e->height / k->ortho_height
-                 : (depth > 1e-6 ? 0.5 * c->e->height / (tan(0.5 * k->fov_deg * M_PI / 180) * depth)
-                                 : 0);
+                 : (depth > 1e-6 ? 0.5 * c->e->height / (tan(0.5 * k->fov) * depth) : 0);
     double r_px = shape_radius(&em->shape) * pixels_per_metre;
     em->lod_area = fmax(1.0, M_PI * r_px * r_px);
     em->rate_kind = var > 0 ? PFX_RATE_RANDOM : PFX_RATE_CONSTANT;

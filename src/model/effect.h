@@ -248,9 +248,23 @@ typedef struct pfx_camera {
     double target[3];
     double up[3];
     bool ortho;
-    double fov_deg;      /* perspective: vertical field of view */
+    double fov;          /* perspective: vertical field of view, radians */
     double ortho_height; /* ortho: view height in metres */
 } pfx_camera;
+
+/* What makes a camera unusable: its view has no direction, or its up vector
+ * gives no sideways axis. */
+typedef enum pfx_camera_fault {
+    PFX_CAMERA_OK,
+    PFX_CAMERA_SAME_POINT,  /* |target - position| <= 1e-12 m */
+    PFX_CAMERA_UP_PARALLEL, /* |forward x up| <= 1e-12 */
+} pfx_camera_fault;
+
+/* The camera's orthonormal frame, right-handed as OpenGL's lookAt builds
+ * it: forward from position to target, side = forward x up, up = side x
+ * forward (each written only when the result is PFX_CAMERA_OK). */
+pfx_camera_fault pfx_camera_frame(const pfx_camera *cam, double side[3], double up[3],
+                                  double forward[3]);
 
 typedef struct pfx_effect {
     const char *path; /* the file it came from */

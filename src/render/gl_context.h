@@ -9,6 +9,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "base/diag.h"
+
 /* Any GL entry point, to be cast to its real type (the generic function
  * pointer type, so the cast is well defined and GCC does not warn). */
 typedef void (*pfx_gl_proc)(void);
@@ -34,14 +36,14 @@ struct pfx_gl_context {
 
 /* OSMesa (Mesa's llvmpipe through libOSMesa, gone from Mesa 25.1). Returns a
  * current context the caller destroys through ->destroy, or NULL with a
- * one-line message in err. Defined only when pfx is built with OSMesa. */
-pfx_gl_context *pfx_gl_osmesa_create(char *err, size_t err_size);
+ * one-line error in d. Defined only when pfx is built with OSMesa. */
+pfx_gl_context *pfx_gl_osmesa_create(pfx_diags *d);
 
 /* EGL with no window system: with gpu false Mesa's software device
  * (llvmpipe), with gpu true the first hardware EGL device. Returns a
  * current context the caller destroys through ->destroy, or NULL with a
- * one-line message in err naming what is missing. Defined only when pfx is
+ * one-line error in d naming what is missing. Defined only when pfx is
  * built with EGL. */
-pfx_gl_context *pfx_gl_egl_create(bool gpu, char *err, size_t err_size);
+pfx_gl_context *pfx_gl_egl_create(bool gpu, pfx_diags *d);
 
 #endif

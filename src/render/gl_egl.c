@@ -20,15 +20,6 @@ typedef struct egl_context {
     EGLContext ctx;
 } egl_context;
 
-static void set_err(char *err, size_t err_size, const char *fmt, ...) {
-    if (!err || err_size == 0)
-        return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, err_size, fmt, ap);
-    va_end(ap);
-}
-
 /* Whether the space-separated extension list names `want` as a whole word
  * (EGL_EXT_device_base must not match EGL_EXT_device_base_foo). */
 static bool has_ext(const char *list, const char *want) {
@@ -83,13 +74,12 @@ typedef enum display_source { FROM_DEVICE, FROM_SURFACELESS } display_source;
  * surfaceless platform. The extension functions come through
  * eglGetProcAddress: glvnd's libEGL does not export them. Returns
  * EGL_NO_DISPLAY with a message. */
-static EGLDisplay open_display(bool gpu, const char *name, display_source *source, char *err,
-                               size_t err_size) {
+static EGLDisplay open_display(bool gpu, const char *name, display_source *source, pfx_diags *d) {
     const char *client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display =
         (PFNEGLGETPLATFORMDISPLAYEXTPROC)eglGetProcAddress("eglGetPlatformDisplayEXT");
     if (!has_ext(client, "EGL_EXT_platform_base") || !get_platform_display) {
-        set_err(err, err_size, "renderer '%s': libEGL lacks EGL_EXT_platform_base", name);
+        pfx_diag_error(d, "renderer '%s': libEGL lacks EGL_EXT_platform_base", name);
         return EGL_NO_DISPLAY;
     }
     PFNEGLQUERYDEVICESEXTPROC query_devices =
@@ -104,7 +94,7 @@ static EGLDisplay open_display(bool gpu, const char *name, display_source *sourc
     if (listing && query_devices(0, NULL, &count) && count > 0) {
         EGLDeviceEXT *devices = malloc((size_t)count * sizeof *devices);
         if (!devices) {
-            set_err(err, err_size, "renderer '%s': out of memory listing EGL devices", name);
+            pfx_diag_error(d, "renderer '%s': out of memory listing EGL devices", name);
             return EGL_NO_DISPLAY;
         }
         EGLDisplay display = EGL_NO_DISPLAY;
@@ -122,30 +112,31 @@ static EGLDisplay open_display(bool gpu, const char *name, display_source *sourc
     }
     if (gpu) {
         if (listing)
-            set_err(err, err_size,
-                    "renderer '%s': no GPU EGL device (eglQueryDevicesEXT lists %d, none of "
-                    "them hardware)",
-                    name, (int)count);
+            pfx_diag_error(d,
+                           "renderer '%s': no GPU EGL device (eglQueryDevicesEXT lists %d, none of "
+                           "them hardware)",
+                           name, (int)count);
         else
-            set_err(err, err_size,
-                    "renderer '%s': libEGL cannot list devices (needs EGL_EXT_device_base "
-                    "and EGL_EXT_platform_device)",
-                    name);
+            pfx_diag_error(d,
+                           "renderer '%s': libEGL cannot list devices (needs EGL_EXT_device_base "
+                           "and EGL_EXT_platform_device)",
+                           name);
         return EGL_NO_DISPLAY;
     }
     if (!has_ext(client, "EGL_MESA_platform_surfaceless")) {
-        set_err(err, err_size,
-                "renderer '%s': no Mesa software EGL device (EGL_MESA_device_software) and no "
-                "EGL_MESA_platform_surfaceless",
-                name);
+        pfx_diag_error(
+            d,
+            "renderer '%s': no Mesa software EGL device (EGL_MESA_device_software) and no "
+            "EGL_MESA_platform_surfaceless",
+            name);
         return EGL_NO_DISPLAY;
     }
     *source = FROM_SURFACELESS;
     EGLDisplay display =
         get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
     if (display == EGL_NO_DISPLAY)
-        set_err(err, err_size, "renderer '%s': no surfaceless EGL display (EGL error 0x%04x)", name,
-                (unsigned)eglGetError());
+        pfx_diag_error(d, "renderer '%s': no surfaceless EGL display (EGL error 0x%04x)", name,
+                       (unsigned)eglGetError());
     return display;
 }
 
@@ -161,23 +152,23 @@ static bool renders_in_software(char *renderer, size_t size) {
 
 /* Initialises the display and makes a current 3.3 core context on it with
  * no surface. Returns false with a message naming the missing piece. */
-static bool make_context(egl_context *e, char *err, size_t err_size) {
+static bool make_context(egl_context *e, pfx_diags *d) {
     const char *name = e->base.name;
     EGLint major = 0, minor = 0;
     if (!eglInitialize(e->display, &major, &minor)) {
-        set_err(err, err_size, "renderer '%s': eglInitialize failed (EGL error 0x%04x)", name,
-                (unsigned)eglGetError());
+        pfx_diag_error(d, "renderer '%s': eglInitialize failed (EGL error 0x%04x)", name,
+                       (unsigned)eglGetError());
         return false;
     }
     const char *ext = eglQueryString(e->display, EGL_EXTENSIONS);
     static const char *const needed[] = {"EGL_KHR_create_context", "EGL_KHR_surfaceless_context"};
     for (size_t i = 0; i < sizeof needed / sizeof *needed; i++)
         if (!has_ext(ext, needed[i])) {
-            set_err(err, err_size, "renderer '%s': the EGL display lacks %s", name, needed[i]);
+            pfx_diag_error(d, "renderer '%s': the EGL display lacks %s", name, needed[i]);
             return false;
         }
     if (!eglBindAPI(EGL_OPENGL_API)) {
-        set_err(err, err_size, "renderer '%s': the EGL display has no desktop OpenGL", name);
+        pfx_diag_error(d, "renderer '%s': the EGL display has no desktop OpenGL", name);
         return false;
     }
     /* Without EGL_KHR_no_config_context, any config that renders OpenGL:
@@ -188,10 +179,11 @@ static bool make_context(egl_context *e, char *err, size_t err_size) {
         const EGLint want[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
         EGLint n = 0;
         if (!eglChooseConfig(e->display, want, &config, 1, &n) || n < 1) {
-            set_err(err, err_size,
-                    "renderer '%s': the EGL display lacks EGL_KHR_no_config_context and has no "
-                    "OpenGL config",
-                    name);
+            pfx_diag_error(
+                d,
+                "renderer '%s': the EGL display lacks EGL_KHR_no_config_context and has no "
+                "OpenGL config",
+                name);
             return false;
         }
     }
@@ -204,26 +196,26 @@ static bool make_context(egl_context *e, char *err, size_t err_size) {
                               EGL_NONE};
     e->ctx = eglCreateContext(e->display, config, EGL_NO_CONTEXT, attribs);
     if (e->ctx == EGL_NO_CONTEXT) {
-        set_err(err, err_size,
-                "renderer '%s': cannot create an OpenGL 3.3 core profile context (EGL error "
-                "0x%04x)",
-                name, (unsigned)eglGetError());
+        pfx_diag_error(d,
+                       "renderer '%s': cannot create an OpenGL 3.3 core profile context (EGL error "
+                       "0x%04x)",
+                       name, (unsigned)eglGetError());
         return false;
     }
     if (!eglMakeCurrent(e->display, EGL_NO_SURFACE, EGL_NO_SURFACE, e->ctx)) {
-        set_err(err, err_size,
-                "renderer '%s': cannot make the EGL context current (EGL error "
-                "0x%04x)",
-                name, (unsigned)eglGetError());
+        pfx_diag_error(d,
+                       "renderer '%s': cannot make the EGL context current (EGL error "
+                       "0x%04x)",
+                       name, (unsigned)eglGetError());
         return false;
     }
     return true;
 }
 
-pfx_gl_context *pfx_gl_egl_create(bool gpu, char *err, size_t err_size) {
+pfx_gl_context *pfx_gl_egl_create(bool gpu, pfx_diags *d) {
     egl_context *e = calloc(1, sizeof *e);
     if (!e) {
-        set_err(err, err_size, "out of memory for an EGL context");
+        pfx_diag_error(d, "out of memory for an EGL context");
         return NULL;
     }
     e->base = (pfx_gl_context){.name = gpu ? "egl-gpu" : "egl-cpu",
@@ -232,17 +224,17 @@ pfx_gl_context *pfx_gl_egl_create(bool gpu, char *err, size_t err_size) {
                                .destroy = egl_destroy};
     e->ctx = EGL_NO_CONTEXT;
     display_source source = FROM_DEVICE;
-    e->display = open_display(gpu, e->base.name, &source, err, err_size);
-    if (e->display == EGL_NO_DISPLAY || !make_context(e, err, err_size)) {
+    e->display = open_display(gpu, e->base.name, &source, d);
+    if (e->display == EGL_NO_DISPLAY || !make_context(e, d)) {
         egl_destroy(&e->base);
         return NULL;
     }
     char renderer[256];
     if (source == FROM_SURFACELESS && !renders_in_software(renderer, sizeof renderer)) {
-        set_err(err, err_size,
-                "renderer '%s': no Mesa software EGL device, and the surfaceless display "
-                "renders on '%s'",
-                e->base.name, renderer);
+        pfx_diag_error(d,
+                       "renderer '%s': no Mesa software EGL device, and the surfaceless display "
+                       "renders on '%s'",
+                       e->base.name, renderer);
         egl_destroy(&e->base);
         return NULL;
     }

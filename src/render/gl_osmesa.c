@@ -43,19 +43,10 @@ static void osmesa_destroy(pfx_gl_context *c) {
     free(o);
 }
 
-static void set_err(char *err, size_t err_size, const char *fmt, ...) {
-    if (!err || err_size == 0)
-        return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, err_size, fmt, ap);
-    va_end(ap);
-}
-
-pfx_gl_context *pfx_gl_osmesa_create(char *err, size_t err_size) {
+pfx_gl_context *pfx_gl_osmesa_create(pfx_diags *d) {
     osmesa_context *o = calloc(1, sizeof *o);
     if (!o) {
-        set_err(err, err_size, "out of memory for an OSMesa context");
+        pfx_diag_error(d, "out of memory for an OSMesa context");
         return NULL;
     }
     o->base = (pfx_gl_context){.name = "osmesa",
@@ -79,13 +70,13 @@ pfx_gl_context *pfx_gl_osmesa_create(char *err, size_t err_size) {
                            0};
     o->ctx = OSMesaCreateContextAttribs(attribs, NULL);
     if (!o->ctx) {
-        set_err(err, err_size,
-                "renderer 'osmesa': cannot create an OSMesa OpenGL 3.3 core profile context");
+        pfx_diag_error(
+            d, "renderer 'osmesa': cannot create an OSMesa OpenGL 3.3 core profile context");
         osmesa_destroy(&o->base);
         return NULL;
     }
     if (!osmesa_make_current(&o->base)) {
-        set_err(err, err_size, "renderer 'osmesa': cannot make the OSMesa context current");
+        pfx_diag_error(d, "renderer 'osmesa': cannot make the OSMesa context current");
         osmesa_destroy(&o->base);
         return NULL;
     }

@@ -98,15 +98,6 @@ struct pfx_renderer {
     pfx_sprite *sorted;
 };
 
-static void set_err(char *err, size_t err_size, const char *fmt, ...) {
-    if (!err || err_size == 0)
-        return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, err_size, fmt, ap);
-    va_end(ap);
-}
-
 /* The sprite shader. Each instance is a unit quad with corners (+-1, +-1),
  * placed in view space at the sprite's centre and scaled by its radius
  * size/2, so it always faces the camera and shrinks with distance under
@@ -162,11 +153,11 @@ static const char *fragment_src = "#version 330 core\n"
 
 /* pfx_gl_proc is void (*)(void), the generic function pointer type GCC
  * accepts in casts without -Wcast-function-type complaints. */
-static bool load_gl(pfx_gl *gl, pfx_gl_context *ctx, char *err, size_t err_size) {
+static bool load_gl(pfx_gl *gl, pfx_gl_context *ctx, pfx_diags *d) {
 #define PFX_GL_LOAD(type, fn)                                                                      \
     gl->fn = (type)ctx->get_proc_address("gl" #fn);                                                \
     if (!gl->fn) {                                                                                 \
-        set_err(err, err_size, "renderer '%s' does not provide 'gl%s'", ctx->name, #fn);           \
+        pfx_diag_error(d, "renderer '%s' does not provide 'gl%s'", ctx->name, #fn);                \
         return false;                                                                              \
     }
     PFX_GL_FUNCS(PFX_GL_LOAD)
@@ -174,8 +165,7 @@ static bool load_gl(pfx_gl *gl, pfx_gl_context *ctx, char *err, size_t err_size)
     return true;
 }
 
-static GLuint compile_shader(pfx_renderer *r, GLenum type, const char *src, char *err,
-                             size_t err_size) {
+static GLuint compile_shader(pfx_renderer *r, GLenum type, const char *src, pfx_diags *d) {
     GLuint s = r->gl.CreateShader(type);
     r->gl.ShaderSource(s, 1, &src, NULL);
     r->gl.CompileShader(s);
@@ -184,19 +174,19 @@ static GLuint compile_shader(pfx_renderer *r, GLenum type, const char *src, char
     if (!ok) {
         char log[512] = "";
         r->gl.GetShaderInfoLog(s, sizeof log, NULL, log);
-        set_err(err, err_size, "cannot compile %s shader: %s",
-                type == GL_VERTEX_SHADER ? "vertex" : "fragment", log);
+        pfx_diag_error(d, "cannot compile %s shader: %s",
+                       type == GL_VERTEX_SHADER ? "vertex" : "fragment", log);
         r->gl.DeleteShader(s);
         return 0;
     }
     return s;
 }
 
-static bool build_program(pfx_renderer *r, char *err, size_t err_size) {
-    GLuint vs = compile_shader(r, GL_VERTEX_SHADER, vertex_src, err, err_size);
+static bool build_program(pfx_renderer *r, pfx_diags *d) {
+    GLuint vs = compile_shader(r, GL_VERTEX_SHADER, vertex_src, d);
     if (!vs)
         return false;
-    GLuint fs = compile_shader(r, GL_FRAGMENT_SHADER, fragment_src, err, err_size);
+    GLuint fs = compile_shader(r, GL_FRAGMENT_SHADER, fragment_src, d);
     if (!fs) {
         r->gl.DeleteShader(vs);
         return false;
@@ -212,7 +202,7 @@ static bool build_program(pfx_renderer *r, char *err, size_t err_size) {
     if (!ok) {
         char log[512] = "";
         r->gl.GetProgramInfoLog(r->program, sizeof log, NULL, log);
-        set_err(err, err_size, "cannot link sprite shader: %s", log);
+        pfx_diag_error(d, "cannot link sprite shader: %s", log);
         return false;
     }
     r->view_loc = r->gl.GetUniformLocation(r->program, "view");
@@ -223,7 +213,7 @@ static bool build_program(pfx_renderer *r, char *err, size_t err_size) {
 /* The float framebuffer: RGBA32F, so additive sums and many faint alpha
  * layers are not quantised to 8 bits between draws. No depth buffer: sprites
  * never occlude by depth, only by the order they are blended in. */
-static bool build_framebuffer(pfx_renderer *r, char *err, size_t err_size) {
+static bool build_framebuffer(pfx_renderer *r, pfx_diags *d) {
     r->gl.GenRenderbuffers(1, &r->colour_rb);
     r->gl.BindRenderbuffer(GL_RENDERBUFFER, r->colour_rb);
     r->gl.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA32F, r->width, r->height);
@@ -233,8 +223,8 @@ static bool build_framebuffer(pfx_renderer *r, char *err, size_t err_size) {
                                   r->colour_rb);
     GLenum status = r->gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE) {
-        set_err(err, err_size, "float framebuffer %dx%d is incomplete (status 0x%04x)", r->width,
-                r->height, (unsigned)status);
+        pfx_diag_error(d, "float framebuffer %dx%d is incomplete (status 0x%04x)", r->width,
+                       r->height, (unsigned)status);
         return false;
     }
     return true;
@@ -300,7 +290,7 @@ static const char built_with[] = ""
 
 /* A current context of the given kind. auto is OSMesa where it is built,
  * else egl-cpu, and never a GPU: a GPU's pixels may differ from llvmpipe's. */
-static pfx_gl_context *create_context(pfx_renderer_kind kind, char *err, size_t err_size) {
+static pfx_gl_context *create_context(pfx_renderer_kind kind, pfx_diags *d) {
     if (kind == PFX_RENDERER_AUTO) {
 #ifdef PFX_HAVE_OSMESA
         kind = PFX_RENDERER_OSMESA;
@@ -311,26 +301,25 @@ static pfx_gl_context *create_context(pfx_renderer_kind kind, char *err, size_t 
     switch (kind) {
 #ifdef PFX_HAVE_OSMESA
     case PFX_RENDERER_OSMESA:
-        return pfx_gl_osmesa_create(err, err_size);
+        return pfx_gl_osmesa_create(d);
 #endif
 #ifdef PFX_HAVE_EGL
     case PFX_RENDERER_EGL_CPU:
     case PFX_RENDERER_EGL_GPU:
-        return pfx_gl_egl_create(kind == PFX_RENDERER_EGL_GPU, err, err_size);
+        return pfx_gl_egl_create(kind == PFX_RENDERER_EGL_GPU, d);
 #endif
     default:
-        set_err(err, err_size, "renderer '%s' is not built into this pfx (it has:%s)",
-                pfx_renderer_kind_name(kind), built_with);
+        pfx_diag_error(d, "renderer '%s' is not built into this pfx (it has:%s)",
+                       pfx_renderer_kind_name(kind), built_with);
         return NULL;
     }
 }
 
 const char *pfx_renderer_name(const pfx_renderer *r) { return r->ctx->name; }
 
-pfx_renderer *pfx_renderer_create(pfx_renderer_kind kind, int width, int height, char *err,
-                                  size_t err_size) {
+pfx_renderer *pfx_renderer_create(pfx_renderer_kind kind, int width, int height, pfx_diags *d) {
     if (width <= 0 || height <= 0) {
-        set_err(err, err_size, "invalid image size %dx%d", width, height);
+        pfx_diag_error(d, "invalid image size %dx%d", width, height);
         return NULL;
     }
     pfx_renderer *r = calloc(1, sizeof *r);
@@ -338,26 +327,26 @@ pfx_renderer *pfx_renderer_create(pfx_renderer_kind kind, int width, int height,
     if (!r || !pixels) {
         free(r);
         free(pixels);
-        set_err(err, err_size, "out of memory for a %dx%d renderer", width, height);
+        pfx_diag_error(d, "out of memory for a %dx%d renderer", width, height);
         return NULL;
     }
     r->width = width;
     r->height = height;
     r->pixels = pixels;
 
-    r->ctx = create_context(kind, err, err_size);
+    r->ctx = create_context(kind, d);
     if (!r->ctx)
         goto fail;
-    if (!load_gl(&r->gl, r->ctx, err, err_size))
+    if (!load_gl(&r->gl, r->ctx, d))
         goto fail;
     GLint max_rb = 0;
     r->gl.GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_rb);
     if (width > max_rb || height > max_rb) {
-        set_err(err, err_size, "image size %dx%d exceeds the renderer limit of %d", width, height,
-                (int)max_rb);
+        pfx_diag_error(d, "image size %dx%d exceeds the renderer limit of %d", width, height,
+                       (int)max_rb);
         goto fail;
     }
-    if (!build_framebuffer(r, err, err_size) || !build_program(r, err, err_size))
+    if (!build_framebuffer(r, d) || !build_program(r, d))
         goto fail;
     build_vertex_arrays(r);
 
@@ -370,7 +359,7 @@ pfx_renderer *pfx_renderer_create(pfx_renderer_kind kind, int width, int height,
     r->gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
     GLenum e = r->gl.GetError();
     if (e != GL_NO_ERROR) {
-        set_err(err, err_size, "OpenGL error 0x%04x while setting up the renderer", (unsigned)e);
+        pfx_diag_error(d, "OpenGL error 0x%04x while setting up the renderer", (unsigned)e);
         goto fail;
     }
     return r;
@@ -400,32 +389,21 @@ typedef struct pfx_view {
     double forward[3], eye[3];
 } pfx_view;
 
-static bool normalize3(double v[3]) {
-    double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (!(len > 1e-12))
+/* The camera was checked when the effect was compiled (pfx_camera_frame);
+ * a caller that built one by hand gets the same words. */
+static bool camera_matrices(const pfx_camera *cam, int width, int height, pfx_view *v,
+                            pfx_diags *d) {
+    double s[3], u[3], f[3];
+    switch (pfx_camera_frame(cam, s, u, f)) {
+    case PFX_CAMERA_SAME_POINT:
+        pfx_diag_error(d, "camera 'position' and 'target' are the same point");
         return false;
-    v[0] /= len;
-    v[1] /= len;
-    v[2] /= len;
-    return true;
-}
-
-static bool camera_matrices(const pfx_camera *cam, int width, int height, pfx_view *v, char *err,
-                            size_t err_size) {
-    double f[3] = {cam->target[0] - cam->position[0], cam->target[1] - cam->position[1],
-                   cam->target[2] - cam->position[2]};
-    if (!normalize3(f)) {
-        set_err(err, err_size, "camera position and target coincide");
+    case PFX_CAMERA_UP_PARALLEL:
+        pfx_diag_error(d, "camera 'up' is parallel to the view direction");
         return false;
+    case PFX_CAMERA_OK:
+        break;
     }
-    const double *up = cam->up;
-    double s[3] = {f[1] * up[2] - f[2] * up[1], f[2] * up[0] - f[0] * up[2],
-                   f[0] * up[1] - f[1] * up[0]};
-    if (!normalize3(s)) {
-        set_err(err, err_size, "camera up vector is parallel to the view direction");
-        return false;
-    }
-    double u[3] = {s[1] * f[2] - s[2] * f[1], s[2] * f[0] - s[0] * f[2], s[0] * f[1] - s[1] * f[0]};
     const double *e = cam->position;
     double *m = v->m;
     memset(m, 0, sizeof v->m);
@@ -446,11 +424,6 @@ static bool camera_matrices(const pfx_camera *cam, int width, int height, pfx_vi
     double *p = v->proj;
     memset(p, 0, sizeof v->proj);
     if (cam->ortho) {
-        if (!(cam->ortho_height > 0)) {
-            set_err(err, err_size, "camera ortho_height must be positive, got %g",
-                    cam->ortho_height);
-            return false;
-        }
         double half_h = 0.5 * cam->ortho_height, half_w = half_h * aspect;
         p[0] = 1.0 / half_w;
         p[5] = 1.0 / half_h;
@@ -458,11 +431,7 @@ static bool camera_matrices(const pfx_camera *cam, int width, int height, pfx_vi
         p[14] = -(fa + n) / (fa - n);
         p[15] = 1.0;
     } else {
-        if (!(cam->fov_deg > 0 && cam->fov_deg < 180)) {
-            set_err(err, err_size, "camera fov must be in (0, 180) degrees, got %g", cam->fov_deg);
-            return false;
-        }
-        double t = 1.0 / tan(0.5 * cam->fov_deg * (PFX_PI / 180.0));
+        double t = 1.0 / tan(0.5 * cam->fov);
         p[0] = t / aspect;
         p[5] = t;
         p[10] = -(fa + n) / (fa - n);
@@ -472,7 +441,7 @@ static bool camera_matrices(const pfx_camera *cam, int width, int height, pfx_vi
     return true;
 }
 
-static bool grow_scratch(pfx_renderer *r, size_t count, char *err, size_t err_size) {
+static bool grow_scratch(pfx_renderer *r, size_t count, pfx_diags *d) {
     if (count <= r->scratch_cap)
         return true;
     size_t cap = r->scratch_cap ? r->scratch_cap : 1024;
@@ -488,7 +457,7 @@ static bool grow_scratch(pfx_renderer *r, size_t count, char *err, size_t err_si
     if (sorted)
         r->sorted = sorted;
     if (!keys || !index || !sorted) {
-        set_err(err, err_size, "out of memory sorting %zu sprites", count);
+        pfx_diag_error(d, "out of memory sorting %zu sprites", count);
         return false;
     }
     r->scratch_cap = cap;
@@ -509,14 +478,14 @@ static uint32_t float_order_key(float x) {
  * reproducible. Keys are inverted so that ascending key = descending depth.
  * Passes where every key has the same digit are skipped. */
 static bool sort_back_to_front(pfx_renderer *r, const pfx_view *v, pfx_sprite *sprites,
-                               size_t count, char *err, size_t err_size) {
+                               size_t count, pfx_diags *d) {
     if (count < 2)
         return true;
     if (count > UINT32_MAX) {
-        set_err(err, err_size, "too many sprites to sort: %zu", count);
+        pfx_diag_error(d, "too many sprites to sort: %zu", count);
         return false;
     }
-    if (!grow_scratch(r, count, err, err_size))
+    if (!grow_scratch(r, count, d))
         return false;
     uint32_t *key = r->keys, *key_tmp = r->keys + r->scratch_cap;
     uint32_t *idx = r->index, *idx_tmp = r->index + r->scratch_cap;
@@ -569,9 +538,9 @@ static void upload_uniforms(pfx_renderer *r, const pfx_view *v) {
 }
 
 /* Another renderer in this thread may have made its own context current. */
-static bool make_current(pfx_renderer *r, char *err, size_t err_size) {
+static bool make_current(pfx_renderer *r, pfx_diags *d) {
     if (!r->ctx->make_current(r->ctx)) {
-        set_err(err, err_size, "cannot make the '%s' context current", r->ctx->name);
+        pfx_diag_error(d, "cannot make the '%s' context current", r->ctx->name);
         return false;
     }
     return true;
@@ -737,18 +706,17 @@ static void convert_pixels(const pfx_renderer *r, const pixel_box *box, const fl
 }
 
 bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4],
-                       pfx_sprite *sprites, size_t count, bool sort, uint8_t *rgba, char *err,
-                       size_t err_size) {
+                       pfx_sprite *sprites, size_t count, bool sort, uint8_t *rgba, pfx_diags *d) {
     if (count > (size_t)INT32_MAX) {
-        set_err(err, err_size, "too many sprites to draw: %zu", count);
+        pfx_diag_error(d, "too many sprites to draw: %zu", count);
         return false;
     }
     pfx_view v;
-    if (!camera_matrices(cam, r->width, r->height, &v, err, err_size))
+    if (!camera_matrices(cam, r->width, r->height, &v, d))
         return false;
-    if (!make_current(r, err, err_size))
+    if (!make_current(r, d))
         return false;
-    if (sort && !sort_back_to_front(r, &v, sprites, count, err, err_size))
+    if (sort && !sort_back_to_front(r, &v, sprites, count, d))
         return false;
     const float clear[4] = {bg[0] * bg[3], bg[1] * bg[3], bg[2] * bg[3], bg[3]};
     pixel_box box = sprites_box(r, &v, sprites, count);
@@ -763,7 +731,7 @@ bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4]
     }
     GLenum e = r->gl.GetError();
     if (e != GL_NO_ERROR) {
-        set_err(err, err_size, "OpenGL error 0x%04x while drawing %zu sprites", (unsigned)e, count);
+        pfx_diag_error(d, "OpenGL error 0x%04x while drawing %zu sprites", (unsigned)e, count);
         return false;
     }
     convert_pixels(r, &box, clear, rgba);
@@ -774,7 +742,7 @@ double pfx_renderer_bench_raw(pfx_renderer *r, const pfx_camera *cam, const pfx_
                               size_t count, int frames) {
     pfx_view v;
     if (frames <= 0 || count > (size_t)INT32_MAX ||
-        !camera_matrices(cam, r->width, r->height, &v, NULL, 0) || !make_current(r, NULL, 0))
+        !camera_matrices(cam, r->width, r->height, &v, NULL) || !make_current(r, NULL))
         return -1.0;
     const float clear[4] = {0, 0, 0, 0};
     struct timespec t0, t1;

@@ -9,6 +9,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "base/diag.h"
 #include "model/effect.h"
 
 /* One particle as drawn: a camera-facing soft round sprite of world-space
@@ -54,14 +55,13 @@ typedef struct pfx_renderer pfx_renderer;
 
 /* Creates a core-profile 3.3 context of the given kind drawing into a width
  * x height float framebuffer. Returns NULL and writes a one-line message
- * into err on failure, naming what is missing when the kind cannot start
+ * into d on failure, naming what is missing when the kind cannot start
  * here (not built in, no such device, an EGL extension lacking). The caller
  * owns the result and frees it with pfx_renderer_destroy. Each call on a
  * renderer makes its context current in the calling thread, so several
  * renderers may coexist, but one renderer must be used by one thread at a
  * time. */
-pfx_renderer *pfx_renderer_create(pfx_renderer_kind kind, int width, int height, char *err,
-                                  size_t err_size);
+pfx_renderer *pfx_renderer_create(pfx_renderer_kind kind, int width, int height, pfx_diags *d);
 /* The renderer's kind as --renderer names it, auto resolved ("osmesa");
  * a static string. */
 const char *pfx_renderer_name(const pfx_renderer *r);
@@ -73,11 +73,10 @@ void pfx_renderer_destroy(pfx_renderer *r);
  * first, into rgba. When `sort` is true the sprites are drawn back to front by
  * view depth (one sort over all of them, stable, so ties keep input order);
  * the sprites array is reordered in place (sprites may be NULL when count is
- * 0). Returns false (with err) on a GL failure, a degenerate camera or when
+ * 0). Returns false (with an error in d) on a GL failure or when
  * the sort scratch cannot be grown; rgba is then unspecified. */
 bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4],
-                       pfx_sprite *sprites, size_t count, bool sort, uint8_t *rgba, char *err,
-                       size_t err_size);
+                       pfx_sprite *sprites, size_t count, bool sort, uint8_t *rgba, pfx_diags *d);
 
 /* The reference the pfx bench measures full rendering against: `frames`
  * times clears, uploads the sprites, makes the one instanced draw, glFinish

@@ -49,4 +49,8 @@ double pfx_sim_frame_time(const pfx_effect *e, long frame);
  * the determinism test pins. */
 uint64_t pfx_sim_hash(const pfx_sim *s);
 
+/* A note per emitter whose full pool dropped births, saying how many; d
+ * may be NULL. */
+void pfx_sim_note_dropped(const pfx_sim *s, pfx_diags *d);
+
 #endif

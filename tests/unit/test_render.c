@@ -54,10 +54,12 @@ static void check_pixel(const uint8_t *p, const int want[4], int tol) {
 }
 
 static pfx_renderer *make_kind(pfx_renderer_kind k, int width, int height) {
-    char err[256] = "";
-    pfx_renderer *r = pfx_renderer_create(k, width, height, err, sizeof err);
+    pfx_diags d;
+    pfx_diags_init_runtime(&d);
+    pfx_renderer *r = pfx_renderer_create(k, width, height, &d);
     if (!r)
-        fprintf(stderr, "pfx_renderer_create: %s\n", err);
+        pfx_diags_print(&d, stderr, false);
+    pfx_diags_free(&d);
     CHECK(r != NULL);
     return r;
 }
@@ -66,10 +68,12 @@ static pfx_renderer *make(int width, int height) { return make_kind(kind, width,
 
 static bool draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4], pfx_sprite *s, size_t n,
                  bool sort, uint8_t *img) {
-    char err[256] = "";
-    bool ok = pfx_renderer_draw(r, cam, bg, s, n, sort, img, err, sizeof err);
+    pfx_diags d;
+    pfx_diags_init_runtime(&d);
+    bool ok = pfx_renderer_draw(r, cam, bg, s, n, sort, img, &d);
     if (!ok)
-        fprintf(stderr, "pfx_renderer_draw: %s\n", err);
+        pfx_diags_print(&d, stderr, false);
+    pfx_diags_free(&d);
     CHECK(ok);
     return ok;
 }
@@ -296,7 +300,8 @@ static void test_perspective_size(void) {
     if (!r)
         return;
     static uint8_t img[P * P * 4];
-    pfx_camera cam = {.position = {0, 0, 0}, .target = {0, 0, -1}, .up = {0, 1, 0}, .fov_deg = 60};
+    pfx_camera cam = {
+        .position = {0, 0, 0}, .target = {0, 0, -1}, .up = {0, 1, 0}, .fov = 60 * M_PI / 180};
     const double t = tan(30.0 * 3.14159265358979323846 / 180.0);
     int diam[2] = {0, 0};
     const double dist[2] = {5, 10};
@@ -344,7 +349,8 @@ static void same_pixels(pfx_renderer *r1, pfx_renderer *r2) {
     static uint8_t a[D * D * 4], b[D * D * 4], c[D * D * 4];
     static pfx_sprite src[N], s[N];
     random_sprites(src, N, 99);
-    pfx_camera cam = {.position = {1, 2, 8}, .target = {0, 0, 0}, .up = {0, 1, 0}, .fov_deg = 45};
+    pfx_camera cam = {
+        .position = {1, 2, 8}, .target = {0, 0, 0}, .up = {0, 1, 0}, .fov = 45 * M_PI / 180};
     const float bg[4] = {0.05f, 0.05f, 0.1f, 0.5f};
     if (r1 && r2) {
         memcpy(s, src, sizeof s);
@@ -410,25 +416,36 @@ static void test_kinds(void) {
     pfx_renderer_destroy(r);
 }
 
+/* True when d holds exactly one error, worded exactly `want`. */
+static bool one_error(pfx_diags *d, const char *want) {
+    bool ok = d->count == 1 && d->errors == 1 && !strcmp(d->items[0].message, want);
+    if (!ok)
+        pfx_diags_print(d, stderr, false);
+    pfx_diags_free(d);
+    pfx_diags_init_runtime(d);
+    return ok;
+}
+
 static void test_errors(void) {
-    char err[256] = "";
-    CHECK(pfx_renderer_create(kind, 0, 10, err, sizeof err) == NULL);
-    CHECK(strlen(err) > 0);
+    pfx_diags d;
+    pfx_diags_init_runtime(&d);
+    CHECK(pfx_renderer_create(kind, 0, 10, &d) == NULL);
+    CHECK(one_error(&d, "invalid image size 0x10"));
     pfx_renderer *r = make(8, 8);
     if (!r)
         return;
     uint8_t img[8 * 8 * 4];
+    /* The words compile uses for the same cameras (tests/diag/camera_*). */
     pfx_camera cam = ortho_camera(1);
     cam.target[2] = cam.position[2]; /* position == target */
-    err[0] = 0;
-    CHECK(!pfx_renderer_draw(r, &cam, transparent, NULL, 0, true, img, err, sizeof err));
-    CHECK(strlen(err) > 0);
+    CHECK(!pfx_renderer_draw(r, &cam, transparent, NULL, 0, true, img, &d));
+    CHECK(one_error(&d, "camera 'position' and 'target' are the same point"));
     cam = ortho_camera(1);
     cam.up[1] = 0;
     cam.up[2] = 1; /* up along the view direction */
-    err[0] = 0;
-    CHECK(!pfx_renderer_draw(r, &cam, transparent, NULL, 0, true, img, err, sizeof err));
-    CHECK(strlen(err) > 0);
+    CHECK(!pfx_renderer_draw(r, &cam, transparent, NULL, 0, true, img, &d));
+    CHECK(one_error(&d, "camera 'up' is parallel to the view direction"));
+    pfx_diags_free(&d);
     pfx_renderer_destroy(NULL);
     pfx_renderer_destroy(r);
 }
@@ -441,7 +458,8 @@ static void test_bench_raw(void) {
     random_sprites(s, 100, 7);
     pfx_sprite copy[100];
     memcpy(copy, s, sizeof s);
-    pfx_camera cam = {.position = {0, 0, 8}, .target = {0, 0, 0}, .up = {0, 1, 0}, .fov_deg = 45};
+    pfx_camera cam = {
+        .position = {0, 0, 8}, .target = {0, 0, 0}, .up = {0, 1, 0}, .fov = 45 * M_PI / 180};
     CHECK(pfx_renderer_bench_raw(r, &cam, s, 100, 3) > 0);
     CHECK(pfx_renderer_bench_raw(r, &cam, s, 100, 0) < 0);
     CHECK(memcmp(copy, s, sizeof s) == 0);

@@ -1,0 +1,42 @@
+/* Rendering a frame range to a PNG sequence: the one frame loop that
+ * `pfx render` runs and `pfx bench` times. */
+#ifndef PFX_JOBS_RENDER_JOB_H
+#define PFX_JOBS_RENDER_JOB_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "base/diag.h"
+#include "model/effect.h"
+#include "render/render.h"
+#include "sim/sim.h"
+
+typedef struct pfx_render_job {
+    /* In: what to draw and where. Frames first..last (inclusive) go to
+     * dir/stem_NNNN.png; dir must exist. */
+    const pfx_effect *effect;
+    pfx_renderer *renderer; /* the caller's; a renderer that started */
+    const char *dir, *stem;
+    long first, last;
+    bool progress; /* a "\rpfx: frame ..." line on stderr as frames go */
+
+    /* Out, valid after pfx_render_job_run until pfx_render_job_free. */
+    long frames_done;     /* frames drawn and handed to the writer */
+    size_t sprites_drawn; /* summed over those frames */
+    pfx_sprite *sprites;  /* the last frame's sprites, in drawing order */
+    size_t sprite_count;
+    pfx_sim *sim; /* the simulation at the last frame (per-emitter drop counts) */
+    pfx_sim *view;
+} pfx_render_job;
+
+/* Simulates, draws and writes every frame of the job, the PNG encoder
+ * overlapping the next frame's work. Each file is whole or absent. Returns
+ * false with the failure in d (which emitter, particle and time when the
+ * simulation blew up; the path and errno when a file cannot be written);
+ * frames written before a failure stay. */
+bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d);
+
+/* Frees what run allocated (the sims and sprites), not the renderer. */
+void pfx_render_job_free(pfx_render_job *job);
+
+#endif
