@@ -43,6 +43,33 @@ static void read_anchor(pfx_reader *r, const pfx_node *map, const pfx_node *n, v
         m->use_birth = false;
 }
 
+/* force_over_life's `accel`: a vector (constant over life) or keys
+ * [{at: u, value: [x, y, z]}, ...] over normalised age. */
+static void read_life_accel(pfx_reader *r, const pfx_node *map, const pfx_node *n, void *dest) {
+    (void)map;
+    pfx_motion_force *m = dest;
+    pfx_life_curve *c = pfx_arena_alloc(r->arena, sizeof *c);
+    if (!c)
+        return;
+    memset(c, 0, sizeof *c);
+    if (n->kind == PFX_NODE_SEQ && n->count > 0 && n->items[0]->kind == PFX_NODE_MAP) {
+        pfx_key_list_spec spec = {"accel", "at", PFX_LIFE_CURVE_MAX_KEYS, 3, false, 0, 1,
+                                  -1e6,    1e6};
+        if (!pfx_read_key_list(r, n, &spec, c->at, &c->accel[0][0]))
+            return;
+        c->count = n->count;
+    } else {
+        if (!pfx_read_numbers(r, n, "accel", c->accel[0], 3))
+            return;
+        for (int a = 0; a < 3; a++)
+            if (!pfx_check_above(r, n, "accel", c->accel[0][a], -1e6, false) ||
+                !pfx_check_below(r, n, "accel", c->accel[0][a], 1e6, false))
+                return;
+        c->count = 1;
+    }
+    m->life = c;
+}
+
 static const pfx_key sphere_region_keys[] = {
     {"type", PFX_KEY_CODE, .offset = -1, .doc = "sphere"},
     {"center", PFX_KEY_VEC3, .hi = 1e6, .offset = R(center), .doc = "Its centre (m)."},
@@ -210,6 +237,23 @@ static const pfx_key speed_limit_keys[] = {
     REGION_ROW,
 };
 
+static const pfx_key force_over_life_keys[] = {
+    TYPE_ROW,
+    {"accel", PFX_KEY_CODE, PFX_KEY_REQUIRED, .offset = -1, .hook = read_life_accel,
+     .schema = "{\"oneOf\": [{\"$ref\": \"#/$defs/vec3\"}, "
+               "{\"type\": \"array\", \"minItems\": 1, \"maxItems\": 64, \"items\": "
+               "{\"type\": \"object\", \"additionalProperties\": false, \"required\": "
+               "[\"at\", \"value\"], \"properties\": {\"at\": {\"type\": \"number\", "
+               "\"minimum\": 0, \"maximum\": 1}, \"value\": {\"$ref\": \"#/$defs/vec3\"}}}}]}",
+     .doc = "m/s^2: a vector [x, y, z], or 1 to 64 keys [{at: u, value: [x, y, z]}, ...] over "
+            "the normalised age u (0 at birth, 1 at death), at increasing, linear between keys "
+            "and held beyond them; each component within +-1e6."},
+    {"space", PFX_KEY_ENUM, .offset = F(space), .names = pfx_force_space_names, .what = "space",
+     .doc = "world (default): the vectors are world axes; emitter: they turn with the emitter's "
+            "rotation (keyframed rotation included)."},
+    REGION_ROW,
+};
+
 static PFX_KEY_TABLE(
     force_gravity, "force_gravity", "gravity",
     "Uniform gravity: a constant acceleration, times each particle's gravity_scale.", gravity_keys);
@@ -240,11 +284,16 @@ static PFX_KEY_TABLE(force_turbulence, "force_turbulence", "turbulence",
                      turbulence_keys);
 static PFX_KEY_TABLE(force_speed_limit, "force_speed_limit", "speed_limit",
                      "Scales |v| down to 'max' after each step.", speed_limit_keys);
+static PFX_KEY_TABLE(force_over_life, "force_over_life", "force_over_life",
+                     "Unity's Force over Lifetime: an acceleration that is a function of the "
+                     "particle's normalised age, u = age / lifetime.",
+                     force_over_life_keys);
 
 /* One table per force kind, in the order of PFX_FORCE_KINDS. */
 const pfx_key_table *const pfx_force_tables[] = {
-    &force_gravity, &force_attractor, &force_drag,       &force_vortex,      &force_magnetic,
-    &force_spiral,  &force_spring,    &force_turbulence, &force_speed_limit, NULL};
+    &force_gravity,     &force_attractor, &force_drag,   &force_vortex,
+    &force_magnetic,    &force_spiral,    &force_spring, &force_turbulence,
+    &force_speed_limit, &force_over_life, NULL};
 _Static_assert(sizeof pfx_force_tables / sizeof *pfx_force_tables == PFX_MOTION_KIND_COUNT + 1,
                "a force kind without its key table");
 const pfx_key_table *const pfx_region_tables[] = {&sphere_region, &box_region, NULL};
@@ -271,6 +320,8 @@ bool pfx_compile_force(pfx_reader *r, const pfx_node *key, const pfx_node *f, ui
     if (m->kind == PFX_MOTION_SPRING)
         m->use_birth = true; /* the default anchor */
     pfx_keys_read(r, f, t, m);
+    if (m->kind == PFX_MOTION_FORCE_OVER_LIFE && !pfx_node_get(f, "accel"))
+        pfx_read_error(r, f, "force '%s' needs 'accel' (a vector or keys over life)", key->text);
     if (m->kind == PFX_MOTION_TURBULENCE)
         /* The noise is seeded by the effect's seed and the force's name, so
          * --seed changes it and renaming another force does not. */

@@ -466,6 +466,40 @@ static void compile_direction(compiler *c, const pfx_node *n, pfx_emitter *em) {
     }
 }
 
+/* force_over_life as this emitter feels it. In the emitter's space a fixed
+ * rotation turns the keys once, here; a keyframed one turns them at every
+ * step (f->frame). jerk_hint is the steepest |da/dt| = |da/du| / lifetime
+ * at the shortest lifetime: auto's error model reads it. */
+static void fit_life_force(compiler *c, const pfx_emitter *em, pfx_motion_force *f) {
+    const pfx_life_curve *in = f->life;
+    if (!in)
+        return;
+    if (f->space == PFX_SPACE_EMITTER && em->rotation_keys.count > 1) {
+        f->frame = em;
+    } else if (f->space == PFX_SPACE_EMITTER) {
+        pfx_life_curve *turned = pfx_arena_alloc(c->r.arena, sizeof *turned);
+        if (!turned)
+            return;
+        *turned = *in;
+        const double *m = em->rotation;
+        for (size_t k = 0; k < in->count; k++)
+            for (int a = 0; a < 3; a++)
+                turned->accel[k][a] = m[3 * a] * in->accel[k][0] + m[3 * a + 1] * in->accel[k][1] +
+                                      m[3 * a + 2] * in->accel[k][2];
+        f->life = turned;
+    }
+    double slope = 0;
+    for (size_t k = 0; k + 1 < in->count; k++) {
+        double du = in->at[k + 1] - in->at[k], d[3];
+        for (int a = 0; a < 3; a++)
+            d[a] = in->accel[k + 1][a] - in->accel[k][a];
+        if (du > 0)
+            slope = fmax(slope, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / du);
+    }
+    double life = pfx_value_min(&em->lifetime);
+    f->jerk_hint = slope > 0 ? slope / fmax(life, 1e-9) : 0;
+}
+
 /* Decides how the emitter moves. Only unregioned gravity under `auto`: the
  * exact constant-acceleration kernel, no motion model (the fast path).
  * Anything else: a pfx_motion holding just the forces this emitter feels,
@@ -509,6 +543,8 @@ static void build_motion(compiler *c, pfx_emitter *em, pfx_integrator integrator
         if (f->kind == PFX_MOTION_GRAVITY && em->gravity_scale.dist == PFX_DIST_CONST)
             for (int k = 0; k < 3; k++)
                 f->accel[k] *= em->gravity_scale.a;
+        if (f->kind == PFX_MOTION_FORCE_OVER_LIFE)
+            fit_life_force(c, em, f);
     }
     pfx_motion_choose(m, 1.0 / e->sim_rate);
     em->motion = m;

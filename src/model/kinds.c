@@ -26,6 +26,7 @@ const char *const pfx_spawn_event_names[] = {PFX_SPAWN_EVENTS(NAME2) NULL};
 const char *const pfx_blend_names[] = {PFX_BLEND_KINDS(NAME2) NULL};
 const char *const pfx_sprite_names[] = {PFX_SPRITE_KINDS(NAME2) NULL};
 const char *const pfx_falloff_names[] = {PFX_FALLOFF_KINDS(NAME2) NULL};
+const char *const pfx_force_space_names[] = {PFX_FORCE_SPACES(NAME2) NULL};
 const char *const pfx_direction_mode_names[] = {PFX_DIRECTION_MODES(NAME2) NULL};
 const char *const pfx_region_names[] = {PFX_REGION_KINDS(NAME2) NULL};
 const char *const pfx_rate_kind_names[] = {PFX_RATE_KINDS(NAME2) NULL};

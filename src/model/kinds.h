@@ -19,7 +19,9 @@
     X(SPIRAL, "spiral", "spiral", "turns velocities about an axis")                                \
     X(SPRING, "spring", "spring", "pulls towards an anchor")                                       \
     X(TURBULENCE, "turbulence", "turbulence", "divergence-free curl noise")                        \
-    X(SPEED_LIMIT, "speed_limit", "speed limit", "clamps the speed")
+    X(SPEED_LIMIT, "speed_limit", "speed limit", "clamps the speed")                               \
+    X(FORCE_OVER_LIFE, "force_over_life", "force over life",                                       \
+      "an acceleration over the particle's normalised age")
 
 /* Integrators: X(ENUM, name, order or "exact", use) */
 #define PFX_INTEGRATOR_KINDS(X)                                                                    \
@@ -93,7 +95,8 @@
     X(ROUND, "round")                                                                              \
     X(SQUARE, "square")
 
-/* Attractor falloffs, direction modes (beside a vector), region shapes. */
+/* Attractor falloffs, direction modes (beside a vector), the frames a
+ * force's vectors may be given in, region shapes. */
 #define PFX_FALLOFF_KINDS(X)                                                                       \
     X(INVERSE_SQUARE, "inverse_square")                                                            \
     X(LINEAR, "linear")                                                                            \
@@ -102,6 +105,9 @@
     X(NORMAL, "normal")                                                                            \
     X(RADIAL, "radial")                                                                            \
     X(INWARD, "inward")
+#define PFX_FORCE_SPACES(X)                                                                        \
+    X(WORLD, "world")                                                                              \
+    X(EMITTER, "emitter")
 #define PFX_REGION_KINDS(X)                                                                        \
     X(SPHERE, "sphere")                                                                            \
     X(BOX, "box")
@@ -133,6 +139,7 @@ extern const char *const pfx_blend_names[];
 extern const char *const pfx_sprite_names[];
 extern const char *const pfx_falloff_names[];
 extern const char *const pfx_direction_mode_names[];
+extern const char *const pfx_force_space_names[];
 extern const char *const pfx_region_names[];
 extern const char *const pfx_rate_kind_names[];
 

@@ -119,11 +119,15 @@ double pfx_motion_force_damping(const pfx_motion *m, const pfx_motion_force *f) 
  *                                                     a circular orbit: 0.34)
  *   velocity forces under Verlet or kicks    C = 0.39  -> 0.6 (linear drag;
  *                                                     quadratic drag: 0.008)
- * Turbulence has no closed form to measure; it takes the spring's. */
+ * Turbulence has no closed form to measure; it takes the spring's.
+ * force_over_life: kick-drift-kick keeps v exact for an acceleration
+ * linear in time and leaves h^3 j / 6 in x per step (j = |da/dt|), a rate
+ * of j h^2 / 6 that velocity does not compound:  C = 1/6 -> 1/4. */
 #define AUTO_C_SPRING (1.0 / 16)
 #define AUTO_C_ROTATION (1.0 / 16)
 #define AUTO_C_ATTRACTOR 1.0
 #define AUTO_C_VELOCITY 0.6
+#define AUTO_C_JERK 0.25
 
 /* Length over which an oscillation's phase error turns into position error:
  * the attractor's radius, the turbulence scale, 1 m for a spring. */
@@ -190,6 +194,7 @@ bool pfx_motion_split_kicks(const pfx_motion *m) {
         case PFX_MOTION_SPRING:
         case PFX_MOTION_ATTRACTOR:
         case PFX_MOTION_TURBULENCE:
+        case PFX_MOTION_FORCE_OVER_LIFE:
             return true;
         default:
             break;
@@ -238,6 +243,10 @@ static void choose_auto(const pfx_motion *m, double tol, pfx_motion_choice *c) {
             f->kind == PFX_MOTION_TURBULENCE || (f->kind == PFX_MOTION_GRAVITY && !unreg) ||
             (f->kind == PFX_MOTION_MAGNETIC && norm3(f->electric) > 0))
             position = true;
+        if (f->kind == PFX_MOTION_FORCE_OVER_LIFE) {
+            position = true; /* a kick that reads no state */
+            err += AUTO_C_JERK * f->jerk_hint;
+        }
         double w = pfx_motion_force_omega(f);
         if (w > 0) {
             w2 += w * w;

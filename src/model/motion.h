@@ -33,7 +33,9 @@ typedef enum {
  * quadratic c 1/m against a wind), vortex (Sims: turns positions about an
  * axis), magnetic ((q/m)(E + v x B)), spiral (turns velocities about an
  * axis), spring (-k (x - anchor) - 2 zeta sqrt(k) v), turbulence (strength
- * times the curl of a noise potential), speed_limit (clamps |v|). */
+ * times the curl of a noise potential), speed_limit (clamps |v|),
+ * force_over_life (an acceleration that is a function of the particle's
+ * normalised age, Unity's "Force over Lifetime"). */
 typedef enum {
 #define PFX_FORCE_ENUM(e, name, word, doc) PFX_MOTION_##e,
     PFX_FORCE_KINDS(PFX_FORCE_ENUM)
@@ -47,6 +49,46 @@ typedef enum {
     PFX_FALLOFF_KINDS(PFX_FALLOFF_ENUM)
 #undef PFX_FALLOFF_ENUM
 } pfx_falloff;
+
+/* The frame a force's vectors are given in (force_over_life). */
+typedef enum {
+#define PFX_FORCE_SPACE_ENUM(e, name) PFX_SPACE_##e,
+    PFX_FORCE_SPACES(PFX_FORCE_SPACE_ENUM)
+#undef PFX_FORCE_SPACE_ENUM
+} pfx_force_space;
+
+/* An acceleration over normalised age u = age / lifetime: keys (at[i],
+ * accel[i]) with at increasing in [0, 1], linear between keys and held
+ * before the first and after the last. One key is a constant. */
+#define PFX_LIFE_CURVE_MAX_KEYS 64
+typedef struct pfx_life_curve {
+    size_t count;
+    double at[PFX_LIFE_CURVE_MAX_KEYS];
+    double accel[PFX_LIFE_CURVE_MAX_KEYS][3];
+} pfx_life_curve;
+
+/* The acceleration at normalised age u: the curve's linear interpolation,
+ * held outside [at[0], at[count-1]]. Inline: the kernel calls it per
+ * particle. */
+static inline void pfx_life_curve_at(const pfx_life_curve *c, double u, double out[3]) {
+    size_t i = 0;
+    while (i + 2 < c->count && c->at[i + 1] <= u)
+        i++;
+    if (c->count == 1 || u <= c->at[0]) {
+        out[0] = c->accel[0][0], out[1] = c->accel[0][1], out[2] = c->accel[0][2];
+        return;
+    }
+    size_t j = i + 1;
+    if (u >= c->at[j]) {
+        out[0] = c->accel[j][0], out[1] = c->accel[j][1], out[2] = c->accel[j][2];
+        return;
+    }
+    double s = (u - c->at[i]) / (c->at[j] - c->at[i]);
+    for (int a = 0; a < 3; a++)
+        out[a] = c->accel[i][a] + (c->accel[j][a] - c->accel[i][a]) * s;
+}
+
+struct pfx_emitter;
 
 /* Zero: no region (everywhere); then the kinds of model/kinds.h. */
 typedef enum {
@@ -82,26 +124,35 @@ typedef struct pfx_motion_force {
     double ref_radius; /* attractor: L of the linear/constant falloffs and the
                           radius where stability is judged (0: 1 m) */
     pfx_falloff falloff;
-    double k;           /* drag: linear 1/s; spring: stiffness per mass 1/s^2 */
-    double c;           /* drag: quadratic 1/m, a = -c |v - w| (v - w) */
-    double wind[3];     /* drag: fluid velocity, m/s */
-    double speed_hint;  /* the fastest emission speed, m/s (drag and magnetic judge
-                           stability and accuracy by it) */
-    double zeta;        /* spring: damping ratio */
-    bool use_birth;     /* spring: anchor is the birth position (bx, by, bz) */
-    double field[3];    /* magnetic B, tesla */
-    double electric[3]; /* magnetic E, V/m */
-    double charge;      /* coulomb, when the pool has no charge column; with a
-                           column, the largest |q| (stability is judged there) */
-    double mass;        /* kg, likewise (the smallest mass); 0 means 1 kg */
-    double rate;        /* spiral: rad/s about axis */
-    double sims_d;      /* vortex: d of f(r) = (r^4 - 2r^2 + 1)/(1 + d r^2) */
-    double inflow;      /* vortex: m/s towards the axis, times f(r) */
-    double scale;       /* turbulence: feature size, m */
-    int octaves;        /* turbulence: >= 1 */
-    double speed;       /* turbulence: drift of the pattern, m/s */
-    uint64_t seed;      /* turbulence */
-    double max_speed;   /* speed_limit, m/s */
+    double k;                   /* drag: linear 1/s; spring: stiffness per mass 1/s^2 */
+    double c;                   /* drag: quadratic 1/m, a = -c |v - w| (v - w) */
+    double wind[3];             /* drag: fluid velocity, m/s */
+    double speed_hint;          /* the fastest emission speed, m/s (drag and magnetic judge
+                                   stability and accuracy by it) */
+    double zeta;                /* spring: damping ratio */
+    bool use_birth;             /* spring: anchor is the birth position (bx, by, bz) */
+    double field[3];            /* magnetic B, tesla */
+    double electric[3];         /* magnetic E, V/m */
+    double charge;              /* coulomb, when the pool has no charge column; with a
+                                   column, the largest |q| (stability is judged there) */
+    double mass;                /* kg, likewise (the smallest mass); 0 means 1 kg */
+    double rate;                /* spiral: rad/s about axis */
+    double sims_d;              /* vortex: d of f(r) = (r^4 - 2r^2 + 1)/(1 + d r^2) */
+    double inflow;              /* vortex: m/s towards the axis, times f(r) */
+    double scale;               /* turbulence: feature size, m */
+    int octaves;                /* turbulence: >= 1 */
+    double speed;               /* turbulence: drift of the pattern, m/s */
+    uint64_t seed;              /* turbulence */
+    double max_speed;           /* speed_limit, m/s */
+    const pfx_life_curve *life; /* force_over_life: m/s^2 over normalised age, in
+                             world axes unless `frame` is set */
+    pfx_force_space space;      /* force_over_life: as written */
+    /* force_over_life in the space of an emitter whose rotation is
+     * keyframed: its vectors turn with the emitter's rotation at the time
+     * of the step (a fixed rotation is applied when the model is built). */
+    const struct pfx_emitter *frame;
+    double jerk_hint; /* force_over_life: the steepest |da/dt|, m/s^3, at the
+                         shortest lifetime (auto judges accuracy by it) */
 } pfx_motion_force;
 
 /* The scheme a choice runs. */

@@ -4,7 +4,10 @@
  * live elsewhere (motion.c, stability.c). */
 #include "sim/motion.h"
 
+#include <string.h>
 #include <tgmath.h>
+
+#include "model/effect.h"
 
 #define PFX_CAT_(a, b) a##b
 #define PFX_CAT(a, b) PFX_CAT_(a, b)

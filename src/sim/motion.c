@@ -20,7 +20,7 @@ static double norm3(const double v[3]) { return sqrt(v[0] * v[0] + v[1] * v[1] +
 static void fold_split(pfx_motion_plan *m) {
     double kw[3] = {0, 0, 0};
     m->drift_k = 0;
-    m->has_kick = m->has_rotation = false;
+    m->has_rotation = false;
     for (int a = 0; a < 3; a++)
         m->drift_g[a] = m->drift_wind[a] = 0;
     for (size_t i = 0; i < m->force_count; i++) {
@@ -33,8 +33,6 @@ static void fold_split(pfx_motion_plan *m) {
                 m->folded[i] = true;
                 for (int a = 0; a < 3; a++)
                     m->drift_g[a] += f->accel[a];
-            } else {
-                m->has_kick = true;
             }
             break;
         case PFX_MOTION_DRAG:
@@ -44,11 +42,8 @@ static void fold_split(pfx_motion_plan *m) {
                 for (int a = 0; a < 3; a++)
                     kw[a] += f->k * f->wind[a];
             }
-            if (!m->folded[i] || f->c > 0)
-                m->has_kick = true;
             break;
         case PFX_MOTION_SPRING:
-            m->has_kick = true;
             if (unreg && f->zeta > 0) {
                 m->folded[i] = true;
                 m->drift_k += 2 * f->zeta * sqrt(f->k);
@@ -57,17 +52,12 @@ static void fold_split(pfx_motion_plan *m) {
         case PFX_MOTION_MAGNETIC:
             if (norm3(f->field) > 0)
                 m->has_rotation = true;
-            if (norm3(f->electric) > 0)
-                m->has_kick = true;
-            break;
-        case PFX_MOTION_ATTRACTOR:
-        case PFX_MOTION_TURBULENCE:
-            m->has_kick = true;
             break;
         default:
             break;
         }
     }
+    m->has_kick = pfx_motion_split_kicks(m->model); /* what is not folded or rotated */
     if (m->drift_k > 0)
         for (int a = 0; a < 3; a++)
             m->drift_wind[a] = kw[a] / m->drift_k;

@@ -49,11 +49,13 @@ void pfx_motion_plan_prepare(pfx_motion_plan *p, pfx_motion *m, double dt);
 /* A view of one emitter's dense pool. Positions and velocities are updated
  * in place. Optional columns may be NULL: gravity_scale -> 1, charge/mass ->
  * the force's constants, birth (bx, by, bz) is required only by a spring with
- * use_birth. */
+ * use_birth, birth_time and lifetime only by force_over_life. */
 #define PFX_MOTION_POOL_FIELDS(T)                                                                  \
     size_t count;                                                                                  \
     T *px, *py, *pz, *vx, *vy, *vz;                                                                \
-    const T *gravity_scale, *charge, *mass, *bx, *by, *bz;
+    const T *gravity_scale, *charge, *mass, *bx, *by, *bz;                                         \
+    const double *birth_time;                                                                      \
+    const T *lifetime;
 typedef struct pfx_motion_pool_f {
     PFX_MOTION_POOL_FIELDS(float)
 } pfx_motion_pool_f;

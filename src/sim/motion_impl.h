@@ -37,6 +37,31 @@ static void FN(region_weight)(const pfx_motion_region *g, size_t n, const R *x, 
     }
 }
 
+/* force_over_life: a = curve(u), u = (t - birth) / lifetime, each
+ * particle's normalised age at the stage time t (so every scheme sees the
+ * force change within its step). In an animated emitter's space the curve's
+ * vector turns with the emitter's rotation at t. */
+static void FN(life_force)(const pfx_motion_force *F, const PFX_POOL *p, size_t i0, size_t n,
+                           const R *x, const R *y, const R *z, double t, R *w, R *ax, R *ay,
+                           R *az) {
+    FN(region_weight)(&F->region, n, x, y, z, w);
+    const double *tb = p->birth_time + i0;
+    const R *life = p->lifetime + i0;
+    double turn[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    if (F->frame) {
+        emitter_pose pose;
+        pfx_emitter_pose_at(F->frame, t, &pose);
+        memcpy(turn, pose.rotation, sizeof turn);
+    }
+    for (size_t j = 0; j < n; j++) {
+        double a[3];
+        pfx_life_curve_at(F->life, (t - tb[j]) / (double)life[j], a);
+        ax[j] += w[j] * (R)(turn[0] * a[0] + turn[1] * a[1] + turn[2] * a[2]);
+        ay[j] += w[j] * (R)(turn[3] * a[0] + turn[4] * a[1] + turn[5] * a[2]);
+        az[j] += w[j] * (R)(turn[6] * a[0] + turn[7] * a[1] + turn[8] * a[2]);
+    }
+}
+
 /* a = sum of the ODE forces at (x, v, t) for pool particles i0 .. i0+n-1
  * (n <= BLK). split: leave out what the split step handles itself (the
  * folded linear parts, which its drift integrates exactly, and q v x B,
@@ -155,6 +180,9 @@ static void FN(accel)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, si
             }
             break;
         }
+        case PFX_MOTION_FORCE_OVER_LIFE:
+            FN(life_force)(F, p, i0, n, x, y, z, t, w, ax, ay, az);
+            break;
         default: /* vortex, spiral, speed_limit: operators, not forces */
             break;
         }

@@ -88,7 +88,9 @@ pfx_motion_pool_f pfx_step_motion_view(const pfx_pool *p, uint32_t first, uint32
                                .mass = p->mass ? p->mass + first : NULL,
                                .bx = p->bx ? p->bx + first : NULL,
                                .by = p->by ? p->by + first : NULL,
-                               .bz = p->bz ? p->bz + first : NULL};
+                               .bz = p->bz ? p->bz + first : NULL,
+                               .birth_time = p->birth + first,
+                               .lifetime = p->lifetime + first};
 }
 
 /* The state check: the first of particles [first, count) of emitter i that
