@@ -52,7 +52,7 @@ static void read_fov(pfx_reader *r, const pfx_node *map, const pfx_node *v, void
         return;
     if (!(deg > 0 && deg < 180))
         pfx_read_error(r, v, "'fov' must be between 0 and 180 degrees (exclusive), got %g", deg);
-    k->fov = deg * (M_PI / 180);
+    k->fov = deg * PFX_DEGREE;
 }
 
 static void read_ortho(pfx_reader *r, const pfx_node *map, const pfx_node *v, void *dest) {

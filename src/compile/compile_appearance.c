@@ -121,11 +121,12 @@ static void compile_color(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
 
 /* `angle` (a value, degrees), `spin` (a value in degrees per second, or a
  * curve over life [{at, value}] integrated once into a table, so the angle
- * at any age is one lookup), `sprite: round | square`. */
+ * at any age is one lookup), `sprite: round | square`. Held in radians. */
 static void compile_rotation(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
     const pfx_node *v;
-    if ((v = pfx_node_get(n, "angle")))
-        pfx_read_value_in(r, v, "angle", &em->angle, -1e6, false, 1e6);
+    if ((v = pfx_node_get(n, "angle")) &&
+        pfx_read_value_in(r, v, "angle", &em->angle, -1e6, false, 1e6))
+        em->angle = pfx_value_scaled(em->angle, PFX_DEGREE);
     if ((v = pfx_node_get(n, "spin"))) {
         if (v->kind == PFX_NODE_SEQ && v->count && v->items[0]->kind == PFX_NODE_MAP) {
             enum { MAX_KEYS = 64 };
@@ -145,6 +146,7 @@ static void compile_rotation(pfx_reader *r, const pfx_node *n, pfx_emitter *em) 
                 double s = val[k];
                 if (k + 1 < v->count && u > at[k])
                     s = val[k] + (val[k + 1] - val[k]) * (u - at[k]) / (at[k + 1] - at[k]);
+                s *= PFX_DEGREE;
                 if (i > 0)
                     sum += 0.5 * (s + prev) / (PFX_GRADIENT_LUT - 1);
                 prev = s;
@@ -152,7 +154,8 @@ static void compile_rotation(pfx_reader *r, const pfx_node *n, pfx_emitter *em) 
             }
             em->spin_curve = true;
         } else {
-            pfx_read_value_in(r, v, "spin", &em->spin, -1e6, false, 1e6);
+            if (pfx_read_value_in(r, v, "spin", &em->spin, -1e6, false, 1e6))
+                em->spin = pfx_value_scaled(em->spin, PFX_DEGREE);
         }
     }
     if ((v = pfx_node_get(n, "sprite"))) {

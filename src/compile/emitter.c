@@ -457,11 +457,13 @@ static void compile_direction(compiler *c, const pfx_node *n, pfx_emitter *em) {
                 pfx_check_above(&c->r, v, "spread", fmin(ab[0], ab[1]), 0, false) &&
                 pfx_check_below(&c->r, v, "spread", fmax(ab[0], ab[1]), 360, false)) {
                 em->spread_two_angle = true;
-                em->spread_alpha_deg = ab[0];
-                em->spread_beta_deg = ab[1];
+                em->spread_alpha = ab[0] * PFX_DEGREE;
+                em->spread_beta = ab[1] * PFX_DEGREE;
             }
         } else {
-            opt_number(c, n, "spread", &em->spread_deg, 0, false, 180);
+            double deg = 0;
+            opt_number(c, n, "spread", &deg, 0, false, 180);
+            em->spread = deg * M_PI / 180.0;
         }
     }
 }
@@ -574,8 +576,8 @@ void pfx_compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n, pf
             em->color.lut[i][k] = 1.0f;
     em->color.constant = true;
     em->force_mask = e->force_count >= 32 ? 0xffffffffu : (1u << e->force_count) - 1;
-    double rot_deg[3] = {0, 0, 0};
-    pfx_rotation_from_degrees(rot_deg, em->rotation);
+    double rot[3] = {0, 0, 0};
+    pfx_rotation_from_angles(rot, em->rotation);
 
     char where[160];
     snprintf(where, sizeof where, "emitter '%s'", key->text);
@@ -589,8 +591,15 @@ void pfx_compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n, pf
     if ((v = pfx_node_get(n, "position")))
         pfx_read_keys3(&c->r, v, "position", em->position, &em->position_keys);
     if ((v = pfx_node_get(n, "rotation")) &&
-        pfx_read_keys3(&c->r, v, "rotation", rot_deg, &em->rotation_keys))
-        pfx_rotation_from_degrees(rot_deg, em->rotation);
+        pfx_read_keys3(&c->r, v, "rotation", rot, &em->rotation_keys)) {
+        /* Written in degrees; the model holds radians. */
+        for (int a = 0; a < 3; a++)
+            rot[a] *= PFX_DEGREE;
+        for (size_t k = 0; k < em->rotation_keys.count; k++)
+            for (int a = 0; a < 3; a++)
+                em->rotation_keys.v[k][a] *= PFX_DEGREE;
+        pfx_rotation_from_angles(rot, em->rotation);
+    }
     pfx_compile_emission(&c->r, n, em);
     if ((v = pfx_node_get(n, "lod")))
         compile_lod(c, v, n, em);

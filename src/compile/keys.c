@@ -36,7 +36,7 @@ void pfx_keys_defaults(const pfx_key_table *t, void *dest) {
         case PFX_KEY_NUMBER: {
             double v = k->def[0];
             if (k->flags & PFX_KEY_DEGREES)
-                v *= M_PI / 180;
+                v *= PFX_DEGREE;
             memcpy(at, &v, sizeof v);
             break;
         }
@@ -97,7 +97,7 @@ static void read_row(pfx_reader *r, const pfx_node *map, const pfx_node *v, cons
     case PFX_KEY_NUMBER:
         if (read_ranged(r, v, k, &x)) {
             if (k->flags & PFX_KEY_DEGREES)
-                x *= M_PI / 180;
+                x *= PFX_DEGREE;
             memcpy(at, &x, sizeof x);
         }
         break;

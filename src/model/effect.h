@@ -16,6 +16,10 @@
 #include "model/kinds.h"
 #include "model/motion.h"
 
+/* Radians per degree: files are written in degrees, the model holds
+ * radians (M_PI / 180 as the compiler computes it). */
+#define PFX_DEGREE (3.14159265358979323846 / 180)
+
 #define PFX_FORMAT_VERSION 1
 #define PFX_MAX_FORCES 32 /* an emitter's force set is a 32-bit mask */
 #define PFX_GRADIENT_LUT 256
@@ -37,6 +41,9 @@ typedef struct pfx_value {
     double lo, hi;       /* normal only */
     pfx_value_form form; /* how it was written, for messages about its bounds */
 } pfx_value;
+
+/* v with every sample multiplied by k > 0 (degrees to radians). */
+pfx_value pfx_value_scaled(pfx_value v, double k);
 
 /* A constant value. */
 static inline pfx_value pfx_value_const(double a) {
@@ -175,7 +182,7 @@ typedef struct pfx_emitter {
     const char *name;
     pfx_shape shape;
     double position[3];
-    double rotation[9]; /* row-major, from rotation degrees X then Y then Z */
+    double rotation[9]; /* row-major, from rotation angles X then Y then Z */
     pfx_rate_kind rate_kind;
     double rate;                     /* CONSTANT: per second; RANDOM: the mean */
     double rate_var;                 /* RANDOM: rates are uniform in rate +- rate_var */
@@ -190,15 +197,15 @@ typedef struct pfx_emitter {
     double horizon;      /* emitter time past which nothing is ever shown (the effect's end) */
     double direction[3]; /* unit, in the emitter's frame (rotated at birth) */
     pfx_direction_mode direction_mode;
-    double spread_deg;     /* cone half-angle */
-    bool spread_two_angle; /* `spread: [alpha, beta]`: the thesis's two angles */
-    double spread_alpha_deg, spread_beta_deg;
-    pfx_value distance;      /* birth offset along the direction, metres */
-    double inherit_velocity; /* fraction of the emitter's velocity added */
-    pfx_keys3 position_keys; /* animated `position` (else `position` holds) */
-    pfx_keys3 rotation_keys; /* animated `rotation` degrees */
-    double lod_area;         /* `lod`: the emitter's area on screen in pixels (0: no lod) */
-    double key_period;       /* > 0: keyframes repeat with this period (a looping effect) */
+    double spread;                    /* cone half-angle, radians */
+    bool spread_two_angle;            /* `spread: [alpha, beta]`: the thesis's two angles */
+    double spread_alpha, spread_beta; /* radians */
+    pfx_value distance;               /* birth offset along the direction, metres */
+    double inherit_velocity;          /* fraction of the emitter's velocity added */
+    pfx_keys3 position_keys;          /* animated `position` (else `position` holds) */
+    pfx_keys3 rotation_keys;          /* animated `rotation`, radians */
+    double lod_area;   /* `lod`: the emitter's area on screen in pixels (0: no lod) */
+    double key_period; /* > 0: keyframes repeat with this period (a looping effect) */
     pfx_value speed;
     pfx_value lifetime;
     double max_lifetime; /* upper bound of `lifetime` */
@@ -211,8 +218,8 @@ typedef struct pfx_emitter {
     float color_a[4], color_b[4]; /* RANDOM: each particle is a fixed mix of the two */
     bool size_curve;              /* size over life from size_lut, not start/end */
     float size_lut[PFX_GRADIENT_LUT];
-    pfx_value angle; /* sprite angle at birth, degrees */
-    pfx_value spin;  /* degrees per second (constant over life unless spin_curve) */
+    pfx_value angle; /* sprite angle at birth, radians */
+    pfx_value spin;  /* radians per second (constant over life unless spin_curve) */
     bool spin_curve; /* spin over life: angle = angle0 + lifetime * spin_turn_lut[u] */
     float spin_turn_lut[PFX_GRADIENT_LUT]; /* integral of spin over normalised age */
     pfx_sprite_kind sprite;
@@ -321,9 +328,10 @@ typedef struct emitter_pose {
     double position[3], rotation[9], velocity[3];
 } emitter_pose;
 
-/* Rotation degrees (x, y, z) -> row-major R = Rz * Ry * Rx: a point is
- * turned about X first, then Y, then Z, all about the fixed world axes. */
-void pfx_rotation_from_degrees(const double deg[3], double m[9]);
+/* Rotation angles (x, y, z) in radians -> row-major R = Rz * Ry * Rx: a
+ * point is turned about X first, then Y, then Z, all about the fixed world
+ * axes. */
+void pfx_rotation_from_angles(const double rad[3], double m[9]);
 
 void pfx_emitter_pose_at(const pfx_emitter *em, double t, emitter_pose *p);
 

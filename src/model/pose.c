@@ -6,7 +6,7 @@
 #include "model/effect.h"
 
 /* The emitter's placement at effect time t: position, rotation matrix
- * (degrees X then Y then Z about fixed axes) and velocity (the slope of the
+ * (angles X then Y then Z about fixed axes) and velocity (the slope of the
  * position keyframes; zero when fixed). Keyframes interpolate linearly and
  * hold before the first and after the last. */
 
@@ -20,10 +20,9 @@ static size_t key_segment(const pfx_keys3 *k, double t, double *u) {
     return i;
 }
 
-void pfx_rotation_from_degrees(const double deg[3], double m[9]) {
-    const double k = M_PI / 180;
-    double cx = cos(deg[0] * k), sx = sin(deg[0] * k), cy = cos(deg[1] * k), sy = sin(deg[1] * k),
-           cz = cos(deg[2] * k), sz = sin(deg[2] * k);
+void pfx_rotation_from_angles(const double rad[3], double m[9]) {
+    double cx = cos(rad[0]), sx = sin(rad[0]), cy = cos(rad[1]), sy = sin(rad[1]), cz = cos(rad[2]),
+           sz = sin(rad[2]);
     double r[9] = {cz * cy,
                    cz * sy * sx - sz * cx,
                    cz * sy * cx + sz * sx,
@@ -56,9 +55,9 @@ void pfx_emitter_pose_at(const pfx_emitter *em, double t, emitter_pose *p) {
     if (em->rotation_keys.count > 1) {
         const pfx_keys3 *k = &em->rotation_keys;
         size_t i = key_segment(k, t, &u);
-        double deg[3];
+        double rad[3];
         for (int a = 0; a < 3; a++)
-            deg[a] = k->v[i][a] + (k->v[i + 1][a] - k->v[i][a]) * u;
-        pfx_rotation_from_degrees(deg, p->rotation);
+            rad[a] = k->v[i][a] + (k->v[i + 1][a] - k->v[i][a]) * u;
+        pfx_rotation_from_angles(rad, p->rotation);
     }
 }

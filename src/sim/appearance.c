@@ -53,5 +53,5 @@ float pfx_particle_angle(const pfx_emitter *em, const pfx_pool *p, uint32_t i) {
     float turned = em->spin_curve
                        ? p->lifetime[i] * em->spin_turn_lut[lut_index(age / p->lifetime[i])]
                        : (p->spin ? p->spin[i] : (float)em->spin.a) * age;
-    return (a0 + turned) * (float)(M_PI / 180);
+    return a0 + turned;
 }

@@ -18,9 +18,8 @@ static void rotate(const double m[9], const double v[3], double out[3]) {
  * about Z, then beta_r in [-beta/2, beta/2] about X (two draws, like the
  * cone). Not uniform over any cap: it is what the thesis specifies. */
 static void two_angle_spread(const pfx_emitter *em, const double d[3], pfx_rng *r, double out[3]) {
-    const double k = M_PI / 180;
-    double a = (pfx_rng_unit(r) - 0.5) * em->spread_alpha_deg * k;
-    double b = (pfx_rng_unit(r) - 0.5) * em->spread_beta_deg * k;
+    double a = (pfx_rng_unit(r) - 0.5) * em->spread_alpha;
+    double b = (pfx_rng_unit(r) - 0.5) * em->spread_beta;
     double x = d[0] * cos(a) - d[1] * sin(a), y = d[0] * sin(a) + d[1] * cos(a), z = d[2];
     out[0] = x;
     out[1] = y * cos(b) - z * sin(b);
@@ -59,7 +58,7 @@ void pfx_birth_draw(const pfx_emitter *em, double t, pfx_rng *r, const double pl
     if (em->spread_two_angle)
         two_angle_spread(em, base, r, dir);
     else
-        pfx_sample_cone(base, em->spread_deg, r, dir);
+        pfx_sample_cone(base, em->spread, r, dir);
     double speed = pfx_sample_value(&em->speed, r);
     b->life = pfx_sample_value(&em->lifetime, r);
     double distance = pfx_sample_value(&em->distance, r);

@@ -274,8 +274,8 @@ void pfx_sample_shape(const pfx_shape *s, pfx_rng *r, double out[3], double norm
     }
 }
 
-void pfx_sample_cone(const double axis[3], double spread_deg, pfx_rng *r, double out[3]) {
-    double cos_max = cos(spread_deg * M_PI / 180.0);
+void pfx_sample_cone(const double axis[3], double spread, pfx_rng *r, double out[3]) {
+    double cos_max = cos(spread);
     double ct = 1.0 - pfx_rng_unit(r) * (1.0 - cos_max);
     double st = sqrt(fmax(0.0, 1.0 - ct * ct)), phi = 2.0 * M_PI * pfx_rng_unit(r);
     /* An orthonormal basis (t, b, axis) without a branch on a fixed up vector

@@ -23,10 +23,10 @@ double pfx_sample_value(const pfx_value *v, pfx_rng *r);
  * (volumes, box surface, mesh), each unit two generator outputs. */
 void pfx_sample_shape(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]);
 
-/* A unit vector uniform over the spherical cap of half-angle `spread_deg`
+/* A unit vector uniform over the spherical cap of half-angle `spread` (radians)
  * around unit `axis`: cos(theta) uniform in [cos(spread), 1], azimuth
  * uniform. (Drawing theta itself uniformly would crowd the axis.) */
-void pfx_sample_cone(const double axis[3], double spread_deg, pfx_rng *r, double out[3]);
+void pfx_sample_cone(const double axis[3], double spread, pfx_rng *r, double out[3]);
 
 /* A unit vector uniform over the whole sphere: z uniform in [-1, 1]. */
 void pfx_sample_direction(pfx_rng *r, double out[3]);

@@ -418,7 +418,7 @@ static int bin_cap(const void *ctx, const double p[3]) {
 
 static void cone_sampler(const void *ctx, pfx_rng *r, double out[3]) {
     const cap *c = ctx;
-    pfx_sample_cone(c->axis, c->spread_deg, r, out);
+    pfx_sample_cone(c->axis, c->spread_deg * PI / 180, r, out);
 }
 
 /* Biased: the deviation angle theta uniform in [0, spread] (crowds the axis). */

@@ -688,7 +688,7 @@ static int bin_cap_y(const void *ctx, const double p[3]) {
 }
 static void cap_sampler(const void *ctx, pfx_rng *r, double out[3]) {
     static const double up[3] = {0, 1, 0};
-    pfx_sample_cone(up, *(const double *)ctx, r, out);
+    pfx_sample_cone(up, *(const double *)ctx * PI / 180, r, out);
 }
 static void cap_uniform_angle(const void *ctx, pfx_rng *r, double out[3]) {
     double th = pfx_rng_unit(r) * *(const double *)ctx * PI / 180, ph = 2 * PI * pfx_rng_unit(r);

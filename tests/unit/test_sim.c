@@ -356,7 +356,7 @@ static void test_swap_remove(void) {
     for (int k = 0; k < SWAP_BIRTHS; k++) {
         double local[3], normal[3], dir[3];
         pfx_sample_shape(&em->shape, &r, local, normal);
-        pfx_sample_cone(em->direction, em->spread_deg, &r, dir);
+        pfx_sample_cone(em->direction, em->spread, &r, dir);
         pfx_sample_value(&em->speed, &r);
         life[k] = pfx_sample_value(&em->lifetime, &r);
     }
