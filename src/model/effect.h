@@ -162,7 +162,7 @@ typedef struct pfx_burst {
     double probability; /* each cycle fires with this probability */
 } pfx_burst;
 
-/* Keyframed vectors (position, rotation degrees), linear between keys. */
+/* Keyframed vectors (position metres, rotation radians), linear between keys. */
 typedef struct pfx_keys3 {
     size_t count; /* 0: not animated */
     double *t;
