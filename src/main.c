@@ -27,7 +27,7 @@
 static const char usage_text[] =
     "usage: pfx validate [--format text|json] [--max-particles N] FILE...\n"
     "       pfx render FILE -o DIR [--frames A:B] [--size WxH] [--fps N] [--seed N]\n"
-    "                  [--max-particles N] [--renderer R] [-q]\n"
+    "                  [--max-particles N] [--renderer R] [--alpha MODE] [-q]\n"
     "       pfx bake FILE -o OUT.csv [--every N] [--frames A:B] [--fps N] [--seed N]\n"
     "                  [--max-particles N]\n"
     "       pfx info FILE [--seed N] [--max-particles N]\n"
@@ -54,6 +54,8 @@ static const char usage_text[] =
     "      --format FMT        diagnostics as 'text' (default) or 'json' lines\n"
     "      --renderer R        how to get OpenGL (render, bench): auto (default: osmesa\n"
     "                          where built, else egl-cpu), osmesa, egl-cpu, egl-gpu\n"
+    "      --alpha MODE        PNG alpha: straight or premultiplied, overriding\n"
+    "                          image.alpha\n"
     "  -q, --quiet             no progress line and no notes\n"
     "  -h, --help              show this help\n"
     "      --version           show the version\n";
@@ -126,7 +128,8 @@ static int parse_options(int argc, char **argv, options *o) {
         OPT_MAX,
         OPT_EVERY,
         OPT_FORMAT,
-        OPT_RENDERER
+        OPT_RENDERER,
+        OPT_ALPHA
     };
     static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
                                              {"frames", required_argument, 0, OPT_FRAMES},
@@ -137,6 +140,7 @@ static int parse_options(int argc, char **argv, options *o) {
                                              {"every", required_argument, 0, OPT_EVERY},
                                              {"format", required_argument, 0, OPT_FORMAT},
                                              {"renderer", required_argument, 0, OPT_RENDERER},
+                                             {"alpha", required_argument, 0, OPT_ALPHA},
                                              {"quiet", no_argument, 0, 'q'},
                                              {"help", no_argument, 0, 'h'},
                                              {0, 0, 0, 0}};
@@ -221,6 +225,14 @@ static int parse_options(int argc, char **argv, options *o) {
                 return EXIT_USAGE;
             o->has_renderer = true;
             break;
+        case OPT_ALPHA: {
+            int mode = pfx_kind_find(pfx_alpha_mode_names, optarg);
+            if (mode < 0)
+                return usage_error("--alpha takes 'straight' or 'premultiplied', got '%s'", optarg);
+            o->compile.alpha = (pfx_alpha_mode)mode;
+            o->compile.has_alpha = true;
+            break;
+        }
         case ':':
             return usage_error("option '%s' needs a value", argv[optind - 1]);
         default:

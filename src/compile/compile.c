@@ -13,6 +13,7 @@
 
 #include "compile/compile_deflectors.h"
 #include "compile/compile_forces.h"
+#include "compile/compile_look.h"
 #include "compile/compile_spawn.h"
 #include "compile/compiler.h"
 
@@ -131,6 +132,16 @@ static void compile_camera(compiler *c, const pfx_node *cam) {
 
 /* ---- image ---- */
 
+static void read_motion_blur(pfx_reader *r, const pfx_node *map, const pfx_node *v, void *dest) {
+    (void)map;
+    pfx_compile_motion_blur(r, v, dest);
+}
+
+static void read_light(pfx_reader *r, const pfx_node *map, const pfx_node *v, void *dest) {
+    (void)map;
+    pfx_compile_light(r, v, dest);
+}
+
 static void read_image_size(pfx_reader *r, const pfx_node *map, const pfx_node *size, void *dest) {
     (void)map;
     pfx_effect *e = dest;
@@ -156,6 +167,22 @@ static const pfx_key image_keys[] = {
     {"background", PFX_KEY_COLOUR, .offset = E(background),
      .schema = "{\"$ref\": \"#/$defs/colour\", \"default\": \"transparent\"}",
      .doc = "The colour the image is cleared to."},
+    {"exposure", PFX_KEY_NUMBER, .lo = -20, .hi = 20, .def = {0}, .offset = E(exposure),
+     .doc = "EV, -20 to 20: colours are multiplied by 2^exposure before the tone curve."},
+    {"tonemap", PFX_KEY_ENUM, .names = pfx_tonemap_names, .def = {0}, .offset = E(tonemap),
+     .what = "tone curve",
+     .doc = "none (values above 1 clip), reinhard (x / (1 + x)) or aces (the ACES filmic fit of "
+            "Narkowicz 2015)."},
+    {"alpha", PFX_KEY_ENUM, .names = pfx_alpha_mode_names, .def = {0}, .offset = E(alpha_mode),
+     .what = "alpha mode",
+     .doc = "straight (colour and coverage apart) or premultiplied (colour times coverage; "
+            "additive light is colour with zero alpha); --alpha overrides."},
+    {"dither", PFX_KEY_BOOL, .def = {1}, .offset = E(dither),
+     .doc = "A fixed per-pixel dither of under half a step before 8-bit quantisation, so smooth "
+            "gradients do not band; exact 0 and 1 stay exact."},
+    {"motion_blur", PFX_KEY_CODE, .offset = -1, .hook = read_motion_blur,
+     .schema = "{\"$ref\": \"#/$defs/motion_blur\"}",
+     .doc = "Motion blur: {shutter, samples}; absent, none."},
 };
 PFX_KEY_TABLE(pfx_image_table, "image", NULL, "The output image.", image_keys);
 
@@ -222,6 +249,9 @@ static const pfx_key top_keys[] = {
      .schema = "{\"type\": \"object\", \"additionalProperties\": {\"$ref\": "
                "\"#/$defs/emitter\"}}",
      .doc = "Named emitters, in file order (bake row order, draw order at equal depth)."},
+    {"light", PFX_KEY_CODE, .offset = -1, .hook = read_light,
+     .schema = "{\"$ref\": \"#/$defs/light\"}",
+     .doc = "The directional light of emitters with lit: true."},
     {"loop", PFX_KEY_BOOL, .offset = E(loop),
      .doc = "A seamless loop: every emitter repeats with period duration, and frame duration x "
             "fps is frame 0."},
@@ -290,6 +320,8 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
     pfx_keys_defaults(&pfx_schema_top, e);
     pfx_keys_defaults(&pfx_sim_table, e);
     pfx_keys_defaults(&pfx_camera_table, &e->camera);
+    pfx_keys_defaults(&pfx_image_table, e);
+    pfx_look_defaults(e);
     e->width = e->height = 512;
     e->max_particles = opt && opt->max_particles ? opt->max_particles : PFX_DEFAULT_MAX_PARTICLES;
 
@@ -310,6 +342,8 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
 
     if (opt && opt->fps > 0)
         e->fps = opt->fps;
+    if (opt && opt->has_alpha)
+        e->alpha_mode = opt->alpha;
     if (opt && opt->width > 0) {
         e->width = opt->width;
         e->height = opt->height;

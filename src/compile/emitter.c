@@ -10,6 +10,7 @@
 #include "compile/compile_appearance.h"
 #include "compile/compile_emission.h"
 #include "compile/compile_kill.h"
+#include "compile/compile_look.h"
 #include "compile/compile_shape.h"
 #include "compile/compile_spawn.h"
 #include "compile/compiler.h"
@@ -153,8 +154,8 @@ static const pfx_key emitter_keys[] = {
                "{\"description\": \"A random mix of two colours, fixed per particle.\", \"type\": "
                "\"object\", \"additionalProperties\": false, \"properties\": {\"random\": "
                "{\"description\": \"[c1, c2]: two colours.\", \"type\": \"array\", \"minItems\": "
-               "2, \"maxItems\": 2, \"prefixItems\": [{\"$ref\": \"#/$defs/colour\", \"not\": "
-               "{\"const\": \"transparent\"}}, {\"$ref\": \"#/$defs/colour\"}], \"items\": "
+               "2, \"maxItems\": 2, \"prefixItems\": [{\"$ref\": \"#/$defs/hdr_colour\", \"not\": "
+               "{\"const\": \"transparent\"}}, {\"$ref\": \"#/$defs/hdr_colour\"}], \"items\": "
                "false}}, \"required\": [\"random\"]}, {\"description\": \"A random point of the "
                "gradient, fixed per particle.\", \"type\": \"object\", \"additionalProperties\": "
                "false, \"properties\": {\"pick\": {\"$ref\": \"#/$defs/gradient\", "
@@ -193,9 +194,43 @@ static const pfx_key emitter_keys[] = {
      .offset = -1,
      .doc = "Sprite turn rate in degrees per second: a value per particle, or a curve [{at, "
             "value}] over normalised age."},
-    {"sprite", PFX_KEY_ENUM, .names = pfx_sprite_names, .def = {0}, .offset = -1,
-     .doc =
-         "Sprite shape: round (soft disc) or square (soft square that turns with angle and spin)."},
+    {"sprite", PFX_KEY_ENUM, .names = pfx_sprite_names, .def = {0}, .offset = M(look.sprite),
+     .what = "sprite shape",
+     .doc = "The built-in sprite: round (soft disc), square (soft square that turns with angle "
+            "and spin), spark (bright core, long falloff), smoke (a noise puff, each particle its "
+            "own), flare (a star with a soft halo) or ring."},
+    {"texture", PFX_KEY_CODE, .offset = -1, .schema = "{\"type\": \"string\"}",
+     .doc = "A PNG (grey, grey + alpha, RGB or RGBA; 8 or 16 bits; at most 8192x8192) relative "
+            "to the effect file, instead of the built-in sprite: its alpha is the shape, the "
+            "particle's colour multiplies it."},
+    {"normal_map", PFX_KEY_CODE, .offset = -1, .schema = "{\"type\": \"string\"}",
+     .doc = "A PNG of tangent-space normals (RGB = (n + 1) / 2, +y up the image) for lit sprites, "
+            "instead of the spherical normal."},
+    {"flipbook", PFX_KEY_MAP, .offset = M(look.flipbook), .table = &pfx_flipbook_table,
+     .doc = "Play the texture as a sheet of cells over the particle's age."},
+    {"align", PFX_KEY_ENUM, .names = pfx_align_names, .def = {0}, .offset = M(look.align),
+     .what = "alignment",
+     .doc = "camera (faces the camera), velocity (stretched along the screen-space velocity), "
+            "axis (turns about the world axis 'axis' to face the camera) or world (lies in the "
+            "plane with normal 'normal')."},
+    {"axis", PFX_KEY_VEC3, PFX_KEY_NONZERO, .def = {0, 1, 0}, .offset = -1,
+     .doc = "align: axis: the world axis the sprite's height follows (any length)."},
+    {"normal", PFX_KEY_VEC3, PFX_KEY_NONZERO, .def = {0, 1, 0}, .offset = -1,
+     .doc = "align: world: the normal of the plane the sprite lies in (any length)."},
+    {"stretch", PFX_KEY_MAP, .offset = M(look), .table = &pfx_stretch_table,
+     .doc = "align: velocity: length = size x length + |v| x speed."},
+    {"lit", PFX_KEY_BOOL, .def = {0}, .offset = M(look.lit),
+     .doc = "Shade by the effect's light with a spherical normal per sprite (or normal_map); "
+            "for alpha sprites such as smoke."},
+    {"intensity", PFX_KEY_CODE, .offset = -1,
+     .schema = "{\"default\": 1, \"oneOf\": [{\"type\": \"number\", \"minimum\": 0, "
+               "\"maximum\": 1000}, {\"type\": \"array\", \"minItems\": 1, \"maxItems\": 64, "
+               "\"items\": {\"type\": \"object\", \"additionalProperties\": false, "
+               "\"required\": [\"at\", \"value\"], \"properties\": {\"at\": {\"type\": "
+               "\"number\", \"minimum\": 0, \"maximum\": 1}, \"value\": {\"type\": "
+               "\"number\", \"minimum\": 0, \"maximum\": 1000}}}}]}",
+     .doc = "Multiplies the colour (not alpha), 0 to 1000, for HDR light: a number or a curve "
+            "[{at, value}] over normalised age."},
     {"forces", PFX_KEY_CODE, .schema = "{\"type\": \"array\", \"items\": {\"type\": \"string\"}}",
      .offset = -1,
      .doc = "Names of the forces this emitter feels; default: every force; [] for none."},
@@ -575,6 +610,7 @@ void pfx_compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n, pf
         for (int k = 0; k < 4; k++)
             em->color.lut[i][k] = 1.0f;
     em->color.constant = true;
+    em->look.intensity = 1;
     em->force_mask = e->force_count >= 32 ? 0xffffffffu : (1u << e->force_count) - 1;
     double rot[3] = {0, 0, 0};
     pfx_rotation_from_angles(rot, em->rotation);
@@ -606,6 +642,7 @@ void pfx_compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n, pf
     compile_direction(c, n, em);
     em->max_lifetime = pfx_value_max(&em->lifetime);
     pfx_compile_appearance(&c->r, n, em);
+    pfx_compile_look(&c->r, n, em, e->path);
     compile_kill(c, n, em);
     if ((v = pfx_node_get(n, "forces"))) {
         em->force_mask = 0;

@@ -229,6 +229,24 @@ bool pfx_read_string(pfx_reader *r, const pfx_node *n, const char *what, const c
     return true;
 }
 
+bool pfx_read_path(pfx_reader *r, const pfx_node *n, const char *what, const char *effect_path,
+                   const char **name, char *path, size_t size) {
+    if (!pfx_read_string(r, n, what, name))
+        return false;
+    size_t dir = 0;
+    if ((*name)[0] != '/' && effect_path) {
+        const char *slash = strrchr(effect_path, '/');
+        dir = slash ? (size_t)(slash - effect_path) + 1 : 0;
+    }
+    if (dir + strlen(*name) + 1 > size) {
+        pfx_read_error(r, n, "the path of '%s' is too long", *name);
+        return false;
+    }
+    memcpy(path, effect_path, dir);
+    strcpy(path + dir, *name);
+    return true;
+}
+
 static const char *const value_keys[] = {"mean", "var", "normal", "clamp", NULL};
 
 bool pfx_read_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_value *out) {
@@ -350,7 +368,8 @@ static bool is_rgb_list(const pfx_node *n) {
     return false;
 }
 
-bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, float out[4]) {
+bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, double rgb_max,
+                    float out[4]) {
     if (n->kind == PFX_NODE_SCALAR) {
         if (!strcmp(n->text, "transparent")) {
             out[0] = out[1] = out[2] = out[3] = 0.0f;
@@ -369,9 +388,10 @@ bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, float ou
         bool ok = true;
         for (size_t i = 0; i < n->count; i++) {
             ok &= pfx_read_number(r, n->items[i], what, &c[i]);
-            if (ok && (c[i] < 0 || c[i] > 1)) {
-                pfx_read_error(r, n->items[i], "colour components of '%s' must be in 0..1, got %g",
-                               what, c[i]);
+            double hi = i == 3 ? 1 : rgb_max; /* HDR colour, never alpha */
+            if (ok && (c[i] < 0 || c[i] > hi)) {
+                pfx_read_error(r, n->items[i], "%s of '%s' must be in 0..%g, got %g",
+                               i == 3 ? "the alpha" : "colour components", what, hi, c[i]);
                 ok = false;
             }
         }
@@ -388,14 +408,15 @@ bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, float ou
 
 static const char *const stop_keys[] = {"at", "color", NULL};
 
-bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, pfx_gradient *out) {
+bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, double rgb_max,
+                       pfx_gradient *out) {
     enum { MAX_STOPS = 64 };
     float colors[MAX_STOPS][4];
     double at[MAX_STOPS];
     size_t count = 0;
     bool ok = true;
     if (n->kind == PFX_NODE_SCALAR || is_rgb_list(n)) {
-        ok = pfx_read_color(r, n, what, colors[0]);
+        ok = pfx_read_color(r, n, what, rgb_max, colors[0]);
         at[0] = 0;
         count = 1;
     } else if (n->kind == PFX_NODE_SEQ) {
@@ -418,7 +439,7 @@ bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, pfx_g
                 continue;
             }
             if (!stops) {
-                ok &= pfx_read_color(r, item, what, colors[i]);
+                ok &= pfx_read_color(r, item, what, rgb_max, colors[i]);
                 at[i] = n->count == 1 ? 0.0 : (double)i / (double)(n->count - 1);
                 continue;
             }
@@ -429,7 +450,8 @@ bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, pfx_g
                 ok = false;
                 continue;
             }
-            if (!pfx_read_number(r, t, "at", &at[i]) || !pfx_read_color(r, c, what, colors[i])) {
+            if (!pfx_read_number(r, t, "at", &at[i]) ||
+                !pfx_read_color(r, c, what, rgb_max, colors[i])) {
                 ok = false;
                 continue;
             }
