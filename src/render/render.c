@@ -151,9 +151,12 @@ static bool default_materials(pfx_renderer *r, pfx_diags *d) {
         return false;
     }
     r->material_count = n;
-    for (size_t k = 0; k < n; k++)
+    for (size_t k = 0; k < n; k++) {
         r->materials[k].m = (pfx_material){
             .sprite = (pfx_sprite_kind)k, .cols = 1, .rows = 1, .frames = 1, .axis = {0, 1, 0}};
+        if (!pfx_shader_bind(r, &r->materials[k], d))
+            return false;
+    }
     return true;
 }
 
@@ -175,7 +178,7 @@ static GLuint upload_texture(pfx_renderer *r, const pfx_image *img) {
     r->gl.TexImage2D(GL_TEXTURE_2D, 0, wide ? GL_RGBA16 : GL_RGBA8, img->width, img->height, 0,
                      GL_RGBA, wide ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE, img->pixels);
     r->gl.GenerateMipmap(GL_TEXTURE_2D);
-    r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_NEAREST);
     r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
@@ -210,6 +213,8 @@ bool pfx_renderer_set_materials(pfx_renderer *r, const pfx_material *m, size_t c
             g[i].texture = upload_texture(r, m[i].texture);
         if (m[i].normal_map)
             g[i].normal_map = upload_texture(r, m[i].normal_map);
+        if (!pfx_shader_bind(r, &g[i], d))
+            return false;
     }
     GLenum e = r->gl.GetError();
     if (e != GL_NO_ERROR) {
@@ -248,7 +253,7 @@ pfx_renderer *pfx_renderer_create(pfx_renderer_kind kind, int width, int height,
                        (int)max_rb);
         goto fail;
     }
-    if (!build_framebuffer(r, d) || !pfx_shader_build(r, d) || !default_materials(r, d))
+    if (!build_framebuffer(r, d) || !default_materials(r, d))
         goto fail;
     build_vertex_arrays(r);
 
@@ -363,8 +368,6 @@ static void submit_frame(pfx_renderer *r, const pfx_view *v, const pfx_render_se
     r->gl.Clear(GL_COLOR_BUFFER_BIT);
     if (count == 0)
         return;
-    r->gl.UseProgram(r->program);
-    pfx_shader_frame(r, v, s);
     r->gl.BindVertexArray(r->vao);
     r->gl.BindBuffer(GL_ARRAY_BUFFER, r->instance_vbo);
     r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(count * sizeof *sprites), sprites,
@@ -374,7 +377,7 @@ static void submit_frame(pfx_renderer *r, const pfx_view *v, const pfx_render_se
         size_t end = first + 1;
         while (end < count && material_of(r, &sprites[end]) == g)
             end++;
-        pfx_shader_material(r, v, g);
+        pfx_shader_material(r, v, s, g);
         point_instances(r, first);
         r->gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)(end - first));
         first = end;

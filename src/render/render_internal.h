@@ -81,26 +81,40 @@ typedef struct pfx_gl {
 #undef PFX_GL_FIELD
 } pfx_gl;
 
-/* Uniform locations of the sprite program (render/shader.c). */
+/* Uniform locations of a sprite program (render/shader.c). */
 typedef struct pfx_sprite_uniforms {
-    GLint view, proj, px_per_unit, min_px, align, axis, plane_x, plane_y;
-    GLint kind, textured, tex, grid, frames, frame_loop, frame_blend;
-    GLint lit, normal_mapped, normal_tex, light_dir, light_color, ambient;
+    GLint view, proj, px_per_unit, min_px, axis, plane_x, plane_y;
+    GLint tex, grid, frames, frame_loop, normal_tex, light_dir, light_color, ambient;
 } pfx_sprite_uniforms;
 
-/* A material as the GPU holds it: the caller's description and its
- * textures (0: none). */
+/* A sprite program specialised for one combination of material switches
+ * (render/shader.c says which and why). */
+typedef struct pfx_program {
+    unsigned key;
+    GLuint id;
+    pfx_sprite_uniforms u;
+} pfx_program;
+
+/* Sprite kinds x alignments x texture, cross-fade, light and normal-map
+ * switches give far more combinations than an effect's emitters use; an
+ * effect has at most this many materials' worth of distinct ones. */
+#define PFX_MAX_PROGRAMS 64
+
+/* A material as the GPU holds it: the caller's description, its textures
+ * (0: none) and its program (an index into the renderer's). */
 typedef struct pfx_gpu_material {
     pfx_material m;
     GLuint texture, normal_map;
+    size_t program;
 } pfx_gpu_material;
 
 struct pfx_renderer {
     int width, height;
     pfx_gl_context *ctx;
     pfx_gl gl;
-    GLuint fbo, colour_rb, vao, quad_vbo, instance_vbo, program;
-    pfx_sprite_uniforms u;
+    GLuint fbo, colour_rb, vao, quad_vbo, instance_vbo;
+    pfx_program programs[PFX_MAX_PROGRAMS];
+    size_t program_count;
     pfx_gpu_material *materials;
     size_t material_count;
     float *pixels; /* width * height * 4 floats read back from the FBO */
@@ -128,11 +142,13 @@ typedef struct pixel_box {
     int x0, y0, x1, y1;
 } pixel_box;
 
-/* render/shader.c: compiles and links the sprite program, finds its
- * uniforms; the per-frame and per-material uniforms. */
-bool pfx_shader_build(pfx_renderer *r, pfx_diags *d);
-void pfx_shader_frame(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s);
-void pfx_shader_material(pfx_renderer *r, const pfx_view *v, const pfx_gpu_material *g);
+/* render/shader.c: bind gives g the program its switches need, compiling
+ * and linking it the first time; material makes g's program current and
+ * sets its uniforms (camera, light, alignment, flipbook, textures).
+ * Programs live until the context does. */
+bool pfx_shader_bind(pfx_renderer *r, pfx_gpu_material *g, pfx_diags *d);
+void pfx_shader_material(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
+                         const pfx_gpu_material *g);
 
 /* render/sort.c: back-to-front by view depth, stable (LSD radix on float
  * keys); false with an error when the scratch cannot grow. */

@@ -20,7 +20,6 @@
  * (its falloff integrates to width x height) is the same at any size. The
  * corner coordinate goes to the fragment shader unchanged. */
 static const char *vertex_src =
-    "#version 330 core\n"
     "layout(location = 0) in vec2 corner;\n"
     "layout(location = 1) in vec4 centre_size;\n"
     "layout(location = 2) in vec4 colour;\n"
@@ -30,7 +29,6 @@ static const char *vertex_src =
     "uniform mat4 proj;\n"
     "uniform float px_per_unit;\n"
     "uniform float min_px;\n"
-    "uniform int align;\n"
     "uniform vec3 axis;\n"
     "uniform vec3 plane_x;\n"
     "uniform vec3 plane_y;\n"
@@ -44,24 +42,24 @@ static const char *vertex_src =
     "    float hx = 0.5 * centre_size.w, hy = hx;\n"
     "    float s = sin(turn.x), k = cos(turn.x);\n"
     "    vec3 ax = vec3(k, s, 0.0), ay = vec3(-s, k, 0.0);\n"
-    "    if (align == 1) {\n"
-    "        vec2 d = (mat3(view) * motion.xyz).xy;\n"
-    "        float L = length(d);\n"
-    "        if (L > 1e-20) {\n"
-    "            ay = vec3(d / L, 0.0);\n"
-    "            ax = vec3(ay.y, -ay.x, 0.0);\n"
-    "        }\n"
-    "        hy = 0.5 * motion.w;\n"
-    "    } else if (align == 2) {\n"
-    "        vec3 sight = proj[3][3] > 0.5 ? vec3(0.0, 0.0, 1.0) : normalize(-c.xyz);\n"
-    "        vec3 side = cross(axis, sight);\n"
-    "        float L = length(side);\n"
-    "        ay = axis;\n"
-    "        ax = L > 1e-12 ? side / L : vec3(k, s, 0.0);\n"
-    "    } else if (align == 3) {\n"
-    "        ax = k * plane_x + s * plane_y;\n"
-    "        ay = -s * plane_x + k * plane_y;\n"
+    "#if ALIGN == 1\n"
+    "    vec2 d = (mat3(view) * motion.xyz).xy;\n"
+    "    float L = length(d);\n"
+    "    if (L > 1e-20) {\n"
+    "        ay = vec3(d / L, 0.0);\n"
+    "        ax = vec3(ay.y, -ay.x, 0.0);\n"
     "    }\n"
+    "    hy = 0.5 * motion.w;\n"
+    "#elif ALIGN == 2\n"
+    "    vec3 sight = proj[3][3] > 0.5 ? vec3(0.0, 0.0, 1.0) : normalize(-c.xyz);\n"
+    "    vec3 side = cross(axis, sight);\n"
+    "    float L = length(side);\n"
+    "    ay = axis;\n"
+    "    ax = L > 1e-12 ? side / L : vec3(k, s, 0.0);\n"
+    "#elif ALIGN == 3\n"
+    "    ax = k * plane_x + s * plane_y;\n"
+    "    ay = -s * plane_x + k * plane_y;\n"
+    "#endif\n"
     "    float w = proj[2][3] * c.z + proj[3][3];\n"
     "    float gx = max(1.0, min_px * w / (2.0 * hx * px_per_unit));\n"
     "    float gy = max(1.0, min_px * w / (2.0 * hy * px_per_unit));\n"
@@ -80,21 +78,15 @@ static const char *vertex_src =
  * light: ambient + colour max(0, n . l) with n the sprite's spherical
  * normal (x, y, sqrt(1 - d^2)) in its own axes, or the normal map's. */
 static const char *fragment_src =
-    "#version 330 core\n"
     "in vec2 v_corner;\n"
     "in vec4 v_colour;\n"
     "flat in vec2 v_frame;\n"
     "flat in vec3 v_ax;\n"
     "flat in vec3 v_ay;\n"
-    "uniform int kind;\n"
-    "uniform bool textured;\n"
     "uniform sampler2D tex;\n"
     "uniform vec2 grid;\n"
     "uniform float frames;\n"
     "uniform bool frame_loop;\n"
-    "uniform bool frame_blend;\n"
-    "uniform bool lit;\n"
-    "uniform bool normal_mapped;\n"
     "uniform sampler2D normal_tex;\n"
     "uniform vec3 light_dir;\n" /* towards the light, view space */
     "uniform vec3 light_color;\n"
@@ -113,34 +105,33 @@ static const char *fragment_src =
     "}\n"
     "float shape(vec2 q) {\n"
     "    float d2 = dot(q, q);\n"
-    "    if (kind == 1) { vec2 s = 1.0 - q * q; return s.x * s.x * s.y * s.y; }\n"
-    "    if (kind == 2) {\n"
-    "        float e = q.x * q.x * 9.0 + q.y * q.y;\n"
-    "        if (e >= 1.0) return 0.0;\n"
-    "        float core = max(0.0, 1.0 - e * 6.0);\n"
-    "        return (1.0 - e) * (1.0 - e) + 2.0 * core * core * core;\n"
-    "    }\n"
-    "    if (kind == 3) {\n"
-    "        if (d2 >= 1.0) return 0.0;\n"
-    "        vec2 p = q * 1.7 + vec2(37.0, 17.0) * v_frame.y;\n"
-    "        float n = 0.65 * noise(p) + 0.35 * noise(p * 2.3 + 5.0);\n"
-    "        float k = 1.0 - d2;\n"
-    "        return k * sqrt(k) * clamp(1.6 * n - 0.15, 0.0, 1.0);\n"
-    "    }\n"
-    "    if (kind == 4) {\n"
-    "        if (d2 >= 1.0) return 0.0;\n"
-    "        float k = 1.0 - d2, a = abs(q.x), b = abs(q.y);\n"
-    "        float rays = max(0.0, 1.0 - a * 14.0) * (1.0 - b) * (1.0 - b)\n"
-    "                   + max(0.0, 1.0 - b * 14.0) * (1.0 - a) * (1.0 - a);\n"
-    "        float core = max(0.0, 1.0 - d2 * 16.0);\n"
-    "        return 0.35 * k * k * k + 0.8 * rays + 2.0 * core * core;\n"
-    "    }\n"
-    "    if (kind == 5) {\n"
-    "        float t = (sqrt(d2) - 0.72) / 0.22;\n"
-    "        return t * t < 1.0 ? (1.0 - t * t) * (1.0 - t * t) : 0.0;\n"
-    "    }\n"
+    "#if KIND == 1\n"
+    "    vec2 s = 1.0 - q * q; return s.x * s.x * s.y * s.y;\n"
+    "#elif KIND == 2\n"
+    "    float e = q.x * q.x * 9.0 + q.y * q.y;\n"
+    "    if (e >= 1.0) return 0.0;\n"
+    "    float core = max(0.0, 1.0 - e * 6.0);\n"
+    "    return (1.0 - e) * (1.0 - e) + 2.0 * core * core * core;\n"
+    "#elif KIND == 3\n"
+    "    if (d2 >= 1.0) return 0.0;\n"
+    "    vec2 p = q * 1.7 + vec2(37.0, 17.0) * v_frame.y;\n"
+    "    float n = 0.65 * noise(p) + 0.35 * noise(p * 2.3 + 5.0);\n"
+    "    float k = 1.0 - d2;\n"
+    "    return k * sqrt(k) * clamp(1.6 * n - 0.15, 0.0, 1.0);\n"
+    "#elif KIND == 4\n"
+    "    if (d2 >= 1.0) return 0.0;\n"
+    "    float k = 1.0 - d2, a = abs(q.x), b = abs(q.y);\n"
+    "    float rays = max(0.0, 1.0 - a * 14.0) * (1.0 - b) * (1.0 - b)\n"
+    "               + max(0.0, 1.0 - b * 14.0) * (1.0 - a) * (1.0 - a);\n"
+    "    float core = max(0.0, 1.0 - d2 * 16.0);\n"
+    "    return 0.35 * k * k * k + 0.8 * rays + 2.0 * core * core;\n"
+    "#elif KIND == 5\n"
+    "    float t = (sqrt(d2) - 0.72) / 0.22;\n"
+    "    return t * t < 1.0 ? (1.0 - t * t) * (1.0 - t * t) : 0.0;\n"
+    "#else\n"
     "    if (d2 >= 1.0) return 0.0;\n"
     "    return (1.0 - d2) * (1.0 - d2);\n"
+    "#endif\n"
     "}\n"
     "vec2 cell_uv(float cell, vec2 uv) {\n"
     "    float col = mod(cell, grid.x), row = floor(cell / grid.x);\n"
@@ -149,39 +140,49 @@ static const char *fragment_src =
     "vec4 texel(vec2 uv) {\n" /* uv: (0, 0) the top left of the cell */
     "    float a = floor(v_frame.x), t = v_frame.x - a;\n"
     "    vec4 x = texture(tex, cell_uv(a, uv));\n"
-    "    if (!frame_blend || t <= 0.0) return x;\n"
+    "#if FRAME_BLEND\n"
+    "    if (t <= 0.0) return x;\n"
     "    float b = a + 1.0;\n"
     "    b = frame_loop ? mod(b, frames) : min(b, frames - 1.0);\n"
     "    return mix(x, texture(tex, cell_uv(b, uv)), t);\n"
+    "#else\n"
+    "    return x;\n"
+    "#endif\n"
     "}\n"
     "void main() {\n"
     "    vec2 q = v_corner, uv = vec2(0.5 + 0.5 * q.x, 0.5 - 0.5 * q.y);\n"
-    "    vec4 base;\n"
-    "    if (textured) {\n"
-    "        base = texel(uv);\n"
-    "    } else {\n"
-    "        float f = shape(q);\n"
-    "        if (f <= 0.0) discard;\n"
-    "        base = vec4(f);\n"
-    "    }\n"
+    "#if TEXTURED\n"
+    "    vec4 base = texel(uv);\n"
+    "#else\n"
+    "    float f = shape(q);\n"
+    "    if (f <= 0.0) discard;\n"
+    "    vec4 base = vec4(f);\n"
+    "#endif\n"
     "    frag = v_colour * base;\n"
-    "    if (lit) {\n"
-    "        vec3 az = cross(v_ax, v_ay);\n"
-    "        vec3 n;\n"
-    "        if (normal_mapped) {\n"
-    "            vec3 m = texture(normal_tex, cell_uv(floor(v_frame.x), uv)).xyz * 2.0 - 1.0;\n"
-    "            n = normalize(v_ax * m.x + v_ay * m.y + az * m.z);\n"
-    "        } else {\n"
-    "            float d2 = min(dot(q, q), 1.0);\n"
-    "            n = v_ax * q.x + v_ay * q.y + az * sqrt(1.0 - d2);\n"
-    "        }\n"
-    "        frag.rgb *= ambient + light_color * max(0.0, dot(n, light_dir));\n"
-    "    }\n"
+    "#if LIT\n"
+    "    vec3 az = cross(v_ax, v_ay);\n"
+    "#if NORMAL_MAPPED\n"
+    "    vec3 m = texture(normal_tex, cell_uv(floor(v_frame.x), uv)).xyz * 2.0 - 1.0;\n"
+    "    vec3 n = normalize(v_ax * m.x + v_ay * m.y + az * m.z);\n"
+    "#else\n"
+    "    float d2 = min(dot(q, q), 1.0);\n"
+    "    vec3 n = v_ax * q.x + v_ay * q.y + az * sqrt(1.0 - d2);\n"
+    "#endif\n"
+    "    frag.rgb *= ambient + light_color * max(0.0, dot(n, light_dir));\n"
+    "#endif\n"
     "}\n";
 
-static GLuint compile_shader(pfx_renderer *r, GLenum type, const char *src, pfx_diags *d) {
+/* One program per combination of what the material switches (sprite
+ * kind, texture, cross-fade, light, normal map, alignment), chosen by
+ * #defines in front of the sources rather than by uniforms: llvmpipe runs
+ * both sides of a branch under a mask, so one program with every path in
+ * it cost every path on every fragment (a plain round sprite paid for the
+ * smoke noise, the texture fetches and the light). */
+static GLuint compile_shader(pfx_renderer *r, GLenum type, const char *defines, const char *src,
+                             pfx_diags *d) {
     GLuint s = r->gl.CreateShader(type);
-    r->gl.ShaderSource(s, 1, &src, NULL);
+    const char *parts[3] = {"#version 330 core\n", defines, src};
+    r->gl.ShaderSource(s, 3, parts, NULL);
     r->gl.CompileShader(s);
     GLint ok = GL_FALSE;
     r->gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
@@ -196,46 +197,80 @@ static GLuint compile_shader(pfx_renderer *r, GLenum type, const char *src, pfx_
     return s;
 }
 
-static void find_uniforms(pfx_renderer *r) {
-    pfx_sprite_uniforms *u = &r->u;
-    GLuint p = r->program;
+static void find_uniforms(pfx_renderer *r, pfx_program *prog) {
+    pfx_sprite_uniforms *u = &prog->u;
+    GLuint p = prog->id;
 #define PFX_UNIFORM(name) u->name = r->gl.GetUniformLocation(p, #name);
     PFX_UNIFORM(view) PFX_UNIFORM(proj) PFX_UNIFORM(px_per_unit) PFX_UNIFORM(min_px);
-    PFX_UNIFORM(align) PFX_UNIFORM(axis) PFX_UNIFORM(plane_x) PFX_UNIFORM(plane_y);
-    PFX_UNIFORM(kind) PFX_UNIFORM(textured) PFX_UNIFORM(tex) PFX_UNIFORM(grid);
-    PFX_UNIFORM(frames) PFX_UNIFORM(frame_loop) PFX_UNIFORM(frame_blend);
-    PFX_UNIFORM(lit) PFX_UNIFORM(normal_mapped) PFX_UNIFORM(normal_tex);
-    PFX_UNIFORM(light_dir) PFX_UNIFORM(light_color) PFX_UNIFORM(ambient);
+    PFX_UNIFORM(axis) PFX_UNIFORM(plane_x) PFX_UNIFORM(plane_y);
+    PFX_UNIFORM(tex) PFX_UNIFORM(grid) PFX_UNIFORM(frames) PFX_UNIFORM(frame_loop);
+    PFX_UNIFORM(normal_tex) PFX_UNIFORM(light_dir) PFX_UNIFORM(light_color);
+    PFX_UNIFORM(ambient);
 #undef PFX_UNIFORM
 }
 
-bool pfx_shader_build(pfx_renderer *r, pfx_diags *d) {
-    GLuint vs = compile_shader(r, GL_VERTEX_SHADER, vertex_src, d);
+/* The switches of a material as one number. */
+static unsigned program_key(const pfx_gpu_material *g) {
+    const pfx_material *m = &g->m;
+    bool textured = g->texture != 0, lit = m->lit;
+    return (unsigned)m->sprite | (unsigned)m->align << 4 | (unsigned)textured << 8 |
+           (unsigned)(textured && m->frame_blend) << 9 | (unsigned)lit << 10 |
+           (unsigned)(lit && g->normal_map != 0) << 11;
+}
+
+static bool link_program(pfx_renderer *r, pfx_program *prog, pfx_diags *d) {
+    char defines[160];
+    unsigned k = prog->key;
+    snprintf(defines, sizeof defines,
+             "#define KIND %u\n#define ALIGN %u\n#define TEXTURED %u\n#define FRAME_BLEND %u\n"
+             "#define LIT %u\n#define NORMAL_MAPPED %u\n",
+             k & 15u, (k >> 4) & 15u, (k >> 8) & 1u, (k >> 9) & 1u, (k >> 10) & 1u, (k >> 11) & 1u);
+    GLuint vs = compile_shader(r, GL_VERTEX_SHADER, defines, vertex_src, d);
     if (!vs)
         return false;
-    GLuint fs = compile_shader(r, GL_FRAGMENT_SHADER, fragment_src, d);
+    GLuint fs = compile_shader(r, GL_FRAGMENT_SHADER, defines, fragment_src, d);
     if (!fs) {
         r->gl.DeleteShader(vs);
         return false;
     }
-    r->program = r->gl.CreateProgram();
-    r->gl.AttachShader(r->program, vs);
-    r->gl.AttachShader(r->program, fs);
-    r->gl.LinkProgram(r->program);
+    prog->id = r->gl.CreateProgram();
+    r->gl.AttachShader(prog->id, vs);
+    r->gl.AttachShader(prog->id, fs);
+    r->gl.LinkProgram(prog->id);
     r->gl.DeleteShader(vs); /* flagged; freed with the program */
     r->gl.DeleteShader(fs);
     GLint ok = GL_FALSE;
-    r->gl.GetProgramiv(r->program, GL_LINK_STATUS, &ok);
+    r->gl.GetProgramiv(prog->id, GL_LINK_STATUS, &ok);
     if (!ok) {
         char log[512] = "";
-        r->gl.GetProgramInfoLog(r->program, sizeof log, NULL, log);
+        r->gl.GetProgramInfoLog(prog->id, sizeof log, NULL, log);
         pfx_diag_error(d, "cannot link sprite shader: %s", log);
+        r->gl.DeleteProgram(prog->id);
         return false;
     }
-    find_uniforms(r);
-    r->gl.UseProgram(r->program);
-    r->gl.Uniform1i(r->u.tex, 0);
-    r->gl.Uniform1i(r->u.normal_tex, 1);
+    find_uniforms(r, prog);
+    r->gl.UseProgram(prog->id);
+    r->gl.Uniform1i(prog->u.tex, 0);
+    r->gl.Uniform1i(prog->u.normal_tex, 1);
+    return true;
+}
+
+bool pfx_shader_bind(pfx_renderer *r, pfx_gpu_material *g, pfx_diags *d) {
+    unsigned key = program_key(g);
+    for (size_t i = 0; i < r->program_count; i++)
+        if (r->programs[i].key == key) {
+            g->program = i;
+            return true;
+        }
+    if (r->program_count == PFX_MAX_PROGRAMS) {
+        pfx_diag_error(d, "more than %d different sprite programs", PFX_MAX_PROGRAMS);
+        return false;
+    }
+    pfx_program *prog = &r->programs[r->program_count];
+    prog->key = key;
+    if (!link_program(r, prog, d))
+        return false;
+    g->program = r->program_count++;
     return true;
 }
 
@@ -246,13 +281,14 @@ static void to_view(const pfx_view *v, const double w[3], float out[3]) {
         out[row] = (float)(m[row] * w[0] + m[4 + row] * w[1] + m[8 + row] * w[2]);
 }
 
-void pfx_shader_frame(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s) {
+/* The camera and the light, for the program about to draw. */
+static void set_frame(pfx_renderer *r, const pfx_sprite_uniforms *u, const pfx_view *v,
+                      const pfx_render_settings *s) {
     float view[16], proj[16], l[3];
     for (int i = 0; i < 16; i++) {
         view[i] = (float)v->m[i];
         proj[i] = (float)v->proj[i];
     }
-    const pfx_sprite_uniforms *u = &r->u;
     r->gl.UniformMatrix4fv(u->view, 1, GL_FALSE, view);
     r->gl.UniformMatrix4fv(u->proj, 1, GL_FALSE, proj);
     r->gl.Uniform1f(u->px_per_unit, (float)(v->proj[5] * 0.5 * r->height));
@@ -278,27 +314,25 @@ static void plane_basis(const double n[3], double x[3], double y[3]) {
     y[2] = n[0] * x[1] - n[1] * x[0];
 }
 
-void pfx_shader_material(pfx_renderer *r, const pfx_view *v, const pfx_gpu_material *g) {
+void pfx_shader_material(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
+                         const pfx_gpu_material *g) {
     const pfx_material *m = &g->m;
-    const pfx_sprite_uniforms *u = &r->u;
+    const pfx_program *prog = &r->programs[g->program];
+    const pfx_sprite_uniforms *u = &prog->u;
+    r->gl.UseProgram(prog->id);
+    set_frame(r, u, v, s);
     float a[3], px[3], py[3];
     double bx[3], by[3];
     to_view(v, m->axis, a);
     plane_basis(m->axis, bx, by);
     to_view(v, bx, px);
     to_view(v, by, py);
-    r->gl.Uniform1i(u->align, (GLint)m->align);
     r->gl.Uniform3f(u->axis, a[0], a[1], a[2]);
     r->gl.Uniform3f(u->plane_x, px[0], px[1], px[2]);
     r->gl.Uniform3f(u->plane_y, py[0], py[1], py[2]);
-    r->gl.Uniform1i(u->kind, (GLint)m->sprite);
-    r->gl.Uniform1i(u->textured, g->texture != 0);
     r->gl.Uniform2f(u->grid, (float)m->cols, (float)m->rows);
     r->gl.Uniform1f(u->frames, (float)m->frames);
     r->gl.Uniform1i(u->frame_loop, m->frame_loop);
-    r->gl.Uniform1i(u->frame_blend, m->frame_blend);
-    r->gl.Uniform1i(u->lit, m->lit);
-    r->gl.Uniform1i(u->normal_mapped, g->normal_map != 0);
     r->gl.ActiveTexture(GL_TEXTURE0);
     r->gl.BindTexture(GL_TEXTURE_2D, g->texture);
     r->gl.ActiveTexture(GL_TEXTURE1);
