@@ -227,6 +227,13 @@ gen_bursts_150000() { # 150,000 bursts: the cap of 256 before reading any
     errors_shown 1
 }
 
+gen_mesh_fifo() { # a mesh file that is a FIFO with no writer: refused, not waited on
+    mkfifo "$work/fifo.obj" || flunk "mkfifo failed"
+    write mesh_fifo 'b"pfx: 1\nemitters:\n  flame:\n    shape: { type: mesh, file: fifo.obj }\n"'
+    expect mesh_fifo 1 ":4:32: error: cannot open 'fifo.obj': not a regular file"
+    errors_shown 1
+}
+
 generated_case() {
     begin "generated/$1"
     if declare -F "gen_$1" >/dev/null; then
