@@ -15,6 +15,7 @@
 #include "compile/schema.h"
 #include "jobs/load.h"
 #include "jobs/render_job.h"
+#include "output/atomic_file.h"
 #include "output/bake_csv.h"
 #include "render/render.h"
 #include "render/sprites.h"
@@ -279,8 +280,12 @@ static bool make_dirs(const char *path, pfx_diags *d) {
                 pfx_diag_error(d, "cannot create '%s': %s", buf, strerror(errno));
                 return false;
             }
-            if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode)) {
-                pfx_diag_error(d, "cannot create '%s': Not a directory", buf);
+            if (stat(buf, &st) != 0) { /* a symlink loop, a dangling link */
+                pfx_diag_error(d, "cannot create '%s': %s", buf, strerror(errno));
+                return false;
+            }
+            if (!S_ISDIR(st.st_mode)) {
+                pfx_diag_error(d, "cannot create '%s': %s", buf, strerror(ENOTDIR));
                 return false;
             }
             *p = saved;
@@ -524,6 +529,8 @@ static int cmd_bench(int argc, char **argv, const options *o) {
 }
 
 int main(int argc, char **argv) {
+    /* Before any thread starts: a signal removes the temporary files. */
+    pfx_atomic_guard_signals();
     if (argc < 2)
         return usage_error("%s", "no command given");
     const char *cmd = argv[1];

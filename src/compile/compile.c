@@ -246,9 +246,10 @@ static const pfx_key top_keys[] = {
      .doc = "Named deflectors (at most 64); every emitter's particles hit all of them unless it "
             "lists its own."},
     {"emitters", PFX_KEY_CODE, .offset = -1,
-     .schema = "{\"type\": \"object\", \"additionalProperties\": {\"$ref\": "
-               "\"#/$defs/emitter\"}}",
-     .doc = "Named emitters, in file order (bake row order, draw order at equal depth)."},
+     .schema = "{\"type\": \"object\", \"maxProperties\": 1024, \"additionalProperties\": "
+               "{\"$ref\": \"#/$defs/emitter\"}}",
+     .doc = "Named emitters (at most 1024), in file order (bake row order, draw order at equal "
+            "depth)."},
     {"light", PFX_KEY_CODE, .offset = -1, .hook = read_light,
      .schema = "{\"$ref\": \"#/$defs/light\"}",
      .doc = "The directional light of emitters with lit: true."},
@@ -372,7 +373,12 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
     if (!emitters) {
         pfx_diag_add(d, PFX_SEV_WARNING, root->line, root->col, 1,
                      "the effect has no 'emitters': every frame will be empty");
-    } else if (pfx_read_map(&c.r, emitters, "emitters")) {
+    } else if (pfx_read_map(&c.r, emitters, "emitters") && emitters->count > PFX_MAX_EMITTERS) {
+        /* Before compiling any: the cap bounds the work, not only the
+         * result. */
+        pfx_read_error(&c.r, emitters, "an effect has at most %d emitters, got %zu",
+                       PFX_MAX_EMITTERS, emitters->count);
+    } else if (emitters->kind == PFX_NODE_MAP) {
         e->emitters = pfx_arena_alloc(arena, (emitters->count + 1) * sizeof *e->emitters);
         if (!e->emitters)
             return NULL;

@@ -173,11 +173,9 @@ static double spawn_factor(const pfx_emitter *parent, const pfx_spawn *s) {
 bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) {
     int errors = r->d->errors;
     size_t n = e->emitter_count;
-    bool seen[1024];
-    if (n > 1024) { /* the compiler caps emitters at 1024 */
-        pfx_read_error(r, emitters, "an effect has at most 1024 emitters, got %zu", n);
+    bool seen[PFX_MAX_EMITTERS];
+    if (n > PFX_MAX_EMITTERS) /* pfx_compile checked before compiling them */
         return false;
-    }
     for (size_t i = 0; i < n; i++) {
         memset(seen, 0, sizeof seen);
         if (undepthed_cycle(e, i, i, 0, seen)) {
@@ -218,8 +216,8 @@ bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) 
      * its start, each making the largest count. Without depth the graph is
      * acyclic, so n generations reach every emitter; with depth, MAX_DEPTH
      * more bound the cycles. */
-    double rate[1024], peak[1024], next_rate[1024], next_peak[1024], total_rate[1024],
-        total_peak[1024];
+    double rate[PFX_MAX_EMITTERS], peak[PFX_MAX_EMITTERS], next_rate[PFX_MAX_EMITTERS],
+        next_peak[PFX_MAX_EMITTERS], total_rate[PFX_MAX_EMITTERS], total_peak[PFX_MAX_EMITTERS];
     for (size_t i = 0; i < n; i++) {
         rate[i] = pfx_emitter_max_rate(&e->emitters[i]);
         peak[i] = pfx_emitter_peak(&e->emitters[i]);

@@ -99,7 +99,8 @@ bool pfx_read_check_keys(pfx_reader *r, const pfx_node *map, const char *const *
         for (size_t j = 0; j < n; j++)
             shown[j] = k->text[j] ? k->text[j] : '?';
         shown[n] = 0;
-        const char *s = pfx_suggest(k->text, allowed);
+        /* Past the cap the message is only counted: no suggestion to find. */
+        const char *s = r->d->count < PFX_DIAG_MAX ? pfx_suggest(k->text, allowed) : NULL;
         if (s)
             pfx_read_error(r, k, "unknown key '%s' in %s; did you mean '%s'?", shown, where, s);
         else

@@ -21,7 +21,8 @@
 #define PFX_DEGREE (3.14159265358979323846 / 180)
 
 #define PFX_FORMAT_VERSION 1
-#define PFX_MAX_FORCES 32 /* an emitter's force set is a 32-bit mask */
+#define PFX_MAX_FORCES 32     /* an emitter's force set is a 32-bit mask */
+#define PFX_MAX_EMITTERS 1024 /* checked before any is compiled */
 #define PFX_GRADIENT_LUT 256
 #define PFX_DEFAULT_MAX_PARTICLES 1000000
 

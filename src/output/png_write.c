@@ -9,17 +9,16 @@
 #include "output/png_write.h"
 
 #include "base/diag.h"
+#include "output/atomic_file.h"
 
 #include <errno.h>
 #include <png.h>
 #include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 #include <zlib.h>
 
 /* Compression, measured on a 512x512 frame of 150 soft particles, 78% fully
@@ -72,13 +71,6 @@ static void pfx_png_on_write(png_structp png, png_bytep data, size_t length) {
 /* Nothing to do: pfx_png_write flushes once, after the last row. */
 static void pfx_png_on_flush(png_structp png) { (void)png; }
 
-/* Thread-safe strerror: the queue writes from its own thread. */
-static const char *pfx_errno_text(int errnum, char *buf, size_t size) {
-    if (strerror_r(errnum, buf, size) != 0)
-        snprintf(buf, size, "error %d", errnum);
-    return buf;
-}
-
 /* Encodes into ctx->file. Nothing assigned before setjmp is modified after
  * it, so no local needs to be volatile. */
 static bool pfx_png_encode(pfx_png_ctx *ctx, const uint8_t *rgba, int width, int height) {
@@ -114,26 +106,10 @@ static bool pfx_png_encode(pfx_png_ctx *ctx, const uint8_t *rgba, int width, int
     return true;
 }
 
-/* "<dir>/.<name>.tmp-<pid>-<n>": same directory so rename() is atomic; the
- * counter keeps two threads of one process writing the same path apart. */
-static char *pfx_temp_name(const char *path) {
-    static atomic_uint counter;
-    unsigned n = atomic_fetch_add(&counter, 1u);
-    const char *slash = strrchr(path, '/');
-    int dir_len = slash != NULL ? (int)(slash - path + 1) : 0;
-    const char *name = path + dir_len;
-    long pid = (long)getpid();
-    int len = snprintf(NULL, 0, "%.*s.%s.tmp-%ld-%u", dir_len, path, name, pid, n);
-    if (len < 0)
-        return NULL;
-    char *temp = malloc((size_t)len + 1);
-    if (temp != NULL)
-        snprintf(temp, (size_t)len + 1, "%.*s.%s.tmp-%ld-%u", dir_len, path, name, pid, n);
-    return temp;
-}
-
-bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height, pfx_diags *d) {
-    char why[128];
+/* Encodes into an atomic file (output/atomic_file.h): whole or absent.
+ * sync_dir: fsync the directory after the rename. */
+static bool png_write(const char *path, const uint8_t *rgba, int width, int height, bool sync_dir,
+                      pfx_diags *d) {
     if (path == NULL || path[0] == '\0' || path[strlen(path) - 1] == '/') {
         pfx_diag_error(d, "cannot write '%s': not a file name", path ? path : "");
         return false;
@@ -143,49 +119,24 @@ bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height,
         pfx_diag_error(d, "cannot write '%s': invalid image size %dx%d", path, width, height);
         return false;
     }
-    char *temp = pfx_temp_name(path);
-    if (temp == NULL) {
-        pfx_diag_error(d, "cannot write '%s': out of memory", path);
+    pfx_atomic_file *a = pfx_atomic_open(path, d);
+    if (a == NULL)
         return false;
-    }
-    /* "x": fail rather than follow or truncate something already there. */
-    FILE *file = fopen(temp, "wbx");
-    if (file == NULL) {
-        pfx_diag_error(d, "cannot write '%s': %s", path, pfx_errno_text(errno, why, sizeof why));
-        free(temp);
-        return false;
-    }
-    pfx_png_ctx ctx = {.message = "", .write_errno = 0, .file = file};
-    bool ok = pfx_png_encode(&ctx, rgba, width, height);
-    if (!ok) {
-        if (ctx.write_errno != 0)
-            pfx_diag_error(d, "cannot write '%s': %s", path,
-                           pfx_errno_text(ctx.write_errno, why, sizeof why));
-        else
-            pfx_diag_error(d, "cannot encode '%s': %s", path, ctx.message);
-        fclose(file);
-    } else {
-        /* Buffered data can fail to land only at fflush or fclose. */
-        int failed_errno = 0;
-        if (fflush(file) != 0 || ferror(file))
-            failed_errno = errno != 0 ? errno : EIO;
-        if (fclose(file) != 0 && failed_errno == 0)
-            failed_errno = errno != 0 ? errno : EIO;
-        if (failed_errno != 0) {
-            pfx_diag_error(d, "cannot write '%s': %s", path,
-                           pfx_errno_text(failed_errno, why, sizeof why));
-            ok = false;
-        } else if (rename(temp, path) != 0) {
-            /* The temporary's name means nothing to the user; the path does. */
-            pfx_diag_error(d, "cannot write '%s': %s", path,
-                           pfx_errno_text(errno, why, sizeof why));
-            ok = false;
+    pfx_png_ctx ctx = {.message = "", .write_errno = 0, .file = pfx_atomic_stream(a)};
+    if (!pfx_png_encode(&ctx, rgba, width, height)) {
+        if (ctx.write_errno != 0) {
+            pfx_atomic_failed(a, ctx.write_errno);
+            return pfx_atomic_commit(a, false, d); /* reports the errno, removes the temporary */
         }
+        pfx_diag_error(d, "cannot encode '%s': %s", path, ctx.message);
+        pfx_atomic_abort(a);
+        return false;
     }
-    if (!ok)
-        unlink(temp);
-    free(temp);
-    return ok;
+    return pfx_atomic_commit(a, sync_dir, d);
+}
+
+bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height, pfx_diags *d) {
+    return png_write(path, rgba, width, height, true, d);
 }
 
 /* Applies the transforms that turn any PNG into 8-bit RGBA rows. */
@@ -277,6 +228,8 @@ struct pfx_png_queue {
     bool caller_has_slot; /* pfx_png_queue_buffer called, submit not yet */
     bool stop;
     bool failed;
+    char *written;     /* the last frame written (writer thread only), whose
+                          directory finish syncs once */
     pfx_diags failure; /* the first failure, under the lock; handed over by finish */
     pthread_t thread;
 };
@@ -298,8 +251,13 @@ static void *pfx_png_queue_main(void *arg) {
         pthread_mutex_unlock(&q->lock);
 
         /* After the first error, later frames are dropped, not written. */
-        bool ok = skip || pfx_png_write(path, q->pixels[slot], q->width, q->height, &error);
-        free(path);
+        bool ok = skip || png_write(path, q->pixels[slot], q->width, q->height, false, &error);
+        if (ok && !skip) {
+            free(q->written);
+            q->written = path;
+        } else {
+            free(path);
+        }
 
         pthread_mutex_lock(&q->lock);
         if (!ok && !q->failed) {
@@ -404,6 +362,11 @@ bool pfx_png_queue_finish(pfx_png_queue *q, pfx_diags *d) {
     pthread_mutex_unlock(&q->lock);
     pthread_join(q->thread, NULL);
 
+    /* Each frame was synced before its rename; their names are synced
+     * here, once for the directory. */
+    if (!q->failed && q->written && !pfx_atomic_sync_dir(q->written, &q->failure))
+        q->failed = true;
+    free(q->written);
     bool ok = !q->failed;
     if (d)
         pfx_diags_append(d, &q->failure);

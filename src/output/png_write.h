@@ -11,8 +11,9 @@
 #include "base/diag.h"
 
 /* Writes width*height 8-bit straight-alpha RGBA pixels (top row first) to
- * `path` atomically. On failure returns false with the reason in d and
- * leaves no file at `path` or at the temporary name. */
+ * `path` atomically (output/atomic_file.h: synced to the disk before its
+ * rename, the directory after). On failure returns false with the reason
+ * in d and leaves no file at `path` or at the temporary name. */
 bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height, pfx_diags *d);
 
 /* Reads an 8-bit RGBA PNG (for tests). Returns a malloc'd buffer the caller
@@ -36,7 +37,8 @@ void pfx_png_queue_submit(pfx_png_queue *q, const char *path);
 /* True once a frame has failed; later frames are dropped, so the caller
  * may stop rendering early. The error itself comes from finish. */
 bool pfx_png_queue_failed(pfx_png_queue *q);
-/* Waits for every submitted frame, stops the thread and frees the queue.
+/* Waits for every submitted frame, syncs their directory (each frame was
+ * synced before its rename), stops the thread and frees the queue.
  * Returns false with the first write error added to d (may be NULL). */
 bool pfx_png_queue_finish(pfx_png_queue *q, pfx_diags *d);
 
