@@ -19,6 +19,7 @@ typedef struct pfx_render_job {
     const char *dir, *stem;
     long first, last;
     bool progress; /* a "\rpfx: frame ..." line on stderr as frames go */
+    int threads;   /* PNG encoder threads; 0: one per online core */
 
     /* Out, valid after pfx_render_job_run until pfx_render_job_free. */
     long frames_done;     /* frames drawn and handed to the writer */
@@ -29,8 +30,8 @@ typedef struct pfx_render_job {
     pfx_sim *view;
 } pfx_render_job;
 
-/* Simulates, draws and writes every frame of the job, the PNG encoder
- * overlapping the next frame's work. Each file is whole or absent. Returns
+/* Simulates, draws and writes every frame of the job, a pool of PNG
+ * encoders overlapping the next frames' work. Each file is whole or absent. Returns
  * false with the failure in d (which emitter, particle and time when the
  * simulation blew up; the path and errno when a file cannot be written);
  * frames written before a failure stay. */
