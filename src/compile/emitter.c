@@ -597,11 +597,9 @@ static void build_motion(compiler *c, pfx_emitter *em, pfx_integrator integrator
                          em->name, tol, m->choice.steps, m->choice.error_rate);
 }
 
-void pfx_compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n, pfx_emitter *em) {
-    pfx_effect *e = c->e;
-    em->name = pfx_arena_strndup(c->r.arena, key->text, key->len);
-    /* Defaults: a point emitting 10/s straight up at 1 m/s for 1 s, white,
-     * 0.1 m sprites, additive, feeling every force. */
+/* Defaults: a point emitting 10/s straight up at 1 m/s for 1 s, white,
+ * 0.1 m sprites, additive, feeling every force, not turned. */
+static void emitter_defaults(const pfx_effect *e, pfx_emitter *em) {
     pfx_keys_defaults(&pfx_emitter_table, em);
     em->direction[1] = 1;
     em->size_start = em->size_end = pfx_value_const(0.1);
@@ -612,8 +610,62 @@ void pfx_compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n, pf
     em->color.constant = true;
     em->look.intensity = 1;
     em->force_mask = e->force_count >= 32 ? 0xffffffffu : (1u << e->force_count) - 1;
+    const double no_rotation[3] = {0, 0, 0};
+    pfx_rotation_from_angles(no_rotation, em->rotation);
+}
+
+/* `rotation`: Euler angles written in degrees, constant or keyed; the
+ * model holds radians. */
+static void emitter_rotation(compiler *c, const pfx_node *v, pfx_emitter *em) {
     double rot[3] = {0, 0, 0};
+    if (!pfx_read_keys3(&c->r, v, "rotation", rot, &em->rotation_keys))
+        return;
+    for (int a = 0; a < 3; a++)
+        rot[a] *= PFX_DEGREE;
+    for (size_t k = 0; k < em->rotation_keys.count; k++)
+        for (int a = 0; a < 3; a++)
+            em->rotation_keys.v[k][a] *= PFX_DEGREE;
     pfx_rotation_from_angles(rot, em->rotation);
+}
+
+/* `forces`: the names of the top-level forces this emitter feels. */
+static void emitter_forces(compiler *c, const pfx_node *v, const pfx_node *key, pfx_emitter *em) {
+    const pfx_effect *e = c->e;
+    em->force_mask = 0;
+    if (v->kind != PFX_NODE_SEQ) {
+        pfx_read_error(&c->r, v, "'forces' must be a list of force names, got %s",
+                       pfx_node_kind_name(v));
+        return;
+    }
+    const char *names[PFX_MAX_FORCES + 1];
+    for (size_t i = 0; i < e->force_count; i++)
+        names[i] = e->forces[i].name;
+    names[e->force_count] = NULL;
+    for (size_t i = 0; i < v->count; i++) {
+        const char *name;
+        if (!pfx_read_string(&c->r, v->items[i], "forces", &name))
+            continue;
+        int f = find_force(e, name);
+        if (f >= 0) {
+            em->force_mask |= 1u << f;
+            continue;
+        }
+        const char *sug = pfx_suggest(name, names);
+        if (sug)
+            pfx_read_error(&c->r, v->items[i],
+                           "unknown force '%s' in emitter '%s'; did you mean '%s'?", name,
+                           key->text, sug);
+        else
+            pfx_read_error(&c->r, v->items[i],
+                           "unknown force '%s' in emitter '%s'; define it under 'forces'", name,
+                           key->text);
+    }
+}
+
+void pfx_compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n, pfx_emitter *em) {
+    pfx_effect *e = c->e;
+    em->name = pfx_arena_strndup(c->r.arena, key->text, key->len);
+    emitter_defaults(e, em);
 
     char where[160];
     snprintf(where, sizeof where, "emitter '%s'", key->text);
@@ -626,16 +678,8 @@ void pfx_compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n, pf
         pfx_compile_shape(&c->r, v, &em->shape, em->name, e->path);
     if ((v = pfx_node_get(n, "position")))
         pfx_read_keys3(&c->r, v, "position", em->position, &em->position_keys);
-    if ((v = pfx_node_get(n, "rotation")) &&
-        pfx_read_keys3(&c->r, v, "rotation", rot, &em->rotation_keys)) {
-        /* Written in degrees; the model holds radians. */
-        for (int a = 0; a < 3; a++)
-            rot[a] *= PFX_DEGREE;
-        for (size_t k = 0; k < em->rotation_keys.count; k++)
-            for (int a = 0; a < 3; a++)
-                em->rotation_keys.v[k][a] *= PFX_DEGREE;
-        pfx_rotation_from_angles(rot, em->rotation);
-    }
+    if ((v = pfx_node_get(n, "rotation")))
+        emitter_rotation(c, v, em);
     pfx_compile_emission(&c->r, n, em);
     if ((v = pfx_node_get(n, "lod")))
         compile_lod(c, v, n, em);
@@ -644,37 +688,8 @@ void pfx_compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n, pf
     pfx_compile_appearance(&c->r, n, em);
     pfx_compile_look(&c->r, n, em, e->path);
     compile_kill(c, n, em);
-    if ((v = pfx_node_get(n, "forces"))) {
-        em->force_mask = 0;
-        if (v->kind != PFX_NODE_SEQ) {
-            pfx_read_error(&c->r, v, "'forces' must be a list of force names, got %s",
-                           pfx_node_kind_name(v));
-        } else {
-            const char *names[PFX_MAX_FORCES + 1];
-            for (size_t i = 0; i < e->force_count; i++)
-                names[i] = e->forces[i].name;
-            names[e->force_count] = NULL;
-            for (size_t i = 0; i < v->count; i++) {
-                const char *name;
-                if (!pfx_read_string(&c->r, v->items[i], "forces", &name))
-                    continue;
-                int f = find_force(e, name);
-                if (f >= 0) {
-                    em->force_mask |= 1u << f;
-                    continue;
-                }
-                const char *sug = pfx_suggest(name, names);
-                if (sug)
-                    pfx_read_error(&c->r, v->items[i],
-                                   "unknown force '%s' in emitter '%s'; did you mean '%s'?", name,
-                                   key->text, sug);
-                else
-                    pfx_read_error(&c->r, v->items[i],
-                                   "unknown force '%s' in emitter '%s'; define it under 'forces'",
-                                   name, key->text);
-            }
-        }
-    }
+    if ((v = pfx_node_get(n, "forces")))
+        emitter_forces(c, v, key, em);
     emitter_deflectors(c, n, em);
     pfx_integrator integrator = e->integrator;
     const pfx_node *integrator_node = pfx_node_get(n, "integrator");
