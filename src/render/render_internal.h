@@ -100,6 +100,8 @@ struct pfx_renderer {
     pfx_gl_context *ctx;
     pfx_gl gl;
     GLuint fbo, colour_rb, vao, quad_vbo, instance_vbo, program;
+    GLuint ribbon_vao, ribbon_vbo, ribbon_program; /* ribbons: world-space triangles */
+    GLint ribbon_view, ribbon_proj;
     pfx_sprite_uniforms u;
     pfx_gpu_material *materials;
     size_t material_count;

@@ -179,6 +179,36 @@ static const char *fragment_src =
     "    }\n"
     "}\n";
 
+/* Ribbons: world-space triangles (render/ribbons_from_sim.c has already
+ * turned them to the camera), premultiplied colour interpolated between
+ * the strip's points, times the cross-section over `across`. */
+static const char *ribbon_vertex_src =
+    "#version 330 core\n"
+    "layout(location = 0) in vec4 pos_across;\n"
+    "layout(location = 1) in vec4 colour;\n"
+    "layout(location = 2) in float profile;\n"
+    "uniform mat4 view;\n"
+    "uniform mat4 proj;\n"
+    "out float v_across;\n"
+    "out vec4 v_colour;\n"
+    "flat out float v_profile;\n"
+    "void main() {\n"
+    "    gl_Position = proj * (view * vec4(pos_across.xyz, 1.0));\n"
+    "    v_across = pos_across.w;\n"
+    "    v_colour = colour;\n"
+    "    v_profile = profile;\n"
+    "}\n";
+
+static const char *ribbon_fragment_src = "#version 330 core\n"
+                                         "in float v_across;\n"
+                                         "in vec4 v_colour;\n"
+                                         "flat in float v_profile;\n"
+                                         "layout(location = 0) out vec4 frag;\n"
+                                         "void main() {\n"
+                                         "    float k = max(0.0, 1.0 - v_across * v_across);\n"
+                                         "    frag = v_colour * mix(k * k, 1.0, v_profile);\n"
+                                         "}\n";
+
 static GLuint compile_shader(pfx_renderer *r, GLenum type, const char *src, pfx_diags *d) {
     GLuint s = r->gl.CreateShader(type);
     r->gl.ShaderSource(s, 1, &src, NULL);
@@ -209,29 +239,43 @@ static void find_uniforms(pfx_renderer *r) {
 #undef PFX_UNIFORM
 }
 
-bool pfx_shader_build(pfx_renderer *r, pfx_diags *d) {
-    GLuint vs = compile_shader(r, GL_VERTEX_SHADER, vertex_src, d);
+/* Compiles and links one program; 0 (with an error naming `what`) on
+ * failure. */
+static GLuint build_program(pfx_renderer *r, const char *vsrc, const char *fsrc, const char *what,
+                            pfx_diags *d) {
+    GLuint vs = compile_shader(r, GL_VERTEX_SHADER, vsrc, d);
     if (!vs)
-        return false;
-    GLuint fs = compile_shader(r, GL_FRAGMENT_SHADER, fragment_src, d);
+        return 0;
+    GLuint fs = compile_shader(r, GL_FRAGMENT_SHADER, fsrc, d);
     if (!fs) {
         r->gl.DeleteShader(vs);
-        return false;
+        return 0;
     }
-    r->program = r->gl.CreateProgram();
-    r->gl.AttachShader(r->program, vs);
-    r->gl.AttachShader(r->program, fs);
-    r->gl.LinkProgram(r->program);
+    GLuint p = r->gl.CreateProgram();
+    r->gl.AttachShader(p, vs);
+    r->gl.AttachShader(p, fs);
+    r->gl.LinkProgram(p);
     r->gl.DeleteShader(vs); /* flagged; freed with the program */
     r->gl.DeleteShader(fs);
     GLint ok = GL_FALSE;
-    r->gl.GetProgramiv(r->program, GL_LINK_STATUS, &ok);
+    r->gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
     if (!ok) {
         char log[512] = "";
-        r->gl.GetProgramInfoLog(r->program, sizeof log, NULL, log);
-        pfx_diag_error(d, "cannot link sprite shader: %s", log);
-        return false;
+        r->gl.GetProgramInfoLog(p, sizeof log, NULL, log);
+        pfx_diag_error(d, "cannot link %s shader: %s", what, log);
+        r->gl.DeleteProgram(p);
+        return 0;
     }
+    return p;
+}
+
+bool pfx_shader_build(pfx_renderer *r, pfx_diags *d) {
+    r->program = build_program(r, vertex_src, fragment_src, "sprite", d);
+    r->ribbon_program = build_program(r, ribbon_vertex_src, ribbon_fragment_src, "ribbon", d);
+    if (!r->program || !r->ribbon_program)
+        return false;
+    r->ribbon_view = r->gl.GetUniformLocation(r->ribbon_program, "view");
+    r->ribbon_proj = r->gl.GetUniformLocation(r->ribbon_program, "proj");
     find_uniforms(r);
     r->gl.UseProgram(r->program);
     r->gl.Uniform1i(r->u.tex, 0);
