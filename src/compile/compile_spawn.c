@@ -268,21 +268,23 @@ bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) 
 /* A ribbon joins the particles one parent's trail laid, so every particle
  * of a ribbon emitter must come from a trail, and all from one emitter's
  * (the parent's id names its strip only within its own emitter). */
-bool pfx_check_ribbons(pfx_reader *r, const pfx_effect *e, const pfx_node *emitters) {
+bool pfx_check_ribbons(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) {
     static const char *const own[] = {"rate", "interval", "bursts", "lod"};
     int errors = r->d->errors;
     for (size_t t = 0; t < e->emitter_count; t++) {
-        const pfx_emitter *rib = &e->emitters[t];
+        pfx_emitter *rib = &e->emitters[t];
         if (rib->look.draw != PFX_DRAW_RIBBON)
             continue;
         const pfx_node *n = emitters->pairs[t].value;
         long feeder = -1;
+        bool fed = false; /* by anything, reported or not */
         for (size_t i = 0; i < e->emitter_count; i++)
             for (size_t k = 0; k < e->emitters[i].spawn_count; k++) {
                 const pfx_spawn *s = &e->emitters[i].spawns[k];
                 if (s->target != t)
                     continue;
                 const pfx_node *at = spawn_node(emitters, i, s);
+                fed = true;
                 if (s->event != PFX_SPAWN_TRAIL)
                     pfx_read_error(r, at,
                                    "'%s' cannot feed ribbon emitter '%s': a ribbon's points "
@@ -299,7 +301,9 @@ bool pfx_check_ribbons(pfx_reader *r, const pfx_effect *e, const pfx_node *emitt
                 else
                     feeder = (long)i;
             }
-        if (feeder < 0 && r->d->errors == errors)
+        if (feeder >= 0)
+            rib->ribbon_parent = (uint32_t)feeder;
+        else if (!fed)
             pfx_read_error(r, pfx_node_get(n, "draw"),
                            "emitter '%s' draws ribbons but no 'trail' emits into it: add "
                            "trail: { emit: %s, rate: R } to the emitter it follows",

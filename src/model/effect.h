@@ -307,6 +307,7 @@ typedef struct pfx_emitter {
     double spawned_peak;   /* worst-case of those alive at once (pool sizing) */
     bool keeps_generation; /* in a cycle of sub-emitters: a generation column */
     bool keeps_parent_color, keeps_size_scale; /* some parent passes colour / size */
+    uint32_t ribbon_parent; /* draw: ribbon: the emitter whose trail lays its points */
     pfx_blend blend;
     pfx_kill_rules *kill;                 /* kill rules and bounds; NULL: age alone kills */
     float alpha_at_age[PFX_GRADIENT_LUT]; /* alpha over life, for alpha_below */

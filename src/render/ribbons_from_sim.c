@@ -1,7 +1,8 @@
 /* Simulation state -> ribbons: the points a trail laid for one parent,
- * joined in birth order into a strip of triangles that faces the camera.
- * Each point gives the strip its width (size), colour and alpha over life;
- * the renderer only projects the result. It neither simulates nor draws. */
+ * joined in birth order into a strip of triangles that faces the camera,
+ * and on to the parent itself while it lives. Each point gives the strip
+ * its width (size), colour and alpha over life; the renderer only projects
+ * the result. It neither simulates nor draws. */
 #include "render/sprites.h"
 
 #include <math.h>
@@ -24,6 +25,7 @@ typedef struct strip_point {
 struct pfx_ribbon_buffer {
     pfx_ribbon_vertex *v; /* 6 per point: two triangles per segment */
     point_key *keys;
+    point_key *parents; /* the feeding pool's live particles by id */
     strip_point *points;
     size_t largest; /* the largest ribbon pool */
 };
@@ -32,17 +34,22 @@ pfx_ribbon_buffer *pfx_ribbons_create(const pfx_effect *e) {
     pfx_ribbon_buffer *b = calloc(1, sizeof *b);
     if (!b)
         return NULL;
-    size_t total = 0;
-    for (size_t i = 0; i < e->emitter_count; i++)
-        if (e->emitters[i].look.draw == PFX_DRAW_RIBBON) {
-            total += e->emitters[i].capacity;
-            if (e->emitters[i].capacity > b->largest)
-                b->largest = e->emitters[i].capacity;
-        }
+    size_t total = 0, parents = 0;
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        const pfx_emitter *em = &e->emitters[i];
+        if (em->look.draw != PFX_DRAW_RIBBON)
+            continue;
+        total += em->capacity;
+        b->largest = em->capacity > b->largest ? em->capacity : b->largest;
+        uint32_t cap = e->emitters[em->ribbon_parent].capacity;
+        parents = cap > parents ? cap : parents;
+    }
+    /* A strip of m points and its parent has m segments: 6 vertices a point. */
     b->v = malloc((6 * total + 1) * sizeof *b->v);
     b->keys = malloc((b->largest + 1) * sizeof *b->keys);
+    b->parents = malloc((parents + 1) * sizeof *b->parents);
     b->points = malloc((b->largest + 1) * sizeof *b->points);
-    if (!b->v || !b->keys || !b->points) {
+    if (!b->v || !b->keys || !b->parents || !b->points) {
         pfx_ribbons_destroy(b);
         return NULL;
     }
@@ -54,6 +61,7 @@ void pfx_ribbons_destroy(pfx_ribbon_buffer *b) {
         return;
     free(b->v);
     free(b->keys);
+    free(b->parents);
     free(b->points);
     free(b);
 }
@@ -173,6 +181,19 @@ static void point_of(const pfx_emitter *em, const pfx_pool *p, uint32_t j, const
     out->rgba[3] = em->blend == PFX_BLEND_ADD ? 0.0f : (float)(a / grow);
 }
 
+/* The row of the live parent with this id in keys (sorted by id), or -1. */
+static long find_parent(const point_key *keys, size_t n, uint32_t id) {
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (keys[mid].key < id)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < n && keys[lo].key == id ? (long)keys[lo].j : -1;
+}
+
 pfx_ribbons pfx_ribbons_build(pfx_ribbon_buffer *b, const pfx_sim *s) {
     const pfx_effect *e = s->effect;
     eye_frame f;
@@ -188,14 +209,29 @@ pfx_ribbons pfx_ribbons_build(pfx_ribbon_buffer *b, const pfx_sim *s) {
             if (p->parent_id[j] != UINT32_MAX)
                 b->keys[m++] = (point_key){((uint64_t)p->parent_id[j] << 32) | p->id[j], j};
         qsort(b->keys, m, sizeof *b->keys, by_key);
+        const pfx_pool *pp = &s->pools[em->ribbon_parent];
+        for (uint32_t j = 0; j < pp->count; j++)
+            b->parents[j] = (point_key){pp->id[j], j};
+        qsort(b->parents, pp->count, sizeof *b->parents, by_key);
         const float profile = em->look.sprite == PFX_SPRITE_SQUARE ? 1.0f : 0.0f;
         for (size_t first = 0; first < m;) {
             size_t end = first + 1;
             while (end < m && b->keys[end].key >> 32 == b->keys[first].key >> 32)
                 end++;
+            size_t count = end - first;
             for (size_t k = first; k < end; k++)
                 point_of(em, p, b->keys[k].j, &f, &b->points[k - first]);
-            n += emit_strip(&f, b->points, end - first, profile, b->v + n);
+            /* While the parent lives the strip runs on to it, as wide and
+             * bright as its youngest point: no gap of up to 1 / rate s. */
+            long head = find_parent(b->parents, pp->count, (uint32_t)(b->keys[first].key >> 32));
+            if (head >= 0) {
+                strip_point *last = &b->points[count - 1], *h = &b->points[count];
+                *h = *last;
+                h->p[0] = pp->px[head], h->p[1] = pp->py[head], h->p[2] = pp->pz[head];
+                if (h->p[0] != last->p[0] || h->p[1] != last->p[1] || h->p[2] != last->p[2])
+                    count++;
+            }
+            n += emit_strip(&f, b->points, count, profile, b->v + n);
             first = end;
         }
     }

@@ -1,7 +1,7 @@
 """Pixel tests with known answers for `draw: ribbon`, through the command
 line (`pfx render`). A parent particle moves along +x at 1 m/s under an
 orthographic camera of 4 m over 200 px (50 px per metre) and lays a trail
-of 30 points a second into a ribbon emitter; at t = 1.5 s its trail runs
+of 30 points a second into a ribbon emitter; at t = 1.5 s its strip runs
 from x = -1.5 + 1/30 m (the first point, at the parent's age 1/30 s) to
 x = 0 (the parent). A point laid at x is -x seconds old.
 
@@ -40,11 +40,11 @@ PARENT = """  {name}:
     speed: 1
     direction: [1, 0, 0]
     spread: 0
-    lifetime: 10
+    lifetime: {life}
     size: 0.1
     color: "#ff000000"
     forces: []
-    trail: {{ emit: {child}, rate: 30 }}
+    trail: {{ emit: {child}, rate: {rate} }}
 """
 
 RIBBON = """  {name}:
@@ -59,8 +59,9 @@ RIBBON = """  {name}:
 
 
 def parent(name="head", child="ribbon", bursts="{ time: 0, count: 1 }",
-           position="[-1.5, 0, 0]"):
-    return PARENT.format(name=name, child=child, bursts=bursts, position=position)
+           position="[-1.5, 0, 0]", rate=30, life=10):
+    return PARENT.format(name=name, child=child, bursts=bursts, position=position, rate=rate,
+                         life=life)
 
 
 def ribbon(name="ribbon", sprite="square", size=0.4, color='"#ffffff"'):
@@ -113,6 +114,26 @@ check(all(lit[99, c] and lit[100, c] for c in inner),
       "flat: connected, no gap pixel along its centre line (%d columns)" % len(inner))
 check(abs(img[100, column(-0.7)] - 255) <= 1 and not lit[:, :column(first_x) - 1].any(),
       "flat: white additive inside (%d), black before the first point" % img[100, column(-0.7)])
+
+# ---- The strip runs on to its live parent, and stops at the last point
+# once the parent is dead. At 7 points a second the youngest point at 1.5 s
+# is at x = -1.5 + 10/7 (px 96.4), the parent at x = 0 (px 100); a parent
+# of 1 s life laid its last point at age 6/7 (x = -0.643, px 67.9) and died
+# at x = -0.5 (px 75).
+def extent(frame):
+    cols = np.nonzero((frame[:, :, 0] > 127).any(axis=0))[0]
+    return cols.min(), cols.max() + 1
+
+
+frames, _ = render("head", parent(rate=7) + ribbon())
+lo, hi = extent(frames[15])
+check(abs(hi - 100) <= 1 and abs(lo - (100 + (-1.5 + 1 / 7) * PX_PER_M)) <= 1,
+      "head: at 7 points/s the strip reaches the live parent at px 100, got %d..%d" % (lo, hi))
+frames, _ = render("dead", parent(rate=7, life=1) + ribbon())
+lo, hi = extent(frames[15])
+check(abs(hi - (100 + (-1.5 + 6 / 7) * PX_PER_M)) <= 1,
+      "head: after the parent dies the strip ends at its last point, px %.1f, got %d"
+      % (100 + (-1.5 + 6 / 7) * PX_PER_M, hi))
 
 # ---- Colour over life: red at birth to blue at 3 s, linear ----
 frames, _ = render("colour", parent() + ribbon(color='["#ff0000", "#0000ff"]'))
