@@ -81,11 +81,13 @@ static double frame_seconds(pfx_renderer *r, const pfx_camera *cam, const pfx_ma
         if (blur > 0) {
             ok = pfx_renderer_blur_begin(r, d);
             for (int k = 0; ok && k < blur; k++)
-                ok = pfx_renderer_blur_add(r, cam, &set, s, n, false, 1.0f / blur, d);
+                ok = pfx_renderer_blur_add(r, cam, &set, s, n, false, (pfx_ribbons){NULL, 0},
+                                           1.0f / blur, d);
             if (ok)
                 pfx_renderer_blur_resolve(r, &set, rgba);
         } else {
-            ok = pfx_renderer_draw_frame(r, cam, &set, s, n, false, rgba, d);
+            ok =
+                pfx_renderer_draw_frame(r, cam, &set, s, n, false, (pfx_ribbons){NULL, 0}, rgba, d);
         }
         if (!ok)
             return -1;

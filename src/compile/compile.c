@@ -388,7 +388,8 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
             if (emitters->pairs[i].value->kind == PFX_NODE_MAP)
                 pfx_compile_spawns(&c.r, emitters->pairs[i].value, emitters, &e->emitters[i]);
         }
-        if (d->errors == errors_before && pfx_resolve_spawns(&c.r, e, emitters)) {
+        if (d->errors == errors_before && pfx_resolve_spawns(&c.r, e, emitters) &&
+            pfx_check_ribbons(&c.r, e, emitters)) {
             /* An emitter fed by sub-emitters emits nothing on its own unless
              * it says so. */
             for (size_t i = 0; i < e->emitter_count; i++) {

@@ -268,9 +268,33 @@ static void read_intensity(pfx_reader *r, const pfx_node *v, pfx_look *look) {
     look->intensity_curve = true;
 }
 
+/* A ribbon is a strip through points, not a sprite per point: the keys
+ * that place, turn, texture or light a sprite have nothing to act on, and
+ * its cross-section is round (soft edges) or square (flat). Said at the key
+ * rather than ignored, so a file never means more than it draws. */
+static void check_ribbon(pfx_reader *r, const pfx_node *n, const pfx_look *look) {
+    static const char *const sprite_only[] = {"texture", "normal_map", "flipbook", "align", "axis",
+                                              "normal",  "stretch",    "lit",      "angle", "spin"};
+    const pfx_node *v;
+    for (size_t i = 0; i < sizeof sprite_only / sizeof *sprite_only; i++)
+        if ((v = pfx_node_get(n, sprite_only[i])))
+            pfx_read_error(r, v, "'%s' does not apply to draw: ribbon (a strip, not sprites)",
+                           sprite_only[i]);
+    if (look->sprite != PFX_SPRITE_ROUND && look->sprite != PFX_SPRITE_SQUARE)
+        pfx_read_error(r, pfx_node_get(n, "sprite"),
+                       "a ribbon's cross-section is 'round' (soft) or 'square' (flat), got '%s'",
+                       pfx_kind_name(pfx_sprite_names, (int)look->sprite));
+}
+
 void pfx_compile_look(pfx_reader *r, const pfx_node *n, pfx_emitter *em, const char *effect_path) {
     pfx_look *look = &em->look;
     const pfx_node *v;
+    if (look->draw == PFX_DRAW_RIBBON) {
+        check_ribbon(r, n, look);
+        if ((v = pfx_node_get(n, "intensity")))
+            read_intensity(r, v, look);
+        return;
+    }
     if ((v = pfx_node_get(n, "texture")))
         look->texture = read_texture(r, v, "texture", effect_path, true);
     if ((v = pfx_node_get(n, "normal_map")))

@@ -262,3 +262,58 @@ bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) 
     }
     return true;
 }
+
+/* A ribbon joins the particles one parent's trail laid, so every particle
+ * of a ribbon emitter must come from a trail, and all from one emitter's
+ * (the parent's id names its strip only within its own emitter). */
+bool pfx_check_ribbons(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) {
+    static const char *const own[] = {"rate", "interval", "bursts", "lod"};
+    int errors = r->d->errors;
+    for (size_t t = 0; t < e->emitter_count; t++) {
+        pfx_emitter *rib = &e->emitters[t];
+        if (rib->look.draw != PFX_DRAW_RIBBON)
+            continue;
+        const pfx_node *n = emitters->pairs[t].value;
+        long feeder = -1;
+        bool fed = false; /* by anything, reported or not */
+        for (size_t i = 0; i < e->emitter_count; i++)
+            for (size_t k = 0; k < e->emitters[i].spawn_count; k++) {
+                const pfx_spawn *s = &e->emitters[i].spawns[k];
+                if (s->target != t)
+                    continue;
+                const pfx_node *at = spawn_node(emitters, i, s);
+                fed = true;
+                if (s->event != PFX_SPAWN_TRAIL)
+                    pfx_read_error(r, at,
+                                   "'%s' cannot feed ribbon emitter '%s': a ribbon's points "
+                                   "come from one emitter's 'trail'",
+                                   pfx_spawn_event_names[s->event], rib->name);
+                else if (i == t)
+                    pfx_read_error(r, at, "ribbon emitter '%s' cannot lay its own trail",
+                                   rib->name);
+                else if (feeder >= 0 && (size_t)feeder != i)
+                    pfx_read_error(r, at,
+                                   "ribbon emitter '%s' is fed by the trails of '%s' and '%s'; "
+                                   "give each its own ribbon emitter",
+                                   rib->name, e->emitters[feeder].name, e->emitters[i].name);
+                else
+                    feeder = (long)i;
+            }
+        if (feeder >= 0)
+            rib->ribbon_parent = (uint32_t)feeder;
+        else if (!fed)
+            pfx_read_error(r, pfx_node_get(n, "draw"),
+                           "emitter '%s' draws ribbons but no 'trail' emits into it: add "
+                           "trail: { emit: %s, rate: R } to the emitter it follows",
+                           rib->name, rib->name);
+        for (size_t k = 0; k < sizeof own / sizeof *own; k++) {
+            const pfx_node *v = pfx_node_get(n, own[k]);
+            if (v)
+                pfx_read_error(r, v,
+                               "ribbon emitter '%s' gets its points from a trail only; remove "
+                               "'%s'",
+                               rib->name, own[k]);
+        }
+    }
+    return r->d->errors == errors;
+}

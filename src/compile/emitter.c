@@ -194,6 +194,13 @@ static const pfx_key emitter_keys[] = {
      .offset = -1,
      .doc = "Sprite turn rate in degrees per second: a value per particle, or a curve [{at, "
             "value}] over normalised age."},
+    {"draw", PFX_KEY_ENUM, .names = pfx_draw_names, .def = {0}, .offset = M(look.draw),
+     .what = "draw mode",
+     .doc = "sprite: one sprite per particle; ribbon: for an emitter fed by a trail, each "
+            "parent's trail particles joined in birth order (and on to the parent while it "
+            "lives) into one strip facing the camera "
+            "(width from size, colour and alpha over life of each point; sprite: round gives soft "
+            "edges, square flat ones)."},
     {"sprite", PFX_KEY_ENUM, .names = pfx_sprite_names, .def = {0}, .offset = M(look.sprite),
      .what = "sprite shape",
      .doc = "The built-in sprite: round (soft disc), square (soft square that turns with angle "

@@ -30,9 +30,10 @@ static long draw_frame(pfx_render_job *job, long f, const pfx_render_settings *s
     if (job->sim->failed || job->view->failed)
         return -1; /* the sims reported into d */
     size_t n = pfx_sprites_build(state, job->sprites);
+    pfx_ribbons ribbons = pfx_ribbons_build(job->ribbons, state);
     if (e->blur_samples <= 1)
-        return pfx_renderer_draw_frame(job->renderer, &e->camera, s, job->sprites, n, sort, pixels,
-                                       d)
+        return pfx_renderer_draw_frame(job->renderer, &e->camera, s, job->sprites, n, sort, ribbons,
+                                       pixels, d)
                    ? (long)n
                    : -1;
     const int samples = e->blur_samples;
@@ -48,11 +49,12 @@ static long draw_frame(pfx_render_job *job, long f, const pfx_render_settings *s
             if (job->sim->failed || job->view->failed)
                 return -1;
             size_t m = pfx_sprites_build(job->view, job->sprites);
-            if (!pfx_renderer_blur_add(job->renderer, &e->camera, s, job->sprites, m, sort, weight,
-                                       d))
+            pfx_ribbons sub = pfx_ribbons_build(job->ribbons, job->view);
+            if (!pfx_renderer_blur_add(job->renderer, &e->camera, s, job->sprites, m, sort, sub,
+                                       weight, d))
                 return -1;
         } else if (!pfx_renderer_blur_add(job->renderer, &e->camera, s, job->sprites, n, sort,
-                                          weight, d)) {
+                                          ribbons, weight, d)) {
             return -1;
         }
     }
@@ -68,7 +70,8 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
     job->sim = pfx_sim_create(e, d);
     job->view = pfx_sim_create(e, d);
     job->sprites = malloc((pfx_sprites_capacity(e) + 1) * sizeof *job->sprites);
-    if (!job->sim || !job->view || !job->sprites) {
+    job->ribbons = pfx_ribbons_create(e);
+    if (!job->sim || !job->view || !job->sprites || !job->ribbons) {
         pfx_diag_error(d, "out of memory for %zu particles", pfx_sprites_capacity(e));
         return false;
     }
@@ -123,6 +126,8 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
 
 void pfx_render_job_free(pfx_render_job *job) {
     free(job->sprites);
+    pfx_ribbons_destroy(job->ribbons);
+    job->ribbons = NULL;
     pfx_sim_destroy(job->view);
     pfx_sim_destroy(job->sim);
     job->sprites = NULL;

@@ -28,6 +28,7 @@ typedef struct pfx_render_job {
     size_t sprite_count;
     pfx_sim *sim; /* the simulation at the last frame (per-emitter drop counts) */
     pfx_sim *view;
+    struct pfx_ribbon_buffer *ribbons; /* the frame's ribbon triangles */
 } pfx_render_job;
 
 /* Simulates, draws and writes every frame of the job, a pool of PNG

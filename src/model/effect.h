@@ -115,6 +115,12 @@ typedef enum {
 } pfx_sprite_kind;
 
 typedef enum {
+#define PFX_DRAW_ENUM(e, name) PFX_DRAW_##e,
+    PFX_DRAW_KINDS(PFX_DRAW_ENUM)
+#undef PFX_DRAW_ENUM
+} pfx_draw;
+
+typedef enum {
 #define PFX_ALIGN_ENUM(e, name) PFX_ALIGN_##e,
     PFX_ALIGN_KINDS(PFX_ALIGN_ENUM)
 #undef PFX_ALIGN_ENUM
@@ -154,6 +160,10 @@ typedef struct pfx_flipbook {
  * (built-in, or a texture), flipbook, orientation, lighting, intensity. The
  * simulation never reads it. */
 typedef struct pfx_look {
+    /* RIBBON: the emitter's particles are the points of strips, one per
+     * parent whose trail made them, in birth order; sprite is the strip's
+     * cross-section (round: soft, square: flat). */
+    pfx_draw draw;
     pfx_sprite_kind sprite;
     const pfx_image *texture;    /* NULL: the built-in sprite */
     const pfx_image *normal_map; /* NULL: a spherical normal per sprite */
@@ -298,6 +308,7 @@ typedef struct pfx_emitter {
     double spawned_peak;   /* worst-case of those alive at once (pool sizing) */
     bool keeps_generation; /* in a cycle of sub-emitters: a generation column */
     bool keeps_parent_color, keeps_size_scale; /* some parent passes colour / size */
+    uint32_t ribbon_parent; /* draw: ribbon: the emitter whose trail lays its points */
     pfx_blend blend;
     pfx_kill_rules *kill;                 /* kill rules and bounds; NULL: age alone kills */
     float alpha_at_age[PFX_GRADIENT_LUT]; /* alpha over life, for alpha_below */

@@ -25,6 +25,7 @@ const char *const pfx_bounds_mode_names[] = {PFX_BOUNDS_MODES(NAME2) NULL};
 const char *const pfx_spawn_event_names[] = {PFX_SPAWN_EVENTS(NAME2) NULL};
 const char *const pfx_blend_names[] = {PFX_BLEND_KINDS(NAME2) NULL};
 const char *const pfx_sprite_names[] = {PFX_SPRITE_KINDS(NAME2) NULL};
+const char *const pfx_draw_names[] = {PFX_DRAW_KINDS(NAME2) NULL};
 const char *const pfx_align_names[] = {PFX_ALIGN_KINDS(NAME2) NULL};
 const char *const pfx_tonemap_names[] = {PFX_TONEMAP_KINDS(NAME2) NULL};
 const char *const pfx_alpha_mode_names[] = {PFX_ALPHA_MODES(NAME2) NULL};

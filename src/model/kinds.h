@@ -99,6 +99,12 @@
     X(FLARE, "flare")                                                                              \
     X(RING, "ring")
 
+/* What an emitter draws: a sprite per particle, or (for an emitter fed by a
+ * `trail`) one connected strip per parent through its trail particles. */
+#define PFX_DRAW_KINDS(X)                                                                          \
+    X(SPRITE, "sprite")                                                                            \
+    X(RIBBON, "ribbon")
+
 /* How a sprite faces: the camera, its screen-space velocity (stretched), a
  * fixed world axis it turns about (axial billboard), or a fixed plane. */
 #define PFX_ALIGN_KINDS(X)                                                                         \
@@ -158,6 +164,7 @@ extern const char *const pfx_bounds_mode_names[];
 extern const char *const pfx_spawn_event_names[];
 extern const char *const pfx_blend_names[];
 extern const char *const pfx_sprite_names[];
+extern const char *const pfx_draw_names[];
 extern const char *const pfx_align_names[];
 extern const char *const pfx_tonemap_names[];
 extern const char *const pfx_alpha_mode_names[];

@@ -80,6 +80,20 @@ static void build_vertex_arrays(pfx_renderer *r) {
         r->gl.EnableVertexAttribArray(i);
         r->gl.VertexAttribDivisor(i, 1);
     }
+    /* Ribbons: a pfx_ribbon_vertex per vertex, three attributes. */
+    r->gl.GenVertexArrays(1, &r->ribbon_vao);
+    r->gl.BindVertexArray(r->ribbon_vao);
+    r->gl.GenBuffers(1, &r->ribbon_vbo);
+    r->gl.BindBuffer(GL_ARRAY_BUFFER, r->ribbon_vbo);
+    static const size_t at[3] = {offsetof(pfx_ribbon_vertex, x), offsetof(pfx_ribbon_vertex, r),
+                                 offsetof(pfx_ribbon_vertex, profile)};
+    static const GLint size[3] = {4, 4, 1};
+    for (GLuint i = 0; i < 3; i++) {
+        r->gl.VertexAttribPointer(i, size[i], GL_FLOAT, GL_FALSE, sizeof(pfx_ribbon_vertex),
+                                  (const void *)at[i]);
+        r->gl.EnableVertexAttribArray(i);
+    }
+    r->gl.BindVertexArray(r->vao);
 }
 
 static const char *const kind_names[] = {
@@ -253,7 +267,7 @@ pfx_renderer *pfx_renderer_create(pfx_renderer_kind kind, int width, int height,
                        (int)max_rb);
         goto fail;
     }
-    if (!build_framebuffer(r, d) || !default_materials(r, d))
+    if (!build_framebuffer(r, d) || !pfx_shader_build_ribbon(r, d) || !default_materials(r, d))
         goto fail;
     build_vertex_arrays(r);
 
@@ -361,11 +375,27 @@ static const pfx_gpu_material *material_of(const pfx_renderer *r, const pfx_spri
  * sprite array goes up whole with glBufferData every frame: respecifying
  * the store orphans last frame's, so the driver never waits on it. */
 static void submit_frame(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
-                         const float clear[4], const pfx_sprite *sprites, size_t count) {
+                         const float clear[4], const pfx_sprite *sprites, size_t count,
+                         pfx_ribbons ribbons) {
     r->gl.BindFramebuffer(GL_FRAMEBUFFER, r->fbo);
     r->gl.Viewport(0, 0, r->width, r->height);
     r->gl.ClearColor(clear[0], clear[1], clear[2], clear[3]);
     r->gl.Clear(GL_COLOR_BUFFER_BIT);
+    if (ribbons.count) {
+        float view[16], proj[16];
+        for (int i = 0; i < 16; i++) {
+            view[i] = (float)v->m[i];
+            proj[i] = (float)v->proj[i];
+        }
+        r->gl.UseProgram(r->ribbon_program);
+        r->gl.UniformMatrix4fv(r->ribbon_view, 1, GL_FALSE, view);
+        r->gl.UniformMatrix4fv(r->ribbon_proj, 1, GL_FALSE, proj);
+        r->gl.BindVertexArray(r->ribbon_vao);
+        r->gl.BindBuffer(GL_ARRAY_BUFFER, r->ribbon_vbo);
+        r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(ribbons.count * sizeof *ribbons.v),
+                         ribbons.v, GL_STREAM_DRAW);
+        r->gl.DrawArraysInstanced(GL_TRIANGLES, 0, (GLsizei)ribbons.count, 1);
+    }
     if (count == 0)
         return;
     r->gl.BindVertexArray(r->vao);
@@ -399,10 +429,26 @@ static void read_frame(pfx_renderer *r) {
  * pixel is the background, so only the box is cleared, read back and
  * converted. */
 static pixel_box sprites_box(const pfx_renderer *r, const pfx_view *v, const pfx_sprite *sp,
-                             size_t count) {
+                             size_t count, pfx_ribbons ribbons) {
     const pixel_box full = {0, 0, r->width, r->height};
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     const double *m = v->m, *p = v->proj;
+    /* Ribbon corners are final world points: each projects as it is. */
+    for (size_t i = 0; i < ribbons.count; i++) {
+        const pfx_ribbon_vertex *q = &ribbons.v[i];
+        double c[4] = {0, 0, 0, 1}, clip[4];
+        for (int row = 0; row < 3; row++)
+            c[row] = m[row] * q->x + m[4 + row] * q->y + m[8 + row] * q->z + m[12 + row];
+        for (int row = 0; row < 4; row++)
+            clip[row] = p[row] * c[0] + p[4 + row] * c[1] + p[8 + row] * c[2] + p[12 + row];
+        if (!(clip[3] > 1e-6) || !(fabs(clip[0]) < 1e30) || !(fabs(clip[1]) < 1e30))
+            return full;
+        for (int a = 0; a < 2; a++) {
+            double n = clip[a] / clip[3];
+            lo[a] = n < lo[a] ? n : lo[a];
+            hi[a] = n > hi[a] ? n : hi[a];
+        }
+    }
     for (size_t i = 0; i < count; i++) {
         pfx_align align = material_of(r, &sp[i])->m.align;
         if (align == PFX_ALIGN_AXIS || align == PFX_ALIGN_WORLD)
@@ -427,7 +473,7 @@ static pixel_box sprites_box(const pfx_renderer *r, const pfx_view *v, const pfx
                 hi[1] = ny > hi[1] ? ny : hi[1];
             }
     }
-    if (count == 0)
+    if (count == 0 && ribbons.count == 0)
         return (pixel_box){0, 0, 0, 0};
     const double margin = 2 + PFX_MIN_FOOTPRINT_PX * 0.7072;
     double size[2] = {r->width, r->height};
@@ -454,9 +500,9 @@ static void clear_colour(const pfx_render_settings *s, float clear[4]) {
 
 /* Sorts, draws and reads back the box the sprites touch into r->pixels. */
 static bool render_float(pfx_renderer *r, const pfx_camera *cam, const pfx_render_settings *s,
-                         pfx_sprite *sprites, size_t count, bool sort, pixel_box *box,
-                         pfx_diags *d) {
-    if (count > (size_t)INT32_MAX) {
+                         pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
+                         pixel_box *box, pfx_diags *d) {
+    if (count > (size_t)INT32_MAX || ribbons.count > (size_t)INT32_MAX) {
         pfx_diag_error(d, "too many sprites to draw: %zu", count);
         return false;
     }
@@ -467,12 +513,12 @@ static bool render_float(pfx_renderer *r, const pfx_camera *cam, const pfx_rende
         return false;
     float clear[4];
     clear_colour(s, clear);
-    *box = sprites_box(r, &v, sprites, count);
+    *box = sprites_box(r, &v, sprites, count, ribbons);
     if (box->x1 > box->x0) {
         r->gl.BindFramebuffer(GL_FRAMEBUFFER, r->fbo);
         r->gl.Enable(GL_SCISSOR_TEST);
         r->gl.Scissor(box->x0, box->y0, box->x1 - box->x0, box->y1 - box->y0);
-        submit_frame(r, &v, s, clear, sprites, count);
+        submit_frame(r, &v, s, clear, sprites, count, ribbons);
         r->gl.Disable(GL_SCISSOR_TEST);
         r->gl.ReadPixels(box->x0, box->y0, box->x1 - box->x0, box->y1 - box->y0, GL_RGBA, GL_FLOAT,
                          r->pixels);
@@ -486,10 +532,10 @@ static bool render_float(pfx_renderer *r, const pfx_camera *cam, const pfx_rende
 }
 
 bool pfx_renderer_draw_frame(pfx_renderer *r, const pfx_camera *cam, const pfx_render_settings *s,
-                             pfx_sprite *sprites, size_t count, bool sort, uint8_t *rgba,
-                             pfx_diags *d) {
+                             pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
+                             uint8_t *rgba, pfx_diags *d) {
     pixel_box box;
-    if (!render_float(r, cam, s, sprites, count, sort, &box, d))
+    if (!render_float(r, cam, s, sprites, count, sort, ribbons, &box, d))
         return false;
     float clear[4];
     clear_colour(s, clear);
@@ -500,7 +546,8 @@ bool pfx_renderer_draw_frame(pfx_renderer *r, const pfx_camera *cam, const pfx_r
 bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4],
                        pfx_sprite *sprites, size_t count, bool sort, uint8_t *rgba, pfx_diags *d) {
     const pfx_render_settings s = pfx_render_settings_plain(bg);
-    return pfx_renderer_draw_frame(r, cam, &s, sprites, count, sort, rgba, d);
+    return pfx_renderer_draw_frame(r, cam, &s, sprites, count, sort, (pfx_ribbons){NULL, 0}, rgba,
+                                   d);
 }
 
 bool pfx_renderer_blur_begin(pfx_renderer *r, pfx_diags *d) {
@@ -516,10 +563,10 @@ bool pfx_renderer_blur_begin(pfx_renderer *r, pfx_diags *d) {
 /* Adds weight x the sub-frame's image: the box from r->pixels, the clear
  * colour elsewhere, pixel by pixel in a fixed order. */
 bool pfx_renderer_blur_add(pfx_renderer *r, const pfx_camera *cam, const pfx_render_settings *s,
-                           pfx_sprite *sprites, size_t count, bool sort, float weight,
-                           pfx_diags *d) {
+                           pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
+                           float weight, pfx_diags *d) {
     pixel_box box;
-    if (!render_float(r, cam, s, sprites, count, sort, &box, d))
+    if (!render_float(r, cam, s, sprites, count, sort, ribbons, &box, d))
         return false;
     float clear[4];
     clear_colour(s, clear);
@@ -554,7 +601,7 @@ double pfx_renderer_bench_raw(pfx_renderer *r, const pfx_camera *cam, const pfx_
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
     for (int i = 0; i < frames; i++) {
-        submit_frame(r, &v, &s, clear, sprites, count);
+        submit_frame(r, &v, &s, clear, sprites, count, (pfx_ribbons){NULL, 0});
         r->gl.Finish();
         read_frame(r);
     }

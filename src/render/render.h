@@ -30,6 +30,25 @@ typedef struct pfx_sprite {
     float length;     /* align velocity: the length in metres (size x length + |v| x speed) */
 } pfx_sprite;
 
+/* One corner of a ribbon, 36 bytes: ribbons come as a triangle list (three
+ * vertices a triangle) in world space, already facing the camera, so the
+ * renderer only projects them. Colour is premultiplied as a sprite's is
+ * (a = 0 for additive). `across` runs from -1 on one edge of the strip to
+ * +1 on the other; `profile` is the cross-section over it: 0 soft, (1 -
+ * across^2)^2 like a round sprite's falloff, 1 flat. */
+typedef struct pfx_ribbon_vertex {
+    float x, y, z, across;
+    float r, g, b, a;
+    float profile;
+} pfx_ribbon_vertex;
+
+/* The ribbons of a frame: `count` vertices (a multiple of 3), drawn in
+ * order before every sprite. */
+typedef struct pfx_ribbons {
+    const pfx_ribbon_vertex *v;
+    size_t count;
+} pfx_ribbons;
+
 /* How a run of sprites is drawn: one per emitter. Until
  * pfx_renderer_set_materials, material k is built-in sprite kind k facing
  * the camera. */
@@ -120,12 +139,14 @@ bool pfx_renderer_set_materials(pfx_renderer *r, const pfx_material *m, size_t c
  * rgba. When `sort` is true the sprites are drawn back to front by view
  * depth (one sort over all of them, stable, so ties keep input order); the
  * sprites array is reordered in place (sprites may be NULL when count is
- * 0). Consecutive sprites of one material are one instanced draw. Returns
+ * 0). Consecutive sprites of one material are one instanced draw. The
+ * ribbons (none: {NULL, 0}) are drawn first, in their order, under every
+ * sprite: one draw of their triangles. Returns
  * false (with an error in d) on a GL failure or when the sort scratch
  * cannot be grown; rgba is then unspecified. */
 bool pfx_renderer_draw_frame(pfx_renderer *r, const pfx_camera *cam, const pfx_render_settings *s,
-                             pfx_sprite *sprites, size_t count, bool sort, uint8_t *rgba,
-                             pfx_diags *d);
+                             pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
+                             uint8_t *rgba, pfx_diags *d);
 /* pfx_renderer_draw_frame with pfx_render_settings_plain(bg). */
 bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4],
                        pfx_sprite *sprites, size_t count, bool sort, uint8_t *rgba, pfx_diags *d);
@@ -137,8 +158,8 @@ bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4]
  * a fixed order, so the bytes do not depend on anything but the inputs. */
 bool pfx_renderer_blur_begin(pfx_renderer *r, pfx_diags *d);
 bool pfx_renderer_blur_add(pfx_renderer *r, const pfx_camera *cam, const pfx_render_settings *s,
-                           pfx_sprite *sprites, size_t count, bool sort, float weight,
-                           pfx_diags *d);
+                           pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
+                           float weight, pfx_diags *d);
 void pfx_renderer_blur_resolve(pfx_renderer *r, const pfx_render_settings *s, uint8_t *rgba);
 
 /* The reference the pfx bench measures full rendering against: `frames`

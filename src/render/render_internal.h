@@ -115,6 +115,8 @@ struct pfx_renderer {
     GLuint fbo, colour_rb, vao, quad_vbo, instance_vbo;
     pfx_program programs[PFX_MAX_PROGRAMS];
     size_t program_count;
+    GLuint ribbon_vao, ribbon_vbo, ribbon_program; /* ribbons: world-space triangles */
+    GLint ribbon_view, ribbon_proj;
     pfx_gpu_material *materials;
     size_t material_count;
     float *pixels; /* width * height * 4 floats read back from the FBO */
@@ -149,6 +151,9 @@ typedef struct pixel_box {
 bool pfx_shader_bind(pfx_renderer *r, pfx_gpu_material *g, pfx_diags *d);
 void pfx_shader_material(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
                          const pfx_gpu_material *g);
+/* render/shader.c: the ribbon program (world-space triangles, no
+ * switches), into r->ribbon_program and its two uniforms. */
+bool pfx_shader_build_ribbon(pfx_renderer *r, pfx_diags *d);
 
 /* render/sort.c: back-to-front by view depth, stable (LSD radix on float
  * keys); false with an error when the scratch cannot grow. */

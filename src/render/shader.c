@@ -172,6 +172,34 @@ static const char *fragment_src =
     "#endif\n"
     "}\n";
 
+/* Ribbons: world-space triangles (render/ribbons_from_sim.c has already
+ * turned them to the camera), premultiplied colour interpolated between
+ * the strip's points, times the cross-section over `across`. */
+static const char *ribbon_vertex_src =
+    "layout(location = 0) in vec4 pos_across;\n"
+    "layout(location = 1) in vec4 colour;\n"
+    "layout(location = 2) in float profile;\n"
+    "uniform mat4 view;\n"
+    "uniform mat4 proj;\n"
+    "out float v_across;\n"
+    "out vec4 v_colour;\n"
+    "flat out float v_profile;\n"
+    "void main() {\n"
+    "    gl_Position = proj * (view * vec4(pos_across.xyz, 1.0));\n"
+    "    v_across = pos_across.w;\n"
+    "    v_colour = colour;\n"
+    "    v_profile = profile;\n"
+    "}\n";
+
+static const char *ribbon_fragment_src = "in float v_across;\n"
+                                         "in vec4 v_colour;\n"
+                                         "flat in float v_profile;\n"
+                                         "layout(location = 0) out vec4 frag;\n"
+                                         "void main() {\n"
+                                         "    float k = max(0.0, 1.0 - v_across * v_across);\n"
+                                         "    frag = v_colour * mix(k * k, 1.0, v_profile);\n"
+                                         "}\n";
+
 /* One program per combination of what the material switches (sprite
  * kind, texture, cross-fade, light, normal map, alignment), chosen by
  * #defines in front of the sources rather than by uniforms: llvmpipe runs
@@ -218,6 +246,36 @@ static unsigned program_key(const pfx_gpu_material *g) {
            (unsigned)(lit && g->normal_map != 0) << 11;
 }
 
+/* Compiles both stages with `defines` in front and links them; 0 (with an
+ * error naming `what`) on failure. */
+static GLuint build_program(pfx_renderer *r, const char *defines, const char *vsrc,
+                            const char *fsrc, const char *what, pfx_diags *d) {
+    GLuint vs = compile_shader(r, GL_VERTEX_SHADER, defines, vsrc, d);
+    if (!vs)
+        return 0;
+    GLuint fs = compile_shader(r, GL_FRAGMENT_SHADER, defines, fsrc, d);
+    if (!fs) {
+        r->gl.DeleteShader(vs);
+        return 0;
+    }
+    GLuint p = r->gl.CreateProgram();
+    r->gl.AttachShader(p, vs);
+    r->gl.AttachShader(p, fs);
+    r->gl.LinkProgram(p);
+    r->gl.DeleteShader(vs); /* flagged; freed with the program */
+    r->gl.DeleteShader(fs);
+    GLint ok = GL_FALSE;
+    r->gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[512] = "";
+        r->gl.GetProgramInfoLog(p, sizeof log, NULL, log);
+        pfx_diag_error(d, "cannot link %s shader: %s", what, log);
+        r->gl.DeleteProgram(p);
+        return 0;
+    }
+    return p;
+}
+
 static bool link_program(pfx_renderer *r, pfx_program *prog, pfx_diags *d) {
     char defines[160];
     unsigned k = prog->key;
@@ -225,33 +283,22 @@ static bool link_program(pfx_renderer *r, pfx_program *prog, pfx_diags *d) {
              "#define KIND %u\n#define ALIGN %u\n#define TEXTURED %u\n#define FRAME_BLEND %u\n"
              "#define LIT %u\n#define NORMAL_MAPPED %u\n",
              k & 15u, (k >> 4) & 15u, (k >> 8) & 1u, (k >> 9) & 1u, (k >> 10) & 1u, (k >> 11) & 1u);
-    GLuint vs = compile_shader(r, GL_VERTEX_SHADER, defines, vertex_src, d);
-    if (!vs)
+    prog->id = build_program(r, defines, vertex_src, fragment_src, "sprite", d);
+    if (!prog->id)
         return false;
-    GLuint fs = compile_shader(r, GL_FRAGMENT_SHADER, defines, fragment_src, d);
-    if (!fs) {
-        r->gl.DeleteShader(vs);
-        return false;
-    }
-    prog->id = r->gl.CreateProgram();
-    r->gl.AttachShader(prog->id, vs);
-    r->gl.AttachShader(prog->id, fs);
-    r->gl.LinkProgram(prog->id);
-    r->gl.DeleteShader(vs); /* flagged; freed with the program */
-    r->gl.DeleteShader(fs);
-    GLint ok = GL_FALSE;
-    r->gl.GetProgramiv(prog->id, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[512] = "";
-        r->gl.GetProgramInfoLog(prog->id, sizeof log, NULL, log);
-        pfx_diag_error(d, "cannot link sprite shader: %s", log);
-        r->gl.DeleteProgram(prog->id);
-        return false;
-    }
     find_uniforms(r, prog);
     r->gl.UseProgram(prog->id);
     r->gl.Uniform1i(prog->u.tex, 0);
     r->gl.Uniform1i(prog->u.normal_tex, 1);
+    return true;
+}
+
+bool pfx_shader_build_ribbon(pfx_renderer *r, pfx_diags *d) {
+    r->ribbon_program = build_program(r, "", ribbon_vertex_src, ribbon_fragment_src, "ribbon", d);
+    if (!r->ribbon_program)
+        return false;
+    r->ribbon_view = r->gl.GetUniformLocation(r->ribbon_program, "view");
+    r->ribbon_proj = r->gl.GetUniformLocation(r->ribbon_program, "proj");
     return true;
 }
 

@@ -12,7 +12,7 @@
 
 bool pfx_sprites_need_sort(const pfx_effect *e) {
     for (size_t i = 0; i < e->emitter_count; i++)
-        if (e->emitters[i].blend == PFX_BLEND_ALPHA)
+        if (e->emitters[i].blend == PFX_BLEND_ALPHA && e->emitters[i].look.draw == PFX_DRAW_SPRITE)
             return true;
     return false;
 }
@@ -78,13 +78,6 @@ static float cell_of(const pfx_flipbook *b, float u, double age, float variant) 
     return (float)fmod(start + f, b->frames);
 }
 
-static float intensity_at(const pfx_look *k, float u) {
-    if (!k->intensity_curve)
-        return k->intensity;
-    int i = (int)(u * (PFX_GRADIENT_LUT - 1) + 0.5f);
-    return k->intensity_lut[i < 0 ? 0 : i >= PFX_GRADIENT_LUT ? PFX_GRADIENT_LUT - 1 : i];
-}
-
 size_t pfx_sprites_build(const pfx_sim *s, pfx_sprite *out) {
     const pfx_effect *e = s->effect;
     size_t n = 0;
@@ -92,6 +85,8 @@ size_t pfx_sprites_build(const pfx_sim *s, pfx_sprite *out) {
         const pfx_emitter *em = &e->emitters[i];
         const pfx_look *k = &em->look;
         const pfx_pool *p = &s->pools[i];
+        if (k->draw != PFX_DRAW_SPRITE)
+            continue; /* its points make ribbons (ribbons_from_sim.c) */
         const bool additive = em->blend == PFX_BLEND_ADD;
         /* A round sprite looks the same at any angle: skip the work. */
         const bool turns =
@@ -101,7 +96,7 @@ size_t pfx_sprites_build(const pfx_sim *s, pfx_sprite *out) {
             pfx_particle_color(em, p, j, c);
             const double age = pfx_particle_age(p, j);
             const float u = (float)age / p->lifetime[j], size = pfx_particle_size(em, p, j);
-            const float a = c[3], glow = a * intensity_at(k, u);
+            const float a = c[3], glow = a * pfx_look_intensity(k, u);
             const float variant = variant_of(i, p->id[j]);
             const float speed =
                 sqrtf(p->vx[j] * p->vx[j] + p->vy[j] * p->vy[j] + p->vz[j] * p->vz[j]);

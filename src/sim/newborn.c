@@ -69,6 +69,8 @@ bool pfx_sim_make_particle(pfx_sim *s, size_t i, double tb, double t1, const pfx
     }
     if (p->size_scale)
         p->size_scale[j] = parent && parent->inherit_size ? parent->size : 1;
+    if (p->parent_id)
+        p->parent_id[j] = parent ? parent->id : UINT32_MAX;
     const double v0[3] = {b.vel[0], b.vel[1], b.vel[2]};
     if (age > 0) {
         /* The rest of the step after the birth, by the emitter's own method:

@@ -113,6 +113,7 @@ void pfx_spawn_event_of(pfx_sim *s, size_t i, pfx_spawn_event event, uint32_t j,
         pa->inherit_color = sp->inherit_color;
         pa->inherit_size = sp->inherit_size;
         pa->generation = generation;
+        pa->id = p->id[j];
         if (sp->inherit_color) {
             float c[4];
             pfx_particle_color(em, p, j, c);
@@ -153,7 +154,8 @@ void pfx_spawn_trails(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t
                                          .inherit_color = sp->inherit_color,
                                          .inherit_size = sp->inherit_size,
                                          .size = 1,
-                                         .generation = generation};
+                                         .generation = generation,
+                                         .id = p->id[j]};
                 const double pos[3] = {p->px[j] - p->vx[j] * back, p->py[j] - p->vy[j] * back,
                                        p->pz[j] - p->vz[j] * back};
                 const double vel[3] = {p->vx[j], p->vy[j], p->vz[j]};

@@ -14,6 +14,7 @@ typedef struct pfx_parent {
     bool inherit_velocity, inherit_color, inherit_size;
     float color[3], size;
     float generation;
+    uint32_t id; /* the parent's id: a ribbon's points are grouped by it */
 } pfx_parent;
 
 /* One queued event that fired: what the children take from their parent,

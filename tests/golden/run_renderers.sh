@@ -24,7 +24,7 @@ pfx=${1:?usage: run_renderers.sh PATH-TO-PFX SOURCE-DIR}
 src=${2:?usage: run_renderers.sh PATH-TO-PFX SOURCE-DIR}
 # effect:first:last
 cases=(fire:0:3 smoke:0:3 explosion:8:11 fountain_basin:0:3 galaxy:0:3 campfire:30:33
-    rain:10:13 shockwave:8:11 sparks_steps:10:13)
+    rain:10:13 shockwave:8:11 sparks_steps:10:13 sword_swipe:4:7)
 small=(--size 96x96 -q)
 
 source "$src/tests/harness.sh" renderers "$@"
