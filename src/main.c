@@ -485,8 +485,9 @@ static int cmd_info(int argc, char **argv, const options *o) {
     }
     printf("  particles at most %zu of the %llu budget, %zu bytes\n", total,
            (unsigned long long)e->max_particles, bytes);
-    printf("  depth sort: %s\n",
-           pfx_sprites_need_sort(e) ? "yes (an emitter blends by alpha)" : "no (additive only)");
+    printf("  depth sort: %s\n", pfx_sprites_need_sort(e)
+                                     ? "yes (a sprite emitter blends by alpha)"
+                                     : "no (no sprite emitter blends by alpha)");
     pfx_loaded_free(&l);
     return 0;
 }

@@ -10,7 +10,7 @@ set -eu
 src=$(cd "$(dirname "$0")/.." && pwd)
 pfx=${1:-$src/build/pfx}
 out=${2:-$src/docs/examples.png}
-declare -A FRAMES=([particle_gun]=6 [explosion]=12 [shockwave]=14 [genesis]=40)
+declare -A FRAMES=([particle_gun]=6 [sword_swipe]=5 [explosion]=12 [shockwave]=14 [genesis]=40)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cells=()
