@@ -13,6 +13,7 @@
 #include "bench/accuracy.h"
 #include "bench/speed.h"
 #include "compile/schema.h"
+#include "jobs/estimate.h"
 #include "jobs/load.h"
 #include "jobs/render_job.h"
 #include "output/atomic_file.h"
@@ -26,12 +27,14 @@
 #define EXIT_USAGE 2
 
 static const char usage_text[] =
-    "usage: pfx validate [--format text|json] [--max-particles N] FILE...\n"
+    "usage: pfx validate [--format text|json] [--max-particles N] [--max-memory SIZE]\n"
+    "                  FILE...\n"
     "       pfx render FILE -o DIR [--frames A:B] [--size WxH] [--fps N] [--seed N]\n"
-    "                  [--max-particles N] [--renderer R] [--alpha MODE] [-q]\n"
+    "                  [--max-particles N] [--max-memory SIZE] [--renderer R] [--alpha MODE]\n"
+    "                  [-q]\n"
     "       pfx bake FILE -o OUT.csv [--every N] [--frames A:B] [--fps N] [--seed N]\n"
-    "                  [--max-particles N]\n"
-    "       pfx info FILE [--seed N] [--max-particles N]\n"
+    "                  [--max-particles N] [--max-memory SIZE]\n"
+    "       pfx info FILE [--seed N] [--max-particles N] [--max-memory SIZE]\n"
     "       pfx bench [--renderer R]\n"
     "       pfx bench accuracy -o DIR\n"
     "       pfx schema\n"
@@ -51,6 +54,8 @@ static const char usage_text[] =
     "      --fps N             output frames per second, overriding fps\n"
     "      --seed N            random seed, overriding seed\n"
     "      --max-particles N   particle budget over all emitters (default 1000000)\n"
+    "      --max-memory SIZE   refuse a run estimated to need more (K, M, G, T;\n"
+    "                          default half of physical memory)\n"
     "      --every N           bake every Nth frame (default 1)\n"
     "      --format FMT        diagnostics as 'text' (default) or 'json' lines\n"
     "      --renderer R        how to get OpenGL (render, bench): auto (default: osmesa\n"
@@ -70,6 +75,7 @@ typedef struct options {
     long every;
     pfx_renderer_kind renderer; /* --renderer */
     bool has_renderer;
+    uint64_t max_memory; /* --max-memory, else half of physical memory */
     pfx_compile_options compile;
 } options;
 
@@ -130,7 +136,8 @@ static int parse_options(int argc, char **argv, options *o) {
         OPT_EVERY,
         OPT_FORMAT,
         OPT_RENDERER,
-        OPT_ALPHA
+        OPT_ALPHA,
+        OPT_MAX_MEMORY
     };
     static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
                                              {"frames", required_argument, 0, OPT_FRAMES},
@@ -142,12 +149,14 @@ static int parse_options(int argc, char **argv, options *o) {
                                              {"format", required_argument, 0, OPT_FORMAT},
                                              {"renderer", required_argument, 0, OPT_RENDERER},
                                              {"alpha", required_argument, 0, OPT_ALPHA},
+                                             {"max-memory", required_argument, 0, OPT_MAX_MEMORY},
                                              {"quiet", no_argument, 0, 'q'},
                                              {"help", no_argument, 0, 'h'},
                                              {0, 0, 0, 0}};
     memset(o, 0, sizeof *o);
     o->last = -1;
     o->every = 1;
+    o->max_memory = pfx_memory_default_bound();
     opterr = 0;
     optind = 2; /* argv[1] is the command */
     int c;
@@ -186,6 +195,10 @@ static int parse_options(int argc, char **argv, options *o) {
             if (sscanf(optarg, "%ux%u%c", &w, &h, &extra) != 2 || w < 1 || h < 1 || w > 16384 ||
                 h > 16384)
                 return usage_error("--size takes WxH with each side from 1 to 16384, got '%s'",
+                                   optarg);
+            if ((unsigned long long)w * h > PFX_MAX_IMAGE_PIXELS)
+                return usage_error("--size takes at most 134217728 pixels (the renderer's float "
+                                   "framebuffer: 16 bytes a pixel, 2 GiB), got '%s'",
                                    optarg);
             o->compile.width = (int)w;
             o->compile.height = (int)h;
@@ -234,6 +247,12 @@ static int parse_options(int argc, char **argv, options *o) {
             o->compile.has_alpha = true;
             break;
         }
+        case OPT_MAX_MEMORY:
+            if (!pfx_memory_parse(optarg, &o->max_memory))
+                return usage_error("--max-memory takes a size in bytes, or with K, M, G or T "
+                                   "after it, got '%s'",
+                                   optarg);
+            break;
         case ':':
             return usage_error("option '%s' needs a value", argv[optind - 1]);
         default:
@@ -256,8 +275,16 @@ static int cmd_validate(int argc, char **argv, const options *o) {
     int status = 0;
     for (int i = optind; i < argc; i++) {
         pfx_loaded l;
-        if (!load(&l, argv[i], o))
+        pfx_effect *e = pfx_load(&l, argv[i], &o->compile);
+        if (e) {
+            /* The whole render, every frame: what it would cost. */
+            pfx_estimate est;
+            pfx_estimate_run(e, 0, pfx_effect_frame_count(e) - 1, true, &est);
+            pfx_estimate_warn(&l, &est, o->max_memory);
+        } else {
             status = EXIT_INVALID;
+        }
+        pfx_diags_print(&l.diags, stderr, o->json);
         pfx_loaded_free(&l);
     }
     return status;
@@ -319,6 +346,26 @@ static bool frame_range(const pfx_effect *e, const options *o, long *first, long
     return true;
 }
 
+/* Refuses, before anything is allocated, a run estimated to need more than
+ * --max-memory (default half of physical memory), naming the biggest part. */
+static bool memory_fits(const pfx_effect *e, long first, long last, bool render, const options *o,
+                        pfx_diags *run) {
+    pfx_estimate est;
+    pfx_estimate_run(e, first, last, render, &est);
+    if (!o->max_memory || est.total_bytes <= (double)o->max_memory)
+        return true;
+    char need[32], bound[32], part[32];
+    pfx_diag_error(run,
+                   "this %s needs up to %s of memory, over the bound of %s (--max-memory, "
+                   "default half of physical memory); the most goes to the %s: %s",
+                   render ? "render" : "bake",
+                   pfx_memory_format(est.total_bytes, need, sizeof need),
+                   pfx_memory_format((double)o->max_memory, bound, sizeof bound),
+                   pfx_memory_part_names[est.biggest],
+                   pfx_memory_format(est.bytes[est.biggest], part, sizeof part));
+    return false;
+}
+
 static int cmd_render(int argc, char **argv, const options *o) {
     if (optind != argc - 1)
         return usage_error("%s", "render takes one FILE and -o DIR");
@@ -343,6 +390,8 @@ static int cmd_render(int argc, char **argv, const options *o) {
         status = EXIT_USAGE;
         goto done;
     }
+    if (!memory_fits(e, job.first, job.last, true, o, &run))
+        goto done;
     /* The renderer before the directory: one that cannot start writes
      * nothing. */
     job.renderer = pfx_renderer_create(kind, e->width, e->height, &run);
@@ -381,6 +430,8 @@ static int cmd_bake(int argc, char **argv, const options *o) {
         status = EXIT_USAGE;
         goto done;
     }
+    if (!memory_fits(e, first, last, false, o, &run))
+        goto done;
     sim = pfx_sim_create(e, &run);
     view = pfx_sim_create(e, &run);
     if (!sim || !view) {
@@ -415,6 +466,23 @@ done:
     pfx_sim_destroy(sim);
     pfx_loaded_free(&l);
     return status;
+}
+
+/* The estimate of a whole render, every frame, before anything is allocated:
+ * work as particle-steps and memory by part (jobs/estimate.c). */
+static void print_estimate(const pfx_effect *e) {
+    pfx_estimate est;
+    char b[32];
+    pfx_estimate_run(e, 0, pfx_effect_frame_count(e) - 1, true, &est);
+    printf("  work to the last frame, at most: %.4g steps, %.4g particle-steps, %.4g sprites "
+           "covering %.4g pixels\n",
+           est.steps, est.particle_steps, est.sprites, est.sprite_pixels);
+    printf("  memory of a render, at most %s:\n", pfx_memory_format(est.total_bytes, b, sizeof b));
+    for (int p = 0; p < PFX_MEMORY_PART_COUNT; p++)
+        if (est.bytes[p] > 0)
+            printf("    %s: %s%s\n", pfx_memory_part_names[p],
+                   pfx_memory_format(est.bytes[p], b, sizeof b),
+                   p == (int)est.biggest ? " (the most)" : "");
 }
 
 static int cmd_info(int argc, char **argv, const options *o) {
@@ -488,6 +556,12 @@ static int cmd_info(int argc, char **argv, const options *o) {
     printf("  depth sort: %s\n", pfx_sprites_need_sort(e)
                                      ? "yes (a sprite emitter blends by alpha)"
                                      : "no (no sprite emitter blends by alpha)");
+    print_estimate(e);
+    if (o->max_memory) {
+        char b[32];
+        printf("  memory bound %s (--max-memory)\n",
+               pfx_memory_format((double)o->max_memory, b, sizeof b));
+    }
     pfx_loaded_free(&l);
     return 0;
 }

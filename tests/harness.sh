@@ -99,16 +99,20 @@ run() {
     fi
 }
 
-# pfx_run ARGS...: runs pfx ARGS for at most $pfx_timeout seconds and within
-# $pfx_vm KiB of address space (a script may lower both), with stdout in
-# $work/out, stderr in $work/err and the exit status in $status.
+# pfx_run ARGS...: runs pfx ARGS for at most $pfx_timeout seconds of wall
+# time and $pfx_cpu seconds of CPU time, within $pfx_vm KiB of address
+# space (a script may lower each), with stdout in $work/out, stderr in
+# $work/err and the exit status in $status. Time bounds that a test asserts
+# are CPU time: a loaded machine stretches the wall clock, not the work.
 pfx_timeout=60
+pfx_cpu=unlimited
 pfx_vm=unlimited
 pfx_run() {
     check_ran=1
     check_cmd=$*
     (
         ulimit -v "$pfx_vm" 2>/dev/null
+        ulimit -t "$pfx_cpu" 2>/dev/null
         exec timeout "$pfx_timeout" "$pfx" "$@"
     ) >"$work/out" 2>"$work/err"
     status=$?
@@ -122,6 +126,10 @@ pfx_run() {
 finished() {
     if [ "$status" -eq 124 ]; then
         flunk "${1:+$1: }timed out after $pfx_timeout s"
+        return 1
+    fi
+    if [ "$status" -eq 152 ] && [ "$pfx_cpu" != unlimited ]; then
+        flunk "${1:+$1: }used more than $pfx_cpu s of CPU time (SIGXCPU)"
         return 1
     fi
     if [ "$status" -ge 128 ]; then

@@ -148,22 +148,33 @@ static void read_image_size(pfx_reader *r, const pfx_node *map, const pfx_node *
     double wh[2];
     if (!pfx_read_numbers(r, size, "size", wh, 2))
         return;
+    bool sides_ok = true;
     for (int i = 0; i < 2; i++) {
         const pfx_node *n = size->items[i];
-        if (wh[i] != floor(wh[i]) || wh[i] < 1 || wh[i] > MAX_IMAGE_SIDE)
+        if (wh[i] != floor(wh[i]) || wh[i] < 1 || wh[i] > MAX_IMAGE_SIDE) {
             pfx_read_error(r, n,
                            "image 'size' must be whole numbers of pixels from 1 to %d, got %g",
                            MAX_IMAGE_SIDE, wh[i]);
+            sides_ok = false;
+        }
     }
     e->width = (int)fmin(fmax(wh[0], 1), MAX_IMAGE_SIDE);
     e->height = (int)fmin(fmax(wh[1], 1), MAX_IMAGE_SIDE);
+    /* Each side in range, the two together may still be too many. */
+    if (sides_ok && (double)e->width * e->height > (double)PFX_MAX_IMAGE_PIXELS)
+        pfx_read_error(r, size,
+                       "image 'size' %dx%d has %.0f pixels; the renderer's float framebuffer "
+                       "holds at most %llu (16 bytes a pixel, 2 GiB), such as 16384x8192",
+                       e->width, e->height, (double)e->width * e->height,
+                       (unsigned long long)PFX_MAX_IMAGE_PIXELS);
 }
 
 static const pfx_key image_keys[] = {
     {"size", PFX_KEY_CODE, .offset = -1, .hook = read_image_size,
      .schema = "{\"type\": \"array\", \"items\": {\"type\": \"integer\", \"minimum\": 1, "
                "\"maximum\": 16384}, \"minItems\": 2, \"maxItems\": 2, \"default\": [512, 512]}",
-     .doc = "[width, height] in pixels, each 1 to 16384 (--size overrides)."},
+     .doc = "[width, height] in pixels, each 1 to 16384, at most 134217728 pixels in all "
+            "(--size overrides)."},
     {"background", PFX_KEY_COLOUR, .offset = E(background),
      .schema = "{\"$ref\": \"#/$defs/colour\", \"default\": \"transparent\"}",
      .doc = "The colour the image is cleared to."},

@@ -25,6 +25,9 @@
 #define PFX_MAX_EMITTERS 1024 /* checked before any is compiled */
 #define PFX_GRADIENT_LUT 256
 #define PFX_DEFAULT_MAX_PARTICLES 1000000
+/* The most pixels an image can have: the renderer draws into one RGBA32F
+ * framebuffer, which Mesa cannot allocate past 2^31 bytes (16 per pixel). */
+#define PFX_MAX_IMAGE_PIXELS (1ULL << 27)
 
 /* A random quantity. Constant: a. Uniform: [a, b]. Normal: mean a, standard
  * deviation b, clamped to [lo, hi]. `{mean, var}` compiles to uniform. */

@@ -1,13 +1,15 @@
 /* libFuzzer target: the path of `pfx validate`. Any bytes are read as an
- * effect file, parsed, compiled, and their diagnostics printed both ways
- * (text and JSON lines) into /dev/null. A crash, a sanitizer report, a leak
- * or a slow input is a finding; a rejected file is not. Mesh paths resolve
- * against a directory that does not exist, so only absolute ones reach the
- * disk. */
+ * effect file, parsed, compiled, the work and memory of a render of what
+ * compiles estimated (with its warnings, against a bound of 1 GiB), and the
+ * diagnostics printed both ways (text and JSON lines) into /dev/null. A
+ * crash, a sanitizer report, a leak or a slow input is a finding; a rejected
+ * file is not. Mesh paths resolve against a directory that does not exist,
+ * so only absolute ones reach the disk. */
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 
+#include "jobs/estimate.h"
 #include "jobs/load.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -18,7 +20,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         devnull = fopen("/dev/null", "w");
     pfx_loaded l;
     pfx_compile_options opt = {0};
-    pfx_load_bytes(&l, "/nonexistent/fuzz.yaml", data, size, &opt);
+    const pfx_effect *e = pfx_load_bytes(&l, "/nonexistent/fuzz.yaml", data, size, &opt);
+    if (e) {
+        pfx_estimate est;
+        pfx_estimate_run(e, 0, pfx_effect_frame_count(e) - 1, true, &est);
+        pfx_estimate_warn(&l, &est, 1ULL << 30);
+    }
     if (devnull) {
         pfx_diags_print(&l.diags, devnull, false);
         pfx_diags_print(&l.diags, devnull, true);

@@ -1,0 +1,216 @@
+/* Work and memory of a run from the compiled effect, before any allocation:
+ * the same sizes the stages will ask for (pools and queues from sim/, sprites
+ * and sort scratch from render/, the PNG queue from output/), added up as if
+ * all were held at once. Upper bounds, not a profile: nothing is simulated
+ * here, and the time is stated as particle-steps. */
+#include "jobs/estimate.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "output/png_write.h"
+#include "render/render.h"
+#include "render/sprites.h"
+#include "sim/pool.h"
+#include "sim/sim.h"
+#include "sim/spawn.h"
+
+const char *const pfx_memory_part_names[PFX_MEMORY_PART_COUNT] = {
+#define PFX_PART_NAME(id, name) name,
+    PFX_MEMORY_PARTS(PFX_PART_NAME)
+#undef PFX_PART_NAME
+};
+
+/* The largest side of emitter em's sprites in pixels, at the emitter's own
+ * distance from the camera (particles that come closer are larger; one that
+ * covers the image is counted as the image). */
+static double sprite_side_px(const pfx_effect *e, const pfx_emitter *em) {
+    double size = fmax(pfx_value_max(&em->size_start), pfx_value_max(&em->size_end));
+    if (em->size_curve)
+        for (int k = 0; k < PFX_GRADIENT_LUT; k++)
+            size = fmax(size, em->size_lut[k]);
+    const pfx_camera *k = &e->camera;
+    if (k->ortho)
+        return size * e->height / k->ortho_height;
+    double view[3], len = 0, depth = 0;
+    for (int a = 0; a < 3; a++) {
+        view[a] = k->target[a] - k->position[a];
+        len += view[a] * view[a];
+    }
+    len = sqrt(len);
+    for (int a = 0; a < 3; a++)
+        depth += (em->position[a] - k->position[a]) * view[a] / (len > 0 ? len : 1);
+    if (!(depth > 1e-6))
+        return INFINITY;
+    return size * 0.5 * e->height / (tan(0.5 * k->fov) * depth);
+}
+
+void pfx_estimate_run(const pfx_effect *e, long first, long last, bool render, pfx_estimate *out) {
+    memset(out, 0, sizeof *out);
+    if (last < first)
+        last = first;
+    /* The steps to the last frame: pfx_sim_frame runs from time 0 (prewarm
+     * included) to the frame's time; a loop wraps back, so its last frame
+     * is within one period after loop_start. */
+    const double t_last =
+        e->loop ? e->loop_start + (double)(last < e->loop_frames ? last : e->loop_frames) / e->fps
+                : pfx_sim_frame_time(e, last);
+    out->steps = ceil(t_last * e->sim_rate);
+    const double frames = (double)(last - first + 1);
+    const double image = (double)e->width * (double)e->height;
+    double particles = 0, pool_bytes = 0, queue_bytes = 0;
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        const pfx_emitter *em = &e->emitters[i];
+        particles += em->capacity;
+        pool_bytes += (double)pfx_pool_bytes(em, em->capacity); /* as sim.c allocates */
+        queue_bytes += (double)pfx_spawn_queue_capacity(e, i) * sizeof(spawn_record);
+        if (render) {
+            const double side = sprite_side_px(e, em);
+            out->sprites += frames * em->capacity;
+            out->sprite_pixels += frames * em->capacity * fmin(image, fmax(1, side * side));
+        }
+    }
+    out->particle_steps = out->steps * particles;
+    /* Render and bake hold the stepping state and a view of it (sim.c);
+     * a loop keeps frame 0's state too. Each has its spawn queues. */
+    const double copies = e->loop ? 3 : 2;
+    out->bytes[PFX_MEMORY_POOLS] = pool_bytes;
+    out->bytes[PFX_MEMORY_VIEW] = pool_bytes;
+    out->bytes[PFX_MEMORY_LOOP] = e->loop ? pool_bytes : 0;
+    out->bytes[PFX_MEMORY_QUEUES] = copies * queue_bytes;
+    if (render) {
+        const double sprites = (double)pfx_sprites_capacity(e) + 1;
+        /* The array main.c fills, and the GL buffer it is uploaded to. */
+        out->bytes[PFX_MEMORY_SPRITES] = 2 * sprites * sizeof(pfx_sprite);
+        /* render.c sorts through keys and an index (two words each, double
+         * buffered) and a sorted copy, grown by doubling from 1024. */
+        if (pfx_sprites_need_sort(e)) {
+            double cap = 1024;
+            while (cap < sprites)
+                cap *= 2;
+            out->bytes[PFX_MEMORY_SORT] = cap * (4 * sizeof(uint32_t) + sizeof(pfx_sprite));
+        }
+        /* RGBA32F in GL and its float read-back, and motion blur's float
+         * sum; two RGBA8 frames per PNG encoder thread (one per core). */
+        out->bytes[PFX_MEMORY_FRAMEBUFFER] = (e->blur_samples > 1 ? 3 : 2) * image * 16;
+        long cores = sysconf(_SC_NPROCESSORS_ONLN);
+        double encoders = cores < 1                      ? 1
+                          : cores > PFX_PNG_MAX_ENCODERS ? PFX_PNG_MAX_ENCODERS
+                                                         : cores;
+        out->bytes[PFX_MEMORY_ENCODER] = 2 * encoders * image * 4;
+        /* Textures: the decoded pixels, and their copy in GL with mipmaps
+         * (4/3 of the base level). */
+        for (size_t i = 0; i < e->emitter_count; i++) {
+            const pfx_image *maps[2] = {e->emitters[i].look.texture,
+                                        e->emitters[i].look.normal_map};
+            for (int k = 0; k < 2; k++)
+                if (maps[k])
+                    out->bytes[PFX_MEMORY_TEXTURES] +=
+                        (1 + 4.0 / 3) * maps[k]->width * maps[k]->height * 4 * (maps[k]->bits / 8);
+        }
+    }
+    out->biggest = PFX_MEMORY_POOLS;
+    for (int p = 0; p < PFX_MEMORY_PART_COUNT; p++) {
+        out->total_bytes += out->bytes[p];
+        if (out->bytes[p] > out->bytes[out->biggest])
+            out->biggest = (pfx_memory_part)p;
+    }
+}
+
+uint64_t pfx_memory_default_bound(void) {
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    if (pages <= 0 || page <= 0)
+        return 0;
+    return (uint64_t)pages * (uint64_t)page / 2;
+}
+
+bool pfx_memory_parse(const char *text, uint64_t *bytes) {
+    char *end;
+    if (!text || !(*text >= '0' && *text <= '9'))
+        return false;
+    double v = strtod(text, &end);
+    double unit = 1;
+    switch (*end) {
+    case 'k':
+    case 'K':
+        unit = 1024.0;
+        break;
+    case 'm':
+    case 'M':
+        unit = 1024.0 * 1024;
+        break;
+    case 'g':
+    case 'G':
+        unit = 1024.0 * 1024 * 1024;
+        break;
+    case 't':
+    case 'T':
+        unit = 1024.0 * 1024 * 1024 * 1024;
+        break;
+    }
+    if (unit > 1) {
+        end++;
+        if (!strcmp(end, "iB") || !strcmp(end, "B"))
+            end += strlen(end);
+    } else if (!strcmp(end, "B")) {
+        end++;
+    }
+    double n = v * unit;
+    if (*end || !(n >= 1) || !(n < 1.8e19))
+        return false;
+    *bytes = (uint64_t)n;
+    return true;
+}
+
+const char *pfx_memory_format(double n, char *buf, size_t size) {
+    static const char *const units[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB"};
+    int u = 0;
+    while (n >= 1024 && u < 5) {
+        n /= 1024;
+        u++;
+    }
+    if (u == 0)
+        snprintf(buf, size, "%.0f bytes", n);
+    else
+        snprintf(buf, size, "%.3g %s", n, units[u]);
+    return buf;
+}
+
+/* The key that sets the run's length, for a located warning: prewarm when
+ * it is most of it, else duration, else the top of the file. */
+static const pfx_node *work_node(const pfx_loaded *l) {
+    const pfx_node *root = l->doc.root, *sim = pfx_node_get(root, "sim"), *n = NULL;
+    if (l->effect->prewarm > l->effect->duration)
+        n = pfx_node_get(sim, "prewarm");
+    if (!n)
+        n = pfx_node_get(root, "duration");
+    if (!n)
+        n = pfx_node_get(sim, "rate");
+    return n ? n : root;
+}
+
+void pfx_estimate_warn(pfx_loaded *l, const pfx_estimate *est, uint64_t bound) {
+    if (est->particle_steps > PFX_WORK_WARN_PARTICLE_STEPS) {
+        const pfx_node *n = work_node(l);
+        pfx_diag_add(&l->diags, PFX_SEV_WARNING, n ? n->line : 0, n ? n->col : 0, n ? n->span : 0,
+                     "the effect needs up to %.3g particle-steps to its last frame (%.3g steps of "
+                     "up to %.3g particles), over %.0e: hours or more of simulation (lower "
+                     "'duration', 'prewarm', 'sim.rate' or the particle budget)",
+                     est->particle_steps, est->steps,
+                     est->steps > 0 ? est->particle_steps / est->steps : 0,
+                     PFX_WORK_WARN_PARTICLE_STEPS);
+    }
+    if (bound && est->total_bytes > (double)bound) {
+        char need[32], have[32], part[32];
+        pfx_diag_add(&l->diags, PFX_SEV_WARNING, 0, 0, 0,
+                     "rendering needs up to %s of memory, over the bound of %s (--max-memory); "
+                     "the most goes to the %s: %s",
+                     pfx_memory_format(est->total_bytes, need, sizeof need),
+                     pfx_memory_format((double)bound, have, sizeof have),
+                     pfx_memory_part_names[est->biggest],
+                     pfx_memory_format(est->bytes[est->biggest], part, sizeof part));
+    }
+}

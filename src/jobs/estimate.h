@@ -1,0 +1,70 @@
+/* Work and memory of a run, estimated from the compiled effect before
+ * anything is allocated (jobs/estimate.c): what `pfx info` shows, what
+ * `validate` warns about, and what --max-memory refuses. */
+#ifndef PFX_JOBS_ESTIMATE_H
+#define PFX_JOBS_ESTIMATE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "jobs/load.h"
+
+/* Where a run's memory goes, one row each: the enum and the name that
+ * `pfx info` and the --max-memory error print. */
+#define PFX_MEMORY_PARTS(X)                                                                        \
+    X(POOLS, "particle pools")                                                                     \
+    X(VIEW, "frame view (a second copy of the pools)")                                             \
+    X(LOOP, "loop start (a third copy of the pools)")                                              \
+    X(QUEUES, "spawn queues")                                                                      \
+    X(SPRITES, "sprites (array and GL vertex buffer)")                                             \
+    X(SORT, "depth-sort scratch")                                                                  \
+    X(FRAMEBUFFER, "float framebuffer, read-back, blur sum")                                       \
+    X(ENCODER, "PNG encoder buffers")                                                              \
+    X(TEXTURES, "textures")
+
+typedef enum {
+#define PFX_PART_ENUM(id, name) PFX_MEMORY_##id,
+    PFX_MEMORY_PARTS(PFX_PART_ENUM)
+#undef PFX_PART_ENUM
+        PFX_MEMORY_PART_COUNT
+} pfx_memory_part;
+
+extern const char *const pfx_memory_part_names[PFX_MEMORY_PART_COUNT];
+
+/* Above this many particle-steps `validate` warns: hours at the speeds
+ * `pfx bench` measures (about 1e7 to 1e8 particle-steps a second). */
+#define PFX_WORK_WARN_PARTICLE_STEPS 1e11
+
+/* Upper bounds, each for the run to the last frame asked for: every pool
+ * full from the first step on, every sprite as large as it can be. */
+typedef struct pfx_estimate {
+    double steps;          /* fixed simulation steps, prewarm included */
+    double particle_steps; /* steps x the particles alive in each, at most */
+    double sprites;        /* sprites drawn over the frames rendered */
+    double sprite_pixels;  /* their pixels, each sprite at most the image */
+    double bytes[PFX_MEMORY_PART_COUNT];
+    double total_bytes; /* peak: every part at once */
+    pfx_memory_part biggest;
+} pfx_estimate;
+
+/* Estimates a run of e to output frame `last` (frames from `first`):
+ * drawing them when `render` is true, baking them otherwise. Pure: reads
+ * the effect only. */
+void pfx_estimate_run(const pfx_effect *e, long first, long last, bool render, pfx_estimate *out);
+
+/* Half of physical memory: --max-memory's default (0 where unknown). */
+uint64_t pfx_memory_default_bound(void);
+
+/* Parses SIZE: bytes, or a number with K, M, G or T (powers of 1024, an
+ * optional "iB" or "B" after it). False when it is not one, or zero. */
+bool pfx_memory_parse(const char *text, uint64_t *bytes);
+
+/* Writes n bytes as "12.3 GiB" into buf. */
+const char *pfx_memory_format(double n, char *buf, size_t size);
+
+/* Warnings for `validate` into l->diags, located at the key that sets
+ * the work: past PFX_WORK_WARN_PARTICLE_STEPS, or past bound bytes of
+ * memory (0: no bound), naming the biggest consumer. */
+void pfx_estimate_warn(pfx_loaded *l, const pfx_estimate *est, uint64_t bound);
+
+#endif

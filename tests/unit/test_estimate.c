@@ -1,0 +1,109 @@
+/* The estimate of a run (jobs/estimate.c) against what the simulation
+ * really allocates, the step count from its definition, and --max-memory's
+ * size parser; and the spawn queues' bound by their target pools. */
+#include <unistd.h>
+
+#include "jobs/estimate.h"
+#include "output/png_write.h"
+#include "render/render.h"
+#include "sim/sim.h"
+#include "sim/spawn.h"
+#include "test.h"
+#include "test_compile.h"
+
+/* Sub-emitters in a cycle with trails, a deflector, alpha and additive
+ * emitters: every pool and queue kind the estimate adds up. */
+static const char *const cycle =
+    "pfx: 1\nduration: 2\nfps: 30\nsim: { rate: 90 }\n"
+    "deflectors:\n  floor: { type: plane }\n"
+    "emitters:\n"
+    "  a:\n    rate: 1000\n    lifetime: 0.5\n    blend: alpha\n"
+    "    trail: { emit: b, rate: 200 }\n    on_death: { emit: b, count: 50, depth: 4 }\n"
+    "  b:\n    lifetime: 0.25\n    on_death: { emit: a, count: 3, depth: 4 }\n"
+    "  c:\n    rate: 10\n    lifetime: 1\n";
+
+static void test_pools_and_queues_as_allocated(void) {
+    compiled c;
+    const pfx_effect *e = compile_text(&c, cycle);
+    if (!e)
+        return;
+    pfx_estimate est;
+    pfx_estimate_run(e, 0, 59, false, &est);
+    pfx_sim *s = pfx_sim_create(e, NULL);
+    CHECK(s != NULL);
+    if (s) {
+        CHECK_NEAR(est.bytes[PFX_MEMORY_POOLS], (double)s->bytes, 0);
+        CHECK_NEAR(est.bytes[PFX_MEMORY_VIEW], (double)s->bytes, 0);
+        double queues = 0;
+        for (size_t i = 0; i < e->emitter_count; i++) {
+            queues += (double)s->queues[i].cap * sizeof(spawn_record);
+            /* A queue never holds more records than its target's pool. */
+            CHECK(s->queues[i].cap <= e->emitters[i].capacity);
+        }
+        CHECK(queues > 0);
+        CHECK_NEAR(est.bytes[PFX_MEMORY_QUEUES], 2 * queues, 0);
+        pfx_sim_destroy(s);
+    }
+    /* Baking draws nothing: no sprite, framebuffer or encoder. */
+    CHECK(est.bytes[PFX_MEMORY_SPRITES] == 0 && est.bytes[PFX_MEMORY_FRAMEBUFFER] == 0);
+    /* Frame 59 is at 59/30 s: ceil(59/30 * 90) = 177 steps, each with at
+     * most every pool full. */
+    CHECK_NEAR(est.steps, 177, 0);
+    double particles = 0;
+    for (size_t i = 0; i < e->emitter_count; i++)
+        particles += e->emitters[i].capacity;
+    CHECK_NEAR(est.particle_steps, 177 * particles, 0);
+    compiled_free(&c);
+}
+
+static void test_render_parts(void) {
+    compiled c;
+    const pfx_effect *e = compile_text(&c, cycle);
+    if (!e)
+        return;
+    pfx_estimate est;
+    pfx_estimate_run(e, 10, 12, true, &est);
+    double particles = 0;
+    for (size_t i = 0; i < e->emitter_count; i++)
+        particles += e->emitters[i].capacity;
+    /* 512 x 512: RGBA32F twice; RGBA8 twice per encoder, one per core. */
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    double encoders = cores < 1 ? 1 : cores > PFX_PNG_MAX_ENCODERS ? PFX_PNG_MAX_ENCODERS : cores;
+    CHECK_NEAR(est.bytes[PFX_MEMORY_FRAMEBUFFER], 2.0 * 512 * 512 * 16, 0);
+    CHECK_NEAR(est.bytes[PFX_MEMORY_ENCODER], 2.0 * encoders * 512 * 512 * 4, 0);
+    CHECK_NEAR(est.bytes[PFX_MEMORY_SPRITES], 2 * (particles + 1) * sizeof(pfx_sprite), 0);
+    CHECK(est.bytes[PFX_MEMORY_SORT] >= (particles + 1) * (16 + sizeof(pfx_sprite)));
+    CHECK_NEAR(est.sprites, 3 * particles, 0);
+    double total = 0, most = 0;
+    for (int p = 0; p < PFX_MEMORY_PART_COUNT; p++) {
+        total += est.bytes[p];
+        most = fmax(most, est.bytes[p]);
+    }
+    CHECK_NEAR(est.total_bytes, total, 0);
+    CHECK_NEAR(est.bytes[est.biggest], most, 0);
+    compiled_free(&c);
+}
+
+static void test_memory_parse(void) {
+    uint64_t b = 0;
+    CHECK(pfx_memory_parse("4096", &b) && b == 4096);
+    CHECK(pfx_memory_parse("100B", &b) && b == 100);
+    CHECK(pfx_memory_parse("512K", &b) && b == 512 * 1024);
+    CHECK(pfx_memory_parse("3M", &b) && b == 3 * 1024 * 1024);
+    CHECK(pfx_memory_parse("1.5G", &b) && b == 1536ULL * 1024 * 1024);
+    CHECK(pfx_memory_parse("2GiB", &b) && b == 2ULL << 30);
+    CHECK(pfx_memory_parse("1TB", &b) && b == 1ULL << 40);
+    const char *bad[] = {"", "0", "-1", "G", "4X", "1.5Gx", "1e30", "nan", " 4", NULL};
+    for (int i = 0; bad[i]; i++)
+        CHECK(!pfx_memory_parse(bad[i], &b));
+    char buf[32];
+    CHECK(!strcmp(pfx_memory_format(1536.0 * 1024 * 1024, buf, sizeof buf), "1.5 GiB"));
+    CHECK(!strcmp(pfx_memory_format(100, buf, sizeof buf), "100 bytes"));
+}
+
+int main(void) {
+    RUN(test_pools_and_queues_as_allocated);
+    RUN(test_render_parts);
+    RUN(test_memory_parse);
+    return TEST_EXIT();
+}
