@@ -407,6 +407,33 @@ bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, double r
     return false;
 }
 
+/* Samples the piecewise-linear gradient through `count` stops (at[k],
+ * colors[k]) once into out's lookup table: entry i is the colour at age
+ * fraction i / (LUT - 1). Before the first stop and after the last, the end
+ * colours hold. */
+static void fill_gradient_lut(const double *at, const float (*colors)[4], size_t count,
+                              pfx_gradient *out) {
+    out->constant = true;
+    for (int i = 0; i < PFX_GRADIENT_LUT; i++) {
+        double t = (double)i / (PFX_GRADIENT_LUT - 1);
+        size_t k = 0;
+        while (k + 1 < count && at[k + 1] <= t)
+            k++;
+        for (int c = 0; c < 4; c++) {
+            double v;
+            if (k + 1 >= count || t <= at[k]) {
+                v = colors[k][c];
+            } else {
+                double u = (t - at[k]) / (at[k + 1] - at[k]);
+                v = colors[k][c] + (colors[k + 1][c] - colors[k][c]) * u;
+            }
+            out->lut[i][c] = (float)v;
+            if (out->lut[i][c] != out->lut[0][c])
+                out->constant = false;
+        }
+    }
+}
+
 static const char *const stop_keys[] = {"at", "color", NULL};
 
 bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, double rgb_max,
@@ -471,28 +498,7 @@ bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, doubl
     }
     if (!ok)
         return false;
-    /* Sample the piecewise-linear gradient once into the lookup table: entry
-     * i is the colour at age fraction i / (LUT - 1). Before the first stop and
-     * after the last, the end colours hold. */
-    out->constant = true;
-    for (int i = 0; i < PFX_GRADIENT_LUT; i++) {
-        double t = (double)i / (PFX_GRADIENT_LUT - 1);
-        size_t k = 0;
-        while (k + 1 < count && at[k + 1] <= t)
-            k++;
-        for (int c = 0; c < 4; c++) {
-            double v;
-            if (k + 1 >= count || t <= at[k]) {
-                v = colors[k][c];
-            } else {
-                double u = (t - at[k]) / (at[k + 1] - at[k]);
-                v = colors[k][c] + (colors[k + 1][c] - colors[k][c]) * u;
-            }
-            out->lut[i][c] = (float)v;
-            if (out->lut[i][c] != out->lut[0][c])
-                out->constant = false;
-        }
-    }
+    fill_gradient_lut(at, colors, count, out);
     return true;
 }
 

@@ -63,12 +63,98 @@ static json_t *vec3_schema(double limit) {
     return p;
 }
 
+/* A number or whole row: its type, range and default. */
+static json_t *number_schema(const pfx_key *k, bool def) {
+    json_t *p = json_object();
+    json_object_set_new(p, "type", json_string(k->type == PFX_KEY_NUMBER ? "number" : "integer"));
+    add_range(p, k);
+    if (def)
+        json_object_set_new(p, "default", number(k->def[0]));
+    return p;
+}
+
+static json_t *bool_schema(const pfx_key *k, bool def) {
+    json_t *p = json_object();
+    json_object_set_new(p, "type", json_string("boolean"));
+    if (def)
+        json_object_set_new(p, "default", json_boolean(k->def[0] != 0));
+    return p;
+}
+
+/* A vec3 row: three bounded numbers, not all zero where the row says so. */
+static json_t *vec3_row_schema(const pfx_key *k, bool def) {
+    json_t *p = vec3_schema(k->hi);
+    if (k->flags & PFX_KEY_NONZERO)
+        json_object_set_new(p, "not", json_pack("{s:{s:i}}", "items", "const", 0));
+    if (def) {
+        json_t *d = json_array();
+        for (int i = 0; i < 3; i++)
+            json_array_append_new(d, number(k->def[i]));
+        json_object_set_new(p, "default", d);
+    }
+    return p;
+}
+
+static json_t *enum_schema(const pfx_key *k, bool def) {
+    json_t *p = json_object();
+    json_object_set_new(p, "enum", names_array(k->names));
+    if (def)
+        json_object_set_new(p, "default", json_string(pfx_kind_name(k->names, (int)k->def[0])));
+    return p;
+}
+
+/* A value row: the shared "value" definition, with the row's range applied
+ * to the number, each end of [min, max], the mean and the clamp. */
+static json_t *value_schema(const pfx_key *k, bool def) {
+    json_t *p = ref("value");
+    add_range(p, k);
+    if (isfinite(k->lo) || isfinite(k->hi)) {
+        json_t *bound = json_object(), *props = json_object(), *clamp = json_object();
+        add_range(bound, k);
+        json_object_set_new(p, "items", json_deep_copy(bound));
+        json_object_set_new(props, "mean", json_deep_copy(bound));
+        json_object_set_new(clamp, "items", bound);
+        json_object_set_new(props, "clamp", clamp);
+        json_object_set_new(p, "properties", props);
+    }
+    if (def)
+        json_object_set_new(p, "default", number(k->def[0]));
+    return p;
+}
+
+/* A range row: a number, [min, max] or {mean, var}, every number within
+ * the row's range. */
+static json_t *range_schema(const pfx_key *k, bool def) {
+    json_t *num = json_object(), *arr = json_object(), *mv = json_object(), *props,
+           *one = json_array();
+    json_object_set_new(num, "type", json_string("number"));
+    add_range(num, k);
+    json_object_set_new(arr, "type", json_string("array"));
+    json_object_set_new(arr, "items", json_deep_copy(num));
+    json_object_set_new(arr, "minItems", json_integer(2));
+    json_object_set_new(arr, "maxItems", json_integer(2));
+    json_object_set_new(mv, "type", json_string("object"));
+    json_object_set_new(mv, "required", json_pack("[s]", "mean"));
+    json_object_set_new(mv, "additionalProperties", json_false());
+    props = json_object();
+    json_object_set_new(props, "mean", json_deep_copy(num));
+    json_object_set_new(props, "var", json_deep_copy(num));
+    json_object_set_new(mv, "properties", props);
+    json_array_append_new(one, num);
+    json_array_append_new(one, arr);
+    json_array_append_new(one, mv);
+    json_t *p = json_object();
+    if (def)
+        json_object_set_new(p, "default", number(k->def[0]));
+    json_object_set_new(p, "oneOf", one);
+    return p;
+}
+
 /* The schema of one row (without its description). */
 static json_t *row_schema(const pfx_key_table *t, const pfx_key *k) {
     const bool def = !(k->flags & PFX_KEY_NO_DEFAULT);
-    json_t *p;
     if (t->kind && !strcmp(k->name, "type")) {
-        p = json_object();
+        json_t *p = json_object();
         json_object_set_new(p, "const", json_string(t->kind));
         return p;
     }
@@ -77,84 +163,22 @@ static json_t *row_schema(const pfx_key_table *t, const pfx_key *k) {
     switch (k->type) {
     case PFX_KEY_NUMBER:
     case PFX_KEY_WHOLE:
-        p = json_object();
-        json_object_set_new(p, "type",
-                            json_string(k->type == PFX_KEY_NUMBER ? "number" : "integer"));
-        add_range(p, k);
-        if (def)
-            json_object_set_new(p, "default", number(k->def[0]));
-        return p;
+        return number_schema(k, def);
     case PFX_KEY_BOOL:
-        p = json_object();
-        json_object_set_new(p, "type", json_string("boolean"));
-        if (def)
-            json_object_set_new(p, "default", json_boolean(k->def[0] != 0));
-        return p;
+        return bool_schema(k, def);
     case PFX_KEY_VEC3:
-        p = vec3_schema(k->hi);
-        if (k->flags & PFX_KEY_NONZERO)
-            json_object_set_new(p, "not", json_pack("{s:{s:i}}", "items", "const", 0));
-        if (def) {
-            json_t *d = json_array();
-            for (int i = 0; i < 3; i++)
-                json_array_append_new(d, number(k->def[i]));
-            json_object_set_new(p, "default", d);
-        }
-        return p;
+        return vec3_row_schema(k, def);
     case PFX_KEY_ENUM:
-        p = json_object();
-        json_object_set_new(p, "enum", names_array(k->names));
-        if (def)
-            json_object_set_new(p, "default", json_string(pfx_kind_name(k->names, (int)k->def[0])));
-        return p;
-    case PFX_KEY_VALUE: {
-        /* the range applies to the number, each end of [min, max], the
-         * mean and the clamp */
-        p = ref("value");
-        add_range(p, k);
-        if (isfinite(k->lo) || isfinite(k->hi)) {
-            json_t *bound = json_object(), *props = json_object(), *clamp = json_object();
-            add_range(bound, k);
-            json_object_set_new(p, "items", json_deep_copy(bound));
-            json_object_set_new(props, "mean", json_deep_copy(bound));
-            json_object_set_new(clamp, "items", bound);
-            json_object_set_new(props, "clamp", clamp);
-            json_object_set_new(p, "properties", props);
-        }
-        if (def)
-            json_object_set_new(p, "default", number(k->def[0]));
-        return p;
-    }
-    case PFX_KEY_RANGE: {
-        /* a number, [min, max] or {mean, var}, every number within range */
-        json_t *num = json_object(), *arr = json_object(), *mv = json_object(), *props,
-               *one = json_array();
-        json_object_set_new(num, "type", json_string("number"));
-        add_range(num, k);
-        json_object_set_new(arr, "type", json_string("array"));
-        json_object_set_new(arr, "items", json_deep_copy(num));
-        json_object_set_new(arr, "minItems", json_integer(2));
-        json_object_set_new(arr, "maxItems", json_integer(2));
-        json_object_set_new(mv, "type", json_string("object"));
-        json_object_set_new(mv, "required", json_pack("[s]", "mean"));
-        json_object_set_new(mv, "additionalProperties", json_false());
-        props = json_object();
-        json_object_set_new(props, "mean", json_deep_copy(num));
-        json_object_set_new(props, "var", json_deep_copy(num));
-        json_object_set_new(mv, "properties", props);
-        json_array_append_new(one, num);
-        json_array_append_new(one, arr);
-        json_array_append_new(one, mv);
-        p = json_object();
-        if (def)
-            json_object_set_new(p, "default", number(k->def[0]));
-        json_object_set_new(p, "oneOf", one);
-        return p;
-    }
-    case PFX_KEY_STRING:
-        p = json_object();
+        return enum_schema(k, def);
+    case PFX_KEY_VALUE:
+        return value_schema(k, def);
+    case PFX_KEY_RANGE:
+        return range_schema(k, def);
+    case PFX_KEY_STRING: {
+        json_t *p = json_object();
         json_object_set_new(p, "type", json_string("string"));
         return p;
+    }
     case PFX_KEY_MAP:
         return ref(k->table->name);
     case PFX_KEY_COLOUR:

@@ -210,6 +210,96 @@ static int ceil_steps(double dt, double h) {
     return n < 1 ? 1 : n;
 }
 
+/* What choose_auto learns from the forces: which kinds of force there are,
+ * the summed rates (w2 = sum omega^2, kv = sum of the explicit decay
+ * rates), the error coefficient err (error rate = err h^2), and the
+ * largest step h allowed so far with what set it. */
+typedef struct auto_survey {
+    bool velocity, rotation, position;
+    double w2, kv, h, err;
+    const char *stiff;
+} auto_survey;
+
+/* The first pass: the kinds of force present, their oscillation rates and
+ * the error terms that do not depend on the scheme. */
+static void survey_forces(const pfx_motion *m, auto_survey *a) {
+    for (size_t i = 0; i < m->force_count; i++) {
+        const pfx_motion_force *f = &m->forces[i];
+        const bool unreg = f->region.kind == PFX_REGION_NONE;
+        if (f->kind == PFX_MOTION_DRAG && (f->c > 0 || (!unreg && f->k > 0)))
+            a->velocity = true;
+        if (f->kind == PFX_MOTION_SPRING && f->zeta > 0 && !unreg)
+            a->velocity = true;
+        if (f->kind == PFX_MOTION_MAGNETIC && norm3(f->field) > 0) {
+            a->rotation = true;
+            a->err += rotation_error(f);
+        }
+        if (f->kind == PFX_MOTION_ATTRACTOR || f->kind == PFX_MOTION_SPRING ||
+            f->kind == PFX_MOTION_TURBULENCE || (f->kind == PFX_MOTION_GRAVITY && !unreg) ||
+            (f->kind == PFX_MOTION_MAGNETIC && norm3(f->electric) > 0))
+            a->position = true;
+        if (f->kind == PFX_MOTION_FORCE_OVER_LIFE) {
+            a->position = true; /* a kick that reads no state */
+            a->err += AUTO_C_JERK * f->jerk_hint;
+        }
+        double w = pfx_motion_force_omega(f);
+        if (w > 0) {
+            a->w2 += w * w;
+            a->err += oscillation_error(f);
+            if (1 / w < a->h)
+                a->h = 1 / w, a->stiff = f->name;
+        }
+    }
+}
+
+/* With a velocity force: the decay rates the chosen scheme evaluates
+ * explicitly (everything for Verlet, the unfolded velocity forces for the
+ * split step), their error terms, and the step limits they and the summed
+ * oscillation set. */
+static void limit_by_damping(const pfx_motion *m, const pfx_motion_choice *c, auto_survey *a) {
+    for (size_t i = 0; i < m->force_count; i++) {
+        const pfx_motion_force *f = &m->forces[i];
+        double k = pfx_motion_force_damping(m, f);
+        bool unreg = f->region.kind == PFX_REGION_NONE;
+        if (c->scheme == PFX_SCHEME_SPLIT && unreg && f->kind == PFX_MOTION_SPRING)
+            k = 0;
+        if (c->scheme == PFX_SCHEME_SPLIT && unreg && f->kind == PFX_MOTION_DRAG)
+            k -= f->k;
+        a->kv += k;
+        if (k > 0)
+            a->err += AUTO_C_VELOCITY * velocity_scale(m, f) * k * k;
+    }
+    if (c->scheme == PFX_SCHEME_VERLET && a->w2 > 0 && 1 / sqrt(a->w2) < a->h)
+        a->h = 1 / sqrt(a->w2), a->stiff = "the forces together";
+    if (a->kv > 0 && 1 / a->kv < a->h)
+        a->h = 1 / a->kv, a->stiff = "the drag";
+}
+
+/* c->why: the scheme and why it was chosen, then the substeps and what set
+ * them when there is more than one step or any expected error. */
+static void write_auto_why(const auto_survey *a, pfx_motion_choice *c) {
+    const double hh = c->dt / c->steps;
+    int len;
+    if (!a->position && !a->velocity && !a->rotation)
+        len = snprintf(c->why, sizeof c->why,
+                       "exact: gravity and linear drag have a closed form, exact at any dt");
+    else if (c->scheme == PFX_SCHEME_SPLIT)
+        len = snprintf(
+            c->why, sizeof c->why, "%s: exact gravity/drag drift%s%s",
+            pfx_integrator_name(c->chosen), a->rotation ? ", Boris rotation keeps |v| in B" : "",
+            a->position || a->velocity ? ", kick-drift-kick for the rest (2nd order)" : "");
+    else
+        len = snprintf(c->why, sizeof c->why,
+                       "verlet: a velocity-dependent force needs it (2nd order, 2 evaluations)");
+    if (len > 0 && (size_t)len < sizeof c->why && (c->steps > 1 || a->err > 0))
+        snprintf(c->why + len, sizeof c->why - len,
+                 "; %d substep%s (set by %s%s): omega*h = %.3g, k*h = %.3g, expected error "
+                 "%.2g m/s",
+                 c->steps, c->steps == 1 ? "" : "s", a->stiff ? a->stiff : "-",
+                 c->steps == PFX_MOTION_MAX_SUBSTEPS ? ", capped" : "", sqrt(a->w2) * hh,
+                 a->kv * hh, c->error_rate);
+}
+
 /* The auto rule, per emitter, from the forces it feels:
  *  - only gravity and unregioned linear drag (springs' damping counts):
  *    `exact`, the closed form, 1 step at any dt;
@@ -225,87 +315,22 @@ static int ceil_steps(double dt, double h) {
  *    and L omega^3 h^2 / 24 <= tolerance - the position error per second of
  *    a second-order symplectic scheme on an oscillation of size L. */
 static void choose_auto(const pfx_motion *m, double tol, pfx_motion_choice *c) {
-    bool velocity = false, rotation = false, position = false;
-    double w2 = 0, kv = 0, h = INFINITY, err = 0;
-    const char *stiff = NULL;
-    for (size_t i = 0; i < m->force_count; i++) {
-        const pfx_motion_force *f = &m->forces[i];
-        const bool unreg = f->region.kind == PFX_REGION_NONE;
-        if (f->kind == PFX_MOTION_DRAG && (f->c > 0 || (!unreg && f->k > 0)))
-            velocity = true;
-        if (f->kind == PFX_MOTION_SPRING && f->zeta > 0 && !unreg)
-            velocity = true;
-        if (f->kind == PFX_MOTION_MAGNETIC && norm3(f->field) > 0) {
-            rotation = true;
-            err += rotation_error(f);
-        }
-        if (f->kind == PFX_MOTION_ATTRACTOR || f->kind == PFX_MOTION_SPRING ||
-            f->kind == PFX_MOTION_TURBULENCE || (f->kind == PFX_MOTION_GRAVITY && !unreg) ||
-            (f->kind == PFX_MOTION_MAGNETIC && norm3(f->electric) > 0))
-            position = true;
-        if (f->kind == PFX_MOTION_FORCE_OVER_LIFE) {
-            position = true; /* a kick that reads no state */
-            err += AUTO_C_JERK * f->jerk_hint;
-        }
-        double w = pfx_motion_force_omega(f);
-        if (w > 0) {
-            w2 += w * w;
-            err += oscillation_error(f);
-            if (1 / w < h)
-                h = 1 / w, stiff = f->name;
-        }
-    }
-    if (!velocity) {
+    auto_survey a = {.h = INFINITY};
+    survey_forces(m, &a);
+    if (!a.velocity) {
         c->scheme = PFX_SCHEME_SPLIT;
-        c->chosen = rotation ? PFX_INTEGRATOR_BORIS : PFX_INTEGRATOR_EXACT;
+        c->chosen = a.rotation ? PFX_INTEGRATOR_BORIS : PFX_INTEGRATOR_EXACT;
     } else {
-        c->scheme = rotation ? PFX_SCHEME_SPLIT : PFX_SCHEME_VERLET;
-        c->chosen = rotation ? PFX_INTEGRATOR_BORIS : PFX_INTEGRATOR_VERLET;
-        /* What the scheme evaluates explicitly: everything for Verlet, the
-         * unfolded velocity forces for the split step. */
-        for (size_t i = 0; i < m->force_count; i++) {
-            const pfx_motion_force *f = &m->forces[i];
-            double k = pfx_motion_force_damping(m, f);
-            bool unreg = f->region.kind == PFX_REGION_NONE;
-            if (c->scheme == PFX_SCHEME_SPLIT && unreg && f->kind == PFX_MOTION_SPRING)
-                k = 0;
-            if (c->scheme == PFX_SCHEME_SPLIT && unreg && f->kind == PFX_MOTION_DRAG)
-                k -= f->k;
-            kv += k;
-            if (k > 0)
-                err += AUTO_C_VELOCITY * velocity_scale(m, f) * k * k;
-        }
-        if (c->scheme == PFX_SCHEME_VERLET && w2 > 0 && 1 / sqrt(w2) < h)
-            h = 1 / sqrt(w2), stiff = "the forces together";
-        if (kv > 0 && 1 / kv < h)
-            h = 1 / kv, stiff = "the drag";
+        c->scheme = a.rotation ? PFX_SCHEME_SPLIT : PFX_SCHEME_VERLET;
+        c->chosen = a.rotation ? PFX_INTEGRATOR_BORIS : PFX_INTEGRATOR_VERLET;
+        limit_by_damping(m, c, &a);
     }
     /* The tolerance: err h^2 <= tol. */
-    const bool accuracy = err > 0 && sqrt(tol / err) < h;
-    if (accuracy)
-        h = sqrt(tol / err), stiff = "the tolerance";
-    c->steps = ceil_steps(c->dt, h);
-    c->error_rate = err * (c->dt / c->steps) * (c->dt / c->steps);
-    const double hh = c->dt / c->steps;
-    int len;
-    if (!position && !velocity && !rotation)
-        len = snprintf(c->why, sizeof c->why,
-                       "exact: gravity and linear drag have a closed form, exact at any dt");
-    else if (c->scheme == PFX_SCHEME_SPLIT)
-        len = snprintf(c->why, sizeof c->why, "%s: exact gravity/drag drift%s%s",
-                       pfx_integrator_name(c->chosen),
-                       rotation ? ", Boris rotation keeps |v| in B" : "",
-                       position || velocity ? ", kick-drift-kick for the rest (2nd order)" : "");
-    else
-        len = snprintf(c->why, sizeof c->why,
-                       "verlet: a velocity-dependent force needs it (2nd order, 2 evaluations)");
-    if (len > 0 && (size_t)len < sizeof c->why && (c->steps > 1 || err > 0))
-        snprintf(c->why + len, sizeof c->why - len,
-                 "; %d substep%s (set by %s%s): omega*h = %.3g, k*h = %.3g, expected error "
-                 "%.2g m/s",
-                 c->steps, c->steps == 1 ? "" : "s", stiff ? stiff : "-",
-                 c->steps == PFX_MOTION_MAX_SUBSTEPS ? ", capped" : "", sqrt(w2) * hh, kv * hh,
-                 c->error_rate);
+    if (a.err > 0 && sqrt(tol / a.err) < a.h)
+        a.h = sqrt(tol / a.err), a.stiff = "the tolerance";
+    c->steps = ceil_steps(c->dt, a.h);
+    c->error_rate = a.err * (c->dt / c->steps) * (c->dt / c->steps);
+    write_auto_why(&a, c);
 }
 
 void pfx_motion_choose(pfx_motion *m, double dt) {

@@ -178,125 +178,181 @@ static void fix_text(const pfx_stability_warning *w, pfx_integrator chosen, char
         snprintf(buf, size, "use integrator '%s'", pfx_integrator_name(w->fix));
 }
 
+/* What every check reads: the scheme, its substep h and the integrator's name. */
+typedef struct checker {
+    const pfx_motion *m;
+    pfx_scheme s;
+    int steps;
+    double h;
+    const char *iname;
+} checker;
+
+/* The linearised rates of force f as the scheme sees them: omega (0 for
+ * turbulence, not an oscillator) and the damping c (less the drag that the
+ * split scheme integrates exactly). */
+static void force_rates(const checker *k, const pfx_motion_force *f, double *omega, double *c) {
+    *omega = pfx_motion_force_omega(f);
+    *c = pfx_motion_force_damping(k->m, f);
+    if (f->kind == PFX_MOTION_TURBULENCE)
+        *omega = 0; /* not an oscillator: its gradient rate is used for accuracy only */
+    if (f->kind == PFX_MOTION_DRAG && k->s == PFX_SCHEME_SPLIT && pfx_motion_force_folded(f))
+        *c -= f->k; /* integrated exactly */
+}
+
+/* A magnetic force: the scheme's drift of |v| per gyration, when it has one. */
+static bool magnetic_warning(const checker *k, const pfx_motion_force *f, const char *name,
+                             pfx_stability_warning *w) {
+    double qm = fabs(f->charge) / (f->mass > 0 ? f->mass : 1.0);
+    double B =
+        sqrt(f->field[0] * f->field[0] + f->field[1] * f->field[1] + f->field[2] * f->field[2]);
+    double th = qm * B * k->h;
+    if (k->s == PFX_SCHEME_SPLIT || !(th > 0))
+        return false;
+    double gain = pfx_stability_rotation_gain(k->s, th);
+    w->kind = PFX_STABILITY_DRIFT;
+    w->number = pow(gain, 6.283185307179586 / th) - 1;
+    w->limit = 0;
+    w->fix = PFX_INTEGRATOR_BORIS;
+    w->fix_substeps = 0;
+    snprintf(w->message, sizeof w->message,
+             "%s does not keep |v| in %s '%s': %+.3g%% per gyration at Omega*dt = %.3g; "
+             "use integrator 'boris'",
+             k->iname, force_word(f), name, 100 * w->number, th);
+    return true;
+}
+
+/* An oscillator of rate omega (damped by c) outside the stability region. */
+static bool oscillator_warning(const checker *k, const pfx_motion_force *f, const char *name,
+                               double omega, double c, pfx_stability_warning *w) {
+    const pfx_motion *m = k->m;
+    if (!unstable(k->s, omega * omega * k->h * k->h, c * k->h))
+        return false;
+    w->kind = PFX_STABILITY_UNSTABLE;
+    w->number = omega * k->h;
+    w->limit = pfx_stability_oscillator_limit(k->s);
+    w->fix = m->choice.chosen;
+    /* Euler and midpoint grow on an oscillator at any step: only another
+     * scheme fixes it, however many substeps. */
+    w->fix_substeps = w->limit > 0 ? fix_steps(k->s, omega, c, m->choice.dt, k->steps) : 0;
+    if (w->fix_substeps == 0) {
+        w->fix = PFX_INTEGRATOR_VERLET;
+        w->fix_substeps = fix_steps(PFX_SCHEME_VERLET, omega, c, m->choice.dt, 0);
+        if (w->fix_substeps == 1)
+            w->fix_substeps = 0;
+    }
+    char fix[96];
+    fix_text(w, m->choice.chosen, fix, sizeof fix);
+    number_pair np = pair_text(w->number, w->limit);
+    if (w->limit > 0)
+        snprintf(w->message, sizeof w->message,
+                 "%s is unstable on %s '%s': omega*dt = %s >= %s (energy grows every step); %s",
+                 k->iname, force_word(f), name, np.x, np.limit, fix);
+    else
+        snprintf(w->message, sizeof w->message,
+                 "%s is unstable on %s '%s' at any step (omega*dt = %.3g: energy grows every "
+                 "step); %s",
+                 k->iname, force_word(f), name, w->number, fix);
+    return true;
+}
+
+/* A pure damping c: unstable past the decay limit, or (Euler, symplectic)
+ * flipping the velocity's sign every step past k*dt = 1. */
+static bool damping_warning(const checker *k, const pfx_motion_force *f, const char *name, double c,
+                            pfx_stability_warning *w) {
+    const pfx_motion *m = k->m;
+    double z = c * k->h;
+    bool unst = unstable(k->s, 0, z);
+    bool flips = (k->s == PFX_SCHEME_EULER || k->s == PFX_SCHEME_SYMPLECTIC) && z > 1;
+    if (!unst && !flips)
+        return false;
+    bool linear = f->kind == PFX_MOTION_DRAG && f->c == 0 && f->region.kind == PFX_REGION_NONE;
+    w->kind = unst ? PFX_STABILITY_UNSTABLE : PFX_STABILITY_OSCILLATES;
+    w->number = z;
+    w->limit = unst ? pfx_stability_decay_limit(k->s) : 1;
+    w->fix = linear ? PFX_INTEGRATOR_EXACT : PFX_INTEGRATOR_RK4;
+    /* substeps with the same scheme, or (linear drag) the exact flow */
+    w->fix_substeps = unst ? fix_steps(k->s, 0, c, m->choice.dt, k->steps)
+                           : (int)ceil(z * k->steps * (1 - 1e-12));
+    if (!linear)
+        w->fix = m->choice.chosen;
+    char fix[96];
+    fix_text(w, m->choice.chosen, fix, sizeof fix);
+    if (linear && w->fix_substeps > 0) /* the closed form needs no substeps */
+        snprintf(fix, sizeof fix, "use integrator 'exact' or sim.substeps: %d", w->fix_substeps);
+    else if (linear)
+        snprintf(fix, sizeof fix, "use integrator 'exact'");
+    number_pair np = pair_text(z, w->limit);
+    snprintf(w->message, sizeof w->message,
+             unst ? "%s is unstable on %s '%s': k*dt = %s > %s (the velocity grows "
+                    "every step); %s"
+                  : "%s makes %s '%s' oscillate: k*dt = %s > %s (the velocity flips "
+                    "sign every step); %s",
+             k->iname, force_word(f), name, np.x, np.limit, fix);
+    return true;
+}
+
+/* The check of force i alone, by what it is: a rotation, an oscillator or a
+ * pure damping. */
+static bool force_warning(const checker *k, size_t i, double omega, double c,
+                          pfx_stability_warning *w) {
+    const pfx_motion_force *f = &k->m->forces[i];
+    const char *name = f->name ? f->name : force_word(f);
+    *w = (pfx_stability_warning){.force = (int)i};
+    if (f->kind == PFX_MOTION_MAGNETIC)
+        return magnetic_warning(k, f, name, w);
+    if (omega > 0)
+        return oscillator_warning(k, f, name, omega, c, w);
+    if (c > 0)
+        return damping_warning(k, f, name, c, w);
+    return false;
+}
+
+/* Forces that are each stable can still be unstable together: the summed
+ * rates sum_w2 = sum omega^2 and sum_c. */
+static bool combined_warning(const checker *k, double sum_w2, double sum_c,
+                             pfx_stability_warning *w) {
+    const pfx_motion *m = k->m;
+    if (!unstable(k->s, sum_w2 * k->h * k->h, sum_c * k->h))
+        return false;
+    *w = (pfx_stability_warning){.force = -1, .kind = PFX_STABILITY_UNSTABLE};
+    w->number = sqrt(sum_w2) * k->h;
+    w->limit = pfx_stability_oscillator_limit(k->s);
+    w->fix = m->choice.chosen;
+    w->fix_substeps = fix_steps(k->s, sqrt(sum_w2), sum_c, m->choice.dt, k->steps);
+    char fix[96];
+    fix_text(w, m->choice.chosen, fix, sizeof fix);
+    snprintf(w->message, sizeof w->message,
+             "%s is unstable on the forces together: omega*dt = %.3g, k*dt = %.3g; %s", k->iname,
+             w->number, sum_c * k->h, fix);
+    return true;
+}
+
 size_t pfx_motion_check_stability(const pfx_motion *m, pfx_stability_warning *out, size_t cap) {
     const int steps = m->choice.steps > 0 ? m->choice.steps : 1;
-    const double h = m->choice.dt / steps;
-    const pfx_scheme s = m->choice.scheme;
-    const char *iname = pfx_integrator_name(m->choice.chosen);
+    const checker k = {.m = m,
+                       .s = m->choice.scheme,
+                       .steps = steps,
+                       .h = m->choice.dt / steps,
+                       .iname = pfx_integrator_name(m->choice.chosen)};
     size_t count = 0;
     double sum_w2 = 0, sum_c = 0;
     int stiff = 0;
     bool flagged = false;
-    char fix[96];
     for (size_t i = 0; i < m->force_count; i++) {
-        const pfx_motion_force *f = &m->forces[i];
-        const char *name = f->name ? f->name : force_word(f);
-        pfx_stability_warning w = {.force = (int)i};
-        double omega = pfx_motion_force_omega(f), c = pfx_motion_force_damping(m, f);
-        if (f->kind == PFX_MOTION_TURBULENCE)
-            omega = 0; /* not an oscillator: its gradient rate is used for accuracy only */
-        if (f->kind == PFX_MOTION_DRAG && s == PFX_SCHEME_SPLIT && pfx_motion_force_folded(f))
-            c -= f->k; /* integrated exactly */
+        double omega, c;
+        force_rates(&k, &m->forces[i], &omega, &c);
         if (omega > 0 || c > 0)
             stiff++;
         sum_w2 += omega * omega;
         sum_c += c;
-        if (f->kind == PFX_MOTION_MAGNETIC) {
-            double qm = fabs(f->charge) / (f->mass > 0 ? f->mass : 1.0);
-            double B = sqrt(f->field[0] * f->field[0] + f->field[1] * f->field[1] +
-                            f->field[2] * f->field[2]);
-            double th = qm * B * h;
-            if (s == PFX_SCHEME_SPLIT || !(th > 0))
-                continue;
-            double gain = pfx_stability_rotation_gain(s, th);
-            w.kind = PFX_STABILITY_DRIFT;
-            w.number = pow(gain, 6.283185307179586 / th) - 1;
-            w.limit = 0;
-            w.fix = PFX_INTEGRATOR_BORIS;
-            w.fix_substeps = 0;
-            snprintf(w.message, sizeof w.message,
-                     "%s does not keep |v| in %s '%s': %+.3g%% per gyration at Omega*dt = %.3g; "
-                     "use integrator 'boris'",
-                     iname, force_word(f), name, 100 * w.number, th);
+        pfx_stability_warning w;
+        if (force_warning(&k, i, omega, c, &w)) {
             add(out, cap, &count, &w);
-            continue;
-        }
-        if (omega > 0) {
-            if (!unstable(s, omega * omega * h * h, c * h))
-                continue;
-            w.kind = PFX_STABILITY_UNSTABLE;
-            w.number = omega * h;
-            w.limit = pfx_stability_oscillator_limit(s);
-            w.fix = m->choice.chosen;
-            /* Euler and midpoint grow on an oscillator at any step: only
-             * another scheme fixes it, however many substeps. */
-            w.fix_substeps = w.limit > 0 ? fix_steps(s, omega, c, m->choice.dt, steps) : 0;
-            if (w.fix_substeps == 0) {
-                w.fix = PFX_INTEGRATOR_VERLET;
-                w.fix_substeps = fix_steps(PFX_SCHEME_VERLET, omega, c, m->choice.dt, 0);
-                if (w.fix_substeps == 1)
-                    w.fix_substeps = 0;
-            }
-            fix_text(&w, m->choice.chosen, fix, sizeof fix);
-            number_pair np = pair_text(w.number, w.limit);
-            if (w.limit > 0)
-                snprintf(w.message, sizeof w.message,
-                         "%s is unstable on %s '%s': omega*dt = %s >= %s (energy grows every "
-                         "step); %s",
-                         iname, force_word(f), name, np.x, np.limit, fix);
-            else
-                snprintf(w.message, sizeof w.message,
-                         "%s is unstable on %s '%s' at any step (omega*dt = %.3g: energy grows "
-                         "every step); %s",
-                         iname, force_word(f), name, w.number, fix);
-            add(out, cap, &count, &w);
-            flagged = true;
-        } else if (c > 0) {
-            double z = c * h;
-            bool unst = unstable(s, 0, z);
-            bool flips = (s == PFX_SCHEME_EULER || s == PFX_SCHEME_SYMPLECTIC) && z > 1;
-            if (!unst && !flips)
-                continue;
-            bool linear =
-                f->kind == PFX_MOTION_DRAG && f->c == 0 && f->region.kind == PFX_REGION_NONE;
-            w.kind = unst ? PFX_STABILITY_UNSTABLE : PFX_STABILITY_OSCILLATES;
-            w.number = z;
-            w.limit = unst ? pfx_stability_decay_limit(s) : 1;
-            w.fix = linear ? PFX_INTEGRATOR_EXACT : PFX_INTEGRATOR_RK4;
-            /* substeps with the same scheme, or (linear drag) the exact flow */
-            w.fix_substeps =
-                unst ? fix_steps(s, 0, c, m->choice.dt, steps) : (int)ceil(z * steps * (1 - 1e-12));
-            if (!linear)
-                w.fix = m->choice.chosen;
-            fix_text(&w, m->choice.chosen, fix, sizeof fix);
-            if (linear && w.fix_substeps > 0) /* the closed form needs no substeps */
-                snprintf(fix, sizeof fix, "use integrator 'exact' or sim.substeps: %d",
-                         w.fix_substeps);
-            else if (linear)
-                snprintf(fix, sizeof fix, "use integrator 'exact'");
-            number_pair np = pair_text(z, w.limit);
-            snprintf(w.message, sizeof w.message,
-                     unst ? "%s is unstable on %s '%s': k*dt = %s > %s (the velocity grows "
-                            "every step); %s"
-                          : "%s makes %s '%s' oscillate: k*dt = %s > %s (the velocity flips "
-                            "sign every step); %s",
-                     iname, force_word(f), name, np.x, np.limit, fix);
-            add(out, cap, &count, &w);
-            flagged = flagged || unst;
+            flagged = flagged || w.kind == PFX_STABILITY_UNSTABLE;
         }
     }
-    /* Forces that are each stable can still be unstable together. */
-    if (stiff > 1 && !flagged && unstable(s, sum_w2 * h * h, sum_c * h)) {
-        pfx_stability_warning w = {.force = -1, .kind = PFX_STABILITY_UNSTABLE};
-        w.number = sqrt(sum_w2) * h;
-        w.limit = pfx_stability_oscillator_limit(s);
-        w.fix = m->choice.chosen;
-        w.fix_substeps = fix_steps(s, sqrt(sum_w2), sum_c, m->choice.dt, steps);
-        fix_text(&w, m->choice.chosen, fix, sizeof fix);
-        snprintf(w.message, sizeof w.message,
-                 "%s is unstable on the forces together: omega*dt = %.3g, k*dt = %.3g; %s", iname,
-                 w.number, sum_c * h, fix);
+    pfx_stability_warning w;
+    if (stiff > 1 && !flagged && combined_warning(&k, sum_w2, sum_c, &w))
         add(out, cap, &count, &w);
-    }
     return count;
 }

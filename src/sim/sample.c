@@ -6,6 +6,7 @@
  * tests carry them to show the uniformity tests can fail. */
 #include "sim/sample.h"
 
+#include <assert.h>
 #include <math.h>
 
 double pfx_sample_value(const pfx_value *v, pfx_rng *r) {
@@ -147,131 +148,158 @@ static void box_surface(const double size[3], pfx_rng *r, double out[3], double 
     normal[axis] = sign;
 }
 
-void pfx_sample_shape(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
-    switch (s->type) {
-    case PFX_SHAPE_POINT:
-        set3(out, 0, 0, 0), set3(normal, 0, 1, 0);
-        return;
-    case PFX_SHAPE_LINE: {
-        double u = pfx_rng_unit(r), d[3], n[3];
-        for (int i = 0; i < 3; i++) {
-            out[i] = s->line_from[i] + u * (s->line_to[i] - s->line_from[i]);
-            d[i] = s->line_to[i] - s->line_from[i];
-        }
-        /* +Y made perpendicular to the line; +X for a vertical line. */
-        double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-        double k = dd > 0 ? d[1] / dd : 0;
-        set3(n, -k * d[0], 1 - k * d[1], -k * d[2]);
-        if (dd > 0 && n[1] < 1e-9)
-            set3(n, 1, 0, 0);
-        unit_or(n, 0, 1, 0, normal);
-        return;
+/* One sampler per shape kind, each drawing in the order the header's draw
+ * counts describe; pfx_sample_shape dispatches through the table below, so a
+ * new kind is one function and one row. */
+typedef void shape_sampler(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]);
+
+static void sample_point(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
+    (void)s, (void)r;
+    set3(out, 0, 0, 0), set3(normal, 0, 1, 0);
+}
+
+static void sample_line(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
+    double u = pfx_rng_unit(r), d[3], n[3];
+    for (int i = 0; i < 3; i++) {
+        out[i] = s->line_from[i] + u * (s->line_to[i] - s->line_from[i]);
+        d[i] = s->line_to[i] - s->line_from[i];
     }
-    case PFX_SHAPE_RECT:
-        if (s->from == PFX_EMIT_EDGE) {
-            rect_edge(s->size[0], s->size[1], pfx_rng_unit(r), out, normal);
-        } else {
-            double u = pfx_rng_unit(r), v = pfx_rng_unit(r);
-            set3(out, (u - 0.5) * s->size[0], 0, (v - 0.5) * s->size[1]);
-            set3(normal, 0, 1, 0);
-        }
-        return;
-    case PFX_SHAPE_DISC: {
-        /* Area: the ring's inverse CDF r = R sqrt(u (1 - k^2) + k^2), k =
-         * inner / R (k = 0: the solid disc's R sqrt(u)). Edge: the rim. */
-        double frac = s->arc_turns > 0 ? s->arc_turns : 1.0;
-        double rad = s->radius;
-        if (s->from != PFX_EMIT_EDGE) {
-            double k = s->radius > 0 ? s->inner / s->radius : 0;
-            rad = s->radius * sqrt(pfx_rng_unit(r) * (1 - k * k) + k * k);
-        }
-        double th = 2.0 * M_PI * frac * pfx_rng_unit(r), c = cos(th), sn = sin(th);
-        set3(out, rad * c, 0, rad * sn);
-        if (s->from == PFX_EMIT_EDGE)
-            set3(normal, c, 0, sn);
-        else
-            set3(normal, 0, 1, 0);
-        return;
+    /* +Y made perpendicular to the line; +X for a vertical line. */
+    double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    double k = dd > 0 ? d[1] / dd : 0;
+    set3(n, -k * d[0], 1 - k * d[1], -k * d[2]);
+    if (dd > 0 && n[1] < 1e-9)
+        set3(n, 1, 0, 0);
+    unit_or(n, 0, 1, 0, normal);
+}
+
+static void sample_rect(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
+    if (s->from == PFX_EMIT_EDGE) {
+        rect_edge(s->size[0], s->size[1], pfx_rng_unit(r), out, normal);
+    } else {
+        double u = pfx_rng_unit(r), v = pfx_rng_unit(r);
+        set3(out, (u - 0.5) * s->size[0], 0, (v - 0.5) * s->size[1]);
+        set3(normal, 0, 1, 0);
     }
-    case PFX_SHAPE_ELLIPSE:
-        if (s->from == PFX_EMIT_EDGE) {
-            ellipse_edge(s, pfx_rng_unit(r), out, normal);
-        } else {
-            /* The unit disc's uniform point, stretched: a linear map keeps
-             * the density uniform (unlike the thesis's x-then-y method). */
-            double rad = sqrt(pfx_rng_unit(r)), th = 2.0 * M_PI * pfx_rng_unit(r);
-            set3(out, s->radii[0] * rad * cos(th), 0, s->radii[1] * rad * sin(th));
-            set3(normal, 0, 1, 0);
-        }
-        return;
-    case PFX_SHAPE_BOX:
-        if (s->from == PFX_EMIT_SURFACE) {
-            box_surface(s->size, r, out, normal);
-        } else {
-            for (int i = 0; i < 3; i++)
-                out[i] = (pfx_rng_unit(r) - 0.5) * s->size[i];
-            unit_or(out, 0, 1, 0, normal);
-        }
-        return;
-    case PFX_SHAPE_SPHERE:
-    case PFX_SHAPE_HEMISPHERE: {
-        /* A direction (z uniform on [-1, 1], or y on [0, 1] for the +Y
-         * half), then r = R cbrt(u (1 - k^3) + k^3) for the volume between
-         * k R and R (k = 0: R cbrt(u)); the surface is r = R. */
-        double d[3];
-        if (s->type == PFX_SHAPE_SPHERE) {
-            pfx_sample_direction(r, d);
-        } else {
-            double y = pfx_rng_unit(r), phi = 2.0 * M_PI * pfx_rng_unit(r);
-            double sr = sqrt(fmax(0.0, 1.0 - y * y));
-            set3(d, sr * cos(phi), y, sr * sin(phi));
-        }
-        double rad = s->radius;
-        if (s->from != PFX_EMIT_SURFACE) {
-            double k = s->radius > 0 ? s->inner / s->radius : 0, k3 = k * k * k;
-            rad = s->radius * cbrt(pfx_rng_unit(r) * (1 - k3) + k3);
-        }
-        for (int i = 0; i < 3; i++) {
-            out[i] = d[i] * rad;
-            normal[i] = d[i];
-        }
-        return;
+}
+
+/* Area: the ring's inverse CDF r = R sqrt(u (1 - k^2) + k^2), k = inner / R
+ * (k = 0: the solid disc's R sqrt(u)). Edge: the rim. */
+static void sample_disc(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
+    double frac = s->arc_turns > 0 ? s->arc_turns : 1.0;
+    double rad = s->radius;
+    if (s->from != PFX_EMIT_EDGE) {
+        double k = s->radius > 0 ? s->inner / s->radius : 0;
+        rad = s->radius * sqrt(pfx_rng_unit(r) * (1 - k * k) + k * k);
     }
-    case PFX_SHAPE_CYLINDER: {
-        /* Base disc at y = 0, top at y = height; surface is the side only. */
-        double rad = s->radius;
-        if (s->from != PFX_EMIT_SURFACE)
-            rad *= sqrt(pfx_rng_unit(r));
-        double th = 2.0 * M_PI * pfx_rng_unit(r), y = s->height * pfx_rng_unit(r);
-        double c = cos(th), sn = sin(th);
-        set3(out, rad * c, y, rad * sn);
+    double th = 2.0 * M_PI * frac * pfx_rng_unit(r), c = cos(th), sn = sin(th);
+    set3(out, rad * c, 0, rad * sn);
+    if (s->from == PFX_EMIT_EDGE)
         set3(normal, c, 0, sn);
-        return;
+    else
+        set3(normal, 0, 1, 0);
+}
+
+static void sample_ellipse(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
+    if (s->from == PFX_EMIT_EDGE) {
+        ellipse_edge(s, pfx_rng_unit(r), out, normal);
+    } else {
+        /* The unit disc's uniform point, stretched: a linear map keeps the
+         * density uniform (unlike the thesis's x-then-y method). */
+        double rad = sqrt(pfx_rng_unit(r)), th = 2.0 * M_PI * pfx_rng_unit(r);
+        set3(out, s->radii[0] * rad * cos(th), 0, s->radii[1] * rad * sin(th));
+        set3(normal, 0, 1, 0);
     }
-    case PFX_SHAPE_CONE: {
-        /* With q = 1 - y / h (1 at the base, 0 at the apex), the section
-         * at q is a disc of radius R q: the volume below the apex has
-         * density ~ q^2 (q = cbrt(u)), the lateral area ~ q (q = sqrt(u)). */
-        double R = s->radius, h = s->height;
-        double th = 2.0 * M_PI * pfx_rng_unit(r), c = cos(th), sn = sin(th);
-        if (s->from == PFX_EMIT_SURFACE) {
-            double q = sqrt(pfx_rng_unit(r));
-            set3(out, R * q * c, h * (1 - q), R * q * sn);
-            double n[3] = {h * c, R, h * sn};
-            unit_or(n, 0, 1, 0, normal);
-        } else {
-            double q = cbrt(pfx_rng_unit(r)), rho = R * q * sqrt(pfx_rng_unit(r));
-            set3(out, rho * c, h * (1 - q), rho * sn);
-            /* +Y tilted outward by angle * rho / R (Unity's cone fan). */
-            double tilt = R > 0 ? s->angle * rho / R : 0;
-            set3(normal, sin(tilt) * c, cos(tilt), sin(tilt) * sn);
-        }
-        return;
+}
+
+static void sample_box(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
+    if (s->from == PFX_EMIT_SURFACE) {
+        box_surface(s->size, r, out, normal);
+    } else {
+        for (int i = 0; i < 3; i++)
+            out[i] = (pfx_rng_unit(r) - 0.5) * s->size[i];
+        unit_or(out, 0, 1, 0, normal);
     }
-    case PFX_SHAPE_MESH:
-        mesh_surface(s, r, out, normal);
-        return;
+}
+
+/* The point at unit direction d from the centre, drawn after d: r = R
+ * cbrt(u (1 - k^3) + k^3) for the volume between k R and R (k = 0: R
+ * cbrt(u)); the surface is r = R. The normal is d. */
+static void along_direction(const pfx_shape *s, pfx_rng *r, const double d[3], double out[3],
+                            double normal[3]) {
+    double rad = s->radius;
+    if (s->from != PFX_EMIT_SURFACE) {
+        double k = s->radius > 0 ? s->inner / s->radius : 0, k3 = k * k * k;
+        rad = s->radius * cbrt(pfx_rng_unit(r) * (1 - k3) + k3);
     }
+    for (int i = 0; i < 3; i++) {
+        out[i] = d[i] * rad;
+        normal[i] = d[i];
+    }
+}
+
+/* A direction with z uniform on [-1, 1], then the radius. */
+static void sample_sphere(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
+    double d[3];
+    pfx_sample_direction(r, d);
+    along_direction(s, r, d, out, normal);
+}
+
+/* A direction in the +Y half with y uniform on [0, 1], then the radius. */
+static void sample_hemisphere(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
+    double y = pfx_rng_unit(r), phi = 2.0 * M_PI * pfx_rng_unit(r);
+    double sr = sqrt(fmax(0.0, 1.0 - y * y)), d[3];
+    set3(d, sr * cos(phi), y, sr * sin(phi));
+    along_direction(s, r, d, out, normal);
+}
+
+/* Base disc at y = 0, top at y = height; surface is the side only. */
+static void sample_cylinder(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
+    double rad = s->radius;
+    if (s->from != PFX_EMIT_SURFACE)
+        rad *= sqrt(pfx_rng_unit(r));
+    double th = 2.0 * M_PI * pfx_rng_unit(r), y = s->height * pfx_rng_unit(r);
+    double c = cos(th), sn = sin(th);
+    set3(out, rad * c, y, rad * sn);
+    set3(normal, c, 0, sn);
+}
+
+/* With q = 1 - y / h (1 at the base, 0 at the apex), the section at q is a
+ * disc of radius R q: the volume below the apex has density ~ q^2 (q =
+ * cbrt(u)), the lateral area ~ q (q = sqrt(u)). */
+static void sample_cone(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
+    double R = s->radius, h = s->height;
+    double th = 2.0 * M_PI * pfx_rng_unit(r), c = cos(th), sn = sin(th);
+    if (s->from == PFX_EMIT_SURFACE) {
+        double q = sqrt(pfx_rng_unit(r));
+        set3(out, R * q * c, h * (1 - q), R * q * sn);
+        double n[3] = {h * c, R, h * sn};
+        unit_or(n, 0, 1, 0, normal);
+    } else {
+        double q = cbrt(pfx_rng_unit(r)), rho = R * q * sqrt(pfx_rng_unit(r));
+        set3(out, rho * c, h * (1 - q), rho * sn);
+        /* +Y tilted outward by angle * rho / R (Unity's cone fan). */
+        double tilt = R > 0 ? s->angle * rho / R : 0;
+        set3(normal, sin(tilt) * c, cos(tilt), sin(tilt) * sn);
+    }
+}
+
+static shape_sampler *const samplers[] = {
+    [PFX_SHAPE_POINT] = sample_point,       [PFX_SHAPE_LINE] = sample_line,
+    [PFX_SHAPE_RECT] = sample_rect,         [PFX_SHAPE_DISC] = sample_disc,
+    [PFX_SHAPE_ELLIPSE] = sample_ellipse,   [PFX_SHAPE_BOX] = sample_box,
+    [PFX_SHAPE_SPHERE] = sample_sphere,     [PFX_SHAPE_HEMISPHERE] = sample_hemisphere,
+    [PFX_SHAPE_CYLINDER] = sample_cylinder, [PFX_SHAPE_CONE] = sample_cone,
+    [PFX_SHAPE_MESH] = mesh_surface,
+};
+#define PFX_SHAPE_ONE(e, name) +1
+static_assert(sizeof samplers / sizeof *samplers == 0 PFX_SHAPE_KINDS(PFX_SHAPE_ONE),
+              "one sampler per shape kind");
+#undef PFX_SHAPE_ONE
+
+void pfx_sample_shape(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
+    assert((size_t)s->type < sizeof samplers / sizeof *samplers && samplers[s->type]);
+    samplers[s->type](s, r, out, normal);
 }
 
 void pfx_sample_cone(const double axis[3], double spread, pfx_rng *r, double out[3]) {
