@@ -52,6 +52,8 @@ static const char usage_text[] =
     "      --max-particles N   particle budget over all emitters (default 1000000)\n"
     "      --every N           bake every Nth frame (default 1)\n"
     "      --format FMT        diagnostics as 'text' (default) or 'json' lines\n"
+    "      --threads N         simulation threads (default: PFX_THREADS, else the\n"
+    "                          machine's cores); the output is the same for any N\n"
     "      --renderer R        how to get OpenGL (render, bench): auto (default: osmesa\n"
     "                          where built, else egl-cpu), osmesa, egl-cpu, egl-gpu\n"
     "  -q, --quiet             no progress line and no notes\n"
@@ -126,7 +128,8 @@ static int parse_options(int argc, char **argv, options *o) {
         OPT_MAX,
         OPT_EVERY,
         OPT_FORMAT,
-        OPT_RENDERER
+        OPT_RENDERER,
+        OPT_THREADS
     };
     static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
                                              {"frames", required_argument, 0, OPT_FRAMES},
@@ -137,16 +140,24 @@ static int parse_options(int argc, char **argv, options *o) {
                                              {"every", required_argument, 0, OPT_EVERY},
                                              {"format", required_argument, 0, OPT_FORMAT},
                                              {"renderer", required_argument, 0, OPT_RENDERER},
+                                             {"threads", required_argument, 0, OPT_THREADS},
                                              {"quiet", no_argument, 0, 'q'},
                                              {"help", no_argument, 0, 'h'},
                                              {0, 0, 0, 0}};
+    unsigned long long v;
     memset(o, 0, sizeof *o);
+    /* PFX_THREADS, then --threads over it; neither: the machine's cores. */
+    const char *threads = getenv("PFX_THREADS");
+    if (threads && *threads) {
+        if (!parse_ulong(threads, &v) || v < 1 || v > 1024)
+            return usage_error("PFX_THREADS takes a number from 1 to 1024, got '%s'", threads);
+        o->compile.threads = (int)v;
+    }
     o->last = -1;
     o->every = 1;
     opterr = 0;
     optind = 2; /* argv[1] is the command */
     int c;
-    unsigned long long v;
     while ((c = getopt_long(argc, argv, ":o:qh", longopts, NULL)) != -1) {
         switch (c) {
         case 'o':
@@ -220,6 +231,11 @@ static int parse_options(int argc, char **argv, options *o) {
             if (!parse_renderer("--renderer", optarg, &o->renderer))
                 return EXIT_USAGE;
             o->has_renderer = true;
+            break;
+        case OPT_THREADS:
+            if (!parse_ulong(optarg, &v) || v < 1 || v > 1024)
+                return usage_error("--threads takes a number from 1 to 1024, got '%s'", optarg);
+            o->compile.threads = (int)v;
             break;
         case ':':
             return usage_error("option '%s' needs a value", argv[optind - 1]);

@@ -292,6 +292,7 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
     pfx_keys_defaults(&pfx_camera_table, &e->camera);
     e->width = e->height = 512;
     e->max_particles = opt && opt->max_particles ? opt->max_particles : PFX_DEFAULT_MAX_PARTICLES;
+    e->threads = opt ? opt->threads : 0;
 
     pfx_keys_check(&c.r, root, &pfx_schema_top, "the effect");
     if (!pfx_node_get(root, "pfx"))
