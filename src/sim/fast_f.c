@@ -6,13 +6,24 @@
 #include <math.h>
 #include <string.h>
 
-/* sin and cos of n angles: a loop of its own, which vectorises where the
+/* sin and cos - 1 of n angles (|a| <= 1e5): a loop of its own, which vectorises where the
  * fused particle loop would not (the compiler threads the clamps' branches
  * through it). */
 static inline __attribute__((always_inline)) void sincos_n(size_t n, const float *restrict a,
                                                            float *restrict s, float *restrict c) {
     for (size_t j = 0; j < n; j++)
         pfx_sincos_f(a[j], &s[j], &c[j]);
+    for (size_t j = 0; j < n; j++) { /* c - 1, exact in itself for small angles */
+        /* (a blend of the bits, which the compiler cannot turn into a
+         * branch round the polynomial) */
+        const float small = pfx_cosm1_small_f(a[j]), big = c[j] - 1.0f;
+        const int32_t mask = -(int32_t)(a[j] * a[j] <= 0.61685f); /* |a| <= pi/4 */
+        int32_t bs, bb;
+        memcpy(&bs, &small, sizeof bs);
+        memcpy(&bb, &big, sizeof bb);
+        bs = (bs & mask) | (bb & ~mask);
+        memcpy(&c[j], &bs, sizeof bs);
+    }
 }
 
 PFX_CLONES
@@ -48,23 +59,33 @@ void pfx_vortex_f(const pfx_motion_force *F, size_t n, const float *restrict w, 
             ang[j] = a < 1e5f ? (a > -1e5f ? a : -1e5f) : 1e5f;
         }
         sincos_n(m, ang, sn, cs);
-        for (size_t j = 0; j < m; j++) {
+        /* The turned offset g (q cos + k sin) less q, added to the point
+         * itself, so a small turn moves it by a small, accurate amount; g
+         * pulls it in (never past the axis; not at all on the axis). */
+        for (size_t j = 0; j < m && !inflow; j++) {
+            const float rx = x[j] - cx, ry = y[j] - cy, rz = z[j] - cz;
+            const float al = rx * ux + ry * uy + rz * uz;
+            const float qx = rx - al * ux, qy = ry - al * uy, qz = rz - al * uz;
+            const float s = sn[j], cm1 = cs[j];
+            const float kx = uy * qz - uz * qy, ky = uz * qx - ux * qz, kz = ux * qy - uy * qx;
+            nxs[j] = x[j] + (qx * cm1 + kx * s);
+            nys[j] = y[j] + (qy * cm1 + ky * s);
+            nzs[j] = z[j] + (qz * cm1 + kz * s);
+        }
+        for (size_t j = 0; j < m && inflow; j++) {
             const float rx = x[j] - cx, ry = y[j] - cy, rz = z[j] - cz;
             const float al = rx * ux + ry * uy + rz * uz;
             const float qx = rx - al * ux, qy = ry - al * uy, qz = rz - al * uz;
             const float rp = sqrtf(qx * qx + qy * qy + qz * qz);
-            const float s = sn[j], c = cs[j];
+            const float s = sn[j], cm1 = cs[j];
             const float kx = uy * qz - uz * qy, ky = uz * qx - ux * qz, kz = ux * qy - uy * qx;
-            /* the pull in, never past the axis; none on the axis itself (in
-             * scratch: where f = 0 the select below keeps the old point) */
-            float g = 1.0f - pull * fw[j] / rp; /* inf or NaN on the axis: not taken */
-            g = g > 0 ? g : 0.0f;
-            g = (inflow & (rp > 0)) ? g : 1.0f;
-            const float nx = (qx * c + kx * s) * g, ny = (qy * c + ky * s) * g,
-                        nz = (qz * c + kz * s) * g;
-            nxs[j] = cx + al * ux + nx;
-            nys[j] = cy + al * uy + ny;
-            nzs[j] = cz + al * uz + nz;
+            float gm1 = -pull * fw[j] / rp; /* g - 1; inf or NaN on the axis: not taken */
+            gm1 = gm1 > -1.0f ? gm1 : -1.0f;
+            gm1 = rp > 0 ? gm1 : 0.0f;
+            const float g = 1.0f + gm1;
+            nxs[j] = x[j] + (g * (qx * cm1 + kx * s) + gm1 * qx);
+            nys[j] = y[j] + (g * (qy * cm1 + ky * s) + gm1 * qy);
+            nzs[j] = z[j] + (g * (qz * cm1 + kz * s) + gm1 * qz);
         }
         /* Outside the vortex (f = 0) the position stays bit for bit: a
          * select of its own, which the compiler does not sink into a

@@ -29,16 +29,16 @@
 /* sin and cos of x (|x| <= 1e5: the caller clamps, in a loop of its own,
  * or the compiler will not vectorise the loop that calls this) to within
  * 2e-7 absolute: x = k pi/2 + r, |r| <= pi/4 (k rounded to nearest), by a
- * three-part pi/2 (Cody and Waite), then the minimax polynomials of Cephes' sinf and cosf on r
- * (Moshier, "Methods and Programs for Mathematical Functions", 1989), the
- * quadrant k mod 4 choosing and signing them. Selects only, no branches. */
+ * three-part pi/2 (Cody and Waite), then the minimax polynomials of
+ * Cephes' sinf and cosf on r (Moshier, "Methods and Programs for
+ * Mathematical Functions", 1989), the quadrant k mod 4 choosing and
+ * signing them. Selects only, no branches. */
 static inline __attribute__((always_inline)) void pfx_sincos_f(float x, float *s, float *c) {
     /* k = round(x 2/pi) by the 1.5 2^23 trick: adding it leaves k in the
      * low bits of the sum, and subtracting it gives k as a float, both
      * exactly for |k| < 2^22 (no float-to-int conversion, which would need
      * its own range check). */
-    const float magic = 12582912.0f, kf = (x * 0.636619772f + magic) - magic;
-    float sum = x * 0.636619772f + magic;
+    const float magic = 12582912.0f, sum = x * 0.636619772f + magic, kf = sum - magic;
     int32_t bits;
     memcpy(&bits, &sum, sizeof bits);
     const int32_t k = bits - 0x4b400000;
@@ -56,6 +56,16 @@ static inline __attribute__((always_inline)) void pfx_sincos_f(float x, float *s
     const float sv = (q & 1) ? pc : ps, cv = (q & 1) ? ps : pc;
     *s = (q & 2) ? -sv : sv;
     *c = ((q + 1) & 2) ? -cv : cv;
+}
+
+/* cos x - 1 for |x| <= pi/4 by the same polynomial without its 1, so a
+ * small turn applied as x + (q (cos - 1) + k sin) is good to float
+ * precision in the change itself, not only in the whole. */
+static inline __attribute__((always_inline)) float pfx_cosm1_small_f(float x) {
+    const float r2 = x * x;
+    return -0.5f * r2 +
+           r2 * r2 *
+               (4.166664568298827e-2f + r2 * (-1.388731625493765e-3f + r2 * 2.443315711809948e-5f));
 }
 
 /* The Sims vortex of force F (kind VORTEX) over n particles for time h:

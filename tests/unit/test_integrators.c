@@ -501,7 +501,8 @@ static void test_curl_noise(void) {
 }
 
 /* The float kernels against libm and the double operator: the polynomial
- * sine and cosine to 3e-7 over |x| <= 100, and the float vortex turning a
+ * sine and cosine to 3e-7 over |x| <= 100 (cos - 1 of a small angle to
+ * float precision in itself), and the float vortex turning a
  * particle at radius r R by strength f(r) dt, as the double one does, to
  * float accuracy; outside the radius a particle is not touched at all. */
 static void test_fast_float(void) {
@@ -514,6 +515,12 @@ static void test_fast_float(void) {
     }
     fprintf(stderr, "  float sincos: max error %.2g over |x| <= 100\n", worst);
     CHECK(worst < 3e-7);
+    /* cos - 1 of a small angle to float precision in itself */
+    for (double x = 1e-4; x < 0.1; x *= 1.7) {
+        float cm1 = pfx_cosm1_small_f((float)x);
+        double want = -2 * sin(0.5 * (float)x) * sin(0.5 * (float)x);
+        CHECK(fabs(cm1 - want) <= 1e-6 * fabs(want));
+    }
     const double d = 0.5, R = 2, a = 1.5, dt = 0.05;
     pfx_motion_force f = {.kind = PFX_MOTION_VORTEX, .strength = a, .radius = R, .sims_d = d};
     f.axis[2] = 1;
