@@ -31,7 +31,7 @@ static const char usage_text[] =
     "       pfx bake FILE -o OUT.csv [--every N] [--frames A:B] [--fps N] [--seed N]\n"
     "                  [--max-particles N]\n"
     "       pfx info FILE [--seed N] [--max-particles N]\n"
-    "       pfx bench [--renderer R]\n"
+    "       pfx bench [--json] [--renderer R]\n"
     "       pfx bench accuracy -o DIR\n"
     "       pfx schema\n"
     "\n"
@@ -52,6 +52,7 @@ static const char usage_text[] =
     "      --max-particles N   particle budget over all emitters (default 1000000)\n"
     "      --every N           bake every Nth frame (default 1)\n"
     "      --format FMT        diagnostics as 'text' (default) or 'json' lines\n"
+    "      --json              bench: the figures as one JSON object\n"
     "      --threads N         simulation threads (default: PFX_THREADS, else the\n"
     "                          machine's cores); the output is the same for any N\n"
     "      --renderer R        how to get OpenGL (render, bench): auto (default: osmesa\n"
@@ -65,6 +66,7 @@ typedef struct options {
     long first, last; /* --frames; last < 0: to the end */
     bool has_frames;
     bool json;
+    bool bench_json; /* bench --json */
     bool quiet;
     long every;
     pfx_renderer_kind renderer; /* --renderer */
@@ -129,7 +131,8 @@ static int parse_options(int argc, char **argv, options *o) {
         OPT_EVERY,
         OPT_FORMAT,
         OPT_RENDERER,
-        OPT_THREADS
+        OPT_THREADS,
+        OPT_JSON
     };
     static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
                                              {"frames", required_argument, 0, OPT_FRAMES},
@@ -141,6 +144,7 @@ static int parse_options(int argc, char **argv, options *o) {
                                              {"format", required_argument, 0, OPT_FORMAT},
                                              {"renderer", required_argument, 0, OPT_RENDERER},
                                              {"threads", required_argument, 0, OPT_THREADS},
+                                             {"json", no_argument, 0, OPT_JSON},
                                              {"quiet", no_argument, 0, 'q'},
                                              {"help", no_argument, 0, 'h'},
                                              {0, 0, 0, 0}};
@@ -236,6 +240,9 @@ static int parse_options(int argc, char **argv, options *o) {
             if (!parse_ulong(optarg, &v) || v < 1 || v > 1024)
                 return usage_error("--threads takes a number from 1 to 1024, got '%s'", optarg);
             o->compile.threads = (int)v;
+            break;
+        case OPT_JSON:
+            o->bench_json = true;
             break;
         case ':':
             return usage_error("option '%s' needs a value", argv[optind - 1]);
@@ -521,7 +528,7 @@ static int cmd_bench(int argc, char **argv, const options *o) {
     const char *fire = getenv("PFX_FIRE_EFFECT");
     pfx_diags run;
     pfx_diags_init_runtime(&run);
-    bool ok = pfx_bench_speed(stdout, fire ? fire : "effects/fire.yaml", kind, &run);
+    bool ok = pfx_bench_speed(stdout, fire ? fire : "effects/fire.yaml", kind, o->bench_json, &run);
     pfx_diags_print(&run, stderr, false);
     pfx_diags_free(&run);
     return ok ? 0 : EXIT_INVALID;
