@@ -31,11 +31,11 @@ static const char usage_text[] =
     "                  FILE...\n"
     "       pfx render FILE -o DIR [--frames A:B] [--size WxH] [--fps N] [--seed N]\n"
     "                  [--max-particles N] [--max-memory SIZE] [--renderer R] [--alpha MODE]\n"
-    "                  [-q]\n"
+    "                  [--threads N] [-q]\n"
     "       pfx bake FILE -o OUT.csv [--every N] [--frames A:B] [--fps N] [--seed N]\n"
-    "                  [--max-particles N] [--max-memory SIZE]\n"
+    "                  [--max-particles N] [--max-memory SIZE] [--threads N]\n"
     "       pfx info FILE [--seed N] [--max-particles N] [--max-memory SIZE]\n"
-    "       pfx bench [--renderer R]\n"
+    "       pfx bench [--json] [--renderer R]\n"
     "       pfx bench accuracy -o DIR\n"
     "       pfx schema\n"
     "\n"
@@ -58,6 +58,9 @@ static const char usage_text[] =
     "                          default half of physical memory)\n"
     "      --every N           bake every Nth frame (default 1)\n"
     "      --format FMT        diagnostics as 'text' (default) or 'json' lines\n"
+    "      --json              bench: the figures as one JSON object\n"
+    "      --threads N         simulation threads (default: PFX_THREADS, else the\n"
+    "                          machine's cores); the output is the same for any N\n"
     "      --renderer R        how to get OpenGL (render, bench): auto (default: osmesa\n"
     "                          where built, else egl-cpu), osmesa, egl-cpu, egl-gpu\n"
     "      --alpha MODE        PNG alpha: straight or premultiplied, overriding\n"
@@ -71,6 +74,7 @@ typedef struct options {
     long first, last; /* --frames; last < 0: to the end */
     bool has_frames;
     bool json;
+    bool bench_json; /* bench --json */
     bool quiet;
     long every;
     pfx_renderer_kind renderer; /* --renderer */
@@ -137,7 +141,9 @@ static int parse_options(int argc, char **argv, options *o) {
         OPT_FORMAT,
         OPT_RENDERER,
         OPT_ALPHA,
-        OPT_MAX_MEMORY
+        OPT_MAX_MEMORY,
+        OPT_THREADS,
+        OPT_JSON
     };
     static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
                                              {"frames", required_argument, 0, OPT_FRAMES},
@@ -150,17 +156,26 @@ static int parse_options(int argc, char **argv, options *o) {
                                              {"renderer", required_argument, 0, OPT_RENDERER},
                                              {"alpha", required_argument, 0, OPT_ALPHA},
                                              {"max-memory", required_argument, 0, OPT_MAX_MEMORY},
+                                             {"threads", required_argument, 0, OPT_THREADS},
+                                             {"json", no_argument, 0, OPT_JSON},
                                              {"quiet", no_argument, 0, 'q'},
                                              {"help", no_argument, 0, 'h'},
                                              {0, 0, 0, 0}};
+    unsigned long long v;
     memset(o, 0, sizeof *o);
+    /* PFX_THREADS, then --threads over it; neither: the machine's cores. */
+    const char *threads = getenv("PFX_THREADS");
+    if (threads && *threads) {
+        if (!parse_ulong(threads, &v) || v < 1 || v > 1024)
+            return usage_error("PFX_THREADS takes a number from 1 to 1024, got '%s'", threads);
+        o->compile.threads = (int)v;
+    }
     o->last = -1;
     o->every = 1;
     o->max_memory = pfx_memory_default_bound();
     opterr = 0;
     optind = 2; /* argv[1] is the command */
     int c;
-    unsigned long long v;
     while ((c = getopt_long(argc, argv, ":o:qh", longopts, NULL)) != -1) {
         switch (c) {
         case 'o':
@@ -252,6 +267,14 @@ static int parse_options(int argc, char **argv, options *o) {
                 return usage_error("--max-memory takes a size in bytes, or with K, M, G or T "
                                    "after it, got '%s'",
                                    optarg);
+            break;
+        case OPT_THREADS:
+            if (!parse_ulong(optarg, &v) || v < 1 || v > 1024)
+                return usage_error("--threads takes a number from 1 to 1024, got '%s'", optarg);
+            o->compile.threads = (int)v;
+            break;
+        case OPT_JSON:
+            o->bench_json = true;
             break;
         case ':':
             return usage_error("option '%s' needs a value", argv[optind - 1]);
@@ -597,7 +620,7 @@ static int cmd_bench(int argc, char **argv, const options *o) {
     const char *fire = getenv("PFX_FIRE_EFFECT");
     pfx_diags run;
     pfx_diags_init_runtime(&run);
-    bool ok = pfx_bench_speed(stdout, fire ? fire : "effects/fire.yaml", kind, &run);
+    bool ok = pfx_bench_speed(stdout, fire ? fire : "effects/fire.yaml", kind, o->bench_json, &run);
     pfx_diags_print(&run, stderr, false);
     pfx_diags_free(&run);
     return ok ? 0 : EXIT_INVALID;

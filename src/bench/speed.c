@@ -1,17 +1,21 @@
 /* The speed benchmark. It reports figures, it does not judge them: each
  * figure stands next to a reference measured in the same run on the same
- * machine, so the ratio means something where absolute speeds do not. */
+ * machine (a roofline kernel, the memory bandwidth, raw drawing), so the
+ * ratio means something where absolute speeds do not. The same figures are
+ * printed as text or as one JSON object (jansson). */
 #include "bench/speed.h"
 
 #include "bench/looks.h"
 
 #include <errno.h>
+#include <jansson.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
 
+#include "base/workers.h"
 #include "jobs/load.h"
 #include "jobs/render_job.h"
 #include "output/png_write.h"
@@ -26,20 +30,35 @@ static double now(void) {
 }
 
 /* A fountain whose steady live count is about n (rate n / 2 with a
- * constant 2 s lifetime), feeling gravity plus `extra` (YAML lines of forces
- * and deflectors), compiled like any effect. */
-static pfx_effect *fountain(pfx_loaded *l, double n, const char *forces, const char *emitter) {
-    char text[2048];
+ * constant 2 s lifetime), or with `burst`, n particles born at time 0 that
+ * all live BURST_LIFE seconds (so a timed step has no births or deaths; a
+ * fall that long stays far inside the state check's limits, so the
+ * kernel runs without it), feeling gravity
+ * plus `forces` (YAML lines of forces and deflectors), compiled like any
+ * effect and stepped on `threads` threads. */
+#define BURST_LIFE 100.0
+
+static pfx_effect *fountain(pfx_loaded *l, double n, const char *forces, const char *emitter,
+                            bool burst, int threads) {
+    char text[2048], rate[1024];
+    if (burst) { /* bursts of at most 10^6 each (the format's limit) */
+        size_t len = (size_t)snprintf(rate, sizeof rate, "bursts: [");
+        for (double left = n; left > 0 && len < sizeof rate - 64; left -= 1e6)
+            len += (size_t)snprintf(rate + len, sizeof rate - len, "%s{ time: 0, count: %.17g }",
+                                    left < n ? ", " : "", left < 1e6 ? left : 1e6);
+        snprintf(rate + len, sizeof rate - len, "]");
+    } else
+        snprintf(rate, sizeof rate, "rate: %.17g", n / 2);
     snprintf(text, sizeof text,
              "pfx: 1\nseed: 1\nforces:\n  gravity: { type: gravity }\n%s"
              "emitters:\n  bench:\n    shape: { type: sphere, radius: 0.1 }\n"
-             "    rate: %.17g\n    spread: 30\n    speed: [2, 4]\n    lifetime: 2\n%s",
-             forces, n / 2, emitter);
+             "    %s\n    spread: 30\n    speed: [2, 4]\n    lifetime: %g\n%s",
+             forces, rate, burst ? BURST_LIFE : 2.0, emitter);
     memset(l, 0, sizeof *l);
     size_t len = strlen(text);
     l->source = strdup(text);
     pfx_diags_init(&l->diags, "bench.yaml", l->source, len);
-    pfx_compile_options opt = {.max_particles = (uint64_t)(4 * n + 100)};
+    pfx_compile_options opt = {.max_particles = (uint64_t)(4 * n + 100), .threads = threads};
     if (l->source && pfx_parse(l->source, len, &l->doc, &l->diags))
         l->effect = pfx_compile(l->doc.root, "bench.yaml", &opt, &l->arena, &l->diags);
     if (!l->effect)
@@ -47,18 +66,20 @@ static pfx_effect *fountain(pfx_loaded *l, double n, const char *forces, const c
     return l->effect;
 }
 
-/* Particle-steps per second of one emitter in steady state, stepping for
- * about 0.4 s of wall time (at least 5 steps), so a slow force set cannot
- * make the benchmark run for minutes. */
-static double steps_per_second(const pfx_effect *e) {
+/* Particle-steps per second of one emitter in steady state (after
+ * `warm` steps), stepping for about 0.4 s of wall time (at least 5 steps),
+ * so a slow force set cannot make the benchmark run for minutes. */
+static double steps_per_second(const pfx_effect *e, int warm) {
     pfx_sim *s = pfx_sim_create(e, NULL);
     if (!s)
         return 0;
-    for (int i = 0; i < 250; i++) /* past one lifetime: steady state */
+    for (int i = 0; i < warm; i++)
         pfx_sim_step(s);
     int steps = 0;
     double work = 0, t0 = now(), elapsed = 0;
-    while (steps < 5 || elapsed < 0.4) {
+    /* (never past the burst's lifetime: the count would fall to 0) */
+    const int most = (int)(BURST_LIFE * e->sim_rate) - warm - 2;
+    while ((steps < 5 || elapsed < 0.4) && steps < most) {
         work += s->pools[0].count;
         pfx_sim_step(s);
         steps++;
@@ -67,6 +88,58 @@ static double steps_per_second(const pfx_effect *e) {
     pfx_sim_destroy(s);
     return work / elapsed;
 }
+
+/* ---- Memory bandwidth: the STREAM triad a = b + s c (McCalpin) ---- */
+
+typedef struct triad_job {
+    double *a, *b, *c;
+    size_t n, blocks;
+} triad_job;
+
+static void triad_init(void *arg, size_t k) {
+    triad_job *t = arg;
+    size_t lo = t->n * k / t->blocks, hi = t->n * (k + 1) / t->blocks;
+    for (size_t i = lo; i < hi; i++)
+        t->a[i] = 0, t->b[i] = 1, t->c[i] = 2;
+}
+
+static void triad_block(void *arg, size_t k) {
+    triad_job *t = arg;
+    size_t lo = t->n * k / t->blocks, hi = t->n * (k + 1) / t->blocks;
+    double *restrict a = t->a;
+    const double *restrict b = t->b, *restrict c = t->c;
+    for (size_t i = lo; i < hi; i++)
+        a[i] = b[i] + 3.0 * c[i];
+}
+
+/* GB/s of the triad on every core over three arrays of 64 MiB (far larger
+ * than the caches), counting 24 bytes an element as STREAM does; each
+ * thread first touches the slice it runs. Best of five after a warm-up. */
+static double triad_bandwidth(int cores) {
+    const size_t n = (size_t)1 << 23;
+    triad_job t = {malloc(n * sizeof(double)), malloc(n * sizeof(double)),
+                   malloc(n * sizeof(double)), n, (size_t)cores};
+    pfx_workers *w = pfx_workers_create(cores);
+    double best = 0;
+    if (t.a && t.b && t.c && w) {
+        pfx_workers_run(w, t.blocks, triad_init, &t);
+        for (int run = -1; run < 5; run++) {
+            double t0 = now();
+            pfx_workers_run(w, t.blocks, triad_block, &t);
+            double gbs = 24.0 * (double)n / (now() - t0) / 1e9;
+            if (run >= 0 && gbs > best)
+                best = gbs;
+        }
+    }
+    pfx_workers_destroy(w);
+    free(t.a), free(t.b), free(t.c);
+    return best;
+}
+
+/* Bytes the gravity-only step must move per particle with no births or
+ * deaths: position and velocity read and written (6 floats, 48 bytes) and
+ * the death scan's birth time (8) and lifetime (4). */
+#define SIM_BYTES_PER_STEP 60.0
 
 /* The roofline: exactly the per-particle arithmetic of the gravity kernel
  * (integrate_gravity in src/sim/sim.c: three position and three velocity
@@ -112,26 +185,60 @@ static double roofline(size_t n) {
     return best;
 }
 
-static void bench_sim(FILE *out) {
-    fprintf(out, "simulation: gravity-only fountain, exact constant-acceleration kernel\n");
-    fprintf(out, "  %10s %16s %16s %8s\n", "particles", "pfx steps/s", "roofline/s", "ratio");
-    const double sizes[] = {1e4, 1e5, 1e6};
-    double roof_1e5 = 0;
-    for (int k = 0; k < 3; k++) {
-        pfx_loaded l;
-        if (!fountain(&l, sizes[k], "", "")) {
-            pfx_loaded_free(&l);
-            return;
-        }
-        double rate = steps_per_second(l.effect);
-        double roof = roofline((size_t)sizes[k]);
-        if (k == 1)
-            roof_1e5 = roof;
-        fprintf(out, "  %10.0f %16.4g %16.4g %7.0f%%\n", sizes[k], rate, roof, 100 * rate / roof);
-        pfx_loaded_free(&l);
+/* The report as it is measured: printed as text at once, and gathered as
+ * JSON (NULL members when out of memory, which jansson's setters ignore). */
+typedef struct report {
+    FILE *out;
+    bool json;
+    json_t *root, *sim, *forces, *render;
+} report;
+
+static void bench_sim(report *r, int cores, double bandwidth) {
+    FILE *out = r->json ? NULL : r->out;
+    if (out) {
+        fprintf(out,
+                "simulation: gravity-only fountain, exact constant-acceleration kernel, n\n"
+                "particles born at t = 0 (no births or deaths while timed); limit = "
+                "bandwidth / %.0f bytes a particle-step\n",
+                SIM_BYTES_PER_STEP);
+        fprintf(out, "  %10s %7s %14s %14s %8s %14s %8s\n", "particles", "threads", "steps/s",
+                "limit/s", "of limit", "roofline/s", "ratio");
     }
-    /* Each force (with gravity) and deflectors at 10^5 particles: what a
-     * scene pays for what it uses, against the same roofline. */
+    const double sizes[] = {1e4, 1e5, 1e6, 1e7};
+    const double limit = bandwidth * 1e9 / SIM_BYTES_PER_STEP;
+    for (int k = 0; k < 4; k++) {
+        const int counts[2] = {1, cores};
+        for (int c = 0; c < (cores > 1 ? 2 : 1); c++) {
+            pfx_loaded l;
+            if (!fountain(&l, sizes[k], "", "", true, counts[c])) {
+                pfx_loaded_free(&l);
+                return;
+            }
+            double rate = steps_per_second(l.effect, 1);
+            pfx_loaded_free(&l);
+            json_array_append_new(r->sim, json_pack("{s:f, s:i, s:f, s:f}", "particles", sizes[k],
+                                                    "threads", counts[c], "steps_per_s", rate,
+                                                    "limit_steps_per_s", limit));
+            if (!out)
+                continue;
+            fprintf(out, "  %10.0f %7d %14.4g %14.4g %7.0f%%", sizes[k], counts[c], rate, limit,
+                    100 * rate / limit);
+            if (c == 0 && k < 3) { /* the roofline of one thread, in cache or not */
+                double roof = roofline((size_t)sizes[k]);
+                fprintf(out, " %14.4g %7.0f%%\n", roof, 100 * rate / roof);
+            } else {
+                fprintf(out, " %14s %8s\n", "", "");
+            }
+        }
+    }
+}
+
+static void bench_forces(report *r) {
+    FILE *out = r->json ? NULL : r->out;
+    /* Each force (with gravity) and deflectors at 10^5 particles, one
+     * thread: what a scene pays for what it uses, against the gravity-only
+     * row measured beside them. The fountain's ground is y = 0, so most
+     * deflector cases include resting contact; "no hits" ones do not. */
     static const struct {
         const char *name, *forces, *emitter;
     } cases[] = {
@@ -154,33 +261,47 @@ static void bench_sim(FILE *out) {
          "  ball: { type: sphere, center: [0.5, 1, 0], radius: 0.3 }\n"
          "  crate: { type: box, center: [-0.6, 0.5, 0], size: [0.4, 0.4, 0.4] }\n",
          ""},
+        {"+ deflector (plane), no hits",
+         "deflectors:\n  deep: { type: plane, point: [0, -100, 0] }\n", ""},
+        {"+ deflectors (3), no hits",
+         "deflectors:\n  deep: { type: plane, point: [0, -100, 0] }\n"
+         "  ball: { type: sphere, center: [50, 1, 0], radius: 0.3 }\n"
+         "  crate: { type: box, center: [-60, 0.5, 0], size: [0.4, 0.4, 0.4] }\n",
+         ""},
     };
     const double n = 1e5;
-    double roof = roof_1e5; /* the same reference as the 10^5 row above */
-    fprintf(out, "per force at 10^5 particles (roofline %.4g steps/s):\n", roof);
-    fprintf(out, "  %-34s %14s %8s  %s\n", "force set", "steps/s", "ratio", "integrator");
+    double gravity = 0;
+    if (out) {
+        fprintf(out, "per force at 10^5 particles, one thread:\n");
+        fprintf(out, "  %-34s %14s %10s %9s  %s\n", "force set", "steps/s", "ns/step", "vs gravity",
+                "integrator");
+    }
     for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
         pfx_loaded l;
-        char forces[1024];
-        /* Deflector cases add a top-level key after the forces. */
-        snprintf(forces, sizeof forces, "%s", cases[k].forces);
-        if (!fountain(&l, n, forces, cases[k].emitter)) {
+        if (!fountain(&l, n, cases[k].forces, cases[k].emitter, false, 1)) {
             pfx_loaded_free(&l);
             continue;
         }
         const pfx_emitter *em = &l.effect->emitters[0];
-        double rate = steps_per_second(l.effect);
-        char why[64];
-        snprintf(why, sizeof why, "%s",
-                 em->motion ? pfx_integrator_name(em->motion->choice.chosen) : "exact (gravity)");
-        fprintf(out, "  %-34s %14.4g %7.0f%%  %s\n", cases[k].name, rate, 100 * rate / roof, why);
+        double rate = steps_per_second(l.effect, 250); /* past one lifetime: steady */
+        if (k == 0)
+            gravity = rate;
+        json_array_append_new(r->forces, json_pack("{s:s, s:i, s:f}", "name", cases[k].name,
+                                                   "threads", 1, "steps_per_s", rate));
+        if (out)
+            fprintf(out, "  %-34s %14.4g %10.1f %8.0f%%  %s\n", cases[k].name, rate, 1e9 / rate,
+                    100 * rate / gravity,
+                    em->motion ? pfx_integrator_name(em->motion->choice.chosen)
+                               : "exact (gravity)");
         pfx_loaded_free(&l);
     }
 }
 
-static bool bench_render(FILE *out, const char *fire_path, pfx_renderer *r, pfx_diags *d) {
+static bool bench_render(report *rep, const char *fire_path, pfx_renderer *r, int width, int height,
+                         pfx_diags *d) {
+    FILE *out = rep->json ? NULL : rep->out;
     pfx_loaded l;
-    pfx_compile_options opt = {.width = 512, .height = 512};
+    pfx_compile_options opt = {.width = width, .height = height};
     pfx_effect *e = pfx_load(&l, fire_path, &opt);
     if (!e) {
         pfx_diags_append(d, &l.diags);
@@ -214,27 +335,67 @@ static bool bench_render(FILE *out, const char *fire_path, pfx_renderer *r, pfx_
         long frames = job.frames_done;
         size_t mean = frames ? job.sprites_drawn / (size_t)frames : 0;
         double raw_fps = pfx_renderer_bench_raw(r, &e->camera, job.sprites, mean, (int)frames);
-        fprintf(out,
-                "rendering: %s at 512x512 through %s, %ld frames, %zu sprites a frame on average\n",
-                fire_path, pfx_renderer_name(r), frames, mean);
-        fprintf(out, "  %-44s %8.1f frames/s\n", "pfx render (sim, sprites, draw, PNG overlapped)",
-                full_fps);
-        char raw[64];
-        snprintf(raw, sizeof raw, "raw %s (upload, one draw, readback)", pfx_renderer_name(r));
-        fprintf(out, "  %-44s %8.1f frames/s\n", raw, raw_fps);
-        fprintf(out, "  %-44s %7.0f%%\n", "ratio", 100 * full_fps / raw_fps);
+        json_array_append_new(rep->render, json_pack("{s:i, s:i, s:I, s:f, s:f}", "width", width,
+                                                     "height", height, "sprites", (json_int_t)mean,
+                                                     "pfx_fps", full_fps, "raw_fps", raw_fps));
+        if (out) {
+            fprintf(out,
+                    "rendering: %s at %dx%d through %s, %ld frames, %zu sprites a frame on "
+                    "average\n",
+                    fire_path, width, height, pfx_renderer_name(r), frames, mean);
+            fprintf(out, "  %-44s %8.1f frames/s\n",
+                    "pfx render (sim, sprites, draw, PNG overlapped)", full_fps);
+            char raw[64];
+            snprintf(raw, sizeof raw, "raw %s (upload, one draw, readback)", pfx_renderer_name(r));
+            fprintf(out, "  %-44s %8.1f frames/s\n", raw, raw_fps);
+            fprintf(out, "  %-44s %7.0f%%\n", "ratio", 100 * full_fps / raw_fps);
+        }
     }
     pfx_render_job_free(&job);
     pfx_loaded_free(&l);
     return ok;
 }
 
-bool pfx_bench_speed(FILE *out, const char *fire_path, pfx_renderer_kind renderer, pfx_diags *d) {
-    pfx_renderer *r = pfx_renderer_create(renderer, 512, 512, d);
-    if (!r)
-        return false;
-    bench_sim(out);
-    bool ok = bench_render(out, fire_path, r, d) && pfx_bench_looks(out, r, 512, 512, d);
-    pfx_renderer_destroy(r);
+bool pfx_bench_speed(FILE *out, const char *fire_path, pfx_renderer_kind renderer, bool json,
+                     pfx_diags *d) {
+    static const int sizes[2][2] = {{512, 512}, {1920, 1080}};
+    pfx_renderer *r[2] = {NULL, NULL};
+    for (int k = 0; k < 2; k++)
+        if (!(r[k] = pfx_renderer_create(renderer, sizes[k][0], sizes[k][1], d))) {
+            pfx_renderer_destroy(r[0]);
+            return false;
+        }
+    report rep = {out, json, json_object(), json_array(), json_array(), json_array()};
+    const int cores = pfx_workers_cores();
+    const double bandwidth = triad_bandwidth(cores);
+    json_object_set_new(rep.root, "machine",
+                        json_pack("{s:i, s:f}", "cores", cores, "bandwidth_gb_s", bandwidth));
+    if (!json)
+        fprintf(out, "machine: %d cores, memory bandwidth %.1f GB/s (STREAM triad, all cores)\n",
+                cores, bandwidth);
+    bench_sim(&rep, cores, bandwidth);
+    bench_forces(&rep);
+    bool ok = true;
+    for (int k = 0; k < 2 && ok; k++)
+        ok = bench_render(&rep, fire_path, r[k], sizes[k][0], sizes[k][1], d);
+    /* The sprite looks' table is text only (not part of --json). */
+    if (ok && !json)
+        ok = pfx_bench_looks(out, r[0], sizes[0][0], sizes[0][1], d);
+    json_object_set(rep.root, "sim", rep.sim);
+    json_object_set(rep.root, "forces", rep.forces);
+    json_object_set(rep.root, "render", rep.render);
+    if (json && ok) {
+        char *text =
+            json_dumps(rep.root, JSON_INDENT(2) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(6));
+        if (text)
+            fprintf(out, "%s\n", text);
+        else
+            pfx_diag_error(d, "out of memory");
+        ok = text != NULL;
+        free(text);
+    }
+    json_decref(rep.sim), json_decref(rep.forces), json_decref(rep.render), json_decref(rep.root);
+    pfx_renderer_destroy(r[1]);
+    pfx_renderer_destroy(r[0]);
     return ok;
 }

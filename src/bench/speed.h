@@ -10,14 +10,19 @@
 
 #include "render/render.h"
 
-/* Prints particle-steps per second of the gravity-only simulation at 10^4,
- * 10^5 and 10^6 live particles next to a minimal SoA kernel doing the same
- * arithmetic (the roofline), and frames per second of rendering `fire_path`
- * (sim + sprites + draw + readback + PNG) next to raw drawing of the same
- * sprites, both through the `renderer` kind, which it names. The render is
- * the frame loop of `pfx render` itself (jobs/render_job.h). Returns false
- * with the failure in d (a renderer that cannot start fails before anything
- * is measured). */
-bool pfx_bench_speed(FILE *out, const char *fire_path, pfx_renderer_kind renderer, pfx_diags *d);
+/* Measures and prints, as text or (json) as one JSON object: the machine
+ * (cores; memory bandwidth by the STREAM triad on all cores); the
+ * gravity-only simulation at 10^4 to 10^7 live particles on one thread and
+ * on every core, next to the bandwidth limit (bandwidth / the 60 bytes a
+ * particle-step moves) and, for one thread, a minimal SoA kernel doing the
+ * same arithmetic (the roofline); each force and deflector set at 10^5
+ * particles on one thread; and frames per second of rendering `fire_path`
+ * at 512x512 and 1920x1080 (sim + sprites + draw + readback + PNG, the
+ * frame loop of `pfx render` itself, jobs/render_job.h) next to raw drawing
+ * of the same sprites, through the `renderer` kind, which it names.
+ * Returns false with the failure in d (a renderer that cannot start fails
+ * before anything is measured). */
+bool pfx_bench_speed(FILE *out, const char *fire_path, pfx_renderer_kind renderer, bool json,
+                     pfx_diags *d);
 
 #endif

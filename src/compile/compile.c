@@ -336,6 +336,7 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
     pfx_look_defaults(e);
     e->width = e->height = 512;
     e->max_particles = opt && opt->max_particles ? opt->max_particles : PFX_DEFAULT_MAX_PARTICLES;
+    e->threads = opt ? opt->threads : 0;
 
     pfx_keys_check(&c.r, root, &pfx_schema_top, "the effect");
     if (!pfx_node_get(root, "pfx"))

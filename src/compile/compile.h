@@ -16,6 +16,7 @@ typedef struct pfx_compile_options {
     int width, height; /* > 0: override image.size */
     bool has_alpha;
     pfx_alpha_mode alpha; /* --alpha: overrides image.alpha */
+    int threads;          /* simulation threads; 0: the machine's cores */
 } pfx_compile_options;
 
 /* Compiles a parsed document. Reports every problem into d; returns NULL if

@@ -75,7 +75,7 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
         pfx_diag_error(d, "out of memory for %zu particles", pfx_sprites_capacity(e));
         return false;
     }
-    int encoders = job->threads;
+    int encoders = job->threads > 0 ? job->threads : e->threads;
     if (encoders <= 0) {
         long cores = sysconf(_SC_NPROCESSORS_ONLN);
         encoders =

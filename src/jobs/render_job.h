@@ -19,7 +19,8 @@ typedef struct pfx_render_job {
     const char *dir, *stem;
     long first, last;
     bool progress; /* a "\rpfx: frame ..." line on stderr as frames go */
-    int threads;   /* PNG encoder threads; 0: one per online core */
+    int threads;   /* PNG encoder threads; 0: the effect's threads (--threads), else one
+                      per online core */
 
     /* Out, valid after pfx_render_job_run until pfx_render_job_free. */
     long frames_done;     /* frames drawn and handed to the writer */

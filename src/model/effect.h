@@ -375,6 +375,8 @@ typedef struct pfx_effect {
     size_t emitter_count;
     pfx_emitter *emitters;
     uint64_t max_particles;
+    int threads; /* simulation threads (--threads, PFX_THREADS); 0: the machine's cores.
+                    A run setting, not the effect's: the output is the same for any */
 } pfx_effect;
 
 /* Upper bound of a value's samples. */

@@ -758,6 +758,91 @@ static int8_t start_side(const prep *p, const body *b) {
     return vn != 0 ? (vn > 0 ? 1 : -1) : (an > 0 ? -1 : 1);
 }
 
+/* ---- Broad phase ----
+ * Most particles are far from every surface: a float pass over a chunk of
+ * particles (straight loops, vectorised) marks those that might touch a
+ * deflector this step, and only they go through the exact test below, in
+ * double, exactly as before. The mark is conservative: the float distance
+ * to each surface (a lower bound for every shape, as constraint() is) is
+ * compared with the float reach plus a margin far above float rounding
+ * (1e-4 of the coordinates' size), so every particle the exact test would
+ * take is marked, and the results are the same bits. */
+enum { BROAD_CHUNK = 256 };
+
+/* reach[j]: how far particle j can get this step (the sweep bound), grown
+ * by the margin; the same bound as the exact test's, in float. */
+static void broad_reach(const pfx_collide_pool *pool, uint32_t i0, uint32_t m, float dt,
+                        float *restrict reach) {
+    const float *restrict x0 = pool->px0 + i0, *restrict y0 = pool->py0 + i0,
+                          *restrict z0 = pool->pz0 + i0;
+    const float *restrict u0 = pool->vx0 + i0, *restrict v0 = pool->vy0 + i0,
+                          *restrict w0 = pool->vz0 + i0;
+    const float *restrict x1 = pool->px + i0, *restrict y1 = pool->py + i0,
+                          *restrict z1 = pool->pz + i0;
+    const float *restrict u1 = pool->vx + i0, *restrict v1 = pool->vy + i0,
+                          *restrict w1 = pool->vz + i0;
+    for (uint32_t j = 0; j < m; j++) {
+        const float dx = x1[j] - x0[j], dy = y1[j] - y0[j], dz = z1[j] - z0[j];
+        const float du = u1[j] - u0[j], dv = v1[j] - v0[j], dw = w1[j] - w0[j];
+        /* |v0| dt + |a| dt^2 / 2 with a dt = v1 - v0, and the chord */
+        const float sweep = sqrtf(u0[j] * u0[j] + v0[j] * v0[j] + w0[j] * w0[j]) * dt +
+                            0.5f * sqrtf(du * du + dv * dv + dw * dw) * dt;
+        const float chord = sqrtf(dx * dx + dy * dy + dz * dz);
+        const float r = sweep > chord ? sweep : chord;
+        const float size = fabsf(x0[j]) + fabsf(y0[j]) + fabsf(z0[j]);
+        reach[j] = r * 1.001f + 1e-4f * (1.0f + size);
+    }
+}
+
+/* mark[j] |= particle j is within reach[j] (plus the deflector's own
+ * margin) of deflector p's surface. */
+static void broad_mark(const prep *p, const pfx_collide_pool *pool, uint32_t i0, uint32_t m,
+                       const float *restrict reach, uint8_t *restrict mark) {
+    const float *restrict x = pool->px0 + i0, *restrict y = pool->py0 + i0,
+                          *restrict z = pool->pz0 + i0;
+    const float px = (float)p->p[0], py = (float)p->p[1], pz = (float)p->p[2];
+    const float extent =
+        (float)(fabs(p->p[0]) + fabs(p->p[1]) + fabs(p->p[2]) + p->r + fabs(p->hi[0] - p->lo[0]) +
+                fabs(p->hi[1] - p->lo[1]) + fabs(p->hi[2] - p->lo[2]));
+    const float margin = 1e-4f * (1.0f + extent);
+    switch (p->shape) {
+    case PFX_DEFLECTOR_PLANE:
+    case PFX_DEFLECTOR_DISC: {
+        const float nx = (float)p->n[0], ny = (float)p->n[1], nz = (float)p->n[2];
+        for (uint32_t j = 0; j < m; j++) {
+            const float d = (x[j] - px) * nx + (y[j] - py) * ny + (z[j] - pz) * nz;
+            mark[j] |= fabsf(d) <= reach[j] + margin;
+        }
+        break;
+    }
+    case PFX_DEFLECTOR_SPHERE: {
+        const float r = (float)p->r;
+        for (uint32_t j = 0; j < m; j++) {
+            const float dx = x[j] - px, dy = y[j] - py, dz = z[j] - pz;
+            const float d = sqrtf(dx * dx + dy * dy + dz * dz) - r;
+            mark[j] |= fabsf(d) <= reach[j] + margin;
+        }
+        break;
+    }
+    case PFX_DEFLECTOR_BOX: {
+        /* outside: the distance to the box; inside: to the nearest face;
+         * the larger of the per-axis gaps is a lower bound of both */
+        const float lx = (float)p->lo[0], ly = (float)p->lo[1], lz = (float)p->lo[2];
+        const float hx = (float)p->hi[0], hy = (float)p->hi[1], hz = (float)p->hi[2];
+        for (uint32_t j = 0; j < m; j++) {
+            const float ex0 = x[j] - hx, ex1 = lx - x[j], ey0 = y[j] - hy, ey1 = ly - y[j];
+            const float ez0 = z[j] - hz, ez1 = lz - z[j];
+            const float ex = ex0 > ex1 ? ex0 : ex1, ey = ey0 > ey1 ? ey0 : ey1;
+            const float ez = ez0 > ez1 ? ez0 : ez1;
+            float e = ex > ey ? ex : ey;
+            e = e > ez ? e : ez;
+            mark[j] |= fabsf(e) <= reach[j] + margin;
+        }
+        break;
+    }
+    }
+}
+
 void pfx_collide(const pfx_deflector *defl, size_t n_defl, double dt, const pfx_collide_pool *pool,
                  pfx_rng *rng, pfx_hit_fn on_hit, void *user, pfx_collide_stats *stats) {
     assert(n_defl <= PFX_COLLIDE_MAX_DEFLECTORS);
@@ -768,7 +853,20 @@ void pfx_collide(const pfx_deflector *defl, size_t n_defl, double dt, const pfx_
         prepare(&defl[k], &pr[k]);
     ctx c = {defl, pr, n_defl, dt, pool, rng, on_hit, user, stats};
     body b;
+    float reach[BROAD_CHUNK];
+    uint8_t mark[BROAD_CHUNK];
     for (uint32_t i = 0; i < pool->count; i++) {
+        const uint32_t j = i % BROAD_CHUNK;
+        if (j == 0) { /* the next chunk's broad phase */
+            const uint32_t m =
+                pool->count - i < BROAD_CHUNK ? pool->count - i : (uint32_t)BROAD_CHUNK;
+            broad_reach(pool, i, m, (float)dt, reach);
+            memset(mark, 0, m);
+            for (size_t k = 0; k < n_defl; k++)
+                broad_mark(&pr[k], pool, i, m, reach, mark);
+        }
+        if (!mark[j] && !(pool->stuck && pool->stuck[i]))
+            continue;                        /* far from every surface: untouched, as below */
         if (pool->stuck && pool->stuck[i]) { /* held where it stuck, whatever the integrator did */
             pool->px[i] = pool->px0[i], pool->py[i] = pool->py0[i], pool->pz[i] = pool->pz0[i];
             pool->vx[i] = pool->vy[i] = pool->vz[i] = 0;

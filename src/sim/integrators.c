@@ -8,6 +8,7 @@
 #include <tgmath.h>
 
 #include "model/effect.h"
+#include "sim/fast_f.h"
 
 #define PFX_CAT_(a, b) a##b
 #define PFX_CAT(a, b) PFX_CAT_(a, b)
@@ -15,7 +16,9 @@
 #define PFX_REAL float
 #define PFX_SUFFIX _f
 #define PFX_POOL pfx_motion_pool_f
+#define PFX_REAL_IS_FLOAT 1
 #include "sim/motion_impl.h"
+#undef PFX_REAL_IS_FLOAT
 #undef PFX_REAL
 #undef PFX_SUFFIX
 #undef PFX_POOL

@@ -100,103 +100,225 @@ void pfx_motion_plan_prepare(pfx_motion_plan *p, pfx_motion *m, double dt) {
     pfx_motion_plan_init(p, m);
 }
 
-/* ---- Curl noise ---- */
+/* ---- Curl noise ----
+ * The field is the curl of a potential psi = (n1, n2, n3) of three value
+ * noises (Perlin, "An Image Synthesizer", SIGGRAPH 1985, with his 2002
+ * quintic fade; curl noise after Bridson, Hourihan and Nordenstam, "Curl-
+ * Noise for Procedural Fluid Flow", SIGGRAPH 2007). The three potentials
+ * share one lattice: each corner is hashed once (32 bits, Wellons'
+ * lowbias32 finaliser) and the hash gives all three corner values, 10
+ * bits each. Within a cell, n is the trilinear blend of the corner values
+ * by u = 6f^5 - 15f^4 + 10f^3, and its gradient is that blend's own exact
+ * derivative (du = 30 f^2 (f-1)^2), so n is C2 and div curl psi = 0
+ * holds exactly up to rounding. All float, no table: the particle loop is
+ * straight arithmetic the compiler vectorises. */
 
-/* Perlin gradient noise with its analytic gradient: trilinear blend, by the
- * quintic fade u = 6f^5 - 15f^4 + 10f^3 (C2, du = 30 f^2 (f-1)^2), of the
- * corner ramps g_c . (f - c), g_c one of the 12 cube-edge directions. */
-static void noise_grad(const double p[3], uint64_t seed, double grad[3]) {
-    static const signed char G[12][3] = {{1, 1, 0}, {-1, 1, 0}, {1, -1, 0}, {-1, -1, 0},
-                                         {1, 0, 1}, {-1, 0, 1}, {1, 0, -1}, {-1, 0, -1},
-                                         {0, 1, 1}, {0, -1, 1}, {0, 1, -1}, {0, -1, -1}};
-    double fl[3], f[3], u[3], du[3];
-    for (int a = 0; a < 3; a++) {
-        fl[a] = floor(p[a]);
-        f[a] = p[a] - fl[a];
-        u[a] = f[a] * f[a] * f[a] * (f[a] * (f[a] * 6 - 15) + 10);
-        du[a] = 30 * f[a] * f[a] * (f[a] - 1) * (f[a] - 1);
-    }
-    /* Lattice hashes per axis first (6 mixes), then one mix per corner:
-     * 14 mixes a noise instead of 24, and the gradient index by a
-     * multiply-shift instead of a 64-bit modulo. */
-    uint64_t ax[2][3];
-    for (int a = 0; a < 3; a++)
-        for (int o = 0; o < 2; o++)
-            ax[o][a] = pfx_mix64(
-                seed ^ ((uint64_t)(int64_t)(fl[a] + o) * 0x9e3779b97f4a7c15ull + (uint64_t)a));
-    grad[0] = grad[1] = grad[2] = 0;
-    for (int c = 0; c < 8; c++) {
-        int o[3] = {c & 1, (c >> 1) & 1, c >> 2};
-        uint64_t hy = ax[o[1]][1], hz = ax[o[2]][2];
-        uint64_t h = pfx_mix64(ax[o[0]][0] ^ (hy << 21 | hy >> 43) ^ (hz << 42 | hz >> 22));
-        const signed char *g = G[((h >> 32) * 12) >> 32];
-        double w[3], dw[3], val = 0;
-        for (int a = 0; a < 3; a++) {
-            w[a] = o[a] ? u[a] : 1 - u[a];
-            dw[a] = o[a] ? du[a] : -du[a];
-            val += g[a] * (f[a] - o[a]);
-        }
-        grad[0] += dw[0] * w[1] * w[2] * val + w[0] * w[1] * w[2] * g[0];
-        grad[1] += w[0] * dw[1] * w[2] * val + w[0] * w[1] * w[2] * g[1];
-        grad[2] += w[0] * w[1] * dw[2] * val + w[0] * w[1] * w[2] * g[2];
+/* An octave's pattern drifts along its own direction (unit vectors), so
+ * octaves slide over each other and the field changes in time without
+ * sources. */
+static const float curl_drift[4][3] = {{0.5773503f, 0.5773503f, 0.5773503f},
+                                       {-0.4082483f, 0.8164966f, 0.4082483f},
+                                       {0.7071068f, -0.7071068f, 0.0f},
+                                       {0.0f, 0.4472136f, -0.8944272f}};
+
+/* One octave's curl of these value noises has an RMS component of about
+ * 1.08 (measured over 10^5 points); the gain brings it to 1, the size of
+ * the Perlin gradient-noise field it replaced, so `strength` keeps its
+ * meaning. */
+#define CURL_GAIN 0.92f
+
+static inline uint32_t lattice_hash(uint32_t x, uint32_t y, uint32_t z, uint32_t seed) {
+    uint32_t h = seed ^ x ^ y ^ z;
+    h ^= h >> 16;
+    h *= 0x7feb352du;
+    h ^= h >> 15;
+    h *= 0x846ca68bu;
+    h ^= h >> 16;
+    return h;
+}
+
+/* The gradient (in q) of the value noise whose corner values are bits
+ * [shift, shift + 10) of the corner hashes h[4x + 2y + z]: the blend along
+ * z (values and z-differences), then y, then x, each derivative that of
+ * the blend itself. */
+static inline __attribute__((always_inline)) void value_gradient(const uint32_t h[8], int shift,
+                                                                 const float u[3],
+                                                                 const float du[3], float *gx,
+                                                                 float *gy, float *gz) {
+    const float to_unit = 1.0f / 511.5f;
+#define CORNER(k) ((float)(int32_t)((h[k] >> shift) & 1023u) * to_unit - 1.0f)
+    const float v0 = CORNER(0), v1 = CORNER(1), v2 = CORNER(2), v3 = CORNER(3);
+    const float v4 = CORNER(4), v5 = CORNER(5), v6 = CORNER(6), v7 = CORNER(7);
+#undef CORNER
+    const float dz[4] = {v1 - v0, v3 - v2, v5 - v4, v7 - v6};
+    const float e[4] = {v0 + u[2] * dz[0], v2 + u[2] * dz[1], v4 + u[2] * dz[2], v6 + u[2] * dz[3]};
+    const float f0 = e[0] + u[1] * (e[1] - e[0]), f1 = e[2] + u[1] * (e[3] - e[2]);
+    const float g0 = e[1] - e[0], g1 = e[3] - e[2];
+    const float h0 = dz[0] + u[1] * (dz[1] - dz[0]), h1 = dz[2] + u[1] * (dz[3] - dz[2]);
+    *gx = du[0] * (f1 - f0);
+    *gy = du[1] * (g0 + u[0] * (g1 - g0));
+    *gz = du[2] * (h0 + u[0] * (h1 - h0));
+}
+
+/* The cell of lattice coordinate q (|q| <= 1e9) and the fade u of its
+ * fraction f, with du/dq. */
+static inline __attribute__((always_inline)) void lattice_coord(float q, uint32_t *cell, float *u,
+                                                                float *du) {
+    int32_t i = (int32_t)q;
+    i -= (float)i > q; /* floor */
+    const float f = q - (float)i;
+    *u = f * f * f * (f * (f * 6.0f - 15.0f) + 10.0f);
+    *du = 30.0f * f * f * (f - 1.0f) * (f - 1.0f);
+    *cell = (uint32_t)i;
+}
+
+/* a[j] = x[j] * freq + o clamped to +-1e9 (NaN to -1e9), so the lattice
+ * coordinate's conversion to a cell is defined; a loop of its own, which
+ * the compiler vectorises where the fused one would not be. */
+static inline __attribute__((always_inline)) void
+lattice_scale(size_t n, const float *restrict x, float freq, float o, float *restrict a) {
+    const float lim = 1e9f;
+    for (size_t j = 0; j < n; j++) {
+        float v = x[j] * freq + o;
+        v = v < lim ? v : lim;
+        a[j] = v > -lim ? v : -lim;
     }
 }
 
-/* curl psi of psi = (n1, n2, n3), three independent noises; divergence-free
- * because div curl = 0 identically, whatever the noise. Time moves each
- * potential along its own direction, which keeps that true. */
-void pfx_curl_noise(const double p[3], double t_shift, int octaves, uint64_t seed, double out[3]) {
-    static const double drift[3][3] = {
-        {0.57, 0.31, 0.76}, {-0.42, 0.81, 0.41}, {0.69, -0.28, 0.67}};
-    double d[3][3] = {{0}}, amp = 1, freq = 1, norm = 0;
+/* One octave over points [0, n): adds amp times the gradients (in q) of
+ * the three potentials at q = (x, y, z) * freq + offset into g[9 * CHUNK]
+ * (potential-major, then axis, then point). */
+enum { CURL_CHUNK = 64 };
+static inline __attribute__((always_inline)) void
+curl_octave(size_t n, const float *restrict x, const float *restrict y, const float *restrict z,
+            float freq, const float offset[3], uint32_t seed, float amp, float *restrict g) {
+    /* Lattice coordinates scattered by three odd constants, so X*P + P is
+     * the next corner's term: no multiply per corner. */
+    const uint32_t P0 = 0x8da6b343u, P1 = 0xd8163841u, P2 = 0xcb1ab31fu;
+    float qx[CURL_CHUNK], qy[CURL_CHUNK], qz[CURL_CHUNK];
+    lattice_scale(n, x, freq, offset[0], qx);
+    lattice_scale(n, y, freq, offset[1], qy);
+    lattice_scale(n, z, freq, offset[2], qz);
+    for (size_t j = 0; j < n; j++) {
+        float u[3], du[3];
+        uint32_t c[3];
+        lattice_coord(qx[j], &c[0], &u[0], &du[0]);
+        lattice_coord(qy[j], &c[1], &u[1], &du[1]);
+        lattice_coord(qz[j], &c[2], &u[2], &du[2]);
+        const uint32_t x0 = c[0] * P0, y0 = c[1] * P1, z0 = c[2] * P2;
+        const uint32_t x1 = x0 + P0, y1 = y0 + P1, z1 = z0 + P2;
+        const uint32_t h[8] = {lattice_hash(x0, y0, z0, seed), lattice_hash(x0, y0, z1, seed),
+                               lattice_hash(x0, y1, z0, seed), lattice_hash(x0, y1, z1, seed),
+                               lattice_hash(x1, y0, z0, seed), lattice_hash(x1, y0, z1, seed),
+                               lattice_hash(x1, y1, z0, seed), lattice_hash(x1, y1, z1, seed)};
+        float gx, gy, gz;
+        value_gradient(h, 0, u, du, &gx, &gy, &gz);
+        g[0 * CURL_CHUNK + j] += amp * gx;
+        g[1 * CURL_CHUNK + j] += amp * gy;
+        g[2 * CURL_CHUNK + j] += amp * gz;
+        value_gradient(h, 11, u, du, &gx, &gy, &gz);
+        g[3 * CURL_CHUNK + j] += amp * gx;
+        g[4 * CURL_CHUNK + j] += amp * gy;
+        g[5 * CURL_CHUNK + j] += amp * gz;
+        value_gradient(h, 22, u, du, &gx, &gy, &gz);
+        g[6 * CURL_CHUNK + j] += amp * gx;
+        g[7 * CURL_CHUNK + j] += amp * gy;
+        g[8 * CURL_CHUNK + j] += amp * gz;
+    }
+}
+
+/* x86-64: an AVX2 copy beside the baseline one, picked at load time. Both
+ * run the same operations in the same order (lane-wise arithmetic, no FMA:
+ * -ffp-contract=off, and the clone does not enable it), so they give the
+ * same bits; the wider vectors only do more points at once. */
+#if defined(__x86_64__) && defined(__has_attribute)
+#if __has_attribute(target_clones) && !defined(PFX_NO_CLONES)
+#define PFX_CLONES __attribute__((target_clones("avx2", "default")))
+#endif
+#endif
+#ifndef PFX_CLONES
+#define PFX_CLONES
+#endif
+
+PFX_CLONES
+void pfx_curl_noise_f(size_t n, const float *x, const float *y, const float *z, float inv,
+                      double t_shift, int octaves, uint64_t seed, float *ox, float *oy, float *oz) {
+    float g[9 * CURL_CHUNK];
     if (octaves < 1)
         octaves = 1;
-    for (int o = 0; o < octaves; o++) {
-        for (int i = 0; i < 3; i++) {
-            double q[3], g[3];
-            for (int a = 0; a < 3; a++)
-                q[a] = p[a] * freq + drift[i][a] * t_shift + 17.3 * i + 3.1 * o;
-            noise_grad(q, pfx_mix64(seed + 0x1000 * (uint64_t)o + (uint64_t)i), g);
-            /* psi_o = amp/freq noise(freq p): its curl has amplitude amp */
-            for (int a = 0; a < 3; a++)
-                d[i][a] += amp * g[a];
+    float norm = 0;
+    for (int o = 0; o < octaves; o++)
+        norm += 1.0f / (float)(1 << (o < 30 ? o : 30));
+    const float gain = CURL_GAIN / norm;
+    for (size_t j0 = 0; j0 < n; j0 += CURL_CHUNK) {
+        const size_t m = n - j0 < CURL_CHUNK ? n - j0 : CURL_CHUNK;
+        memset(g, 0, sizeof g);
+        float amp = 1, freq = inv;
+        for (int o = 0; o < octaves; o++) {
+            /* psi_o = amp scale / 2^o n_o(2^o p / scale): each octave's curl
+             * has amplitude amp, and the sum is the curl of one potential. */
+            const float *d = curl_drift[o & 3];
+            const float offset[3] = {(float)(d[0] * t_shift) + 17.3f * (float)o,
+                                     (float)(d[1] * t_shift) + 5.1f * (float)o,
+                                     (float)(d[2] * t_shift) + 3.7f * (float)o};
+            const uint32_t os = (uint32_t)pfx_mix64(seed + 0x1000 * (uint64_t)o);
+            curl_octave(m, x + j0, y + j0, z + j0, freq, offset, os, amp, g);
+            amp *= 0.5f;
+            freq *= 2;
         }
-        norm += amp;
-        amp *= 0.5;
-        freq *= 2;
+        /* curl psi = (d n3/dy - d n2/dz, d n1/dz - d n3/dx, d n2/dx - d n1/dy) */
+        const float *n1 = g, *n2 = g + 3 * CURL_CHUNK, *n3 = g + 6 * CURL_CHUNK;
+        for (size_t j = 0; j < m; j++) {
+            ox[j0 + j] = gain * (n3[CURL_CHUNK + j] - n2[2 * CURL_CHUNK + j]);
+            oy[j0 + j] = gain * (n1[2 * CURL_CHUNK + j] - n3[j]);
+            oz[j0 + j] = gain * (n2[j] - n1[CURL_CHUNK + j]);
+        }
     }
-    out[0] = (d[2][1] - d[1][2]) / norm;
-    out[1] = (d[0][2] - d[2][0]) / norm;
-    out[2] = (d[1][0] - d[0][1]) / norm;
 }
 
 /* ---- Bad states ---- */
 
-#define FIND_BAD(T)                                                                                \
+/* The first bad particle, in order. Most calls find none: a branch-free
+ * pass over blocks of 64 (which vectorises) says whether a block may hold
+ * one (non-finite, |v_c| above the speed limit / sqrt(3) or |x_c| above the
+ * position limit: every bad state trips one of these), and only such a
+ * block is searched particle by particle. */
+#define FIND_BAD(T, ABS)                                                                           \
     const T vmax2 = (T)(PFX_MOTION_MAX_SPEED * PFX_MOTION_MAX_SPEED);                              \
-    const T xmax = (T)PFX_MOTION_MAX_POSITION;                                                     \
-    for (size_t i = 0; i < p->count; i++) {                                                        \
-        T x = p->px[i], y = p->py[i], z = p->pz[i], u = p->vx[i], v = p->vy[i], w = p->vz[i];      \
-        T s = x + y + z + u + v + w;                                                               \
-        if (s - s != 0) { /* NaN or Inf anywhere in the sum */                                     \
-            *why = PFX_BAD_NONFINITE;                                                              \
-            return i;                                                                              \
-        }                                                                                          \
-        if (u * u + v * v + w * w > vmax2) {                                                       \
-            *why = PFX_BAD_SPEED;                                                                  \
-            return i;                                                                              \
-        }                                                                                          \
-        if (fabs((double)x) > xmax || fabs((double)y) > xmax || fabs((double)z) > xmax) {          \
-            *why = PFX_BAD_POSITION;                                                               \
-            return i;                                                                              \
+    const T xmax = (T)PFX_MOTION_MAX_POSITION, vc = (T)(PFX_MOTION_MAX_SPEED * 0.57);              \
+    for (size_t i0 = 0; i0 < p->count; i0 += 64) {                                                 \
+        const size_t end = p->count - i0 < 64 ? p->count : i0 + 64;                                \
+        int alarm = 0;                                                                             \
+        for (size_t i = i0; i < end; i++)                                                          \
+            alarm |= !(ABS(p->vx[i]) <= vc) | !(ABS(p->vy[i]) <= vc) | !(ABS(p->vz[i]) <= vc) |    \
+                     !(ABS(p->px[i]) <= xmax) | !(ABS(p->py[i]) <= xmax) |                         \
+                     !(ABS(p->pz[i]) <= xmax);                                                     \
+        if (!alarm)                                                                                \
+            continue;                                                                              \
+        for (size_t i = i0; i < end; i++) {                                                        \
+            T x = p->px[i], y = p->py[i], z = p->pz[i], u = p->vx[i], v = p->vy[i], w = p->vz[i];  \
+            T s = x + y + z + u + v + w;                                                           \
+            if (s - s != 0) { /* NaN or Inf anywhere in the sum */                                 \
+                *why = PFX_BAD_NONFINITE;                                                          \
+                return i;                                                                          \
+            }                                                                                      \
+            if (u * u + v * v + w * w > vmax2) {                                                   \
+                *why = PFX_BAD_SPEED;                                                              \
+                return i;                                                                          \
+            }                                                                                      \
+            if (fabs((double)x) > xmax || fabs((double)y) > xmax || fabs((double)z) > xmax) {      \
+                *why = PFX_BAD_POSITION;                                                           \
+                return i;                                                                          \
+            }                                                                                      \
         }                                                                                          \
     }                                                                                              \
     *why = PFX_BAD_NONE;                                                                           \
     return p->count;
 
-size_t pfx_motion_find_bad_f(const pfx_motion_pool_f *p, pfx_bad_kind *why){FIND_BAD(float)} size_t
+size_t pfx_motion_find_bad_f(const pfx_motion_pool_f *p,
+                             pfx_bad_kind *why){FIND_BAD(float, fabsf)} size_t
     pfx_motion_find_bad_d(const pfx_motion_pool_d *p, pfx_bad_kind *why) {
-    FIND_BAD(double)
+    FIND_BAD(double, fabs)
 }
 
 void pfx_motion_blame(const pfx_motion *m, pfx_bad_kind why, char *buf, size_t size) {

@@ -86,10 +86,14 @@ void pfx_motion_accel_d(const pfx_motion_plan *m, const pfx_motion_pool_d *pool,
                         const double *vx, const double *vy, const double *vz, double t, double *ax,
                         double *ay, double *az);
 
-/* Divergence-free noise: out = curl of a 3-component gradient-noise
- * potential at p (in feature units), evolving with t_shift, `octaves`
- * octaves (each half the amplitude of the last). Magnitude is O(1). */
-void pfx_curl_noise(const double p[3], double t_shift, int octaves, uint64_t seed, double out[3]);
+/* Divergence-free noise at n points (x, y, z)[j] in metres: (ox, oy,
+ * oz)[j] = the curl of a three-component value-noise potential of
+ * `octaves` octaves (each half the amplitude of the last) at position
+ * times inv (1 / scale: feature units), the pattern shifted by t_shift
+ * feature units along each octave's drift. Each component's RMS is about
+ * 1. Float arithmetic; the result of a point depends on that point only. */
+void pfx_curl_noise_f(size_t n, const float *x, const float *y, const float *z, float inv,
+                      double t_shift, int octaves, uint64_t seed, float *ox, float *oy, float *oz);
 
 /* ---- Non-finite and exploding states ---- */
 

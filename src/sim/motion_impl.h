@@ -102,17 +102,14 @@ static void FN(accel)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, si
             const R L = (R)Ld, L2 = (R)(Ld * Ld);
             const R cut2 = F->radius > 0 ? (R)(F->radius * F->radius) : (R)INFINITY;
             const pfx_falloff fo = F->falloff;
+            const int cube = fo == PFX_FALLOFF_INVERSE_SQUARE, lin = fo == PFX_FALLOFF_LINEAR;
             for (size_t j = 0; j < n; j++) {
                 R dx = cx - x[j], dy = cy - y[j], dz = cz - z[j];
-                R r2 = dx * dx + dy * dy + dz * dz, q = r2 + e2, g;
-                if (fo == PFX_FALLOFF_INVERSE_SQUARE)
-                    g = s / (q * sqrt(q));
-                else if (fo == PFX_FALLOFF_LINEAR)
-                    g = s / (L * q);
-                else
-                    g = s / (L2 * sqrt(q));
-                if (!(q > 0) || r2 > cut2)
-                    g = 0; /* at the unsoftened centre the direction is undefined */
+                R r2 = dx * dx + dy * dy + dz * dz, q = r2 + e2, sq = sqrt(q);
+                R g = s / (cube ? q * sq : lin ? L * q : L2 * sq);
+                /* at the unsoftened centre the direction is undefined; no
+                 * branch, so the loop vectorises */
+                g = ((q > 0) & (r2 <= cut2)) ? g : 0;
                 g *= w[j];
                 ax[j] += g * dx;
                 ay[j] += g * dy;
@@ -171,12 +168,19 @@ static void FN(accel)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, si
             FN(region_weight)(&F->region, n, x, y, z, w);
             const double inv = 1.0 / F->scale, shift = F->speed * t * inv;
             const R s = (R)F->strength;
+            float cx[BLK], cy[BLK], cz[BLK];
+#ifdef PFX_REAL_IS_FLOAT
+            pfx_curl_noise_f(n, x, y, z, (float)inv, shift, F->octaves, F->seed, cx, cy, cz);
+#else
+            float fx[BLK], fy[BLK], fz[BLK];
+            for (size_t j = 0; j < n; j++)
+                fx[j] = (float)x[j], fy[j] = (float)y[j], fz[j] = (float)z[j];
+            pfx_curl_noise_f(n, fx, fy, fz, (float)inv, shift, F->octaves, F->seed, cx, cy, cz);
+#endif
             for (size_t j = 0; j < n; j++) {
-                double pt[3] = {(double)x[j] * inv, (double)y[j] * inv, (double)z[j] * inv}, c[3];
-                pfx_curl_noise(pt, shift, F->octaves, F->seed, c);
-                ax[j] += s * w[j] * (R)c[0];
-                ay[j] += s * w[j] * (R)c[1];
-                az[j] += s * w[j] * (R)c[2];
+                ax[j] += s * w[j] * (R)cx[j];
+                ay[j] += s * w[j] * (R)cy[j];
+                az[j] += s * w[j] * (R)cz[j];
             }
             break;
         }
@@ -462,6 +466,10 @@ static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, 
         const pfx_motion_force *F = &m->forces[f];
         if (F->kind == PFX_MOTION_VORTEX) {
             FN(region_weight)(&F->region, n, X, Y, Z, w);
+#ifdef PFX_REAL_IS_FLOAT
+            pfx_vortex_f(F, n, w, X, Y, Z, h); /* the same operator in float, vectorised */
+            continue;
+#endif
             const double ux = F->axis[0], uy = F->axis[1], uz = F->axis[2];
             const double inv_rad = 1.0 / F->radius, d = F->sims_d;
             for (size_t j = 0; j < n; j++) {
@@ -485,8 +493,25 @@ static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, 
                 Z[j] = (R)(F->center[2] + al * uz + nz);
             }
         } else if (F->kind == PFX_MOTION_SPIRAL) {
-            FN(region_weight)(&F->region, n, X, Y, Z, w);
             const R ux = (R)F->axis[0], uy = (R)F->axis[1], uz = (R)F->axis[2];
+            /* Unregioned, every particle turns by the same angle: its cosine
+             * and sine once (the same numbers each particle would get). */
+            const int uniform = F->region.kind == PFX_REGION_NONE;
+            if (uniform) {
+                const double th = F->rate * 1.0 * h;
+                const R c = (R)cos(th), s = (R)sin(th);
+                for (size_t j = 0; j < n; j++) {
+                    R dot = ux * U[j] + uy * V[j] + uz * W[j];
+                    R cx = uy * W[j] - uz * V[j], cy = uz * U[j] - ux * W[j],
+                      cz = ux * V[j] - uy * U[j];
+                    R oc = dot * (1 - c);
+                    U[j] = U[j] * c + cx * s + ux * oc;
+                    V[j] = V[j] * c + cy * s + uy * oc;
+                    W[j] = W[j] * c + cz * s + uz * oc;
+                }
+                continue;
+            }
+            FN(region_weight)(&F->region, n, X, Y, Z, w);
             for (size_t j = 0; j < n; j++) {
                 double th = F->rate * (double)w[j] * h;
                 R c = (R)cos(th), s = (R)sin(th);

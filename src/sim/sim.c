@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "base/hash.h"
+#include "base/workers.h"
 #include "sim/birth.h"
 #include "sim/kill.h"
 #include "sim/newborn.h"
@@ -54,12 +55,22 @@ pfx_sim *pfx_sim_create(const pfx_effect *e, pfx_diags *d) {
     s->pools = calloc(e->emitter_count + 1, sizeof *s->pools);
     s->emitters = calloc(e->emitter_count + 1, sizeof *s->emitters);
     s->plans = calloc(e->emitter_count + 1, sizeof *s->plans);
-    size_t bytes = 0;
-    for (size_t i = 0; i < e->emitter_count; i++)
+    size_t bytes = 0, largest = 0;
+    for (size_t i = 0; i < e->emitter_count; i++) {
         bytes += pfx_pool_bytes(&e->emitters[i], e->emitters[i].capacity);
+        if (e->emitters[i].capacity > largest)
+            largest = e->emitters[i].capacity;
+    }
+    s->block_flags = calloc(largest / PFX_SIM_BLOCK + 1, 1);
+    /* More threads than blocks of the largest pool would only sleep. */
+    int threads = e->threads > 0 ? e->threads : pfx_workers_cores();
+    if ((size_t)threads > largest / PFX_SIM_BLOCK + 1)
+        threads = (int)(largest / PFX_SIM_BLOCK + 1);
+    s->workers = pfx_workers_create(threads);
     /* One block behind every pool; malloc aligns it for any column. */
     s->storage = malloc(bytes ? bytes : 1);
-    if (!s->pools || !s->emitters || !s->plans || !s->storage || !pfx_spawn_queues_create(s)) {
+    if (!s->pools || !s->emitters || !s->plans || !s->storage || !s->block_flags || !s->workers ||
+        !pfx_spawn_queues_create(s)) {
         pfx_sim_destroy(s);
         return NULL;
     }
@@ -93,6 +104,8 @@ void pfx_sim_destroy(pfx_sim *s) {
     free(s->pools);
     free(s->emitters);
     free(s->plans);
+    free(s->block_flags);
+    pfx_workers_destroy(s->workers);
     pfx_spawn_queues_destroy(s);
     pfx_sim_destroy(s->loop_start);
     free(s);
@@ -110,16 +123,10 @@ static void advance(pfx_sim *s, double t1) {
         const pfx_emitter *em = &e->emitters[i];
         pfx_pool *p = &s->pools[i];
         if (dt > 0) {
-            if (em->deflector_count)
-                pfx_step_save_start(p);
-            bool alarm = true;
-            if (em->motion)
-                pfx_step_motion(s, i, t1 - t0);
-            else
-                alarm = pfx_step_gravity(em, p, dt);
+            uint32_t alarm = pfx_step_move(s, i, t0, t1 - t0);
             p->time = t1;
-            if (alarm)
-                pfx_step_check_state(s, i, 0, t1);
+            if (alarm < p->count)
+                pfx_step_check_state(s, i, alarm, t1);
             if (em->deflector_count)
                 pfx_step_collide(s, i, 0, p->count, t0, dt);
             if (em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_TRAIL))

@@ -45,6 +45,12 @@ typedef struct pfx_emitter_state {
     pfx_collide_stats collisions;
 } pfx_emitter_state;
 
+/* Particles per block of the threaded passes: a multiple of the motion
+ * kernels' PFX_MOTION_BLOCK, and fixed, so the blocks never depend on the
+ * thread count (8192 particles of gravity are about 30 us of work, well
+ * above the cost of waking a thread). */
+#define PFX_SIM_BLOCK 8192u
+
 typedef struct pfx_sim {
     const pfx_effect *effect;
     double dt;
@@ -57,6 +63,8 @@ typedef struct pfx_sim {
     struct pfx_spawn_queue *queues; /* per emitter: sub-emitter events of the step */
     pfx_motion_plan *plans;         /* per emitter with a motion model: what its kernels run */
     struct pfx_sim *loop_start;     /* a looping effect's state at frame 0, to wrap to */
+    struct pfx_workers *workers;    /* the threads the passes use (owned; NULL: one) */
+    uint8_t *block_flags;           /* per block of the largest pool: may hold a bad state */
     bool failed;                    /* a state went non-finite or exploded: stop */
     pfx_diags *diags;               /* where a failure says what, where, when and the likely
                                        cause (not owned; may be NULL) */

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "base/workers.h"
 #include "sim/pool.h"
 #include "sim/spawn.h"
 
@@ -40,26 +41,27 @@ gravity_step(uint32_t n, float *restrict px, float *restrict py, float *restrict
     return alarm;
 }
 
-/* Exact constant-acceleration motion over dt for every live particle of a
- * gravity-only emitter. Ages need no update: the pool keeps birth times.
- * The state check rides along only when some particle's bound at birth
- * could reach it (pool->may_run_away); otherwise the state provably stays
- * finite and in range and the loop is the bare update. Returns whether the
- * check saw something. */
-bool pfx_step_gravity(const pfx_emitter *em, pfx_pool *p, float dt) {
-    float *px = p->px, *py = p->py, *pz = p->pz, *vx = p->vx, *vy = p->vy, *vz = p->vz;
+/* Exact constant-acceleration motion over dt for particles [first, first +
+ * n) of a gravity-only emitter. Ages need no update: the pool keeps birth
+ * times. The state check rides along only when some particle's bound at
+ * birth could reach it (pool->may_run_away); otherwise the state provably
+ * stays finite and in range and the loop is the bare update. Returns
+ * whether the check saw something. */
+static bool step_gravity(const pfx_emitter *em, pfx_pool *p, uint32_t first, uint32_t n, float dt) {
+    float *px = p->px + first, *py = p->py + first, *pz = p->pz + first;
+    float *vx = p->vx + first, *vy = p->vy + first, *vz = p->vz + first;
     if (!p->gravity_scale) {
         /* The scale folded into the acceleration: one multiply-add chain. */
         const double gs = em->gravity_scale.a;
         const float a[3] = {(float)(em->accel[0] * gs), (float)(em->accel[1] * gs),
                             (float)(em->accel[2] * gs)};
-        return p->may_run_away ? gravity_step(p->count, px, py, pz, vx, vy, vz, NULL, a, dt, true)
-                               : gravity_step(p->count, px, py, pz, vx, vy, vz, NULL, a, dt, false);
+        return p->may_run_away ? gravity_step(n, px, py, pz, vx, vy, vz, NULL, a, dt, true)
+                               : gravity_step(n, px, py, pz, vx, vy, vz, NULL, a, dt, false);
     }
     const float a[3] = {(float)em->accel[0], (float)em->accel[1], (float)em->accel[2]};
-    const float *gs = p->gravity_scale;
-    return p->may_run_away ? gravity_step(p->count, px, py, pz, vx, vy, vz, gs, a, dt, true)
-                           : gravity_step(p->count, px, py, pz, vx, vy, vz, gs, a, dt, false);
+    const float *gs = p->gravity_scale + first;
+    return p->may_run_away ? gravity_step(n, px, py, pz, vx, vy, vz, gs, a, dt, true)
+                           : gravity_step(n, px, py, pz, vx, vy, vz, gs, a, dt, false);
 }
 
 /* Whether a newborn of a gravity-only emitter could ever trip the state
@@ -123,20 +125,53 @@ void pfx_step_check_state(pfx_sim *s, size_t i, uint32_t first, double t) {
                    t, cause);
 }
 
-/* Any other force set: the emitter's motion model, prepared once for the
- * fixed step; a view's remainder runs the same scheme in substeps no longer
- * than the prepared ones (pfx_motion_advance_f), never a re-chosen one. */
-void pfx_step_motion(pfx_sim *s, size_t i, double span) {
-    pfx_pool *p = &s->pools[i];
-    pfx_motion_pool_f view = pfx_step_motion_view(p, 0, p->count);
-    pfx_motion_advance_f(&s->plans[i], &view, s->time, span);
+/* One block of the motion pass: the start state the deflectors sweep from,
+ * the step (the gravity kernel, or the emitter's motion plan: a view's
+ * remainder runs the same scheme in substeps no longer than the prepared
+ * ones, pfx_motion_advance_f, never a re-chosen one), and whether the
+ * block may hold a bad state. Each block reads and writes its own
+ * particles only, so any thread may run it. */
+typedef struct move_job {
+    pfx_sim *s;
+    size_t emitter;
+    double t0, span;
+} move_job;
+
+static void move_block(void *arg, size_t b) {
+    const move_job *j = arg;
+    pfx_sim *s = j->s;
+    const pfx_emitter *em = &s->effect->emitters[j->emitter];
+    pfx_pool *p = &s->pools[j->emitter];
+    const uint32_t first = (uint32_t)(b * PFX_SIM_BLOCK);
+    const uint32_t n = p->count - first < PFX_SIM_BLOCK ? p->count - first : PFX_SIM_BLOCK;
+    if (em->deflector_count) {
+        const size_t bytes = n * sizeof(float);
+        memcpy(p->start_px + first, p->px + first, bytes);
+        memcpy(p->start_py + first, p->py + first, bytes);
+        memcpy(p->start_pz + first, p->pz + first, bytes);
+        memcpy(p->start_vx + first, p->vx + first, bytes);
+        memcpy(p->start_vy + first, p->vy + first, bytes);
+        memcpy(p->start_vz + first, p->vz + first, bytes);
+    }
+    if (em->motion) {
+        pfx_motion_pool_f view = pfx_step_motion_view(p, first, n);
+        pfx_motion_advance_f(&s->plans[j->emitter], &view, j->t0, j->span);
+        pfx_bad_kind why;
+        s->block_flags[b] = pfx_motion_find_bad_f(&view, &why) != n;
+    } else {
+        s->block_flags[b] = step_gravity(em, p, first, n, (float)j->span);
+    }
 }
 
-/* The start-of-step state the collision pass sweeps from. */
-void pfx_step_save_start(pfx_pool *p) {
-    const size_t n = p->count * sizeof(float);
-    memcpy(p->start_px, p->px, n), memcpy(p->start_py, p->py, n), memcpy(p->start_pz, p->pz, n);
-    memcpy(p->start_vx, p->vx, n), memcpy(p->start_vy, p->vy, n), memcpy(p->start_vz, p->vz, n);
+uint32_t pfx_step_move(pfx_sim *s, size_t i, double t0, double span) {
+    pfx_pool *p = &s->pools[i];
+    const size_t blocks = ((size_t)p->count + PFX_SIM_BLOCK - 1) / PFX_SIM_BLOCK;
+    move_job job = {s, i, t0, span};
+    pfx_workers_run(s->workers, blocks, move_block, &job);
+    for (size_t b = 0; b < blocks; b++)
+        if (s->block_flags[b])
+            return (uint32_t)(b * PFX_SIM_BLOCK);
+    return p->count;
 }
 
 /* A deflector hit of particle `first + index` becomes an on_hit event at

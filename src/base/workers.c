@@ -1,0 +1,146 @@
+/* The thread set of workers.h: helpers sleep on a condition variable until
+ * a job is posted, then take blocks with the caller from one atomic ticket
+ * (the job's number in the high half, the next block in the low half, so a
+ * helper that wakes late never takes a block of a later job); the caller
+ * returns once every block is done, without waiting for helpers that have
+ * not woken. It knows nothing of particles; the simulation decides what a
+ * block is. */
+#include "base/workers.h"
+
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+struct pfx_workers {
+    pthread_mutex_t lock;
+    pthread_cond_t posted;   /* helpers wait here for a new generation or stop */
+    pthread_cond_t finished; /* the caller waits here for busy == 0 */
+    pthread_t *threads;
+    int helpers;         /* threads started */
+    uint64_t generation; /* jobs posted so far */
+    bool stop;
+    pfx_block_fn fn; /* the current job */
+    void *ctx;
+    size_t blocks;
+    atomic_uint_fast64_t ticket; /* generation << 32 | the next block to take */
+    atomic_size_t done;          /* blocks of the current job finished */
+};
+
+int pfx_workers_cores(void) {
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? (int)(n < 1024 ? n : 1024) : 1;
+}
+
+/* Takes blocks of job `gen` until none is left; the thread that finishes
+ * the last block wakes the caller. */
+static void drain(pfx_workers *w, uint64_t gen, pfx_block_fn fn, void *ctx, size_t blocks) {
+    uint_fast64_t t = atomic_load_explicit(&w->ticket, memory_order_acquire);
+    for (;;) {
+        if (t >> 32 != (gen & 0xffffffffu) || (t & 0xffffffffu) >= blocks)
+            return;
+        if (!atomic_compare_exchange_weak_explicit(&w->ticket, &t, t + 1, memory_order_acq_rel,
+                                                   memory_order_acquire))
+            continue;
+        fn(ctx, (size_t)(t & 0xffffffffu));
+        if (atomic_fetch_add_explicit(&w->done, 1, memory_order_acq_rel) + 1 == blocks) {
+            pthread_mutex_lock(&w->lock);
+            pthread_cond_signal(&w->finished);
+            pthread_mutex_unlock(&w->lock);
+        }
+        t = atomic_load_explicit(&w->ticket, memory_order_acquire);
+    }
+}
+
+static void *helper_main(void *arg) {
+    pfx_workers *w = arg;
+    uint64_t seen = 0;
+    pthread_mutex_lock(&w->lock);
+    for (;;) {
+        while (!w->stop && w->generation == seen)
+            pthread_cond_wait(&w->posted, &w->lock);
+        if (w->stop)
+            break;
+        seen = w->generation;
+        pfx_block_fn fn = w->fn;
+        void *ctx = w->ctx;
+        size_t blocks = w->blocks;
+        pthread_mutex_unlock(&w->lock);
+        drain(w, seen, fn, ctx, blocks);
+        pthread_mutex_lock(&w->lock);
+    }
+    pthread_mutex_unlock(&w->lock);
+    return NULL;
+}
+
+pfx_workers *pfx_workers_create(int threads) {
+    pfx_workers *w = calloc(1, sizeof *w);
+    if (!w)
+        return NULL;
+    atomic_init(&w->ticket, 0);
+    atomic_init(&w->done, 0);
+    if (threads <= 1)
+        return w;
+    w->threads = calloc((size_t)threads - 1, sizeof *w->threads);
+    if (!w->threads || pthread_mutex_init(&w->lock, NULL) != 0) {
+        free(w->threads);
+        free(w);
+        return NULL;
+    }
+    pthread_cond_init(&w->posted, NULL);
+    pthread_cond_init(&w->finished, NULL);
+    for (int i = 0; i < threads - 1; i++) {
+        if (pthread_create(&w->threads[i], NULL, helper_main, w) != 0) {
+            pfx_workers_destroy(w);
+            return NULL;
+        }
+        w->helpers++;
+    }
+    return w;
+}
+
+void pfx_workers_destroy(pfx_workers *w) {
+    if (!w)
+        return;
+    if (w->threads) {
+        pthread_mutex_lock(&w->lock);
+        w->stop = true;
+        pthread_cond_broadcast(&w->posted);
+        pthread_mutex_unlock(&w->lock);
+        for (int i = 0; i < w->helpers; i++)
+            pthread_join(w->threads[i], NULL);
+        pthread_cond_destroy(&w->posted);
+        pthread_cond_destroy(&w->finished);
+        pthread_mutex_destroy(&w->lock);
+        free(w->threads);
+    }
+    free(w);
+}
+
+int pfx_workers_count(const pfx_workers *w) { return w ? w->helpers + 1 : 1; }
+
+void pfx_workers_run(pfx_workers *w, size_t blocks, pfx_block_fn fn, void *ctx) {
+    if (!w || w->helpers == 0 || blocks <= 1) {
+        for (size_t b = 0; b < blocks; b++)
+            fn(ctx, b);
+        return;
+    }
+    pthread_mutex_lock(&w->lock);
+    w->fn = fn;
+    w->ctx = ctx;
+    w->blocks = blocks;
+    w->generation++;
+    const uint64_t gen = w->generation;
+    atomic_store_explicit(&w->done, 0, memory_order_relaxed);
+    atomic_store_explicit(&w->ticket, (uint_fast64_t)(gen & 0xffffffffu) << 32,
+                          memory_order_release);
+    pthread_cond_broadcast(&w->posted);
+    pthread_mutex_unlock(&w->lock);
+    drain(w, gen, fn, ctx, blocks);
+    pthread_mutex_lock(&w->lock);
+    while (atomic_load_explicit(&w->done, memory_order_acquire) < blocks)
+        pthread_cond_wait(&w->finished, &w->lock);
+    pthread_mutex_unlock(&w->lock);
+}

@@ -1,0 +1,101 @@
+/* The float operators of fast_f.h: straight particle loops with selects
+ * instead of branches, so each vectorises (and gets an AVX2 copy on
+ * x86-64). The arithmetic mirrors the double operators of motion_impl.h. */
+#include "sim/fast_f.h"
+
+#include <math.h>
+#include <string.h>
+
+/* sin and cos - 1 of n angles (|a| <= 1e5): a loop of its own, which vectorises where the
+ * fused particle loop would not (the compiler threads the clamps' branches
+ * through it). */
+static inline __attribute__((always_inline)) void sincos_n(size_t n, const float *restrict a,
+                                                           float *restrict s, float *restrict c) {
+    for (size_t j = 0; j < n; j++)
+        pfx_sincos_f(a[j], &s[j], &c[j]);
+    for (size_t j = 0; j < n; j++) { /* c - 1, exact in itself for small angles */
+        /* (a blend of the bits, which the compiler cannot turn into a
+         * branch round the polynomial) */
+        const float small = pfx_cosm1_small_f(a[j]), big = c[j] - 1.0f;
+        const int32_t mask = -(int32_t)(a[j] * a[j] <= 0.61685f); /* |a| <= pi/4 */
+        int32_t bs, bb;
+        memcpy(&bs, &small, sizeof bs);
+        memcpy(&bb, &big, sizeof bb);
+        bs = (bs & mask) | (bb & ~mask);
+        memcpy(&c[j], &bs, sizeof bs);
+    }
+}
+
+PFX_CLONES
+void pfx_vortex_f(const pfx_motion_force *F, size_t n, const float *restrict w, float *restrict X,
+                  float *restrict Y, float *restrict Z, double h) {
+    enum { CHUNK = 64 };
+    const float ux = (float)F->axis[0], uy = (float)F->axis[1], uz = (float)F->axis[2];
+    const float cx = (float)F->center[0], cy = (float)F->center[1], cz = (float)F->center[2];
+    const float inv_rad2 = (float)(1.0 / (F->radius * F->radius)), d = (float)F->sims_d;
+    const float turn = (float)(F->strength * h), pull = (float)(F->inflow * h);
+    const int inflow = F->inflow != 0;
+    float fw[CHUNK], ang[CHUNK], sn[CHUNK], cs[CHUNK], nxs[CHUNK], nys[CHUNK], nzs[CHUNK];
+    for (size_t j0 = 0; j0 < n; j0 += CHUNK) {
+        const size_t m = n - j0 < CHUNK ? n - j0 : CHUNK;
+        float *x = X + j0, *y = Y + j0, *z = Z + j0;
+        const float *wj = w + j0;
+        for (size_t j = 0; j < m; j++) {
+            const float rx = x[j] - cx, ry = y[j] - cy, rz = z[j] - cz;
+            const float al = rx * ux + ry * uy + rz * uz;
+            const float qx = rx - al * ux, qy = ry - al * uy, qz = rz - al * uz;
+            const float r2 = (qx * qx + qy * qy + qz * qz) * inv_rad2;
+            /* f(r) = (r^4 - 2 r^2 + 1) / (1 + d r^2), 0 from r = 1 on: r^2 is
+             * clamped to 1, where the numerator is exactly 0 */
+            int32_t bits; /* r2 >= 0 (or NaN): its bits order as it does */
+            memcpy(&bits, &r2, sizeof bits);
+            bits = bits < 0x3f800000 ? bits : 0x3f800000; /* min(r2, 1) */
+            float rc;
+            memcpy(&rc, &bits, sizeof rc);
+            fw[j] = (rc * rc - 2.0f * rc + 1.0f) / (1.0f + d * rc) * wj[j];
+        }
+        for (size_t j = 0; j < m; j++) { /* sincos_n's range */
+            const float a = turn * fw[j];
+            ang[j] = a < 1e5f ? (a > -1e5f ? a : -1e5f) : 1e5f;
+        }
+        sincos_n(m, ang, sn, cs);
+        /* The turned offset g (q cos + k sin) less q, added to the point
+         * itself, so a small turn moves it by a small, accurate amount; g
+         * pulls it in (never past the axis; not at all on the axis). */
+        for (size_t j = 0; j < m && !inflow; j++) {
+            const float rx = x[j] - cx, ry = y[j] - cy, rz = z[j] - cz;
+            const float al = rx * ux + ry * uy + rz * uz;
+            const float qx = rx - al * ux, qy = ry - al * uy, qz = rz - al * uz;
+            const float s = sn[j], cm1 = cs[j];
+            const float kx = uy * qz - uz * qy, ky = uz * qx - ux * qz, kz = ux * qy - uy * qx;
+            nxs[j] = x[j] + (qx * cm1 + kx * s);
+            nys[j] = y[j] + (qy * cm1 + ky * s);
+            nzs[j] = z[j] + (qz * cm1 + kz * s);
+        }
+        for (size_t j = 0; j < m && inflow; j++) {
+            const float rx = x[j] - cx, ry = y[j] - cy, rz = z[j] - cz;
+            const float al = rx * ux + ry * uy + rz * uz;
+            const float qx = rx - al * ux, qy = ry - al * uy, qz = rz - al * uz;
+            const float rp = sqrtf(qx * qx + qy * qy + qz * qz);
+            const float s = sn[j], cm1 = cs[j];
+            const float kx = uy * qz - uz * qy, ky = uz * qx - ux * qz, kz = ux * qy - uy * qx;
+            float gm1 = -pull * fw[j] / rp; /* g - 1; inf or NaN on the axis: not taken */
+            gm1 = gm1 > -1.0f ? gm1 : -1.0f;
+            gm1 = rp > 0 ? gm1 : 0.0f;
+            const float g = 1.0f + gm1;
+            nxs[j] = x[j] + (g * (qx * cm1 + kx * s) + gm1 * qx);
+            nys[j] = y[j] + (g * (qy * cm1 + ky * s) + gm1 * qy);
+            nzs[j] = z[j] + (g * (qz * cm1 + kz * s) + gm1 * qz);
+        }
+        /* Outside the vortex (f = 0) the position stays bit for bit: a
+         * select of its own, which the compiler does not sink into a
+         * branch round the arithmetic above. */
+        for (size_t j = 0; j < m; j++) {
+            const int in = fw[j] > 0;
+            const float ox = x[j], oy = y[j], oz = z[j];
+            x[j] = in ? nxs[j] : ox;
+            y[j] = in ? nys[j] : oy;
+            z[j] = in ? nzs[j] : oz;
+        }
+    }
+}
