@@ -12,6 +12,7 @@
 
 #include "bench/accuracy.h"
 #include "bench/speed.h"
+#include "compile/read.h"
 #include "compile/schema.h"
 #include "jobs/load.h"
 #include "jobs/render_job.h"
@@ -115,6 +116,48 @@ static bool renderer_kind(const options *o, pfx_renderer_kind *kind) {
     return true;
 }
 
+/* --frames: N (one frame), A:B, or A: (from A to the end, last = -1). */
+static bool parse_frames(const char *arg, options *o) {
+    char buf[64];
+    unsigned long long a, b = 0;
+    if (strlen(arg) >= sizeof buf)
+        return false;
+    strcpy(buf, arg);
+    char *colon = strchr(buf, ':');
+    if (colon)
+        *colon = 0;
+    if (!parse_ulong(buf, &a) || a > 100000000)
+        return false;
+    bool to_end = colon && colon[1] == 0;
+    if (!colon)
+        b = a;
+    else if (!to_end && (!parse_ulong(colon + 1, &b) || b < a || b > 100000000))
+        return false;
+    o->first = (long)a;
+    o->last = to_end ? -1 : (long)b;
+    o->has_frames = true;
+    return true;
+}
+
+/* --size: WxH, the x in either case. */
+static bool parse_size(const char *arg, unsigned *w, unsigned *h, char *extra) {
+    return sscanf(arg, "%u%*[xX]%u%c", w, h, extra) == 2;
+}
+
+/* The word to blame for an unknown option or a missing value. getopt has
+ * permuted argv and, inside a cluster such as "-j4", not yet moved optind
+ * past it, so argv[optind - 1] can be another word: a short option is
+ * named by optopt, a long one is the element just consumed. */
+static const char *option_word(char **argv, int opt) {
+    static char word[3];
+    if (opt > 0 && opt < 256) {
+        word[0] = '-';
+        word[1] = (char)opt;
+        return word;
+    }
+    return argv[optind - 1];
+}
+
 /* Parses the options after the command; returns -1 on success or the exit
  * status to stop with. Positional arguments are left in argv[optind..]. */
 static int parse_options(int argc, char **argv, options *o) {
@@ -158,28 +201,16 @@ static int parse_options(int argc, char **argv, options *o) {
         case 'h':
             fputs(usage_text, stdout);
             return 0;
-        case OPT_FRAMES: {
-            char *colon = strchr(optarg, ':');
-            unsigned long long a, b;
-            if (!colon)
-                return usage_error("--frames takes A:B (first and last frame), got '%s'", optarg);
-            *colon = 0;
-            bool ok =
-                parse_ulong(optarg, &a) && parse_ulong(colon + 1, &b) && a <= b && b <= 100000000;
-            *colon = ':';
-            if (!ok)
-                return usage_error("--frames takes A:B with 0 <= A <= B <= 100000000, got '%s'",
+        case OPT_FRAMES:
+            if (!parse_frames(optarg, o))
+                return usage_error("--frames takes N, A:B or A: (to the end) with 0 <= A <= B <= "
+                                   "100000000, got '%s'",
                                    optarg);
-            o->first = (long)a;
-            o->last = (long)b;
-            o->has_frames = true;
             break;
-        }
         case OPT_SIZE: {
             unsigned w, h;
             char extra;
-            if (sscanf(optarg, "%ux%u%c", &w, &h, &extra) != 2 || w < 1 || h < 1 || w > 16384 ||
-                h > 16384)
+            if (!parse_size(optarg, &w, &h, &extra) || w < 1 || h < 1 || w > 16384 || h > 16384)
                 return usage_error("--size takes WxH with each side from 1 to 16384, got '%s'",
                                    optarg);
             o->compile.width = (int)w;
@@ -222,9 +253,9 @@ static int parse_options(int argc, char **argv, options *o) {
             o->has_renderer = true;
             break;
         case ':':
-            return usage_error("option '%s' needs a value", argv[optind - 1]);
+            return usage_error("option '%s' needs a value", option_word(argv, optopt));
         default:
-            return usage_error("unknown option '%s'", argv[optind - 1]);
+            return usage_error("unknown option '%s'", option_word(argv, optopt));
         }
     }
     return -1;
@@ -278,6 +309,21 @@ static bool make_dirs(const char *path, pfx_diags *d) {
     }
 }
 
+/* mkdir -p of the directory part of a file path. */
+static bool make_parent_dirs(const char *path, pfx_diags *d) {
+    const char *slash = strrchr(path, '/');
+    if (!slash || slash == path)
+        return true;
+    char dir[4096];
+    if ((size_t)(slash - path) >= sizeof dir) {
+        pfx_diag_error(d, "output path is too long");
+        return false;
+    }
+    memcpy(dir, path, (size_t)(slash - path));
+    dir[slash - path] = 0;
+    return make_dirs(dir, d);
+}
+
 /* The file's name without directory and extension: out/fire_0000.png. */
 static void file_stem(const char *path, char *out, size_t size) {
     const char *base = strrchr(path, '/');
@@ -292,11 +338,15 @@ static void file_stem(const char *path, char *out, size_t size) {
 static bool frame_range(const pfx_effect *e, const options *o, long *first, long *last) {
     long n = pfx_effect_frame_count(e);
     *first = o->has_frames ? o->first : 0;
-    *last = o->has_frames ? o->last : n - 1;
+    *last = o->has_frames && o->last >= 0 ? o->last : n - 1;
     /* A looping effect's frames go on for ever: frame f is frame f mod n. */
-    if (*last >= n && !(e->loop && *last < 1000000)) {
-        fprintf(stderr, "pfx: --frames %ld:%ld is outside the effect's frames 0:%ld\n", o->first,
-                o->last, n - 1);
+    if ((*last >= n && !(e->loop && *last < 1000000)) || *first > *last) {
+        if (o->last < 0)
+            fprintf(stderr, "pfx: --frames %ld: is outside the effect's frames 0:%ld\n", o->first,
+                    n - 1);
+        else
+            fprintf(stderr, "pfx: --frames %ld:%ld is outside the effect's frames 0:%ld\n",
+                    o->first, o->last, n - 1);
         return false;
     }
     return true;
@@ -333,8 +383,11 @@ static int cmd_render(int argc, char **argv, const options *o) {
         goto done;
     if (!pfx_render_job_run(&job, &run))
         goto done;
-    if (!o->quiet)
+    if (!o->quiet) {
         pfx_sim_note_dropped(job.sim, &run);
+        fprintf(stderr, "pfx: rendered '%s': %ld frames (%ld to %ld) in '%s'\n", path,
+                job.frames_done, job.first, job.last, o->output);
+    }
     status = 0;
 done:
     pfx_diags_print(&run, stderr, false);
@@ -370,6 +423,8 @@ static int cmd_bake(int argc, char **argv, const options *o) {
         pfx_diag_error(&run, "out of memory");
         goto done;
     }
+    if (!make_parent_dirs(o->output, &run))
+        goto done;
     b = pfx_bake_open(o->output, &run);
     if (!b)
         goto done;
@@ -388,8 +443,11 @@ static int cmd_bake(int argc, char **argv, const options *o) {
             pfx_diag_error(&run, "cannot write the bake");
         goto done;
     }
-    if (!o->quiet)
+    if (!o->quiet) {
         pfx_sim_note_dropped(sim, &run);
+        fprintf(stderr, "pfx: baked '%s': frames %ld to %ld to '%s'\n", argv[optind], first, last,
+                o->output);
+    }
     status = 0;
 done:
     pfx_diags_print(&run, stderr, false);
@@ -511,6 +569,9 @@ static int cmd_bench(int argc, char **argv, const options *o) {
     return ok ? 0 : EXIT_INVALID;
 }
 
+static const char *const commands[] = {"validate", "render", "bake",     "info",
+                                       "bench",    "schema", "assemble", NULL};
+
 int main(int argc, char **argv) {
     if (argc < 2)
         return usage_error("%s", "no command given");
@@ -539,5 +600,11 @@ int main(int argc, char **argv) {
         return cmd_bench(argc, argv, &o);
     if (!strcmp(cmd, "schema"))
         return cmd_schema(argc, argv);
+    const char *sug = pfx_suggest(cmd, commands);
+    if (sug) {
+        fprintf(stderr, "pfx: unknown command '%s'; did you mean '%s'?\n", cmd, sug);
+        fputs("Try 'pfx --help' for more information.\n", stderr);
+        return EXIT_USAGE;
+    }
     return usage_error("unknown command '%s'", cmd);
 }

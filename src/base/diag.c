@@ -176,6 +176,32 @@ static void print_json_string(FILE *out, const char *s) {
     fputc('"', out);
 }
 
+/* The length of the well-formed UTF-8 character at s (at most n bytes), or
+ * 0 when the bytes there are not one (RFC 3629: no overlong forms, no
+ * surrogates, nothing above U+10FFFF). */
+static size_t utf8_length(const char *s, size_t n) {
+    const unsigned char *u = (const unsigned char *)s;
+    if (u[0] < 0x80)
+        return 1;
+    size_t len = u[0] >= 0xc2 && u[0] <= 0xdf   ? 2
+                 : u[0] >= 0xe0 && u[0] <= 0xef ? 3
+                 : u[0] >= 0xf0 && u[0] <= 0xf4 ? 4
+                                                : 0;
+    if (len == 0 || len > n)
+        return 0;
+    for (size_t i = 1; i < len; i++)
+        if ((u[i] & 0xc0) != 0x80)
+            return 0;
+    unsigned cp = len == 2   ? (u[0] & 0x1fu) << 6 | (u[1] & 0x3fu)
+                  : len == 3 ? (u[0] & 0x0fu) << 12 | (u[1] & 0x3fu) << 6 | (u[2] & 0x3fu)
+                             : (u[0] & 0x07u) << 18 | (u[1] & 0x3fu) << 12 | (u[2] & 0x3fu) << 6 |
+                                   (u[3] & 0x3fu);
+    if ((len == 3 && (cp < 0x800 || (cp >= 0xd800 && cp <= 0xdfff))) ||
+        (len == 4 && (cp < 0x10000 || cp > 0x10ffff)))
+        return 0;
+    return len;
+}
+
 static void print_text(const pfx_diags *d, const pfx_diag *g, FILE *out) {
     if (!d->file) { /* a runtime failure: "pfx: message", git's form */
         if (g->severity == PFX_SEV_ERROR)
@@ -193,19 +219,22 @@ static void print_text(const pfx_diags *d, const pfx_diag *g, FILE *out) {
     const char *text = source_line(d, g->line, &len);
     if (!text)
         return;
-    /* Long lines are cut so a minified file cannot flood the terminal; bytes
-     * that are not printable ASCII are shown as '?' so the caret lines up. */
+    /* Long lines are cut so a minified file cannot flood the terminal. */
     const size_t max_shown = 200;
     size_t shown = len < max_shown ? len : max_shown;
     fprintf(out, "%5d | ", g->line);
-    /* libyaml counts columns in characters: a multi-byte UTF-8 character
-     * is one '?', so the caret stays under its column. */
+    /* libyaml counts columns in characters: a well-formed UTF-8 character
+     * is printed as it is and counts one column, so the caret stays under
+     * its column; control characters and malformed bytes are shown as '?'. */
     size_t cols = 0;
-    for (size_t i = 0; i < shown; i++) {
+    for (size_t i = 0; i < shown;) {
         unsigned char c = (unsigned char)text[i];
-        if ((c & 0xc0) == 0x80)
-            continue;
-        fputc(c == '\t' ? ' ' : (c >= 0x20 && c < 0x7f) ? c : '?', out);
+        size_t n = utf8_length(text + i, shown - i);
+        if (n > 1)
+            fwrite(text + i, 1, n, out);
+        else
+            fputc(c == '\t' ? ' ' : (c >= 0x20 && c < 0x7f) ? c : '?', out);
+        i += n ? n : 1;
         cols++;
     }
     fputs(shown < len ? " ...\n" : "\n", out);
