@@ -16,7 +16,7 @@
 #include "compile/schema.h"
 #include "jobs/load.h"
 #include "jobs/render_job.h"
-#include "output/bake_csv.h"
+#include "output/bake.h"
 #include "render/render.h"
 #include "render/sprites.h"
 #include "sim/schedule.h"
@@ -29,8 +29,8 @@ static const char usage_text[] =
     "usage: pfx validate [--format text|json] [--max-particles N] FILE...\n"
     "       pfx render FILE -o DIR [--frames A:B] [--size WxH] [--fps N] [--seed N]\n"
     "                  [--max-particles N] [--renderer R] [-q]\n"
-    "       pfx bake FILE -o OUT.csv [--every N] [--frames A:B] [--fps N] [--seed N]\n"
-    "                  [--max-particles N]\n"
+    "       pfx bake FILE -o OUT [--format csv|ply|pcache] [--every N] [--frames A:B]\n"
+    "                  [--fps N] [--seed N] [--max-particles N]\n"
     "       pfx info FILE [--seed N] [--max-particles N]\n"
     "       pfx bench [--renderer R]\n"
     "       pfx bench accuracy -o DIR\n"
@@ -39,20 +39,22 @@ static const char usage_text[] =
     "commands:\n"
     "  validate   check effect files like a compiler; exit 1 if any has an error\n"
     "  render     render the effect to DIR/<name>_0000.png, _0001.png, ...\n"
-    "  bake       write the particle state of every output frame as CSV\n"
+    "  bake       write the particle state of every output frame: CSV, PLY or pcache\n"
     "  info       show what the compiled effect holds\n"
     "  bench      measure simulation and rendering speed (or integrator accuracy)\n"
     "  schema     print the JSON Schema of the effect format\n"
     "\n"
     "options:\n"
-    "  -o, --output PATH       output directory (render, bench accuracy) or file (bake)\n"
+    "  -o, --output PATH       output directory (render, bench accuracy) or file (bake;\n"
+    "                          - is standard output)\n"
     "      --frames A:B        only frames A to B inclusive, numbered as in a full render\n"
     "      --size WxH          image size in pixels, overriding image.size\n"
     "      --fps N             output frames per second, overriding fps\n"
     "      --seed N            random seed, overriding seed\n"
     "      --max-particles N   particle budget over all emitters (default 1000000)\n"
     "      --every N           bake every Nth frame (default 1)\n"
-    "      --format FMT        diagnostics as 'text' (default) or 'json' lines\n"
+    "      --format FMT        diagnostics as 'text' (default) or 'json' lines; for bake,\n"
+    "                          the cache: csv, ply or pcache (default: from the extension)\n"
     "      --renderer R        how to get OpenGL (render, bench): auto (default: osmesa\n"
     "                          where built, else egl-cpu), osmesa, egl-cpu, egl-gpu\n"
     "  -q, --quiet             no progress line and no notes\n"
@@ -63,7 +65,8 @@ typedef struct options {
     const char *output;
     long first, last; /* --frames; last < 0: to the end */
     bool has_frames;
-    bool json;
+    const char *format; /* --format, as given; NULL: the command's default */
+    bool json;          /* diagnostics as JSON lines (validate --format json) */
     bool quiet;
     long every;
     pfx_renderer_kind renderer; /* --renderer */
@@ -243,9 +246,9 @@ static int parse_options(int argc, char **argv, options *o) {
             o->every = (long)v;
             break;
         case OPT_FORMAT:
-            if (strcmp(optarg, "text") && strcmp(optarg, "json"))
-                return usage_error("--format takes 'text' or 'json', got '%s'", optarg);
-            o->json = !strcmp(optarg, "json");
+            /* Each command reads its own words (validate: text, json; bake:
+             * csv, ply, pcache); see format_of. */
+            o->format = optarg;
             break;
         case OPT_RENDERER:
             if (!parse_renderer("--renderer", optarg, &o->renderer))
@@ -257,6 +260,13 @@ static int parse_options(int argc, char **argv, options *o) {
         default:
             return usage_error("unknown option '%s'", option_word(argv, optopt));
         }
+    }
+    /* --format: the diagnostics' form for every command but bake, whose
+     * word names the cache format (read in cmd_bake). */
+    if (o->format && strcmp(argv[1], "bake")) {
+        if (strcmp(o->format, "text") && strcmp(o->format, "json"))
+            return usage_error("--format takes 'text' or 'json', got '%s'", o->format);
+        o->json = !strcmp(o->format, "json");
     }
     return -1;
 }
@@ -398,11 +408,32 @@ done:
     return status;
 }
 
+/* The bake's format: --format, else the output's extension (.ply, .pcache),
+ * else CSV. False (after the usage error) on a word that names none. */
+static bool bake_format(const options *o, pfx_bake_format *f) {
+    *f = PFX_BAKE_CSV;
+    if (o->format) {
+        if (pfx_bake_format_parse(o->format, f))
+            return true;
+        usage_error("bake --format takes 'csv', 'ply' or 'pcache', got '%s'", o->format);
+        return false;
+    }
+    const char *dot = strrchr(o->output, '.');
+    if (dot && !strchr(dot, '/'))
+        pfx_bake_format_parse(dot + 1, f);
+    return true;
+}
+
 static int cmd_bake(int argc, char **argv, const options *o) {
     if (optind != argc - 1)
-        return usage_error("%s", "bake takes one FILE and -o OUT.csv");
+        return usage_error("%s", "bake takes one FILE and -o OUT");
     if (!o->output)
-        return usage_error("%s", "bake needs -o OUT.csv");
+        return usage_error("%s", "bake needs -o OUT (a .csv, .ply or .pcache file, or - for "
+                                 "standard output)");
+    pfx_bake_format format;
+    if (!bake_format(o, &format))
+        return EXIT_USAGE;
+    bool to_stdout = !strcmp(o->output, "-");
     pfx_loaded l;
     pfx_effect *e = load(&l, argv[optind], o);
     int status = EXIT_INVALID;
@@ -423,9 +454,9 @@ static int cmd_bake(int argc, char **argv, const options *o) {
         pfx_diag_error(&run, "out of memory");
         goto done;
     }
-    if (!make_parent_dirs(o->output, &run))
+    if (!to_stdout && !make_parent_dirs(o->output, &run))
         goto done;
-    b = pfx_bake_open(o->output, &run);
+    b = pfx_bake_open(o->output, format, e, &run);
     if (!b)
         goto done;
     bool ok = true;
@@ -445,8 +476,8 @@ static int cmd_bake(int argc, char **argv, const options *o) {
     }
     if (!o->quiet) {
         pfx_sim_note_dropped(sim, &run);
-        fprintf(stderr, "pfx: baked '%s': frames %ld to %ld to '%s'\n", argv[optind], first, last,
-                o->output);
+        fprintf(stderr, "pfx: baked '%s': frames %ld to %ld as %s to '%s'\n", argv[optind], first,
+                last, pfx_bake_format_name(format), to_stdout ? "standard output" : o->output);
     }
     status = 0;
 done:

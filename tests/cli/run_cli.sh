@@ -125,7 +125,7 @@ begin "bake prints a one-line summary"
 pfx_run bake "$FIRE" -o "$work/summary.csv" --frames 0:2
 want_status 0
 [ "$(wc -l <"$work/err")" -eq 1 ] || flunk "stderr has $(wc -l <"$work/err") lines, not 1"
-stderr_has "pfx: baked '$FIRE': frames 0 to 2 to '$work/summary.csv'"
+stderr_has "pfx: baked '$FIRE': frames 0 to 2 as csv to '$work/summary.csv'"
 end
 
 # --frames N is one frame, A: runs to the end; --size takes X or x.
@@ -178,7 +178,7 @@ pfx_run bake "$FIRE" -o "$work/fire.csv" --frames 0:2
 want_status 0
 [ "$(head -1 "$work/fire.csv" 2>/dev/null)" = "frame,time,emitter,id,x,y,z,vx,vy,vz,age,lifetime,size,r,g,b,a" ] ||
     flunk "the CSV header is wrong"
-[ -z "$(find "$work" -maxdepth 1 -name 'fire.csv.*')" ] || flunk "a temporary file was left behind"
+[ -z "$(find "$work" -maxdepth 1 -name '*fire.csv.*')" ] || flunk "a temporary file was left behind"
 end
 
 begin "bake the tiny effect"
@@ -237,7 +237,7 @@ end
 begin "bake an invalid file creates nothing"
 pfx_run bake "$work/bad.yaml" -o "$work/bad.csv"
 want_status 1
-[ -z "$(find "$work" -maxdepth 1 -name 'bad.csv*')" ] || flunk "a CSV or temporary was created"
+[ -z "$(find "$work" -maxdepth 1 -name '*bad.csv*')" ] || flunk "a CSV or temporary was created"
 end
 
 begin "render under a regular file"
@@ -269,7 +269,7 @@ pfx_run bake "$FIRE" -o "$work/adir" --frames 0:2
 want_status 1
 stderr_has "'$work/adir'"
 [ -z "$(ls -A "$work/adir")" ] || flunk "something was written into the directory"
-[ -z "$(find "$work" -maxdepth 1 -name 'adir.*')" ] || flunk "a temporary was left behind"
+[ -z "$(find "$work" -maxdepth 1 -name '*adir.*')" ] || flunk "a temporary was left behind"
 end
 
 # ---- renderers: --renderer wins over PFX_RENDERER; one that cannot start
@@ -322,7 +322,7 @@ usage_error "unknown option" "unknown option '--bogus'" validate --bogus "$FIRE"
 usage_error "unknown short option" "unknown option '-x'" render "$FIRE" -o "$work/u" -x
 usage_error "validate without a file" "validate needs at least one FILE" validate
 usage_error "render without -o" "render needs -o DIR" render "$FIRE" "${TINY[@]}"
-usage_error "bake without -o" "bake needs -o OUT.csv" bake "$FIRE"
+usage_error "bake without -o" "bake needs -o OUT" bake "$FIRE"
 usage_error "-o without a value" "option '-o' needs a value" render "$FIRE" -o
 usage_error "render with two files" "render takes one FILE" render "$FIRE" "$FIRE" -o "$work/u"
 usage_error "--frames 5:2" "--frames takes N, A:B or A: (to the end)" render "$FIRE" -o "$work/u" --frames 5:2
