@@ -14,8 +14,11 @@
 #include "bench/speed.h"
 #include "compile/read.h"
 #include "compile/schema.h"
+#include "jobs/assemble.h"
+#include "jobs/delivery.h"
 #include "jobs/load.h"
 #include "jobs/render_job.h"
+#include "jobs/slice.h"
 #include "output/bake.h"
 #include "render/render.h"
 #include "render/sprites.h"
@@ -28,12 +31,14 @@
 static const char usage_text[] =
     "usage: pfx validate [--format text|json] [--max-particles N] FILE...\n"
     "       pfx render FILE -o DIR [--frames A:B] [--size WxH] [--fps N] [--seed N]\n"
-    "                  [--max-particles N] [--renderer R] [-q]\n"
+    "                  [--max-particles N] [--renderer R] [--force] [--depfile FILE] [-q]\n"
+    "                  [--slice I/N | --slice-env VAR --slice-count N]\n"
     "       pfx bake FILE -o OUT [--format csv|ply|pcache] [--every N] [--frames A:B]\n"
-    "                  [--fps N] [--seed N] [--max-particles N]\n"
+    "                  [--fps N] [--seed N] [--max-particles N] [--force] [--depfile FILE]\n"
     "       pfx info FILE [--seed N] [--max-particles N]\n"
     "       pfx bench [--renderer R]\n"
     "       pfx bench accuracy -o DIR\n"
+    "       pfx assemble DIR... -o OUT\n"
     "       pfx schema\n"
     "\n"
     "commands:\n"
@@ -42,6 +47,7 @@ static const char usage_text[] =
     "  bake       write the particle state of every output frame: CSV, PLY or pcache\n"
     "  info       show what the compiled effect holds\n"
     "  bench      measure simulation and rendering speed (or integrator accuracy)\n"
+    "  assemble   gather the frames of slices (--slice) into OUT, checking each\n"
     "  schema     print the JSON Schema of the effect format\n"
     "\n"
     "options:\n"
@@ -57,6 +63,13 @@ static const char usage_text[] =
     "                          the cache: csv, ply or pcache (default: from the extension)\n"
     "      --renderer R        how to get OpenGL (render, bench): auto (default: osmesa\n"
     "                          where built, else egl-cpu), osmesa, egl-cpu, egl-gpu\n"
+    "      --force             render or bake even when DIR/<name>.manifest.json (or\n"
+    "                          OUT.manifest.json) says the outputs are up to date\n"
+    "      --depfile FILE      also write FILE: a Make rule naming every input read\n"
+    "      --slice I/N         render only slice I (from 0) of N contiguous frame ranges\n"
+    "      --slice-env VAR     the slice index from $VAR (SLURM_ARRAY_TASK_ID,\n"
+    "                          JOB_COMPLETION_INDEX, ...), with --slice-count N\n"
+    "      --slice-count N     the number of slices for --slice-env\n"
     "  -q, --quiet             no progress line and no notes\n"
     "  -h, --help              show this help\n"
     "      --version           show the version\n";
@@ -71,6 +84,11 @@ typedef struct options {
     long every;
     pfx_renderer_kind renderer; /* --renderer */
     bool has_renderer;
+    bool force;          /* --force: run even when the manifest says up to date */
+    const char *depfile; /* --depfile FILE */
+    long slice, slices;  /* --slice I/N, or --slice-env and --slice-count; slices 0: none */
+    const char *slice_env;
+    long slice_count;
     pfx_compile_options compile;
 } options;
 
@@ -172,7 +190,12 @@ static int parse_options(int argc, char **argv, options *o) {
         OPT_MAX,
         OPT_EVERY,
         OPT_FORMAT,
-        OPT_RENDERER
+        OPT_RENDERER,
+        OPT_FORCE,
+        OPT_DEPFILE,
+        OPT_SLICE,
+        OPT_SLICE_ENV,
+        OPT_SLICE_COUNT
     };
     static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
                                              {"frames", required_argument, 0, OPT_FRAMES},
@@ -183,6 +206,11 @@ static int parse_options(int argc, char **argv, options *o) {
                                              {"every", required_argument, 0, OPT_EVERY},
                                              {"format", required_argument, 0, OPT_FORMAT},
                                              {"renderer", required_argument, 0, OPT_RENDERER},
+                                             {"force", no_argument, 0, OPT_FORCE},
+                                             {"depfile", required_argument, 0, OPT_DEPFILE},
+                                             {"slice", required_argument, 0, OPT_SLICE},
+                                             {"slice-env", required_argument, 0, OPT_SLICE_ENV},
+                                             {"slice-count", required_argument, 0, OPT_SLICE_COUNT},
                                              {"quiet", no_argument, 0, 'q'},
                                              {"help", no_argument, 0, 'h'},
                                              {0, 0, 0, 0}};
@@ -255,12 +283,57 @@ static int parse_options(int argc, char **argv, options *o) {
                 return EXIT_USAGE;
             o->has_renderer = true;
             break;
+        case OPT_FORCE:
+            o->force = true;
+            break;
+        case OPT_DEPFILE:
+            o->depfile = optarg;
+            break;
+        case OPT_SLICE: {
+            long i, n;
+            char extra;
+            if (sscanf(optarg, "%ld/%ld%c", &i, &n, &extra) != 2 || n < 1 || n > 1000000 || i < 0 ||
+                i >= n)
+                return usage_error("--slice takes I/N with 0 <= I < N <= 1000000, got '%s'",
+                                   optarg);
+            o->slice = i;
+            o->slices = n;
+            break;
+        }
+        case OPT_SLICE_ENV:
+            o->slice_env = optarg;
+            break;
+        case OPT_SLICE_COUNT:
+            if (!parse_ulong(optarg, &v) || v < 1 || v > 1000000)
+                return usage_error("--slice-count takes a number from 1 to 1000000, got '%s'",
+                                   optarg);
+            o->slice_count = (long)v;
+            break;
         case ':':
             return usage_error("option '%s' needs a value", option_word(argv, optopt));
         default:
             return usage_error("unknown option '%s'", option_word(argv, optopt));
         }
     }
+    /* --slice-env VAR takes the index from the environment now, so that
+     * every later step sees one resolved slice. */
+    if (o->slice_env) {
+        if (!o->slice_count)
+            return usage_error("%s", "--slice-env needs --slice-count N");
+        o->slices = o->slice_count;
+        const char *v = getenv(o->slice_env);
+        if (!pfx_slice_index_from_env(o->slice_env, o->slices, &o->slice)) {
+            fprintf(stderr,
+                    "pfx: --slice-env %s: the variable must hold a slice index from 0 to %ld, "
+                    "got '%s'\n",
+                    o->slice_env, o->slices - 1, v ? v : "(unset)");
+            return EXIT_USAGE;
+        }
+    } else if (o->slice_count) {
+        return usage_error("%s", "--slice-count goes with --slice-env VAR");
+    }
+    if (o->slices && strcmp(argv[1], "render"))
+        return usage_error("%s", "--slice and --slice-env are for render");
     /* --format: the diagnostics' form for every command but bake, whose
      * word names the cache format (read in cmd_bake). */
     if (o->format && strcmp(argv[1], "bake")) {
@@ -362,6 +435,31 @@ static bool frame_range(const pfx_effect *e, const options *o, long *first, long
     return true;
 }
 
+/* The manifest's settings common to render and bake (the effect's values
+ * after --fps, --size, --seed and --max-particles), and its inputs. */
+static bool describe_run(pfx_delivery *dl, const pfx_effect *e, long first, long last,
+                         pfx_diags *d) {
+    char seed[32];
+    snprintf(seed, sizeof seed, "%llu", (unsigned long long)e->seed);
+    pfx_manifest_set_range(dl->now, "frames", first, last);
+    pfx_manifest_set_number(dl->now, "fps", e->fps);
+    pfx_manifest_set_number(dl->now, "width", e->width);
+    pfx_manifest_set_number(dl->now, "height", e->height);
+    pfx_manifest_set_string(dl->now, "seed", seed);
+    pfx_manifest_set_number(dl->now, "max_particles", (double)e->max_particles);
+    return pfx_manifest_add_effect(dl->now, e, d);
+}
+
+/* Says that there was nothing to do, with the key that proved it. */
+static void say_up_to_date(const options *o, const char *path, const char *where,
+                           pfx_delivery *dl) {
+    if (!o->quiet)
+        fprintf(stderr,
+                "pfx: '%s' is up to date in '%s' (bake key %.12s); nothing to do, --force "
+                "redoes it\n",
+                path, where, pfx_manifest_key(dl->now));
+}
+
 static int cmd_render(int argc, char **argv, const options *o) {
     if (optind != argc - 1)
         return usage_error("%s", "render takes one FILE and -o DIR");
@@ -376,32 +474,77 @@ static int cmd_render(int argc, char **argv, const options *o) {
     int status = EXIT_INVALID;
     pfx_diags run;
     pfx_diags_init_runtime(&run);
-    char stem[256];
+    char stem[256], manifest[4096];
     file_stem(path, stem, sizeof stem);
+    snprintf(manifest, sizeof manifest, "%s/%s.manifest.json", o->output, stem);
     pfx_render_job job = {
         .effect = e, .dir = o->output, .stem = stem, .progress = !o->quiet && isatty(2)};
+    pfx_delivery dl = {.dir = o->output,
+                       .manifest_path = manifest,
+                       .depfile = o->depfile,
+                       .target = manifest,
+                       .force = o->force};
     if (!e)
         goto done;
     if (!frame_range(e, o, &job.first, &job.last)) {
         status = EXIT_USAGE;
         goto done;
     }
+    /* A slice: its part of the range, and a manifest of its own, so that
+     * slices may share a directory. */
+    long all_first = job.first, all_last = job.last;
+    if (o->slices) {
+        pfx_slice_range(all_first, all_last, o->slice, o->slices, &job.first, &job.last);
+        snprintf(manifest, sizeof manifest, "%s/%s.slice-%04ld-of-%04ld.manifest.json", o->output,
+                 stem, o->slice, o->slices);
+    }
     /* The renderer before the directory: one that cannot start writes
      * nothing. */
     job.renderer = pfx_renderer_create(kind, e->width, e->height, &run);
     if (!job.renderer || !make_dirs(o->output, &run))
         goto done;
+    if (!pfx_delivery_begin(&dl, "render", &run) ||
+        !describe_run(&dl, e, job.first, job.last, &run))
+        goto done;
+    pfx_manifest_set_string(dl.now, "renderer", pfx_renderer_name(job.renderer));
+    if (o->slices)
+        pfx_manifest_set_slice(dl.now, o->slice, o->slices, all_first, all_last);
+    if (pfx_delivery_up_to_date(&dl)) {
+        if (pfx_delivery_skip(&dl, &run)) {
+            say_up_to_date(o, path, o->output, &dl);
+            status = 0;
+        }
+        goto done;
+    }
     if (!pfx_render_job_run(&job, &run))
+        goto done;
+    for (long f = job.first; f <= job.last; f++) {
+        char name[300];
+        snprintf(name, sizeof name, "%s_%04ld.png", stem, f);
+        if (!pfx_manifest_add_output(dl.now, o->output, name, &run))
+            goto done;
+    }
+    if (!pfx_delivery_finish(&dl, &run))
         goto done;
     if (!o->quiet) {
         pfx_sim_note_dropped(job.sim, &run);
-        fprintf(stderr, "pfx: rendered '%s': %ld frames (%ld to %ld) in '%s'\n", path,
-                job.frames_done, job.first, job.last, o->output);
+        if (job.first > job.last)
+            fprintf(stderr, "pfx: slice %ld of %ld of '%s' has no frames (%ld frames in all)",
+                    o->slice, o->slices, path, all_last - all_first + 1);
+        else
+            fprintf(stderr, "pfx: rendered '%s': %ld frames (%ld to %ld) in '%s'", path,
+                    job.frames_done, job.first, job.last, o->output);
+        if (o->slices && job.first <= job.last)
+            fprintf(stderr, ", slice %ld of %ld", o->slice, o->slices);
+        if (dl.stale_removed)
+            fprintf(stderr, ", %zu stale removed", dl.stale_removed);
+        fputc('\n', stderr);
     }
     status = 0;
 done:
     pfx_diags_print(&run, stderr, false);
     pfx_diags_free(&run);
+    pfx_delivery_free(&dl);
     pfx_renderer_destroy(job.renderer);
     pfx_render_job_free(&job);
     pfx_loaded_free(&l);
@@ -434,6 +577,8 @@ static int cmd_bake(int argc, char **argv, const options *o) {
     if (!bake_format(o, &format))
         return EXIT_USAGE;
     bool to_stdout = !strcmp(o->output, "-");
+    if (to_stdout && o->depfile)
+        return usage_error("%s", "--depfile needs a file to name as its target, not -o -");
     pfx_loaded l;
     pfx_effect *e = load(&l, argv[optind], o);
     int status = EXIT_INVALID;
@@ -442,10 +587,36 @@ static int cmd_bake(int argc, char **argv, const options *o) {
     long first, last;
     pfx_sim *sim = NULL, *view = NULL;
     pfx_bake *b = NULL;
+    /* The manifest: OUT.manifest.json beside OUT (none for standard
+     * output), listing OUT by its name. */
+    char dir[4096] = ".", manifest[4200];
+    const char *name = o->output, *slash = strrchr(o->output, '/');
+    if (slash) {
+        snprintf(dir, sizeof dir, "%.*s", slash == o->output ? 1 : (int)(slash - o->output),
+                 o->output);
+        name = slash + 1;
+    }
+    snprintf(manifest, sizeof manifest, "%s.manifest.json", o->output);
+    pfx_delivery dl = {.dir = dir,
+                       .manifest_path = to_stdout ? NULL : manifest,
+                       .depfile = o->depfile,
+                       .target = o->output,
+                       .force = o->force};
     if (!e)
         goto done;
     if (!frame_range(e, o, &first, &last)) {
         status = EXIT_USAGE;
+        goto done;
+    }
+    if (!pfx_delivery_begin(&dl, "bake", &run) || !describe_run(&dl, e, first, last, &run))
+        goto done;
+    pfx_manifest_set_string(dl.now, "format", pfx_bake_format_name(format));
+    pfx_manifest_set_number(dl.now, "every", (double)o->every);
+    if (!to_stdout && pfx_delivery_up_to_date(&dl)) {
+        if (pfx_delivery_skip(&dl, &run)) {
+            say_up_to_date(o, argv[optind], o->output, &dl);
+            status = 0;
+        }
         goto done;
     }
     sim = pfx_sim_create(e, &run);
@@ -474,6 +645,9 @@ static int cmd_bake(int argc, char **argv, const options *o) {
             pfx_diag_error(&run, "cannot write the bake");
         goto done;
     }
+    if (!to_stdout &&
+        (!pfx_manifest_add_output(dl.now, dir, name, &run) || !pfx_delivery_finish(&dl, &run)))
+        goto done;
     if (!o->quiet) {
         pfx_sim_note_dropped(sim, &run);
         fprintf(stderr, "pfx: baked '%s': frames %ld to %ld as %s to '%s'\n", argv[optind], first,
@@ -483,6 +657,7 @@ static int cmd_bake(int argc, char **argv, const options *o) {
 done:
     pfx_diags_print(&run, stderr, false);
     pfx_diags_free(&run);
+    pfx_delivery_free(&dl);
     pfx_sim_destroy(view);
     pfx_sim_destroy(sim);
     pfx_loaded_free(&l);
@@ -563,6 +738,29 @@ static int cmd_info(int argc, char **argv, const options *o) {
     return 0;
 }
 
+/* pfx assemble DIR... -o OUT: the slices of renders into one directory. */
+static int cmd_assemble(int argc, char **argv, const options *o) {
+    if (optind >= argc)
+        return usage_error("%s", "assemble needs at least one DIR (with the slices' frames)");
+    if (!o->output)
+        return usage_error("%s", "assemble needs -o OUT");
+    pfx_diags run;
+    pfx_diags_init_runtime(&run);
+    pfx_assemble_report r;
+    bool ok =
+        make_dirs(o->output, &run) && pfx_assemble((const char *const *)argv + optind,
+                                                   (size_t)(argc - optind), o->output, &r, &run);
+    if (ok && !o->quiet)
+        fprintf(stderr,
+                "pfx: assembled %zu frames of %zu render%s in '%s' (%zu linked, %zu copied, %zu "
+                "already there)\n",
+                r.frames, r.effects, r.effects == 1 ? "" : "s", o->output, r.linked, r.copied,
+                r.kept);
+    pfx_diags_print(&run, stderr, false);
+    pfx_diags_free(&run);
+    return ok ? 0 : EXIT_INVALID;
+}
+
 /* The JSON Schema of the effect format, from the key tables. */
 static int cmd_schema(int argc, char **argv) {
     if (optind != argc)
@@ -631,6 +829,8 @@ int main(int argc, char **argv) {
         return cmd_bench(argc, argv, &o);
     if (!strcmp(cmd, "schema"))
         return cmd_schema(argc, argv);
+    if (!strcmp(cmd, "assemble"))
+        return cmd_assemble(argc, argv, &o);
     const char *sug = pfx_suggest(cmd, commands);
     if (sug) {
         fprintf(stderr, "pfx: unknown command '%s'; did you mean '%s'?\n", cmd, sug);

@@ -93,8 +93,9 @@ want_status 0
 for f in 0000 0001 0002; do
     [ -s "$work/frames/fire_$f.png" ] || flunk "no fire_$f.png"
 done
+[ -s "$work/frames/fire.manifest.json" ] || flunk "no fire.manifest.json"
 n=$(find "$work/frames" -type f | wc -l)
-[ "$n" -eq 3 ] || flunk "$n files in the output directory, expected 3 (no temporaries)"
+[ "$n" -eq 4 ] || flunk "$n files in the output directory, expected 3 frames and the manifest (no temporaries)"
 end
 
 begin "render -q is silent"
@@ -132,13 +133,13 @@ end
 begin "--frames 5 renders frame 5 alone"
 pfx_run render "$FIRE" -o "$work/one" --frames 5 --size 32x32 -q
 want_status 0
-[ "$(ls "$work/one" 2>/dev/null)" = fire_0005.png ] || flunk "wrote: $(ls "$work/one" 2>/dev/null | tr '\n' ' ')"
+[ "$(ls "$work/one" 2>/dev/null | grep -v manifest)" = fire_0005.png ] || flunk "wrote: $(ls "$work/one" 2>/dev/null | tr '\n' ' ')"
 end
 
 begin "--frames 117: renders to the last frame"
 pfx_run render "$FIRE" -o "$work/tail" --frames 117: --size 32x32 -q
 want_status 0
-[ "$(ls "$work/tail" 2>/dev/null | tr '\n' ' ')" = "fire_0117.png fire_0118.png fire_0119.png " ] ||
+[ "$(ls "$work/tail" 2>/dev/null | grep -v manifest | tr '\n' ' ')" = "fire_0117.png fire_0118.png fire_0119.png " ] ||
     flunk "wrote: $(ls "$work/tail" 2>/dev/null | tr '\n' ' ')"
 end
 
@@ -178,7 +179,8 @@ pfx_run bake "$FIRE" -o "$work/fire.csv" --frames 0:2
 want_status 0
 [ "$(head -1 "$work/fire.csv" 2>/dev/null)" = "frame,time,emitter,id,x,y,z,vx,vy,vz,age,lifetime,size,r,g,b,a" ] ||
     flunk "the CSV header is wrong"
-[ -z "$(find "$work" -maxdepth 1 -name '*fire.csv.*')" ] || flunk "a temporary file was left behind"
+[ -z "$(find "$work" -maxdepth 1 -name '*fire.csv.*' ! -name fire.csv.manifest.json)" ] ||
+    flunk "a temporary file was left behind"
 end
 
 begin "bake the tiny effect"

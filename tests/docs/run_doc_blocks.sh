@@ -2,7 +2,7 @@
 # Every effect shown in the documentation is one pfx accepts without a
 # warning: each ```yaml block of README.md, and each example block (.EX ..
 # .EE) of man/pfx.1 and man/pfx-effect.5 that is a YAML document (its first
-# line is `pfx: <version>` or a comment), except the SYNOPSIS grammar of pfx-effect.5
+# line is `pfx: <version>` or a comment, not a #! line), except the SYNOPSIS grammar of pfx-effect.5
 # (placeholders, not YAML) and the DIAGNOSTICS of pfx.1 (a broken file on
 # purpose, whose exact diagnostics run_docs.sh checks). A test that finds no
 # block fails, so a change to the extraction cannot pass by finding none.
@@ -28,7 +28,7 @@ man_blocks() {
         !inex { next }
         first {
             first = 0
-            if (sec == "SYNOPSIS" || sec == "DIAGNOSTICS" || $0 !~ /^(pfx: *[0-9]|#)/) { inex = 0; next }
+            if (sec == "SYNOPSIS" || sec == "DIAGNOSTICS" || $0 !~ /^(pfx: *[0-9]|#)/ || $0 ~ /^#!/) { inex = 0; next }
             n++
             file = sprintf("%s/%s-%s-%d.yaml", dir, prefix, sec, n)
             gsub(/ /, "_", file)
