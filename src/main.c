@@ -4,19 +4,25 @@
  * only file that knows every stage, and the only one that exits. */
 #include <errno.h>
 #include <getopt.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "base/cleanup.h"
 #include "bench/accuracy.h"
 #include "bench/speed.h"
 #include "compile/read.h"
 #include "compile/schema.h"
 #include "jobs/assemble.h"
+#include "jobs/atlas_job.h"
 #include "jobs/delivery.h"
 #include "jobs/load.h"
+#include "jobs/parallel.h"
+#include "jobs/preview.h"
+#include "jobs/progress.h"
 #include "jobs/render_job.h"
 #include "jobs/slice.h"
 #include "output/bake.h"
@@ -29,21 +35,23 @@
 #define EXIT_USAGE 2
 
 static const char usage_text[] =
-    "usage: pfx validate [--format text|json] [--max-particles N] FILE...\n"
-    "       pfx render FILE -o DIR [--frames A:B] [--size WxH] [--fps N] [--seed N]\n"
-    "                  [--max-particles N] [--renderer R] [--force] [--depfile FILE] [-q]\n"
+    "usage: pfx validate [--format text|json] [--werror] [--max-particles N] FILE...\n"
+    "       pfx render FILE... -o DIR [-j N] [--keep-going] [--frames A:B] [--size WxH]\n"
+    "                  [--fps N] [--seed N] [--max-particles N] [--renderer R] [--force]\n"
+    "                  [--depfile FILE] [--progress json] [--atlas[=CxR]] [--padding N]\n"
+    "                  [--extrude N] [--crop] [--preview OUT.webp] [-q]\n"
     "                  [--slice I/N | --slice-env VAR --slice-count N]\n"
     "       pfx bake FILE -o OUT [--format csv|ply|pcache] [--every N] [--frames A:B]\n"
     "                  [--fps N] [--seed N] [--max-particles N] [--force] [--depfile FILE]\n"
     "       pfx info FILE [--seed N] [--max-particles N]\n"
     "       pfx bench [--renderer R]\n"
     "       pfx bench accuracy -o DIR\n"
-    "       pfx assemble DIR... -o OUT\n"
+    "       pfx assemble DIR... -o OUT [--atlas[=CxR]] [--preview OUT.webp]\n"
     "       pfx schema\n"
     "\n"
     "commands:\n"
     "  validate   check effect files like a compiler; exit 1 if any has an error\n"
-    "  render     render the effect to DIR/<name>_0000.png, _0001.png, ...\n"
+    "  render     render to DIR/<name>_0000.png, ... (several FILEs: DIR/<name>/...)\n"
     "  bake       write the particle state of every output frame: CSV, PLY or pcache\n"
     "  info       show what the compiled effect holds\n"
     "  bench      measure simulation and rendering speed (or integrator accuracy)\n"
@@ -61,6 +69,16 @@ static const char usage_text[] =
     "      --every N           bake every Nth frame (default 1)\n"
     "      --format FMT        diagnostics as 'text' (default) or 'json' lines; for bake,\n"
     "                          the cache: csv, ply or pcache (default: from the extension)\n"
+    "  -j, --jobs N            render with N threads, each a contiguous part of the frames\n"
+    "      --keep-going        render the other FILEs after one fails\n"
+    "      --atlas[=CxR]       also pack the frames into <name>_atlas.png, a grid of C x R\n"
+    "                          (default: from the frame count), and <name>_atlas.json\n"
+    "      --padding N         atlas: pixels around each frame in its cell (default 2)\n"
+    "      --extrude N         atlas: of those, how many repeat the frame's edge (default 1)\n"
+    "      --crop              atlas: cut every frame to one box around all visible pixels\n"
+    "      --preview OUT.webp  also write the frames as a looping animated WebP (lossless)\n"
+    "      --werror            treat warnings in an effect as errors (exit status 1)\n"
+    "      --progress json     a JSON line on stderr per frame drawn, and one at the end\n"
     "      --renderer R        how to get OpenGL (render, bench): auto (default: osmesa\n"
     "                          where built, else egl-cpu), osmesa, egl-cpu, egl-gpu\n"
     "      --force             render or bake even when DIR/<name>.manifest.json (or\n"
@@ -89,6 +107,13 @@ typedef struct options {
     long slice, slices;  /* --slice I/N, or --slice-env and --slice-count; slices 0: none */
     const char *slice_env;
     long slice_count;
+    int jobs;                      /* -j N: threads for render's frames; 0 or 1: one */
+    bool keep_going;               /* --keep-going: render the other files after a failure */
+    bool progress_json;            /* --progress json: a JSON line per frame on stderr */
+    bool werror;                   /* --werror: an effect with a warning fails */
+    bool atlas;                    /* --atlas[=COLSxROWS] */
+    pfx_atlas_layout atlas_layout; /* its grid, --padding, --extrude, --crop */
+    const char *preview;           /* --preview out.webp */
     pfx_compile_options compile;
 } options;
 
@@ -195,7 +220,15 @@ static int parse_options(int argc, char **argv, options *o) {
         OPT_DEPFILE,
         OPT_SLICE,
         OPT_SLICE_ENV,
-        OPT_SLICE_COUNT
+        OPT_SLICE_COUNT,
+        OPT_KEEP_GOING,
+        OPT_PROGRESS,
+        OPT_WERROR,
+        OPT_ATLAS,
+        OPT_PADDING,
+        OPT_EXTRUDE,
+        OPT_CROP,
+        OPT_PREVIEW
     };
     static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
                                              {"frames", required_argument, 0, OPT_FRAMES},
@@ -211,23 +244,89 @@ static int parse_options(int argc, char **argv, options *o) {
                                              {"slice", required_argument, 0, OPT_SLICE},
                                              {"slice-env", required_argument, 0, OPT_SLICE_ENV},
                                              {"slice-count", required_argument, 0, OPT_SLICE_COUNT},
+                                             {"jobs", required_argument, 0, 'j'},
+                                             {"keep-going", no_argument, 0, OPT_KEEP_GOING},
+                                             {"progress", required_argument, 0, OPT_PROGRESS},
+                                             {"werror", no_argument, 0, OPT_WERROR},
+                                             {"atlas", optional_argument, 0, OPT_ATLAS},
+                                             {"padding", required_argument, 0, OPT_PADDING},
+                                             {"extrude", required_argument, 0, OPT_EXTRUDE},
+                                             {"crop", no_argument, 0, OPT_CROP},
+                                             {"preview", required_argument, 0, OPT_PREVIEW},
                                              {"quiet", no_argument, 0, 'q'},
                                              {"help", no_argument, 0, 'h'},
                                              {0, 0, 0, 0}};
     memset(o, 0, sizeof *o);
     o->last = -1;
+    o->atlas_layout.padding = 2;
+    o->atlas_layout.extrude = 1;
     o->every = 1;
     opterr = 0;
     optind = 2; /* argv[1] is the command */
     int c;
     unsigned long long v;
-    while ((c = getopt_long(argc, argv, ":o:qh", longopts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":o:j:qh", longopts, NULL)) != -1) {
         switch (c) {
         case 'o':
             o->output = optarg;
             break;
         case 'q':
             o->quiet = true;
+            break;
+        case 'j':
+            if (!parse_ulong(optarg, &v) || v < 1 || v > 256)
+                return usage_error("-j takes a number of threads from 1 to 256, got '%s'", optarg);
+            o->jobs = (int)v;
+            break;
+        case OPT_KEEP_GOING:
+            o->keep_going = true;
+            break;
+        case OPT_ATLAS: {
+            /* --atlas, --atlas=8x4 or --atlas 8x4: a grid word may follow. */
+            const char *grid = optarg;
+            unsigned c = 0, r = 0;
+            char extra;
+            if (!grid && optind < argc && parse_size(argv[optind], &c, &r, &extra))
+                grid = argv[optind++];
+            if (grid &&
+                (!parse_size(grid, &c, &r, &extra) || c < 1 || r < 1 || c > 16384 || r > 16384))
+                return usage_error("--atlas takes COLSxROWS, such as 8x8, got '%s'", grid);
+            o->atlas = true;
+            o->atlas_layout.columns = (int)c;
+            o->atlas_layout.rows = (int)r;
+            break;
+        }
+        case OPT_PADDING:
+        case OPT_EXTRUDE:
+            if (!parse_ulong(optarg, &v) || v > 256)
+                return usage_error(c == OPT_PADDING
+                                       ? "--padding takes pixels from 0 to 256, got '%s'"
+                                       : "--extrude takes pixels from 0 to 256, got '%s'",
+                                   optarg);
+            if (c == OPT_PADDING)
+                o->atlas_layout.padding = (int)v;
+            else
+                o->atlas_layout.extrude = (int)v;
+            break;
+        case OPT_PREVIEW: {
+            size_t n = strlen(optarg);
+            if (n < 6 || strcmp(optarg + n - 5, ".webp"))
+                return usage_error("--preview writes an animated WebP: give a path ending in "
+                                   "'.webp', got '%s'",
+                                   optarg);
+            o->preview = optarg;
+            break;
+        }
+        case OPT_CROP:
+            o->atlas_layout.crop = true;
+            break;
+        case OPT_WERROR:
+            o->werror = true;
+            break;
+        case OPT_PROGRESS:
+            if (strcmp(optarg, "json"))
+                return usage_error("--progress takes 'json', got '%s'", optarg);
+            o->progress_json = true;
             break;
         case 'h':
             fputs(usage_text, stdout);
@@ -332,6 +431,19 @@ static int parse_options(int argc, char **argv, options *o) {
     } else if (o->slice_count) {
         return usage_error("%s", "--slice-count goes with --slice-env VAR");
     }
+    if (o->preview && o->slices)
+        return usage_error("%s", "--preview needs every frame: give it to 'pfx assemble' instead "
+                                 "of the slices");
+    if (o->preview && argc - optind > 1 && strcmp(argv[1], "render") == 0) {
+        int files = 0;
+        for (int i = optind; i < argc; i++)
+            files += argv[i][0] != '-';
+        if (files > 1)
+            return usage_error("%s", "--preview names one file: give one FILE");
+    }
+    if (o->atlas && o->slices)
+        return usage_error("%s", "--atlas needs every frame: give it to 'pfx assemble' instead "
+                                 "of the slices");
     if (o->slices && strcmp(argv[1], "render"))
         return usage_error("%s", "--slice and --slice-env are for render");
     /* --format: the diagnostics' form for every command but bake, whose
@@ -348,6 +460,13 @@ static int parse_options(int argc, char **argv, options *o) {
 static pfx_effect *load(pfx_loaded *l, const char *path, const options *o) {
     pfx_effect *e = pfx_load(l, path, &o->compile);
     pfx_diags_print(&l->diags, stderr, o->json);
+    /* --werror: the effect stays in l (freed with it), unused. */
+    if (e && o->werror && l->diags.warnings > 0) {
+        fprintf(stderr, "pfx: '%s': %d warning%s treated as error%s (--werror)\n", path,
+                l->diags.warnings, l->diags.warnings == 1 ? "" : "s",
+                l->diags.warnings == 1 ? "" : "s");
+        return NULL;
+    }
     return e;
 }
 
@@ -447,6 +566,7 @@ static bool describe_run(pfx_delivery *dl, const pfx_effect *e, long first, long
     pfx_manifest_set_number(dl->now, "height", e->height);
     pfx_manifest_set_string(dl->now, "seed", seed);
     pfx_manifest_set_number(dl->now, "max_particles", (double)e->max_particles);
+    pfx_manifest_set_number(dl->now, "loop", e->loop);
     return pfx_manifest_add_effect(dl->now, e, d);
 }
 
@@ -460,26 +580,24 @@ static void say_up_to_date(const options *o, const char *path, const char *where
                 path, where, pfx_manifest_key(dl->now));
 }
 
-static int cmd_render(int argc, char **argv, const options *o) {
-    if (optind != argc - 1)
-        return usage_error("%s", "render takes one FILE and -o DIR");
-    if (!o->output)
-        return usage_error("%s", "render needs -o DIR");
-    pfx_renderer_kind kind;
-    if (!renderer_kind(o, &kind))
-        return EXIT_USAGE;
-    const char *path = argv[optind];
+/* Renders one effect file into dir: the whole of `pfx render` for one FILE.
+ * Returns the exit status. */
+static int render_one(const char *path, const char *dir, pfx_renderer_kind kind, const options *o) {
     pfx_loaded l;
     pfx_effect *e = load(&l, path, o);
     int status = EXIT_INVALID;
     pfx_diags run;
     pfx_diags_init_runtime(&run);
-    char stem[256], manifest[4096];
+    char stem[256], manifest[4096 + 320];
     file_stem(path, stem, sizeof stem);
-    snprintf(manifest, sizeof manifest, "%s/%s.manifest.json", o->output, stem);
-    pfx_render_job job = {
-        .effect = e, .dir = o->output, .stem = stem, .progress = !o->quiet && isatty(2)};
-    pfx_delivery dl = {.dir = o->output,
+    snprintf(manifest, sizeof manifest, "%s/%s.manifest.json", dir, stem);
+    pfx_render_job job = {.effect = e,
+                          .dir = dir,
+                          .stem = stem,
+                          .progress = !o->quiet && !o->progress_json && isatty(2)};
+    pfx_progress progress;
+    bool reporting = false;
+    pfx_delivery dl = {.dir = dir,
                        .manifest_path = manifest,
                        .depfile = o->depfile,
                        .target = manifest,
@@ -495,13 +613,19 @@ static int cmd_render(int argc, char **argv, const options *o) {
     long all_first = job.first, all_last = job.last;
     if (o->slices) {
         pfx_slice_range(all_first, all_last, o->slice, o->slices, &job.first, &job.last);
-        snprintf(manifest, sizeof manifest, "%s/%s.slice-%04ld-of-%04ld.manifest.json", o->output,
-                 stem, o->slice, o->slices);
+        snprintf(manifest, sizeof manifest, "%s/%s.slice-%04ld-of-%04ld.manifest.json", dir, stem,
+                 o->slice, o->slices);
+    }
+    if (o->progress_json) {
+        pfx_progress_init(&progress, stderr, path, job.last - job.first + 1);
+        job.on_frame = pfx_progress_frame;
+        job.on_frame_ctx = &progress;
+        reporting = true;
     }
     /* The renderer before the directory: one that cannot start writes
      * nothing. */
     job.renderer = pfx_renderer_create(kind, e->width, e->height, &run);
-    if (!job.renderer || !make_dirs(o->output, &run))
+    if (!job.renderer || !make_dirs(dir, &run))
         goto done;
     if (!pfx_delivery_begin(&dl, "render", &run) ||
         !describe_run(&dl, e, job.first, job.last, &run))
@@ -509,21 +633,41 @@ static int cmd_render(int argc, char **argv, const options *o) {
     pfx_manifest_set_string(dl.now, "renderer", pfx_renderer_name(job.renderer));
     if (o->slices)
         pfx_manifest_set_slice(dl.now, o->slice, o->slices, all_first, all_last);
-    if (pfx_delivery_up_to_date(&dl)) {
+    pfx_atlas_layout atlas = o->atlas_layout;
+    if (o->atlas) {
+        /* The sheet's size is known now but for --crop, which only makes
+         * it smaller: one that cannot be made fails before any frame. */
+        pfx_atlas_layout check = atlas;
+        check.frame_w = e->width;
+        check.frame_h = e->height;
+        check.frames = (int)(job.last - job.first + 1);
+        if (!pfx_atlas_layout_resolve(&check, &run))
+            goto done;
+        pfx_atlas_job_describe(&atlas, dl.now);
+    }
+    if (o->preview)
+        pfx_manifest_set_string(dl.now, "preview", o->preview);
+    if (pfx_delivery_up_to_date(&dl) && (!o->preview || access(o->preview, F_OK) == 0)) {
         if (pfx_delivery_skip(&dl, &run)) {
-            say_up_to_date(o, path, o->output, &dl);
+            say_up_to_date(o, path, dir, &dl);
             status = 0;
         }
         goto done;
     }
-    if (!pfx_render_job_run(&job, &run))
+    if (!(o->jobs > 1 ? pfx_render_job_run_parallel(&job, kind, o->jobs, &run)
+                      : pfx_render_job_run(&job, &run)))
         goto done;
     for (long f = job.first; f <= job.last; f++) {
         char name[300];
         snprintf(name, sizeof name, "%s_%04ld.png", stem, f);
-        if (!pfx_manifest_add_output(dl.now, o->output, name, &run))
+        if (!pfx_manifest_add_output(dl.now, dir, name, &run))
             goto done;
     }
+    if (o->atlas &&
+        !pfx_atlas_job_run(dir, stem, job.first, job.last, e->fps, e->loop, &atlas, dl.now, &run))
+        goto done;
+    if (o->preview && !pfx_preview_run(dir, stem, job.first, job.last, e->fps, o->preview, &run))
+        goto done;
     if (!pfx_delivery_finish(&dl, &run))
         goto done;
     if (!o->quiet) {
@@ -533,9 +677,14 @@ static int cmd_render(int argc, char **argv, const options *o) {
                     o->slice, o->slices, path, all_last - all_first + 1);
         else
             fprintf(stderr, "pfx: rendered '%s': %ld frames (%ld to %ld) in '%s'", path,
-                    job.frames_done, job.first, job.last, o->output);
+                    job.frames_done, job.first, job.last, dir);
         if (o->slices && job.first <= job.last)
             fprintf(stderr, ", slice %ld of %ld", o->slice, o->slices);
+        if (o->atlas)
+            fprintf(stderr, ", atlas %dx%d of %dx%d", atlas.columns, atlas.rows, atlas.width,
+                    atlas.height);
+        if (o->preview)
+            fprintf(stderr, ", preview '%s'", o->preview);
         if (dl.stale_removed)
             fprintf(stderr, ", %zu stale removed", dl.stale_removed);
         fputc('\n', stderr);
@@ -543,12 +692,56 @@ static int cmd_render(int argc, char **argv, const options *o) {
     status = 0;
 done:
     pfx_diags_print(&run, stderr, false);
+    if (reporting)
+        pfx_progress_finish(&progress, status);
     pfx_diags_free(&run);
     pfx_delivery_free(&dl);
     pfx_renderer_destroy(job.renderer);
     pfx_render_job_free(&job);
     pfx_loaded_free(&l);
     return status;
+}
+
+/* pfx render FILE... -o DIR: one file into DIR, several each into
+ * DIR/<name>/, one after another (-j works inside each); the exit status is
+ * the worst, and the first failure stops the rest unless --keep-going. */
+static int cmd_render(int argc, char **argv, const options *o) {
+    if (optind >= argc)
+        return usage_error("%s", "render needs a FILE and -o DIR");
+    if (!o->output)
+        return usage_error("%s", "render needs -o DIR");
+    int files = argc - optind;
+    if (files > 1 && o->depfile)
+        return usage_error("%s", "--depfile names one target: give one FILE");
+    for (int i = optind; i < argc; i++)
+        for (int k = optind; k < i; k++) {
+            char a[256], b[256];
+            file_stem(argv[i], a, sizeof a);
+            file_stem(argv[k], b, sizeof b);
+            if (!strcmp(a, b))
+                return usage_error("two effects would render into '%s': rename one", a);
+        }
+    pfx_renderer_kind kind;
+    if (!renderer_kind(o, &kind))
+        return EXIT_USAGE;
+    int worst = 0;
+    for (int i = optind; i < argc; i++) {
+        char dir[4096], stem[256];
+        file_stem(argv[i], stem, sizeof stem);
+        snprintf(dir, sizeof dir, "%s/%s", o->output, stem);
+        int status = render_one(argv[i], files > 1 ? dir : o->output, kind, o);
+        if (status > worst)
+            worst = status;
+        if (status && !o->keep_going) {
+            if (i + 1 < argc)
+                fprintf(stderr,
+                        "pfx: stopped after '%s' failed; %d file%s not rendered "
+                        "(--keep-going renders them)\n",
+                        argv[i], argc - i - 1, argc - i - 1 == 1 ? "" : "s");
+            break;
+        }
+    }
+    return worst;
 }
 
 /* The bake's format: --format, else the output's extension (.ply, .pcache),
@@ -747,9 +940,10 @@ static int cmd_assemble(int argc, char **argv, const options *o) {
     pfx_diags run;
     pfx_diags_init_runtime(&run);
     pfx_assemble_report r;
-    bool ok =
-        make_dirs(o->output, &run) && pfx_assemble((const char *const *)argv + optind,
-                                                   (size_t)(argc - optind), o->output, &r, &run);
+    pfx_assemble_options opt = {.atlas = o->atlas ? &o->atlas_layout : NULL, .preview = o->preview};
+    bool ok = make_dirs(o->output, &run) &&
+              pfx_assemble((const char *const *)argv + optind, (size_t)(argc - optind), o->output,
+                           &opt, &r, &run);
     if (ok && !o->quiet)
         fprintf(stderr,
                 "pfx: assembled %zu frames of %zu render%s in '%s' (%zu linked, %zu copied, %zu "
@@ -801,7 +995,19 @@ static int cmd_bench(int argc, char **argv, const options *o) {
 static const char *const commands[] = {"validate", "render", "bake",     "info",
                                        "bench",    "schema", "assemble", NULL};
 
+/* SIGINT and SIGTERM: remove the temporary files being written and exit
+ * with 128 + the signal (130, 143), as a shell reports a killed command.
+ * Only async-signal-safe calls: the table's unlinks and _exit. */
+static void on_signal(int sig) {
+    pfx_cleanup_now();
+    _exit(128 + sig);
+}
+
 int main(int argc, char **argv) {
+    struct sigaction sa = {.sa_handler = on_signal};
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
     if (argc < 2)
         return usage_error("%s", "no command given");
     const char *cmd = argv[1];

@@ -13,7 +13,9 @@
 #include <unistd.h>
 
 #include "base/sha256.h"
+#include "jobs/atlas_job.h"
 #include "jobs/manifest.h"
+#include "jobs/preview.h"
 
 #define SLICE_MARK ".slice-"
 #define MANIFEST_SUFFIX ".manifest.json"
@@ -157,7 +159,8 @@ static bool gather(const char *dir, const char *name, const char *sha256, const 
 }
 
 /* One render: parts p[0..n) share a stem. */
-static bool assemble_one(part *p, size_t n, const char *out, pfx_assemble_report *r, pfx_diags *d) {
+static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_options *opt,
+                         pfx_assemble_report *r, pfx_diags *d) {
     pfx_manifest **ms = malloc(n * sizeof *ms);
     const char **names = malloc(n * sizeof *names);
     bool ok = ms && names;
@@ -192,6 +195,20 @@ static bool assemble_one(part *p, size_t n, const char *out, pfx_assemble_report
             const char *sha, *name = pfx_manifest_output(p[i].m, k, &sha);
             ok = gather(p[i].dir, name, sha, out, r, d);
         }
+    /* The atlas and preview as render makes them, and in its settings, so
+     * that the key is the one a single render with them would have. */
+    double fps = pfx_manifest_get_number(all, "fps", 30);
+    bool loop = pfx_manifest_get_number(all, "loop", 0) != 0;
+    if (ok && opt->atlas) {
+        pfx_atlas_layout atlas = *opt->atlas;
+        pfx_atlas_job_describe(&atlas, all);
+        ok = pfx_atlas_job_run(out, p[0].stem, first, last, fps, loop, &atlas, all, d);
+    }
+    if (ok && opt->preview) {
+        pfx_manifest_set_string(all, "preview", opt->preview);
+        ok = pfx_preview_run(out, p[0].stem, first, last, fps, opt->preview, d);
+    }
+    pfx_manifest_key(all);
     char path[4096];
     snprintf(path, sizeof path, "%s/%s.manifest.json", out, p[0].stem);
     if (ok) {
@@ -209,8 +226,8 @@ static bool assemble_one(part *p, size_t n, const char *out, pfx_assemble_report
     return ok;
 }
 
-bool pfx_assemble(const char *const *dirs, size_t n, const char *out, pfx_assemble_report *r,
-                  pfx_diags *d) {
+bool pfx_assemble(const char *const *dirs, size_t n, const char *out,
+                  const pfx_assemble_options *opt, pfx_assemble_report *r, pfx_diags *d) {
     *r = (pfx_assemble_report){0};
     parts p = {0};
     bool ok = true;
@@ -223,11 +240,19 @@ bool pfx_assemble(const char *const *dirs, size_t n, const char *out, pfx_assemb
     }
     if (ok) {
         qsort(p.items, p.count, sizeof *p.items, by_stem_then_path);
+        if (opt->preview && strcmp(p.items[0].stem, p.items[p.count - 1].stem)) {
+            pfx_diag_error(d, "--preview names one file, and the slices are of '%s' and '%s'",
+                           p.items[0].stem, p.items[p.count - 1].stem);
+            ok = false;
+        }
+    }
+    if (ok) {
+        qsort(p.items, p.count, sizeof *p.items, by_stem_then_path);
         for (size_t i = 0; i < p.count;) {
             size_t j = i + 1;
             while (j < p.count && !strcmp(p.items[j].stem, p.items[i].stem))
                 j++;
-            ok = assemble_one(p.items + i, j - i, out, r, d) && ok;
+            ok = assemble_one(p.items + i, j - i, out, opt, r, d) && ok;
             i = j;
         }
     }

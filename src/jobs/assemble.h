@@ -8,6 +8,7 @@
 #include <stddef.h>
 
 #include "base/diag.h"
+#include "output/atlas.h"
 
 typedef struct pfx_assemble_report {
     size_t effects;        /* renders assembled (one manifest each) */
@@ -21,9 +22,15 @@ typedef struct pfx_assemble_report {
  * there exactly once and every frame has its recorded SHA-256, then gathers
  * the frames into out (hard links where possible) and writes
  * out/<name>.manifest.json, the manifest a single-process render would
- * have written. out must exist. False with the reasons in d; a render whose
+ * have written, with the atlas and preview of opt as render would make
+ * them from all the frames. out must exist. False with the reasons in d; a render whose
  * slices do not check out gets no manifest. */
-bool pfx_assemble(const char *const *dirs, size_t n, const char *out, pfx_assemble_report *r,
-                  pfx_diags *d);
+typedef struct pfx_assemble_options {
+    const pfx_atlas_layout *atlas; /* build <name>_atlas.png/.json in out, or NULL */
+    const char *preview;           /* write this animated WebP (one render only), or NULL */
+} pfx_assemble_options;
+
+bool pfx_assemble(const char *const *dirs, size_t n, const char *out,
+                  const pfx_assemble_options *opt, pfx_assemble_report *r, pfx_diags *d);
 
 #endif

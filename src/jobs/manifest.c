@@ -58,6 +58,11 @@ void pfx_manifest_set_range(pfx_manifest *m, const char *key, long first, long l
                         json_pack("[I, I]", (json_int_t)first, (json_int_t)last));
 }
 
+double pfx_manifest_get_number(const pfx_manifest *m, const char *key, double fallback) {
+    json_t *v = json_object_get(member(m, "settings"), key);
+    return json_is_number(v) ? json_number_value(v) : fallback;
+}
+
 static json_t *find_path(json_t *list, const char *path) {
     size_t i;
     json_t *v;

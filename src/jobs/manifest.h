@@ -67,6 +67,9 @@ bool pfx_manifest_up_to_date(const pfx_manifest *prev, const char *key, const ch
 size_t pfx_manifest_remove_stale(const pfx_manifest *prev, const pfx_manifest *now, const char *dir,
                                  pfx_diags *d);
 
+/* A number setting, or `fallback` when m has none. */
+double pfx_manifest_get_number(const pfx_manifest *m, const char *key, double fallback);
+
 /* Marks m as slice `index` of `count` of the frames first..last (the
  * frames of all slices together). */
 void pfx_manifest_set_slice(pfx_manifest *m, long index, long count, long first, long last);

@@ -10,6 +10,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "base/cleanup.h"
 #include "output/bake_rows.h"
 #include "sim/appearance.h"
 
@@ -45,6 +46,7 @@ struct pfx_bake {
     FILE *body;       /* PLY and pcache: the records, until the count is known */
     uint64_t records; /* written to body */
     char *path, *tmp; /* tmp NULL for stdout */
+    int watch;        /* tmp's slot in base/cleanup.h */
     id_index *order;
     size_t order_cap;
 };
@@ -75,9 +77,11 @@ pfx_bake *pfx_bake_open(const char *path, pfx_bake_format format, const pfx_effe
         b->out = stdout;
     } else {
         b->tmp = temp_name(path);
+        b->watch = b->tmp ? pfx_cleanup_watch(b->tmp) : -1;
         b->out = b->tmp ? fopen(b->tmp, "wbx") : NULL;
         if (!b->out) {
             pfx_diag_error(d, "cannot write '%s': %s", path, strerror(b->tmp ? errno : ENOMEM));
+            pfx_cleanup_forget(b->watch);
             free(b->tmp);
             free(b->path);
             free(b);
@@ -177,6 +181,7 @@ bool pfx_bake_close(pfx_bake *b, bool commit, pfx_diags *d) {
             ok = false, err = errno;
         if (!commit || !ok)
             unlink(b->tmp);
+        pfx_cleanup_forget(b->watch);
     }
     if (commit && !ok)
         pfx_diag_error(d, "cannot write '%s': %s", b->tmp ? b->path : "standard output",

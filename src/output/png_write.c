@@ -8,6 +8,8 @@
 
 #include "output/png_write.h"
 
+#include "base/cleanup.h"
+
 #include "base/diag.h"
 
 #include <errno.h>
@@ -148,9 +150,13 @@ bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height,
         pfx_diag_error(d, "cannot write '%s': out of memory", path);
         return false;
     }
+    /* Watched before it exists, so that a signal at any moment after
+     * finds it (base/cleanup.h). */
+    int watch = pfx_cleanup_watch(temp);
     /* "x": fail rather than follow or truncate something already there. */
     FILE *file = fopen(temp, "wbx");
     if (file == NULL) {
+        pfx_cleanup_forget(watch);
         pfx_diag_error(d, "cannot write '%s': %s", path, pfx_errno_text(errno, why, sizeof why));
         free(temp);
         return false;
@@ -184,6 +190,7 @@ bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height,
     }
     if (!ok)
         unlink(temp);
+    pfx_cleanup_forget(watch);
     free(temp);
     return ok;
 }

@@ -326,7 +326,7 @@ usage_error "validate without a file" "validate needs at least one FILE" validat
 usage_error "render without -o" "render needs -o DIR" render "$FIRE" "${TINY[@]}"
 usage_error "bake without -o" "bake needs -o OUT" bake "$FIRE"
 usage_error "-o without a value" "option '-o' needs a value" render "$FIRE" -o
-usage_error "render with two files" "render takes one FILE" render "$FIRE" "$FIRE" -o "$work/u"
+usage_error "render with one file twice" "two effects would render into 'fire': rename one" render "$FIRE" "$FIRE" -o "$work/u"
 usage_error "--frames 5:2" "--frames takes N, A:B or A: (to the end)" render "$FIRE" -o "$work/u" --frames 5:2
 usage_error "--frames x" "--frames takes N, A:B or A:" render "$FIRE" -o "$work/u" --frames x
 frames_error "--frames 200: beyond the last frame" "--frames 200: is outside the effect's frames 0:119" \

@@ -43,6 +43,19 @@ same_frames all
 [ "$(stat -c %h all/fire_0025.png)" -ge 2 ] || flunk "frames are not hard links"
 end
 
+begin "assemble --atlas --preview: the sheet of a one-process render, and its key"
+pfx_run render "$FIRE" -o one-atlas "${A[@]}" --atlas --padding 3
+want_status 0
+pfx_run assemble s0 s1 s2 s3 -o all-atlas --atlas --padding 3
+want_status 0
+cmp -s one-atlas/fire_atlas.png all-atlas/fire_atlas.png || flunk "the sheets differ"
+cmp -s one-atlas/fire_atlas.json all-atlas/fire_atlas.json || flunk "the atlas JSON differs"
+[ "$(key all-atlas/fire.manifest.json)" = "$(key one-atlas/fire.manifest.json)" ] || flunk "the keys differ"
+pfx_run assemble s0 s1 s2 s3 -o all-preview --preview all-preview/fire.webp
+want_status 0
+[ -s all-preview/fire.webp ] || flunk "no preview"
+end
+
 begin "a one-process render over the assembly finds it up to date"
 pfx_run render "$FIRE" -o all --size 48x48 --frames 20:30 --seed 3
 want_status 0
