@@ -4,14 +4,12 @@
  * only file that knows every stage, and the only one that exits. */
 #include <errno.h>
 #include <getopt.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "base/cleanup.h"
 #include "bench/accuracy.h"
 #include "bench/speed.h"
 #include "compile/read.h"
@@ -25,6 +23,7 @@
 #include "jobs/progress.h"
 #include "jobs/render_job.h"
 #include "jobs/slice.h"
+#include "output/atomic_file.h"
 #include "output/bake.h"
 #include "render/render.h"
 #include "render/sprites.h"
@@ -37,9 +36,10 @@
 static const char usage_text[] =
     "usage: pfx validate [--format text|json] [--werror] [--max-particles N] FILE...\n"
     "       pfx render FILE... -o DIR [-j N] [--keep-going] [--frames A:B] [--size WxH]\n"
-    "                  [--fps N] [--seed N] [--max-particles N] [--renderer R] [--force]\n"
-    "                  [--depfile FILE] [--progress json] [--atlas[=CxR]] [--padding N]\n"
-    "                  [--extrude N] [--crop] [--preview OUT.webp] [-q]\n"
+    "                  [--fps N] [--seed N] [--max-particles N] [--renderer R]\n"
+    "                  [--alpha MODE] [--force] [--depfile FILE] [--progress json]\n"
+    "                  [--atlas[=CxR]] [--padding N] [--extrude N] [--crop]\n"
+    "                  [--preview OUT.webp] [-q]\n"
     "                  [--slice I/N | --slice-env VAR --slice-count N]\n"
     "       pfx bake FILE -o OUT [--format csv|ply|pcache] [--every N] [--frames A:B]\n"
     "                  [--fps N] [--seed N] [--max-particles N] [--force] [--depfile FILE]\n"
@@ -88,6 +88,8 @@ static const char usage_text[] =
     "      --slice-env VAR     the slice index from $VAR (SLURM_ARRAY_TASK_ID,\n"
     "                          JOB_COMPLETION_INDEX, ...), with --slice-count N\n"
     "      --slice-count N     the number of slices for --slice-env\n"
+    "      --alpha MODE        PNG alpha: straight or premultiplied, overriding\n"
+    "                          image.alpha\n"
     "  -q, --quiet             no progress line and no notes\n"
     "  -h, --help              show this help\n"
     "      --version           show the version\n";
@@ -228,7 +230,8 @@ static int parse_options(int argc, char **argv, options *o) {
         OPT_PADDING,
         OPT_EXTRUDE,
         OPT_CROP,
-        OPT_PREVIEW
+        OPT_PREVIEW,
+        OPT_ALPHA
     };
     static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
                                              {"frames", required_argument, 0, OPT_FRAMES},
@@ -253,6 +256,7 @@ static int parse_options(int argc, char **argv, options *o) {
                                              {"extrude", required_argument, 0, OPT_EXTRUDE},
                                              {"crop", no_argument, 0, OPT_CROP},
                                              {"preview", required_argument, 0, OPT_PREVIEW},
+                                             {"alpha", required_argument, 0, OPT_ALPHA},
                                              {"quiet", no_argument, 0, 'q'},
                                              {"help", no_argument, 0, 'h'},
                                              {0, 0, 0, 0}};
@@ -382,6 +386,14 @@ static int parse_options(int argc, char **argv, options *o) {
                 return EXIT_USAGE;
             o->has_renderer = true;
             break;
+        case OPT_ALPHA: {
+            int mode = pfx_kind_find(pfx_alpha_mode_names, optarg);
+            if (mode < 0)
+                return usage_error("--alpha takes 'straight' or 'premultiplied', got '%s'", optarg);
+            o->compile.alpha = (pfx_alpha_mode)mode;
+            o->compile.has_alpha = true;
+            break;
+        }
         case OPT_FORCE:
             o->force = true;
             break;
@@ -500,8 +512,12 @@ static bool make_dirs(const char *path, pfx_diags *d) {
                 pfx_diag_error(d, "cannot create '%s': %s", buf, strerror(errno));
                 return false;
             }
-            if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode)) {
-                pfx_diag_error(d, "cannot create '%s': Not a directory", buf);
+            if (stat(buf, &st) != 0) { /* a symlink loop, a dangling link */
+                pfx_diag_error(d, "cannot create '%s': %s", buf, strerror(errno));
+                return false;
+            }
+            if (!S_ISDIR(st.st_mode)) {
+                pfx_diag_error(d, "cannot create '%s': %s", buf, strerror(ENOTDIR));
                 return false;
             }
             *p = saved;
@@ -925,8 +941,9 @@ static int cmd_info(int argc, char **argv, const options *o) {
     }
     printf("  particles at most %zu of the %llu budget, %zu bytes\n", total,
            (unsigned long long)e->max_particles, bytes);
-    printf("  depth sort: %s\n",
-           pfx_sprites_need_sort(e) ? "yes (an emitter blends by alpha)" : "no (additive only)");
+    printf("  depth sort: %s\n", pfx_sprites_need_sort(e)
+                                     ? "yes (a sprite emitter blends by alpha)"
+                                     : "no (no sprite emitter blends by alpha)");
     pfx_loaded_free(&l);
     return 0;
 }
@@ -995,19 +1012,9 @@ static int cmd_bench(int argc, char **argv, const options *o) {
 static const char *const commands[] = {"validate", "render", "bake",     "info",
                                        "bench",    "schema", "assemble", NULL};
 
-/* SIGINT and SIGTERM: remove the temporary files being written and exit
- * with 128 + the signal (130, 143), as a shell reports a killed command.
- * Only async-signal-safe calls: the table's unlinks and _exit. */
-static void on_signal(int sig) {
-    pfx_cleanup_now();
-    _exit(128 + sig);
-}
-
 int main(int argc, char **argv) {
-    struct sigaction sa = {.sa_handler = on_signal};
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
+    /* Before any thread starts: a signal removes the temporary files. */
+    pfx_atomic_guard_signals();
     if (argc < 2)
         return usage_error("%s", "no command given");
     const char *cmd = argv[1];

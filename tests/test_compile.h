@@ -15,16 +15,24 @@ typedef struct compiled {
     pfx_effect *e;
 } compiled;
 
-static pfx_effect *compile_opt(compiled *c, const char *text, const pfx_compile_options *opt) {
+/* Compiles text as if read from `path` (files it names, such as textures
+ * and meshes, are found beside that path). */
+static pfx_effect *compile_as(compiled *c, const char *text, const char *path,
+                              const pfx_compile_options *opt) {
     memset(c, 0, sizeof *c);
     size_t len = strlen(text);
-    pfx_diags_init(&c->diags, "inline.yaml", text, len);
+    pfx_diags_init(&c->diags, path, text, len);
     if (pfx_parse(text, len, &c->doc, &c->diags))
-        c->e = pfx_compile(c->doc.root, "inline.yaml", opt, &c->arena, &c->diags);
+        c->e = pfx_compile(c->doc.root, path, opt, &c->arena, &c->diags);
     if (!c->e)
         pfx_diags_print(&c->diags, stderr, false);
     CHECK(c->e != NULL);
     return c->e;
+}
+
+static inline pfx_effect *compile_opt(compiled *c, const char *text,
+                                      const pfx_compile_options *opt) {
+    return compile_as(c, text, "inline.yaml", opt);
 }
 
 static inline pfx_effect *compile_text(compiled *c, const char *text) {

@@ -3,6 +3,8 @@
  * machine, so the ratio means something where absolute speeds do not. */
 #include "bench/speed.h"
 
+#include "bench/looks.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
@@ -232,7 +234,7 @@ bool pfx_bench_speed(FILE *out, const char *fire_path, pfx_renderer_kind rendere
     if (!r)
         return false;
     bench_sim(out);
-    bool ok = bench_render(out, fire_path, r, d);
+    bool ok = bench_render(out, fire_path, r, d) && pfx_bench_looks(out, r, 512, 512, d);
     pfx_renderer_destroy(r);
     return ok;
 }

@@ -13,6 +13,7 @@
 
 #include "compile/compile_deflectors.h"
 #include "compile/compile_forces.h"
+#include "compile/compile_look.h"
 #include "compile/compile_spawn.h"
 #include "compile/compiler.h"
 
@@ -131,6 +132,16 @@ static void compile_camera(compiler *c, const pfx_node *cam) {
 
 /* ---- image ---- */
 
+static void read_motion_blur(pfx_reader *r, const pfx_node *map, const pfx_node *v, void *dest) {
+    (void)map;
+    pfx_compile_motion_blur(r, v, dest);
+}
+
+static void read_light(pfx_reader *r, const pfx_node *map, const pfx_node *v, void *dest) {
+    (void)map;
+    pfx_compile_light(r, v, dest);
+}
+
 static void read_image_size(pfx_reader *r, const pfx_node *map, const pfx_node *size, void *dest) {
     (void)map;
     pfx_effect *e = dest;
@@ -156,6 +167,22 @@ static const pfx_key image_keys[] = {
     {"background", PFX_KEY_COLOUR, .offset = E(background),
      .schema = "{\"$ref\": \"#/$defs/colour\", \"default\": \"transparent\"}",
      .doc = "The colour the image is cleared to."},
+    {"exposure", PFX_KEY_NUMBER, .lo = -20, .hi = 20, .def = {0}, .offset = E(exposure),
+     .doc = "EV, -20 to 20: colours are multiplied by 2^exposure before the tone curve."},
+    {"tonemap", PFX_KEY_ENUM, .names = pfx_tonemap_names, .def = {0}, .offset = E(tonemap),
+     .what = "tone curve",
+     .doc = "none (values above 1 clip), reinhard (x / (1 + x)) or aces (the ACES filmic fit of "
+            "Narkowicz 2015)."},
+    {"alpha", PFX_KEY_ENUM, .names = pfx_alpha_mode_names, .def = {0}, .offset = E(alpha_mode),
+     .what = "alpha mode",
+     .doc = "straight (colour and coverage apart) or premultiplied (colour times coverage; "
+            "additive light is colour with zero alpha); --alpha overrides."},
+    {"dither", PFX_KEY_BOOL, .def = {1}, .offset = E(dither),
+     .doc = "A fixed per-pixel dither of under half a step before 8-bit quantisation, so smooth "
+            "gradients do not band; exact 0 and 1 stay exact."},
+    {"motion_blur", PFX_KEY_CODE, .offset = -1, .hook = read_motion_blur,
+     .schema = "{\"$ref\": \"#/$defs/motion_blur\"}",
+     .doc = "Motion blur: {shutter, samples}; absent, none."},
 };
 PFX_KEY_TABLE(pfx_image_table, "image", NULL, "The output image.", image_keys);
 
@@ -219,9 +246,13 @@ static const pfx_key top_keys[] = {
      .doc = "Named deflectors (at most 64); every emitter's particles hit all of them unless it "
             "lists its own."},
     {"emitters", PFX_KEY_CODE, .offset = -1,
-     .schema = "{\"type\": \"object\", \"additionalProperties\": {\"$ref\": "
-               "\"#/$defs/emitter\"}}",
-     .doc = "Named emitters, in file order (bake row order, draw order at equal depth)."},
+     .schema = "{\"type\": \"object\", \"maxProperties\": 1024, \"additionalProperties\": "
+               "{\"$ref\": \"#/$defs/emitter\"}}",
+     .doc = "Named emitters (at most 1024), in file order (bake row order, draw order at equal "
+            "depth)."},
+    {"light", PFX_KEY_CODE, .offset = -1, .hook = read_light,
+     .schema = "{\"$ref\": \"#/$defs/light\"}",
+     .doc = "The directional light of emitters with lit: true."},
     {"loop", PFX_KEY_BOOL, .offset = E(loop),
      .doc = "A seamless loop: every emitter repeats with period duration, and frame duration x "
             "fps is frame 0."},
@@ -290,6 +321,8 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
     pfx_keys_defaults(&pfx_schema_top, e);
     pfx_keys_defaults(&pfx_sim_table, e);
     pfx_keys_defaults(&pfx_camera_table, &e->camera);
+    pfx_keys_defaults(&pfx_image_table, e);
+    pfx_look_defaults(e);
     e->width = e->height = 512;
     e->max_particles = opt && opt->max_particles ? opt->max_particles : PFX_DEFAULT_MAX_PARTICLES;
 
@@ -310,6 +343,8 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
 
     if (opt && opt->fps > 0)
         e->fps = opt->fps;
+    if (opt && opt->has_alpha)
+        e->alpha_mode = opt->alpha;
     if (opt && opt->width > 0) {
         e->width = opt->width;
         e->height = opt->height;
@@ -338,7 +373,12 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
     if (!emitters) {
         pfx_diag_add(d, PFX_SEV_WARNING, root->line, root->col, 1,
                      "the effect has no 'emitters': every frame will be empty");
-    } else if (pfx_read_map(&c.r, emitters, "emitters")) {
+    } else if (pfx_read_map(&c.r, emitters, "emitters") && emitters->count > PFX_MAX_EMITTERS) {
+        /* Before compiling any: the cap bounds the work, not only the
+         * result. */
+        pfx_read_error(&c.r, emitters, "an effect has at most %d emitters, got %zu",
+                       PFX_MAX_EMITTERS, emitters->count);
+    } else if (emitters->kind == PFX_NODE_MAP) {
         e->emitters = pfx_arena_alloc(arena, (emitters->count + 1) * sizeof *e->emitters);
         if (!e->emitters)
             return NULL;
@@ -348,7 +388,8 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
             if (emitters->pairs[i].value->kind == PFX_NODE_MAP)
                 pfx_compile_spawns(&c.r, emitters->pairs[i].value, emitters, &e->emitters[i]);
         }
-        if (d->errors == errors_before && pfx_resolve_spawns(&c.r, e, emitters)) {
+        if (d->errors == errors_before && pfx_resolve_spawns(&c.r, e, emitters) &&
+            pfx_check_ribbons(&c.r, e, emitters)) {
             /* An emitter fed by sub-emitters emits nothing on its own unless
              * it says so. */
             for (size_t i = 0; i < e->emitter_count; i++) {

@@ -14,6 +14,8 @@ typedef struct pfx_compile_options {
     uint64_t seed;     /* --seed: overrides the file's */
     double fps;        /* > 0: overrides the file's */
     int width, height; /* > 0: override image.size */
+    bool has_alpha;
+    pfx_alpha_mode alpha; /* --alpha: overrides image.alpha */
 } pfx_compile_options;
 
 /* Compiles a parsed document. Reports every problem into d; returns NULL if

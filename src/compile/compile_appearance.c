@@ -92,7 +92,7 @@ static void compile_alpha(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
 static void compile_color(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
     static const char *const color_keys[] = {"random", "pick", NULL};
     if (n->kind != PFX_NODE_MAP) {
-        pfx_read_gradient(r, n, "color", &em->color);
+        pfx_read_gradient(r, n, "color", PFX_HDR_MAX, &em->color);
         return;
     }
     if (!pfx_read_check_keys(r, n, color_keys, "'color'"))
@@ -105,7 +105,7 @@ static void compile_color(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
         return;
     }
     if (pick) {
-        if (pfx_read_gradient(r, pick, "color", &em->color))
+        if (pfx_read_gradient(r, pick, "color", PFX_HDR_MAX, &em->color))
             em->color_mode = PFX_COLOR_PICK;
         return;
     }
@@ -114,14 +114,14 @@ static void compile_color(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
         pfx_read_error(r, rnd, "'random' takes two colours [c1, c2]");
         return;
     }
-    if (pfx_read_color(r, rnd->items[0], "color", em->color_a) &&
-        pfx_read_color(r, rnd->items[1], "color", em->color_b))
+    if (pfx_read_color(r, rnd->items[0], "color", PFX_HDR_MAX, em->color_a) &&
+        pfx_read_color(r, rnd->items[1], "color", PFX_HDR_MAX, em->color_b))
         em->color_mode = PFX_COLOR_RANDOM;
 }
 
 /* `angle` (a value, degrees), `spin` (a value in degrees per second, or a
  * curve over life [{at, value}] integrated once into a table, so the angle
- * at any age is one lookup), `sprite: round | square`. Held in radians. */
+ * at any age is one lookup). Held in radians. */
 static void compile_rotation(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
     const pfx_node *v;
     if ((v = pfx_node_get(n, "angle")) &&
@@ -157,11 +157,6 @@ static void compile_rotation(pfx_reader *r, const pfx_node *n, pfx_emitter *em) 
             if (pfx_read_value_in(r, v, "spin", &em->spin, -1e6, false, 1e6))
                 em->spin = pfx_value_scaled(em->spin, PFX_DEGREE);
         }
-    }
-    if ((v = pfx_node_get(n, "sprite"))) {
-        int k = pfx_read_enum(r, v, "sprite", "sprite shape", pfx_sprite_names);
-        if (k >= 0)
-            em->sprite = (pfx_sprite_kind)k;
     }
 }
 

@@ -77,10 +77,14 @@ static bool read_rate(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
 static bool read_bursts(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
     static const char *const burst_keys[] = {"time",     "count",       "cycles",
                                              "interval", "probability", NULL};
-    if (n->kind != PFX_NODE_SEQ || n->count > MAX_KEYS) {
+    if (n->kind != PFX_NODE_SEQ) {
         pfx_read_error(r, n,
                        "'bursts' must be a list of {time, count, cycles, interval, "
                        "probability}");
+        return false;
+    }
+    if (n->count > MAX_KEYS) {
+        pfx_read_error(r, n, "an emitter has at most %d bursts, got %zu", MAX_KEYS, n->count);
         return false;
     }
     em->bursts = pfx_arena_alloc(r->arena, (n->count + 1) * sizeof *em->bursts);

@@ -260,20 +260,9 @@ static void read_mesh(pfx_reader *r, const pfx_node *n, const pfx_node *type, pf
         pfx_read_error(r, type, "a mesh shape needs a 'file' (a Wavefront OBJ path)");
         return;
     }
-    if (!pfx_read_string(r, v, "file", &file) || !scale_ok)
-        return;
     char path[4096];
-    size_t dir = 0;
-    if (file[0] != '/' && effect_path) {
-        const char *slash = strrchr(effect_path, '/');
-        dir = slash ? (size_t)(slash - effect_path) + 1 : 0;
-    }
-    if (dir + strlen(file) + 1 > sizeof path) {
-        pfx_read_error(r, v, "the path of '%s' is too long", file);
+    if (!pfx_read_path(r, v, "file", effect_path, &file, path, sizeof path) || !scale_ok)
         return;
-    }
-    memcpy(path, effect_path, dir);
-    strcpy(path + dir, file);
     pfx_mesh m;
     pfx_diag_at at = pfx_read_at(r, v);
     if (!pfx_mesh_load(path, file, scale, r->arena, &m, &at))

@@ -173,11 +173,9 @@ static double spawn_factor(const pfx_emitter *parent, const pfx_spawn *s) {
 bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) {
     int errors = r->d->errors;
     size_t n = e->emitter_count;
-    bool seen[1024];
-    if (n > 1024) { /* the compiler caps emitters at 1024 */
-        pfx_read_error(r, emitters, "an effect has at most 1024 emitters, got %zu", n);
+    bool seen[PFX_MAX_EMITTERS];
+    if (n > PFX_MAX_EMITTERS) /* pfx_compile checked before compiling them */
         return false;
-    }
     for (size_t i = 0; i < n; i++) {
         memset(seen, 0, sizeof seen);
         if (undepthed_cycle(e, i, i, 0, seen)) {
@@ -218,8 +216,8 @@ bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) 
      * its start, each making the largest count. Without depth the graph is
      * acyclic, so n generations reach every emitter; with depth, MAX_DEPTH
      * more bound the cycles. */
-    double rate[1024], peak[1024], next_rate[1024], next_peak[1024], total_rate[1024],
-        total_peak[1024];
+    double rate[PFX_MAX_EMITTERS], peak[PFX_MAX_EMITTERS], next_rate[PFX_MAX_EMITTERS],
+        next_peak[PFX_MAX_EMITTERS], total_rate[PFX_MAX_EMITTERS], total_peak[PFX_MAX_EMITTERS];
     for (size_t i = 0; i < n; i++) {
         rate[i] = pfx_emitter_max_rate(&e->emitters[i]);
         peak[i] = pfx_emitter_peak(&e->emitters[i]);
@@ -263,4 +261,59 @@ bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) 
         e->emitters[i].spawned_peak = fmin(ceil(total_peak[i]), 1e9);
     }
     return true;
+}
+
+/* A ribbon joins the particles one parent's trail laid, so every particle
+ * of a ribbon emitter must come from a trail, and all from one emitter's
+ * (the parent's id names its strip only within its own emitter). */
+bool pfx_check_ribbons(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) {
+    static const char *const own[] = {"rate", "interval", "bursts", "lod"};
+    int errors = r->d->errors;
+    for (size_t t = 0; t < e->emitter_count; t++) {
+        pfx_emitter *rib = &e->emitters[t];
+        if (rib->look.draw != PFX_DRAW_RIBBON)
+            continue;
+        const pfx_node *n = emitters->pairs[t].value;
+        long feeder = -1;
+        bool fed = false; /* by anything, reported or not */
+        for (size_t i = 0; i < e->emitter_count; i++)
+            for (size_t k = 0; k < e->emitters[i].spawn_count; k++) {
+                const pfx_spawn *s = &e->emitters[i].spawns[k];
+                if (s->target != t)
+                    continue;
+                const pfx_node *at = spawn_node(emitters, i, s);
+                fed = true;
+                if (s->event != PFX_SPAWN_TRAIL)
+                    pfx_read_error(r, at,
+                                   "'%s' cannot feed ribbon emitter '%s': a ribbon's points "
+                                   "come from one emitter's 'trail'",
+                                   pfx_spawn_event_names[s->event], rib->name);
+                else if (i == t)
+                    pfx_read_error(r, at, "ribbon emitter '%s' cannot lay its own trail",
+                                   rib->name);
+                else if (feeder >= 0 && (size_t)feeder != i)
+                    pfx_read_error(r, at,
+                                   "ribbon emitter '%s' is fed by the trails of '%s' and '%s'; "
+                                   "give each its own ribbon emitter",
+                                   rib->name, e->emitters[feeder].name, e->emitters[i].name);
+                else
+                    feeder = (long)i;
+            }
+        if (feeder >= 0)
+            rib->ribbon_parent = (uint32_t)feeder;
+        else if (!fed)
+            pfx_read_error(r, pfx_node_get(n, "draw"),
+                           "emitter '%s' draws ribbons but no 'trail' emits into it: add "
+                           "trail: { emit: %s, rate: R } to the emitter it follows",
+                           rib->name, rib->name);
+        for (size_t k = 0; k < sizeof own / sizeof *own; k++) {
+            const pfx_node *v = pfx_node_get(n, own[k]);
+            if (v)
+                pfx_read_error(r, v,
+                               "ribbon emitter '%s' gets its points from a trail only; remove "
+                               "'%s'",
+                               rib->name, own[k]);
+        }
+    }
+    return r->d->errors == errors;
 }

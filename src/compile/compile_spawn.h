@@ -16,4 +16,10 @@ bool pfx_compile_spawns(pfx_reader *r, const pfx_node *n, const pfx_node *emitte
  * pool sizing. `emitters` is the `emitters:` mapping, for locations. */
 bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters);
 
+/* Every `draw: ribbon` emitter is fed by the trail of exactly one other
+ * emitter and by nothing else (no sub-emitter event, no births of its
+ * own); reports each breach at its key, and notes the feeder in
+ * ribbon_parent. */
+bool pfx_check_ribbons(pfx_reader *r, pfx_effect *e, const pfx_node *emitters);
+
 #endif

@@ -10,6 +10,7 @@
 #include "compile/compile_appearance.h"
 #include "compile/compile_emission.h"
 #include "compile/compile_kill.h"
+#include "compile/compile_look.h"
 #include "compile/compile_shape.h"
 #include "compile/compile_spawn.h"
 #include "compile/compiler.h"
@@ -153,8 +154,8 @@ static const pfx_key emitter_keys[] = {
                "{\"description\": \"A random mix of two colours, fixed per particle.\", \"type\": "
                "\"object\", \"additionalProperties\": false, \"properties\": {\"random\": "
                "{\"description\": \"[c1, c2]: two colours.\", \"type\": \"array\", \"minItems\": "
-               "2, \"maxItems\": 2, \"prefixItems\": [{\"$ref\": \"#/$defs/colour\", \"not\": "
-               "{\"const\": \"transparent\"}}, {\"$ref\": \"#/$defs/colour\"}], \"items\": "
+               "2, \"maxItems\": 2, \"prefixItems\": [{\"$ref\": \"#/$defs/hdr_colour\", \"not\": "
+               "{\"const\": \"transparent\"}}, {\"$ref\": \"#/$defs/hdr_colour\"}], \"items\": "
                "false}}, \"required\": [\"random\"]}, {\"description\": \"A random point of the "
                "gradient, fixed per particle.\", \"type\": \"object\", \"additionalProperties\": "
                "false, \"properties\": {\"pick\": {\"$ref\": \"#/$defs/gradient\", "
@@ -193,9 +194,50 @@ static const pfx_key emitter_keys[] = {
      .offset = -1,
      .doc = "Sprite turn rate in degrees per second: a value per particle, or a curve [{at, "
             "value}] over normalised age."},
-    {"sprite", PFX_KEY_ENUM, .names = pfx_sprite_names, .def = {0}, .offset = -1,
-     .doc =
-         "Sprite shape: round (soft disc) or square (soft square that turns with angle and spin)."},
+    {"draw", PFX_KEY_ENUM, .names = pfx_draw_names, .def = {0}, .offset = M(look.draw),
+     .what = "draw mode",
+     .doc = "sprite: one sprite per particle; ribbon: for an emitter fed by a trail, each "
+            "parent's trail particles joined in birth order (and on to the parent while it "
+            "lives) into one strip facing the camera "
+            "(width from size, colour and alpha over life of each point; sprite: round gives soft "
+            "edges, square flat ones)."},
+    {"sprite", PFX_KEY_ENUM, .names = pfx_sprite_names, .def = {0}, .offset = M(look.sprite),
+     .what = "sprite shape",
+     .doc = "The built-in sprite: round (soft disc), square (soft square that turns with angle "
+            "and spin), spark (bright core, long falloff), smoke (a noise puff, each particle its "
+            "own), flare (a star with a soft halo) or ring."},
+    {"texture", PFX_KEY_CODE, .offset = -1, .schema = "{\"type\": \"string\"}",
+     .doc = "A PNG (grey, grey + alpha, RGB or RGBA; 8 or 16 bits; at most 8192x8192) relative "
+            "to the effect file, instead of the built-in sprite: its alpha is the shape, the "
+            "particle's colour multiplies it."},
+    {"normal_map", PFX_KEY_CODE, .offset = -1, .schema = "{\"type\": \"string\"}",
+     .doc = "A PNG of tangent-space normals (RGB = (n + 1) / 2, +y up the image) for lit sprites, "
+            "instead of the spherical normal."},
+    {"flipbook", PFX_KEY_MAP, .offset = M(look.flipbook), .table = &pfx_flipbook_table,
+     .doc = "Play the texture as a sheet of cells over the particle's age."},
+    {"align", PFX_KEY_ENUM, .names = pfx_align_names, .def = {0}, .offset = M(look.align),
+     .what = "alignment",
+     .doc = "camera (faces the camera), velocity (stretched along the screen-space velocity), "
+            "axis (turns about the world axis 'axis' to face the camera) or world (lies in the "
+            "plane with normal 'normal')."},
+    {"axis", PFX_KEY_VEC3, PFX_KEY_NONZERO, .def = {0, 1, 0}, .offset = -1,
+     .doc = "align: axis: the world axis the sprite's height follows (any length)."},
+    {"normal", PFX_KEY_VEC3, PFX_KEY_NONZERO, .def = {0, 1, 0}, .offset = -1,
+     .doc = "align: world: the normal of the plane the sprite lies in (any length)."},
+    {"stretch", PFX_KEY_MAP, .offset = M(look), .table = &pfx_stretch_table,
+     .doc = "align: velocity: length = size x length + |v| x speed."},
+    {"lit", PFX_KEY_BOOL, .def = {0}, .offset = M(look.lit),
+     .doc = "Shade by the effect's light with a spherical normal per sprite (or normal_map); "
+            "for alpha sprites such as smoke."},
+    {"intensity", PFX_KEY_CODE, .offset = -1,
+     .schema = "{\"default\": 1, \"oneOf\": [{\"type\": \"number\", \"minimum\": 0, "
+               "\"maximum\": 1000}, {\"type\": \"array\", \"minItems\": 1, \"maxItems\": 64, "
+               "\"items\": {\"type\": \"object\", \"additionalProperties\": false, "
+               "\"required\": [\"at\", \"value\"], \"properties\": {\"at\": {\"type\": "
+               "\"number\", \"minimum\": 0, \"maximum\": 1}, \"value\": {\"type\": "
+               "\"number\", \"minimum\": 0, \"maximum\": 1000}}}}]}",
+     .doc = "Multiplies the colour (not alpha), 0 to 1000, for HDR light: a number or a curve "
+            "[{at, value}] over normalised age."},
     {"forces", PFX_KEY_CODE, .schema = "{\"type\": \"array\", \"items\": {\"type\": \"string\"}}",
      .offset = -1,
      .doc = "Names of the forces this emitter feels; default: every force; [] for none."},
@@ -562,11 +604,9 @@ static void build_motion(compiler *c, pfx_emitter *em, pfx_integrator integrator
                          em->name, tol, m->choice.steps, m->choice.error_rate);
 }
 
-void pfx_compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n, pfx_emitter *em) {
-    pfx_effect *e = c->e;
-    em->name = pfx_arena_strndup(c->r.arena, key->text, key->len);
-    /* Defaults: a point emitting 10/s straight up at 1 m/s for 1 s, white,
-     * 0.1 m sprites, additive, feeling every force. */
+/* Defaults: a point emitting 10/s straight up at 1 m/s for 1 s, white,
+ * 0.1 m sprites, additive, feeling every force, not turned. */
+static void emitter_defaults(const pfx_effect *e, pfx_emitter *em) {
     pfx_keys_defaults(&pfx_emitter_table, em);
     em->direction[1] = 1;
     em->size_start = em->size_end = pfx_value_const(0.1);
@@ -575,9 +615,64 @@ void pfx_compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n, pf
         for (int k = 0; k < 4; k++)
             em->color.lut[i][k] = 1.0f;
     em->color.constant = true;
+    em->look.intensity = 1;
     em->force_mask = e->force_count >= 32 ? 0xffffffffu : (1u << e->force_count) - 1;
+    const double no_rotation[3] = {0, 0, 0};
+    pfx_rotation_from_angles(no_rotation, em->rotation);
+}
+
+/* `rotation`: Euler angles written in degrees, constant or keyed; the
+ * model holds radians. */
+static void emitter_rotation(compiler *c, const pfx_node *v, pfx_emitter *em) {
     double rot[3] = {0, 0, 0};
+    if (!pfx_read_keys3(&c->r, v, "rotation", rot, &em->rotation_keys))
+        return;
+    for (int a = 0; a < 3; a++)
+        rot[a] *= PFX_DEGREE;
+    for (size_t k = 0; k < em->rotation_keys.count; k++)
+        for (int a = 0; a < 3; a++)
+            em->rotation_keys.v[k][a] *= PFX_DEGREE;
     pfx_rotation_from_angles(rot, em->rotation);
+}
+
+/* `forces`: the names of the top-level forces this emitter feels. */
+static void emitter_forces(compiler *c, const pfx_node *v, const pfx_node *key, pfx_emitter *em) {
+    const pfx_effect *e = c->e;
+    em->force_mask = 0;
+    if (v->kind != PFX_NODE_SEQ) {
+        pfx_read_error(&c->r, v, "'forces' must be a list of force names, got %s",
+                       pfx_node_kind_name(v));
+        return;
+    }
+    const char *names[PFX_MAX_FORCES + 1];
+    for (size_t i = 0; i < e->force_count; i++)
+        names[i] = e->forces[i].name;
+    names[e->force_count] = NULL;
+    for (size_t i = 0; i < v->count; i++) {
+        const char *name;
+        if (!pfx_read_string(&c->r, v->items[i], "forces", &name))
+            continue;
+        int f = find_force(e, name);
+        if (f >= 0) {
+            em->force_mask |= 1u << f;
+            continue;
+        }
+        const char *sug = pfx_suggest(name, names);
+        if (sug)
+            pfx_read_error(&c->r, v->items[i],
+                           "unknown force '%s' in emitter '%s'; did you mean '%s'?", name,
+                           key->text, sug);
+        else
+            pfx_read_error(&c->r, v->items[i],
+                           "unknown force '%s' in emitter '%s'; define it under 'forces'", name,
+                           key->text);
+    }
+}
+
+void pfx_compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n, pfx_emitter *em) {
+    pfx_effect *e = c->e;
+    em->name = pfx_arena_strndup(c->r.arena, key->text, key->len);
+    emitter_defaults(e, em);
 
     char where[160];
     snprintf(where, sizeof where, "emitter '%s'", key->text);
@@ -590,54 +685,18 @@ void pfx_compile_emitter(compiler *c, const pfx_node *key, const pfx_node *n, pf
         pfx_compile_shape(&c->r, v, &em->shape, em->name, e->path);
     if ((v = pfx_node_get(n, "position")))
         pfx_read_keys3(&c->r, v, "position", em->position, &em->position_keys);
-    if ((v = pfx_node_get(n, "rotation")) &&
-        pfx_read_keys3(&c->r, v, "rotation", rot, &em->rotation_keys)) {
-        /* Written in degrees; the model holds radians. */
-        for (int a = 0; a < 3; a++)
-            rot[a] *= PFX_DEGREE;
-        for (size_t k = 0; k < em->rotation_keys.count; k++)
-            for (int a = 0; a < 3; a++)
-                em->rotation_keys.v[k][a] *= PFX_DEGREE;
-        pfx_rotation_from_angles(rot, em->rotation);
-    }
+    if ((v = pfx_node_get(n, "rotation")))
+        emitter_rotation(c, v, em);
     pfx_compile_emission(&c->r, n, em);
     if ((v = pfx_node_get(n, "lod")))
         compile_lod(c, v, n, em);
     compile_direction(c, n, em);
     em->max_lifetime = pfx_value_max(&em->lifetime);
     pfx_compile_appearance(&c->r, n, em);
+    pfx_compile_look(&c->r, n, em, e->path);
     compile_kill(c, n, em);
-    if ((v = pfx_node_get(n, "forces"))) {
-        em->force_mask = 0;
-        if (v->kind != PFX_NODE_SEQ) {
-            pfx_read_error(&c->r, v, "'forces' must be a list of force names, got %s",
-                           pfx_node_kind_name(v));
-        } else {
-            const char *names[PFX_MAX_FORCES + 1];
-            for (size_t i = 0; i < e->force_count; i++)
-                names[i] = e->forces[i].name;
-            names[e->force_count] = NULL;
-            for (size_t i = 0; i < v->count; i++) {
-                const char *name;
-                if (!pfx_read_string(&c->r, v->items[i], "forces", &name))
-                    continue;
-                int f = find_force(e, name);
-                if (f >= 0) {
-                    em->force_mask |= 1u << f;
-                    continue;
-                }
-                const char *sug = pfx_suggest(name, names);
-                if (sug)
-                    pfx_read_error(&c->r, v->items[i],
-                                   "unknown force '%s' in emitter '%s'; did you mean '%s'?", name,
-                                   key->text, sug);
-                else
-                    pfx_read_error(&c->r, v->items[i],
-                                   "unknown force '%s' in emitter '%s'; define it under 'forces'",
-                                   name, key->text);
-            }
-        }
-    }
+    if ((v = pfx_node_get(n, "forces")))
+        emitter_forces(c, v, key, em);
     emitter_deflectors(c, n, em);
     pfx_integrator integrator = e->integrator;
     const pfx_node *integrator_node = pfx_node_get(n, "integrator");

@@ -6,13 +6,16 @@
 
 #include "compile/compile_deflectors.h"
 #include "compile/compile_forces.h"
+#include "compile/compile_look.h"
 #include "compile/compile_shape.h"
 #include "compile/compiler.h"
 
 const char *const pfx_schema_title = "pfx effect, format version 1";
 
-const pfx_key_table *const pfx_schema_tables[] = {&pfx_sim_table, &pfx_camera_table,
-                                                  &pfx_image_table, &pfx_emitter_table, NULL};
+const pfx_key_table *const pfx_schema_tables[] = {
+    &pfx_sim_table,     &pfx_camera_table,      &pfx_image_table,
+    &pfx_emitter_table, &pfx_flipbook_table,    &pfx_stretch_table,
+    &pfx_light_table,   &pfx_motion_blur_table, NULL};
 
 const pfx_schema_family pfx_schema_families[] = {
     {"shape",
@@ -72,23 +75,35 @@ const pfx_schema_fragment pfx_schema_fragments[] = {
      "]{3}|[0-9A-Fa-f]{4}|[0-9A-Fa-f]{6}|[0-9A-Fa-f]{8}))$\"}, {\"type\": \"array\", \"items\": "
      "{\"typ"
      "e\": \"number\", \"minimum\": 0, \"maximum\": 1}, \"minItems\": 3, \"maxItems\": 4}]}"},
-    {"gradient_stop", "{\"description\": \"A gradient stop: the colour at age fraction 'at'.\", "
-                      "\"type\": \"object\", \""
-                      "additionalProperties\": false, \"properties\": {\"at\": {\"description\": "
-                      "\"Age fraction from 0 "
-                      "(birth) to 1 (death); stops go in increasing order.\", \"type\": "
-                      "\"number\", \"minimum\": 0, \"m"
-                      "aximum\": 1}, \"color\": {\"$ref\": \"#/$defs/colour\", \"description\": "
-                      "\"The colour at this stop"
-                      ".\"}}, \"required\": [\"at\", \"color\"]}"},
+    {"hdr_colour",
+     "{\"description\": \"A colour as for 'colour', but r, g and b may exceed 1 (up to 1000) for "
+     "light brighter than white; alpha stays in 0..1.\", \"oneOf\": [{\"type\": \"string\", "
+     "\"pattern\": "
+     "\"^(transparent|#([0-9A-Fa-f]{3}|[0-9A-Fa-f]{4}|[0-9A-Fa-f]{6}|[0-9A-Fa-f]{8}))$\"}, "
+     "{\"type\": \"array\", \"prefixItems\": [{\"type\": \"number\", \"minimum\": 0, "
+     "\"maximum\": 1000}, {\"type\": \"number\", \"minimum\": 0, \"maximum\": 1000}, "
+     "{\"type\": \"number\", \"minimum\": 0, \"maximum\": 1000}, {\"type\": \"number\", "
+     "\"minimum\": 0, \"maximum\": 1}], \"items\": false, \"minItems\": 3, \"maxItems\": 4}]}"},
+    {"gradient_stop",
+     "{\"description\": \"A gradient stop: the colour at age fraction 'at'.\", "
+     "\"type\": \"object\", \""
+     "additionalProperties\": false, \"properties\": {\"at\": {\"description\": "
+     "\"Age fraction from 0 "
+     "(birth) to 1 (death); stops go in increasing order.\", \"type\": "
+     "\"number\", \"minimum\": 0, \"m"
+     "aximum\": 1}, \"color\": {\"$ref\": \"#/$defs/hdr_colour\", \"description\": "
+     "\"The colour at this stop"
+     ".\"}}, \"required\": [\"at\", \"color\"]}"},
     {"gradient",
      "{\"description\": \"A colour for the whole life, or a list of 1 to 64 colours spaced evenly"
      " over life, or of 1 to 64 {at, color} stops; linear interpolation, sampled into a 256-en"
-     "try table.\", \"oneOf\": [{\"$ref\": \"#/$defs/colour\"}, {\"description\": \"Colours spaced "
+     "try table.\", \"oneOf\": [{\"$ref\": \"#/$defs/hdr_colour\"}, {\"description\": \"Colours "
+     "spaced "
      "evenl"
      "y over life, first at birth, last at death.\", \"type\": \"array\", \"items\": {\"$ref\": "
      "\"#/$def"
-     "s/colour\"}, \"minItems\": 1, \"maxItems\": 64}, {\"description\": \"Stops {at: t, color: c} "
+     "s/hdr_colour\"}, \"minItems\": 1, \"maxItems\": 64}, {\"description\": \"Stops {at: t, "
+     "color: c} "
      "in "
      "increasing order of t.\", \"type\": \"array\", \"items\": {\"$ref\": "
      "\"#/$defs/gradient_stop\"}, \"m"

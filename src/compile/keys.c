@@ -62,6 +62,9 @@ void pfx_keys_defaults(const pfx_key_table *t, void *dest) {
         case PFX_KEY_RANGE:
             memcpy(at, (double[2]){k->def[0], k->def[0]}, 2 * sizeof(double));
             break;
+        case PFX_KEY_MAP: /* the mapping's own defaults, where it lands */
+            pfx_keys_defaults(k->table, at);
+            break;
         default:
             break;
         }
@@ -149,7 +152,7 @@ static void read_row(pfx_reader *r, const pfx_node *map, const pfx_node *v, cons
         break;
     }
     case PFX_KEY_COLOUR:
-        pfx_read_color(r, v, k->name, (float *)(void *)at);
+        pfx_read_color(r, v, k->name, 1, (float *)(void *)at);
         break;
     case PFX_KEY_STRING:
         pfx_read_string(r, v, k->name, (const char **)(void *)at);

@@ -6,11 +6,14 @@
 #include "compile/mesh_load.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 /* A growable array in malloc'd memory, for parsing only: the result is
  * copied into the arena once its size is known. */
@@ -241,9 +244,26 @@ bool pfx_mesh_parse(const char *text, size_t len, const char *name, double scale
 bool pfx_mesh_load(const char *path, const char *name, double scale, pfx_arena *a, pfx_mesh *m,
                    const pfx_diag_at *at) {
     memset(m, 0, sizeof *m);
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    /* Non-blocking, so that a FIFO without a writer does not hang the
+     * open; then only a regular file is read (not a FIFO, a device such as
+     * /dev/zero, or a directory). */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0)
         return fail(at, "cannot open '%s': %s", name, strerror(errno));
+    struct stat st;
+    int errnum = fstat(fd, &st) != 0 ? errno : 0;
+    if (errnum || !S_ISREG(st.st_mode)) {
+        close(fd);
+        if (errnum)
+            return fail(at, "cannot open '%s': %s", name, strerror(errnum));
+        return fail(at, "cannot open '%s': not a regular file", name);
+    }
+    FILE *f = fcntl(fd, F_SETFL, 0) == 0 ? fdopen(fd, "rb") : NULL;
+    if (!f) {
+        errnum = errno;
+        close(fd);
+        return fail(at, "cannot open '%s': %s", name, strerror(errnum));
+    }
     char *buf = NULL;
     size_t len = 0, cap = 0;
     bool ok = true;

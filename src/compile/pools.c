@@ -17,15 +17,15 @@ static double pool_need(const pfx_emitter *em) { return pfx_emitter_peak(em) + e
 void pfx_size_pools(compiler *c, const pfx_node *emitters) {
     pfx_effect *e = c->e;
     size_t n = e->emitter_count;
-    double need[1024], cap[1024];
-    size_t order[1024];
+    double need[PFX_MAX_EMITTERS], cap[PFX_MAX_EMITTERS];
+    size_t order[PFX_MAX_EMITTERS];
     double need_total = 0;
-    for (size_t i = 0; i < n && i < 1024; i++) {
+    for (size_t i = 0; i < n && i < PFX_MAX_EMITTERS; i++) {
         need[i] = pool_need(&e->emitters[i]);
         need_total += need[i];
         order[i] = i;
     }
-    /* Insertion sort by need: at most 1024 emitters, once per compile. */
+    /* Insertion sort by need: at most PFX_MAX_EMITTERS emitters, once per compile. */
     for (size_t i = 1; i < n; i++)
         for (size_t k = i; k > 0 && need[order[k]] < need[order[k - 1]]; k--) {
             size_t t = order[k];

@@ -146,7 +146,8 @@ bool pfx_read_check_keys(pfx_reader *r, const pfx_node *map, const char *const *
             shown[j] = k->text[j] ? k->text[j] : '?';
         shown[n] = 0;
         const engine_key *ek = engine_key_find(k->text, allowed);
-        const char *s = ek ? NULL : pfx_suggest(k->text, allowed);
+        /* Past the cap the message is only counted: no suggestion to find. */
+        const char *s = ek || r->d->count >= PFX_DIAG_MAX ? NULL : pfx_suggest(k->text, allowed);
         if (ek)
             pfx_read_error(r, k, "unknown key '%s' in %s; %s's '%s' is pfx's '%s'", shown, where,
                            ek->engine, ek->name, ek->pfx);
@@ -276,6 +277,24 @@ bool pfx_read_string(pfx_reader *r, const pfx_node *n, const char *what, const c
         return false;
     }
     *out = n->text;
+    return true;
+}
+
+bool pfx_read_path(pfx_reader *r, const pfx_node *n, const char *what, const char *effect_path,
+                   const char **name, char *path, size_t size) {
+    if (!pfx_read_string(r, n, what, name))
+        return false;
+    size_t dir = 0;
+    if ((*name)[0] != '/' && effect_path) {
+        const char *slash = strrchr(effect_path, '/');
+        dir = slash ? (size_t)(slash - effect_path) + 1 : 0;
+    }
+    if (dir + strlen(*name) + 1 > size) {
+        pfx_read_error(r, n, "the path of '%s' is too long", *name);
+        return false;
+    }
+    memcpy(path, effect_path, dir);
+    strcpy(path + dir, *name);
     return true;
 }
 
@@ -439,7 +458,8 @@ static bool comment_after(pfx_reader *r, const pfx_node *n, const char *what) {
     return true;
 }
 
-bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, float out[4]) {
+bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, double rgb_max,
+                    float out[4]) {
     if (n->kind == PFX_NODE_SCALAR) {
         if (!strcmp(n->text, "transparent")) {
             out[0] = out[1] = out[2] = out[3] = 0.0f;
@@ -458,9 +478,10 @@ bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, float ou
         bool ok = true;
         for (size_t i = 0; i < n->count; i++) {
             ok &= pfx_read_number(r, n->items[i], what, &c[i]);
-            if (ok && (c[i] < 0 || c[i] > 1)) {
-                pfx_read_error(r, n->items[i], "colour components of '%s' must be in 0..1, got %g",
-                               what, c[i]);
+            double hi = i == 3 ? 1 : rgb_max; /* HDR colour, never alpha */
+            if (ok && (c[i] < 0 || c[i] > hi)) {
+                pfx_read_error(r, n->items[i], "%s of '%s' must be in 0..%g, got %g",
+                               i == 3 ? "the alpha" : "colour components", what, hi, c[i]);
                 ok = false;
             }
         }
@@ -475,14 +496,15 @@ bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, float ou
 
 static const char *const stop_keys[] = {"at", "color", NULL};
 
-bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, pfx_gradient *out) {
+bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, double rgb_max,
+                       pfx_gradient *out) {
     enum { MAX_STOPS = 64 };
     float colors[MAX_STOPS][4];
     double at[MAX_STOPS];
     size_t count = 0;
     bool ok = true;
     if (n->kind == PFX_NODE_SCALAR || is_rgb_list(n)) {
-        ok = pfx_read_color(r, n, what, colors[0]);
+        ok = pfx_read_color(r, n, what, rgb_max, colors[0]);
         at[0] = 0;
         count = 1;
     } else if (n->kind == PFX_NODE_SEQ) {
@@ -505,7 +527,7 @@ bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, pfx_g
                 continue;
             }
             if (!stops) {
-                ok &= pfx_read_color(r, item, what, colors[i]);
+                ok &= pfx_read_color(r, item, what, rgb_max, colors[i]);
                 at[i] = n->count == 1 ? 0.0 : (double)i / (double)(n->count - 1);
                 continue;
             }
@@ -516,7 +538,8 @@ bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, pfx_g
                 ok = false;
                 continue;
             }
-            if (!pfx_read_number(r, t, "at", &at[i]) || !pfx_read_color(r, c, what, colors[i])) {
+            if (!pfx_read_number(r, t, "at", &at[i]) ||
+                !pfx_read_color(r, c, what, rgb_max, colors[i])) {
                 ok = false;
                 continue;
             }

@@ -65,18 +65,27 @@ bool pfx_read_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_valu
  * 3-sigma cut) is named as such. */
 bool pfx_read_value_in(pfx_reader *r, const pfx_node *n, const char *what, pfx_value *v, double lo,
                        bool lo_strict, double hi);
-/* A colour: "#rgb", "#rgba", "#rrggbb", "#rrggbbaa", [r, g, b] or [r, g, b, a]
- * in 0..1. */
-bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, float out[4]);
+/* A colour: "#rgb", "#rgba", "#rrggbb", "#rrggbbaa", [r, g, b] or [r, g, b, a],
+ * components in 0..rgb_max (above 1: an HDR colour, for light), alpha in
+ * 0..1. */
+#define PFX_HDR_MAX 1000.0
+bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, double rgb_max,
+                    float out[4]);
 /* A colour or a gradient (a list of colours, evenly spaced, or of {at, color}
  * stops), sampled into the lookup table. */
-bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, pfx_gradient *out);
+bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, double rgb_max,
+                       pfx_gradient *out);
 /* One of the NULL-terminated `names`: its index, or -1 after reporting the
  * unknown word with a suggestion or the list of choices. */
 int pfx_read_enum(pfx_reader *r, const pfx_node *n, const char *key, const char *what,
                   const char *const *names);
 /* A plain string. */
 bool pfx_read_string(pfx_reader *r, const pfx_node *n, const char *what, const char **out);
+/* A file name (a string) as written, in *name, and its path in `path`:
+ * relative to the directory of the effect file `effect_path` unless it is
+ * absolute. False after reporting a non-string or a path over `size`. */
+bool pfx_read_path(pfx_reader *r, const pfx_node *n, const char *what, const char *effect_path,
+                   const char **name, char *path, size_t size);
 
 /* Range checks: `got` (a number, or a value's smallest or largest sample)
  * must be above (below) `bound`, strictly when `strict`. Each reports at n:

@@ -2,7 +2,8 @@
  * hash its slice recorded before it is linked, so a slice that a node
  * crashed in the middle of (a manifest older than its frames, or a frame
  * damaged in transfer) is caught here, not in the film. A frame lands in
- * out under a temporary name and is renamed, as render writes it. */
+ * out under a temporary name and is renamed, as render writes it
+ * (output/atomic_file.h). */
 #include "jobs/assemble.h"
 
 #include <dirent.h>
@@ -10,12 +11,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "base/sha256.h"
 #include "jobs/atlas_job.h"
 #include "jobs/manifest.h"
 #include "jobs/preview.h"
+#include "output/atomic_file.h"
 
 #define SLICE_MARK ".slice-"
 #define MANIFEST_SUFFIX ".manifest.json"
@@ -102,26 +103,41 @@ static int by_stem_then_path(const void *a, const void *b) {
     return c ? c : strcmp(x->path, y->path);
 }
 
-/* Copies src to dst (a new file). */
-static bool copy_file(const char *src, const char *dst) {
-    FILE *in = fopen(src, "rb"), *out = in ? fopen(dst, "wbx") : NULL;
-    bool ok = in && out;
+/* Copies src to dst through a temporary (output/atomic_file.h). */
+static bool copy_file(const char *src, const char *dst, pfx_diags *d) {
+    FILE *in = fopen(src, "rb");
+    if (!in) {
+        pfx_diag_error(d, "cannot read '%s': %s", src, strerror(errno));
+        return false;
+    }
+    pfx_atomic_file *a = pfx_atomic_open(dst, d);
+    if (!a) {
+        fclose(in);
+        return false;
+    }
+    FILE *out = pfx_atomic_stream(a);
     char buf[1 << 16];
     size_t n;
+    bool ok = true;
     while (ok && (n = fread(buf, 1, sizeof buf, in)) > 0)
-        ok = fwrite(buf, 1, n, out) == n;
-    ok = ok && !ferror(in);
-    if (in)
+        if (fwrite(buf, 1, n, out) != n) {
+            pfx_atomic_failed(a, errno);
+            ok = false;
+        }
+    if (ok && ferror(in)) {
+        pfx_diag_error(d, "cannot read '%s': %s", src, strerror(errno ? errno : EIO));
         fclose(in);
-    if (out && fclose(out) != 0)
-        ok = false;
-    return ok;
+        pfx_atomic_abort(a);
+        return false;
+    }
+    fclose(in);
+    return pfx_atomic_commit(a, false, d);
 }
 
 /* Puts dir/name into out/name, checked against sha256. */
 static bool gather(const char *dir, const char *name, const char *sha256, const char *out,
                    pfx_assemble_report *r, pfx_diags *d) {
-    char src[4096], dst[4096], tmp[4200], hex[PFX_SHA256_HEX];
+    char src[4096], dst[4096], hex[PFX_SHA256_HEX];
     snprintf(src, sizeof src, "%s/%s", dir, name);
     snprintf(dst, sizeof dst, "%s/%s", out, name);
     if (!pfx_sha256_file(src, hex)) {
@@ -136,21 +152,10 @@ static bool gather(const char *dir, const char *name, const char *sha256, const 
         r->kept++;
         return true;
     }
-    snprintf(tmp, sizeof tmp, "%s/.%s.tmp-%ld", out, name, (long)getpid());
-    unlink(tmp);
-    bool linked = link(src, tmp) == 0;
-    if (!linked && !copy_file(src, tmp)) {
-        int err = errno;
-        unlink(tmp);
-        pfx_diag_error(d, "cannot write '%s': %s", dst, strerror(err ? err : EIO));
+    /* A hard link where the file system allows it, else a copy. */
+    int linked = pfx_atomic_link(src, dst, d);
+    if (linked < 0 || (!linked && !copy_file(src, dst, d)))
         return false;
-    }
-    if (rename(tmp, dst) != 0) {
-        int err = errno;
-        unlink(tmp);
-        pfx_diag_error(d, "cannot write '%s': %s", dst, strerror(err));
-        return false;
-    }
     if (linked)
         r->linked++;
     else

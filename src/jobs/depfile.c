@@ -1,12 +1,13 @@
 /* The depfile of jobs/depfile.h: GCC's -MD form (one target, its inputs on
  * continuation lines), which make includes, and ninja and CMake read with
- * `deps = gcc`. Written to a temporary file and renamed into place. */
+ * `deps = gcc`. Written whole or not at all (output/atomic_file.h). */
 #include "jobs/depfile.h"
 
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
-#include <unistd.h>
+
+#include "output/atomic_file.h"
 
 /* A path as Make reads it: '\ ' for a space, '\#' for '#', '$$' for '$'. */
 static void put_path(FILE *f, const char *p) {
@@ -20,15 +21,10 @@ static void put_path(FILE *f, const char *p) {
 }
 
 bool pfx_depfile_write(const char *path, const char *target, const pfx_manifest *m, pfx_diags *d) {
-    char tmp[4200];
-    const char *slash = strrchr(path, '/');
-    int dir = slash ? (int)(slash - path + 1) : 0;
-    snprintf(tmp, sizeof tmp, "%.*s.%s.tmp-%ld", dir, path, path + dir, (long)getpid());
-    FILE *f = fopen(tmp, "wx");
-    if (!f) {
-        pfx_diag_error(d, "cannot write depfile '%s': %s", path, strerror(errno));
+    pfx_atomic_file *a = pfx_atomic_open(path, d);
+    if (!a)
         return false;
-    }
+    FILE *f = pfx_atomic_stream(a);
     put_path(f, target);
     fputc(':', f);
     for (size_t i = 0; i < pfx_manifest_input_count(m); i++) {
@@ -36,15 +32,7 @@ bool pfx_depfile_write(const char *path, const char *target, const pfx_manifest 
         put_path(f, pfx_manifest_input(m, i));
     }
     fputc('\n', f);
-    bool ok = !ferror(f);
-    int err = errno;
-    if (fclose(f) != 0 && ok)
-        ok = false, err = errno;
-    if (ok && rename(tmp, path) != 0)
-        ok = false, err = errno;
-    if (!ok) {
-        unlink(tmp);
-        pfx_diag_error(d, "cannot write depfile '%s': %s", path, strerror(err ? err : EIO));
-    }
-    return ok;
+    if (ferror(f))
+        pfx_atomic_failed(a, errno);
+    return pfx_atomic_commit(a, true, d);
 }

@@ -6,6 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+static pfx_effect *load_source(pfx_loaded *l, const char *path, char *buf, size_t len,
+                               const pfx_compile_options *opt);
+
 pfx_effect *pfx_load(pfx_loaded *l, const char *path, const pfx_compile_options *opt) {
     memset(l, 0, sizeof *l);
     pfx_diags_init(&l->diags, path, NULL, 0);
@@ -37,13 +40,39 @@ pfx_effect *pfx_load(pfx_loaded *l, const char *path, const pfx_compile_options 
         if (got == 0)
             break;
     }
-    bool read_error = ferror(f);
+    int read_errno = ferror(f) ? errno : 0;
     fclose(f);
-    if (!buf || read_error) {
-        pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0, "cannot read '%s'", path);
+    if (!buf || read_errno) {
+        if (read_errno)
+            pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0, "cannot read '%s': %s", path,
+                         strerror(read_errno));
+        else
+            pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0, "cannot read '%s': out of memory",
+                         path);
         free(buf);
         return NULL;
     }
+    return load_source(l, path, buf, len, opt);
+}
+
+pfx_effect *pfx_load_bytes(pfx_loaded *l, const char *path, const void *bytes, size_t len,
+                           const pfx_compile_options *opt) {
+    memset(l, 0, sizeof *l);
+    pfx_diags_init(&l->diags, path, NULL, 0);
+    char *buf = malloc(len + 1);
+    if (!buf) {
+        pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0, "cannot read '%s': out of memory", path);
+        return NULL;
+    }
+    if (len)
+        memcpy(buf, bytes, len);
+    return load_source(l, path, buf, len, opt);
+}
+
+/* The checks and stages after reading: buf (malloc'd, len bytes, room for
+ * one more) becomes l->source. */
+static pfx_effect *load_source(pfx_loaded *l, const char *path, char *buf, size_t len,
+                               const pfx_compile_options *opt) {
     buf[len] = 0;
     l->source = buf;
     l->source_len = len;

@@ -19,6 +19,11 @@ typedef struct pfx_loaded {
 /* Loads path into l. Returns the effect or NULL (errors in l->diags; an I/O
  * failure is an error without position). Free with pfx_loaded_free. */
 pfx_effect *pfx_load(pfx_loaded *l, const char *path, const pfx_compile_options *opt);
+/* The same from bytes in memory (a fuzzer's input, a test's text): path
+ * only names them in messages and anchors relative mesh paths. The bytes
+ * are copied; the caller keeps its own. */
+pfx_effect *pfx_load_bytes(pfx_loaded *l, const char *path, const void *bytes, size_t len,
+                           const pfx_compile_options *opt);
 void pfx_loaded_free(pfx_loaded *l);
 
 #endif

@@ -12,6 +12,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "output/atomic_file.h"
+
 #define MANIFEST_FORMAT 1
 
 struct pfx_manifest {
@@ -150,27 +152,13 @@ const char *pfx_manifest_output(const pfx_manifest *m, size_t i, const char **sh
 bool pfx_manifest_write(pfx_manifest *m, const char *path, pfx_diags *d) {
     if (!member(m, "bake_key"))
         pfx_manifest_key(m);
-    char tmp[4200];
-    const char *slash = strrchr(path, '/');
-    int dir = slash ? (int)(slash - path + 1) : 0;
-    snprintf(tmp, sizeof tmp, "%.*s.%s.tmp-%ld", dir, path, path + dir, (long)getpid());
-    FILE *f = fopen(tmp, "wx");
-    if (!f) {
-        pfx_diag_error(d, "cannot write '%s': %s", path, strerror(errno));
+    pfx_atomic_file *a = pfx_atomic_open(path, d);
+    if (!a)
         return false;
-    }
-    bool ok =
-        json_dumpf(m->root, f, JSON_INDENT(2) | JSON_PRESERVE_ORDER) == 0 && fputc('\n', f) != EOF;
-    int err = errno;
-    if (fclose(f) != 0 && ok)
-        ok = false, err = errno;
-    if (ok && rename(tmp, path) != 0)
-        ok = false, err = errno;
-    if (!ok) {
-        unlink(tmp);
-        pfx_diag_error(d, "cannot write '%s': %s", path, strerror(err ? err : EIO));
-    }
-    return ok;
+    FILE *f = pfx_atomic_stream(a);
+    if (json_dumpf(m->root, f, JSON_INDENT(2) | JSON_PRESERVE_ORDER) != 0 || fputc('\n', f) == EOF)
+        pfx_atomic_failed(a, errno);
+    return pfx_atomic_commit(a, true, d);
 }
 
 pfx_manifest *pfx_manifest_read(const char *path) {

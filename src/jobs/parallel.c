@@ -6,6 +6,7 @@
 
 #include <pthread.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include "jobs/slice.h"
 
@@ -43,9 +44,17 @@ bool pfx_render_job_run_parallel(pfx_render_job *job, pfx_renderer_kind kind, in
         pfx_diag_error(d, "out of memory");
         return false;
     }
+    /* The PNG encoders (render_job.h's threads): the cores shared among the
+     * chunks, rather than every chunk starting one per core. */
+    int encoders = job->threads;
+    if (encoders <= 0) {
+        long cores = sysconf(_SC_NPROCESSORS_ONLN);
+        encoders = cores > threads ? (int)(cores / threads) : 1;
+    }
     for (int i = 0; i < threads; i++) {
         chunk *c = &cs[i];
         c->job = *job;
+        c->job.threads = encoders;
         c->job.progress = false;
         c->job.renderer = NULL;
         c->kind = kind;

@@ -4,6 +4,7 @@
 
 #include <stdio.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include "output/png_write.h"
 #include "render/sprites.h"
@@ -14,6 +15,53 @@ static bool frame_path(const pfx_render_job *job, long frame, char *out, size_t 
     return n > 0 && (size_t)n < size;
 }
 
+/* One frame's pixels. Without motion blur: the state at the frame's time,
+ * drawn. With it: `samples` states at fixed times t_k = t + k / (samples -
+ * 1) x shutter / fps (k = 0 .. samples - 1; the shutter opens at the
+ * frame's time), each drawn with weight 1 / samples and summed in that
+ * order, so a moving particle leaves a streak |v| shutter / fps long and
+ * its summed brightness is kept. The times depend only on the frame, so
+ * slices and reruns give the same bytes. Returns the sprites drawn at the
+ * frame's own time, or -1 on failure (reported into d). */
+static long draw_frame(pfx_render_job *job, long f, const pfx_render_settings *s, bool sort,
+                       uint8_t *pixels, pfx_diags *d) {
+    const pfx_effect *e = job->effect;
+    const pfx_sim *state = pfx_sim_frame(job->sim, job->view, f);
+    if (job->sim->failed || job->view->failed)
+        return -1; /* the sims reported into d */
+    size_t n = pfx_sprites_build(state, job->sprites);
+    pfx_ribbons ribbons = pfx_ribbons_build(job->ribbons, state);
+    if (e->blur_samples <= 1)
+        return pfx_renderer_draw_frame(job->renderer, &e->camera, s, job->sprites, n, sort, ribbons,
+                                       pixels, d)
+                   ? (long)n
+                   : -1;
+    const int samples = e->blur_samples;
+    const float weight = 1.0f / (float)samples;
+    const double t0 = pfx_sim_frame_time(e, f), open = e->shutter / e->fps;
+    if (!pfx_renderer_blur_begin(job->renderer, d))
+        return -1;
+    for (int k = 0; k < samples; k++) {
+        if (k > 0) {
+            double t = t0 + open * k / (samples - 1);
+            pfx_sim_run_to(job->sim, t);
+            pfx_sim_view_at(job->sim, job->view, t);
+            if (job->sim->failed || job->view->failed)
+                return -1;
+            size_t m = pfx_sprites_build(job->view, job->sprites);
+            pfx_ribbons sub = pfx_ribbons_build(job->ribbons, job->view);
+            if (!pfx_renderer_blur_add(job->renderer, &e->camera, s, job->sprites, m, sort, sub,
+                                       weight, d))
+                return -1;
+        } else if (!pfx_renderer_blur_add(job->renderer, &e->camera, s, job->sprites, n, sort,
+                                          ribbons, weight, d)) {
+            return -1;
+        }
+    }
+    pfx_renderer_blur_resolve(job->renderer, s, pixels);
+    return (long)n;
+}
+
 bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
     const pfx_effect *e = job->effect;
     job->frames_done = 0;
@@ -22,25 +70,38 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
     job->sim = pfx_sim_create(e, d);
     job->view = pfx_sim_create(e, d);
     job->sprites = malloc((pfx_sprites_capacity(e) + 1) * sizeof *job->sprites);
-    if (!job->sim || !job->view || !job->sprites) {
+    job->ribbons = pfx_ribbons_create(e);
+    if (!job->sim || !job->view || !job->sprites || !job->ribbons) {
         pfx_diag_error(d, "out of memory for %zu particles", pfx_sprites_capacity(e));
         return false;
     }
-    pfx_png_queue *q = pfx_png_queue_create(e->width, e->height);
+    int encoders = job->threads;
+    if (encoders <= 0) {
+        long cores = sysconf(_SC_NPROCESSORS_ONLN);
+        encoders =
+            cores > 0 ? (int)(cores < PFX_PNG_MAX_ENCODERS ? cores : PFX_PNG_MAX_ENCODERS) : 1;
+    }
+    pfx_png_queue *q = pfx_png_queue_create(e->width, e->height, encoders);
     if (!q) {
         pfx_diag_error(d, "cannot start the PNG writer");
         return false;
     }
+    pfx_material *materials = malloc((e->emitter_count + 1) * sizeof *materials);
+    if (!materials) {
+        pfx_diag_error(d, "out of memory for %zu materials", e->emitter_count);
+        pfx_png_queue_finish(q, NULL);
+        return false;
+    }
+    pfx_sprites_materials(e, materials);
+    bool failed = !pfx_renderer_set_materials(job->renderer, materials, e->emitter_count, d);
+    free(materials);
     const bool sort = pfx_sprites_need_sort(e);
-    bool failed = false; /* here, not in the writer */
+    const pfx_render_settings settings = pfx_sprites_settings(e);
     char name[4600];
-    for (long f = job->first; f <= job->last && !pfx_png_queue_failed(q); f++) {
-        const pfx_sim *state = pfx_sim_frame(job->sim, job->view, f);
-        failed = job->sim->failed || job->view->failed; /* the sims reported into d */
-        size_t n = failed ? 0 : pfx_sprites_build(state, job->sprites);
-        uint8_t *pixels = pfx_png_queue_buffer(q);
-        failed = failed || !pfx_renderer_draw(job->renderer, &e->camera, e->background,
-                                              job->sprites, n, sort, pixels, d);
+    for (long f = job->first; !failed && f <= job->last && !pfx_png_queue_failed(q); f++) {
+        long drawn = draw_frame(job, f, &settings, sort, pfx_png_queue_buffer(q), d);
+        failed = drawn < 0;
+        size_t n = failed ? 0 : (size_t)drawn;
         if (!failed && !frame_path(job, f, name, sizeof name)) {
             pfx_diag_error(d, "output path '%s/%s_%04ld.png' is too long", job->dir, job->stem, f);
             failed = true;
@@ -67,6 +128,8 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
 
 void pfx_render_job_free(pfx_render_job *job) {
     free(job->sprites);
+    pfx_ribbons_destroy(job->ribbons);
+    job->ribbons = NULL;
     pfx_sim_destroy(job->view);
     pfx_sim_destroy(job->sim);
     job->sprites = NULL;

@@ -23,6 +23,7 @@ typedef struct pfx_render_job {
      * the thread running the job (see jobs/progress.h), or NULL. */
     void (*on_frame)(void *ctx, long frame, size_t particles);
     void *on_frame_ctx;
+    int threads; /* PNG encoder threads; 0: one per online core */
 
     /* Out, valid after pfx_render_job_run until pfx_render_job_free. */
     long frames_done;     /* frames drawn and handed to the writer */
@@ -31,10 +32,11 @@ typedef struct pfx_render_job {
     size_t sprite_count;
     pfx_sim *sim; /* the simulation at the last frame (per-emitter drop counts) */
     pfx_sim *view;
+    struct pfx_ribbon_buffer *ribbons; /* the frame's ribbon triangles */
 } pfx_render_job;
 
-/* Simulates, draws and writes every frame of the job, the PNG encoder
- * overlapping the next frame's work. Each file is whole or absent. Returns
+/* Simulates, draws and writes every frame of the job, a pool of PNG
+ * encoders overlapping the next frames' work. Each file is whole or absent. Returns
  * false with the failure in d (which emitter, particle and time when the
  * simulation blew up; the path and errno when a file cannot be written);
  * frames written before a failure stay. */

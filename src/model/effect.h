@@ -21,7 +21,8 @@
 #define PFX_DEGREE (3.14159265358979323846 / 180)
 
 #define PFX_FORMAT_VERSION 1
-#define PFX_MAX_FORCES 32 /* an emitter's force set is a 32-bit mask */
+#define PFX_MAX_FORCES 32     /* an emitter's force set is a 32-bit mask */
+#define PFX_MAX_EMITTERS 1024 /* checked before any is compiled */
 #define PFX_GRADIENT_LUT 256
 #define PFX_DEFAULT_MAX_PARTICLES 1000000
 
@@ -115,6 +116,70 @@ typedef enum {
     PFX_SPRITE_KINDS(PFX_SPRITE_ENUM)
 #undef PFX_SPRITE_ENUM
 } pfx_sprite_kind;
+
+typedef enum {
+#define PFX_DRAW_ENUM(e, name) PFX_DRAW_##e,
+    PFX_DRAW_KINDS(PFX_DRAW_ENUM)
+#undef PFX_DRAW_ENUM
+} pfx_draw;
+
+typedef enum {
+#define PFX_ALIGN_ENUM(e, name) PFX_ALIGN_##e,
+    PFX_ALIGN_KINDS(PFX_ALIGN_ENUM)
+#undef PFX_ALIGN_ENUM
+} pfx_align;
+
+typedef enum {
+#define PFX_TONEMAP_ENUM(e, name) PFX_TONEMAP_##e,
+    PFX_TONEMAP_KINDS(PFX_TONEMAP_ENUM)
+#undef PFX_TONEMAP_ENUM
+} pfx_tonemap;
+
+typedef enum {
+#define PFX_ALPHA_ENUM(e, name) PFX_ALPHA_##e,
+    PFX_ALPHA_MODES(PFX_ALPHA_ENUM)
+#undef PFX_ALPHA_ENUM
+} pfx_alpha_mode;
+
+/* A texture read when the effect is compiled: premultiplied RGBA, rows top
+ * first, 8 or 16 bits a channel as the file had them. */
+typedef struct pfx_image {
+    const char *path; /* as written, relative to the effect file */
+    int width, height;
+    int bits;     /* 8 or 16 */
+    void *pixels; /* width * height * 4 uint8_t or uint16_t */
+} pfx_image;
+
+/* A texture sheet played over time: cells of a cols x rows grid read row
+ * by row from the top left. frames 0: no flipbook. */
+typedef struct pfx_flipbook {
+    int cols, rows, frames;
+    double fps;        /* cells per second of age; 0: the sheet plays once over life */
+    bool random_start; /* each particle starts at its own cell */
+    bool blend;        /* cross-fade between consecutive cells */
+} pfx_flipbook;
+
+/* How an emitter's particles are drawn beyond size and colour: the sprite
+ * (built-in, or a texture), flipbook, orientation, lighting, intensity. The
+ * simulation never reads it. */
+typedef struct pfx_look {
+    /* RIBBON: the emitter's particles are the points of strips, one per
+     * parent whose trail made them, in birth order; sprite is the strip's
+     * cross-section (round: soft, square: flat). */
+    pfx_draw draw;
+    pfx_sprite_kind sprite;
+    const pfx_image *texture;    /* NULL: the built-in sprite */
+    const pfx_image *normal_map; /* NULL: a spherical normal per sprite */
+    pfx_flipbook flipbook;
+    pfx_align align;
+    double axis[3];        /* AXIS: the world axis; WORLD: the plane's normal (unit) */
+    double stretch_length; /* VELOCITY: length = size * stretch_length + |v| * stretch_speed */
+    double stretch_speed;  /* seconds */
+    bool lit;
+    bool intensity_curve;                  /* intensity over life from intensity_lut */
+    float intensity;                       /* else this constant */
+    float intensity_lut[PFX_GRADIENT_LUT]; /* multiplies the colour, not alpha */
+} pfx_look;
 
 /* Sub-emitters: an event of a parent particle that makes particles of
  * another (or the same) emitter at the particle's place and time. */
@@ -225,7 +290,7 @@ typedef struct pfx_emitter {
     pfx_value spin;  /* radians per second (constant over life unless spin_curve) */
     bool spin_curve; /* spin over life: angle = angle0 + lifetime * spin_turn_lut[u] */
     float spin_turn_lut[PFX_GRADIENT_LUT]; /* integral of spin over normalised age */
-    pfx_sprite_kind sprite;
+    pfx_look look;
     bool alpha_curve; /* alpha_lut multiplies the colour's alpha */
     float alpha_lut[PFX_GRADIENT_LUT];
     uint32_t force_mask; /* bit i: feels effect->forces[i] */
@@ -246,6 +311,7 @@ typedef struct pfx_emitter {
     double spawned_peak;   /* worst-case of those alive at once (pool sizing) */
     bool keeps_generation; /* in a cycle of sub-emitters: a generation column */
     bool keeps_parent_color, keeps_size_scale; /* some parent passes colour / size */
+    uint32_t ribbon_parent; /* draw: ribbon: the emitter whose trail lays its points */
     pfx_blend blend;
     pfx_kill_rules *kill;                 /* kill rules and bounds; NULL: age alone kills */
     float alpha_at_age[PFX_GRADIENT_LUT]; /* alpha over life, for alpha_below */
@@ -292,6 +358,16 @@ typedef struct pfx_effect {
     pfx_camera camera;
     int width, height;
     float background[4]; /* straight RGBA 0..1 */
+    double exposure;     /* EV: colours times 2^exposure before the tone curve */
+    pfx_tonemap tonemap;
+    pfx_alpha_mode alpha_mode;
+    bool dither;          /* before 8-bit quantisation */
+    double shutter;       /* motion blur: open fraction of the frame interval (0: none) */
+    int blur_samples;     /* sub-frame times per frame, >= 1 */
+    bool has_light;       /* `light:` given (lit emitters need it) */
+    double light_dir[3];  /* unit: the direction the light travels */
+    float light_color[3]; /* linear, may exceed 1 */
+    float light_ambient[3];
     size_t force_count;
     pfx_force *forces;
     size_t deflector_count;

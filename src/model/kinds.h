@@ -93,7 +93,34 @@
     X(ALPHA, "alpha")
 #define PFX_SPRITE_KINDS(X)                                                                        \
     X(ROUND, "round")                                                                              \
-    X(SQUARE, "square")
+    X(SQUARE, "square")                                                                            \
+    X(SPARK, "spark")                                                                              \
+    X(SMOKE, "smoke")                                                                              \
+    X(FLARE, "flare")                                                                              \
+    X(RING, "ring")
+
+/* What an emitter draws: a sprite per particle, or (for an emitter fed by a
+ * `trail`) one connected strip per parent through its trail particles. */
+#define PFX_DRAW_KINDS(X)                                                                          \
+    X(SPRITE, "sprite")                                                                            \
+    X(RIBBON, "ribbon")
+
+/* How a sprite faces: the camera, its screen-space velocity (stretched), a
+ * fixed world axis it turns about (axial billboard), or a fixed plane. */
+#define PFX_ALIGN_KINDS(X)                                                                         \
+    X(CAMERA, "camera")                                                                            \
+    X(VELOCITY, "velocity")                                                                        \
+    X(AXIS, "axis")                                                                                \
+    X(WORLD, "world")
+
+/* The output image: tone curves and alpha conventions. */
+#define PFX_TONEMAP_KINDS(X)                                                                       \
+    X(NONE, "none")                                                                                \
+    X(REINHARD, "reinhard")                                                                        \
+    X(ACES, "aces")
+#define PFX_ALPHA_MODES(X)                                                                         \
+    X(STRAIGHT, "straight")                                                                        \
+    X(PREMULTIPLIED, "premultiplied")
 
 /* Attractor falloffs, direction modes (beside a vector), the frames a
  * force's vectors may be given in, region shapes. */
@@ -137,6 +164,10 @@ extern const char *const pfx_bounds_mode_names[];
 extern const char *const pfx_spawn_event_names[];
 extern const char *const pfx_blend_names[];
 extern const char *const pfx_sprite_names[];
+extern const char *const pfx_draw_names[];
+extern const char *const pfx_align_names[];
+extern const char *const pfx_tonemap_names[];
+extern const char *const pfx_alpha_mode_names[];
 extern const char *const pfx_falloff_names[];
 extern const char *const pfx_direction_mode_names[];
 extern const char *const pfx_force_space_names[];

@@ -14,7 +14,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
+
+#include "output/atomic_file.h"
 
 #define BLEED_PASSES 16
 
@@ -197,21 +198,13 @@ bool pfx_atlas_write_json(const char *path, const pfx_atlas_layout *l, const cha
         pfx_diag_error(d, "cannot write '%s': out of memory", path);
         return false;
     }
-    char tmp[4200];
-    const char *slash = strrchr(path, '/');
-    int dir = slash ? (int)(slash - path + 1) : 0;
-    snprintf(tmp, sizeof tmp, "%.*s.%s.tmp-%ld", dir, path, path + dir, (long)getpid());
-    FILE *f = fopen(tmp, "wx");
-    bool ok = f && json_dumpf(root, f, JSON_INDENT(2) | JSON_PRESERVE_ORDER) == 0 &&
-              fputc('\n', f) != EOF;
-    int err = errno;
-    if (f && fclose(f) != 0 && ok)
-        ok = false, err = errno;
-    if (ok && rename(tmp, path) != 0)
-        ok = false, err = errno;
-    if (!ok) {
-        unlink(tmp);
-        pfx_diag_error(d, "cannot write '%s': %s", path, strerror(err ? err : EIO));
+    pfx_atomic_file *a = pfx_atomic_open(path, d);
+    bool ok = false;
+    if (a) {
+        FILE *f = pfx_atomic_stream(a);
+        if (json_dumpf(root, f, JSON_INDENT(2) | JSON_PRESERVE_ORDER) != 0 || fputc('\n', f) == EOF)
+            pfx_atomic_failed(a, errno);
+        ok = pfx_atomic_commit(a, true, d);
     }
     json_decref(root);
     return ok;

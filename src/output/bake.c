@@ -1,5 +1,5 @@
-/* The particle cache of bake.h: where it goes (a temporary file renamed
- * into place, or standard output), the order of its rows (by emitter, then
+/* The particle cache of bake.h: where it goes (an atomic file,
+ * output/atomic_file.h, or standard output), the order of its rows (by emitter, then
  * birth id: the pool's order is an artefact of swap-remove), and which
  * format writes them. The formats themselves are bake_csv.c and
  * bake_ply.c. */
@@ -8,9 +8,8 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
-#include "base/cleanup.h"
+#include "output/atomic_file.h"
 #include "output/bake_rows.h"
 #include "sim/appearance.h"
 
@@ -42,33 +41,27 @@ typedef struct id_index {
 struct pfx_bake {
     pfx_bake_format format;
     const pfx_effect *effect;
-    FILE *out;        /* the destination: the temporary file, or stdout */
-    FILE *body;       /* PLY and pcache: the records, until the count is known */
-    uint64_t records; /* written to body */
-    char *path, *tmp; /* tmp NULL for stdout */
-    int watch;        /* tmp's slot in base/cleanup.h */
+    pfx_atomic_file *file; /* the destination, or NULL for stdout */
+    FILE *out;             /* file's stream, or stdout */
+    FILE *body;            /* PLY and pcache: the records, until the count is known */
+    uint64_t records;      /* written to body */
+    int error;             /* the errno of the first failed write, 0 if none */
     id_index *order;
     size_t order_cap;
 };
 
-/* "<dir>/.<name>.tmp-<pid>": hidden, in the same directory so that rename()
- * is atomic. */
-static char *temp_name(const char *path) {
-    const char *slash = strrchr(path, '/');
-    int dir_len = slash ? (int)(slash - path + 1) : 0;
-    size_t n = strlen(path) + 32;
-    char *tmp = malloc(n);
-    if (tmp)
-        snprintf(tmp, n, "%.*s.%s.tmp-%ld", dir_len, path, path + dir_len, (long)getpid());
-    return tmp;
+/* Records the first failed write with its errno; false from then on. */
+static bool write_failed(pfx_bake *b, int errnum) {
+    if (!b->error)
+        b->error = errnum ? errnum : EIO;
+    return false;
 }
 
 pfx_bake *pfx_bake_open(const char *path, pfx_bake_format format, const pfx_effect *e,
                         pfx_diags *d) {
     pfx_bake *b = calloc(1, sizeof *b);
-    if (!b || !(b->path = strdup(path))) {
+    if (!b) {
         pfx_diag_error(d, "out of memory");
-        free(b);
         return NULL;
     }
     b->format = format;
@@ -76,20 +69,15 @@ pfx_bake *pfx_bake_open(const char *path, pfx_bake_format format, const pfx_effe
     if (!strcmp(path, "-")) {
         b->out = stdout;
     } else {
-        b->tmp = temp_name(path);
-        b->watch = b->tmp ? pfx_cleanup_watch(b->tmp) : -1;
-        b->out = b->tmp ? fopen(b->tmp, "wbx") : NULL;
-        if (!b->out) {
-            pfx_diag_error(d, "cannot write '%s': %s", path, strerror(b->tmp ? errno : ENOMEM));
-            pfx_cleanup_forget(b->watch);
-            free(b->tmp);
-            free(b->path);
+        if (!(b->file = pfx_atomic_open(path, d))) {
             free(b);
             return NULL;
         }
+        b->out = pfx_atomic_stream(b->file);
     }
     if (format == PFX_BAKE_CSV) {
-        pfx_bake_csv_header(b->out);
+        if (!pfx_bake_csv_header(b->out))
+            write_failed(b, errno);
     } else if (!(b->body = tmpfile())) {
         pfx_diag_error(d, "cannot write '%s': no scratch file: %s", path, strerror(errno));
         pfx_bake_close(b, false, NULL);
@@ -114,6 +102,8 @@ static bool write_row(pfx_bake *b, const pfx_bake_row *row) {
 
 bool pfx_bake_frame(pfx_bake *b, const pfx_sim *s, long frame, double time) {
     const pfx_effect *e = s->effect;
+    if (b->error)
+        return false;
     bool ok = true;
     for (size_t i = 0; i < e->emitter_count && ok; i++) {
         const pfx_emitter *em = &e->emitters[i];
@@ -121,7 +111,7 @@ bool pfx_bake_frame(pfx_bake *b, const pfx_sim *s, long frame, double time) {
         if (p->count > b->order_cap) {
             id_index *o = realloc(b->order, p->count * sizeof *o);
             if (!o)
-                return false;
+                return write_failed(b, ENOMEM);
             b->order = o;
             b->order_cap = p->count;
         }
@@ -142,10 +132,10 @@ bool pfx_bake_frame(pfx_bake *b, const pfx_sim *s, long frame, double time) {
                                 .lifetime = p->lifetime[j],
                                 .size = pfx_particle_size(em, p, j)};
             pfx_particle_color(em, p, j, row.color);
-            ok = write_row(b, &row);
+            ok = write_row(b, &row) || write_failed(b, errno);
         }
     }
-    return ok && !ferror(b->out);
+    return ok && (!ferror(b->out) || write_failed(b, errno));
 }
 
 /* PLY and pcache: the header, then the records copied from the scratch
@@ -164,31 +154,27 @@ static bool finish_binary(pfx_bake *b) {
 }
 
 bool pfx_bake_close(pfx_bake *b, bool commit, pfx_diags *d) {
-    bool ok = !ferror(b->out);
-    if (commit && ok && b->body)
-        ok = finish_binary(b);
+    if (commit && !b->error && b->body && !finish_binary(b))
+        write_failed(b, errno);
     if (b->body)
         fclose(b->body);
-    int err = 0;
-    if (b->out == stdout) {
-        if (fflush(stdout) != 0 || ferror(stdout))
-            ok = false, err = errno;
+    /* A failed write is reported (with its path and errno) even when the
+     * caller gives up for that reason; any other reason is the caller's. */
+    bool ok = true;
+    if (!b->file) {
+        if (commit && !b->error && (fflush(stdout) != 0 || ferror(stdout)))
+            write_failed(b, errno);
+        if (b->error && d)
+            pfx_diag_error(d, "cannot write 'standard output': %s", strerror(b->error));
+        ok = !b->error;
+    } else if (commit || b->error) {
+        if (b->error)
+            pfx_atomic_failed(b->file, b->error);
+        ok = pfx_atomic_commit(b->file, true, d) && !b->error;
     } else {
-        if (fclose(b->out) != 0)
-            ok = false;
-        err = errno;
-        if (commit && ok && rename(b->tmp, b->path) != 0)
-            ok = false, err = errno;
-        if (!commit || !ok)
-            unlink(b->tmp);
-        pfx_cleanup_forget(b->watch);
+        pfx_atomic_abort(b->file);
     }
-    if (commit && !ok)
-        pfx_diag_error(d, "cannot write '%s': %s", b->tmp ? b->path : "standard output",
-                       strerror(err ? err : EIO));
     free(b->order);
-    free(b->path);
-    free(b->tmp);
     free(b);
     return ok || !commit;
 }

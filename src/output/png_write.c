@@ -8,20 +8,17 @@
 
 #include "output/png_write.h"
 
-#include "base/cleanup.h"
-
 #include "base/diag.h"
+#include "output/atomic_file.h"
 
 #include <errno.h>
 #include <png.h>
 #include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 #include <zlib.h>
 
 /* Compression, measured on a 512x512 frame of 150 soft particles, 78% fully
@@ -74,13 +71,6 @@ static void pfx_png_on_write(png_structp png, png_bytep data, size_t length) {
 /* Nothing to do: pfx_png_write flushes once, after the last row. */
 static void pfx_png_on_flush(png_structp png) { (void)png; }
 
-/* Thread-safe strerror: the queue writes from its own thread. */
-static const char *pfx_errno_text(int errnum, char *buf, size_t size) {
-    if (strerror_r(errnum, buf, size) != 0)
-        snprintf(buf, size, "error %d", errnum);
-    return buf;
-}
-
 /* Encodes into ctx->file. Nothing assigned before setjmp is modified after
  * it, so no local needs to be volatile. */
 static bool pfx_png_encode(pfx_png_ctx *ctx, const uint8_t *rgba, int width, int height) {
@@ -116,26 +106,10 @@ static bool pfx_png_encode(pfx_png_ctx *ctx, const uint8_t *rgba, int width, int
     return true;
 }
 
-/* "<dir>/.<name>.tmp-<pid>-<n>": same directory so rename() is atomic; the
- * counter keeps two threads of one process writing the same path apart. */
-static char *pfx_temp_name(const char *path) {
-    static atomic_uint counter;
-    unsigned n = atomic_fetch_add(&counter, 1u);
-    const char *slash = strrchr(path, '/');
-    int dir_len = slash != NULL ? (int)(slash - path + 1) : 0;
-    const char *name = path + dir_len;
-    long pid = (long)getpid();
-    int len = snprintf(NULL, 0, "%.*s.%s.tmp-%ld-%u", dir_len, path, name, pid, n);
-    if (len < 0)
-        return NULL;
-    char *temp = malloc((size_t)len + 1);
-    if (temp != NULL)
-        snprintf(temp, (size_t)len + 1, "%.*s.%s.tmp-%ld-%u", dir_len, path, name, pid, n);
-    return temp;
-}
-
-bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height, pfx_diags *d) {
-    char why[128];
+/* Encodes into an atomic file (output/atomic_file.h): whole or absent.
+ * sync_dir: fsync the directory after the rename. */
+static bool png_write(const char *path, const uint8_t *rgba, int width, int height, bool sync_dir,
+                      pfx_diags *d) {
     if (path == NULL || path[0] == '\0' || path[strlen(path) - 1] == '/') {
         pfx_diag_error(d, "cannot write '%s': not a file name", path ? path : "");
         return false;
@@ -145,54 +119,24 @@ bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height,
         pfx_diag_error(d, "cannot write '%s': invalid image size %dx%d", path, width, height);
         return false;
     }
-    char *temp = pfx_temp_name(path);
-    if (temp == NULL) {
-        pfx_diag_error(d, "cannot write '%s': out of memory", path);
+    pfx_atomic_file *a = pfx_atomic_open(path, d);
+    if (a == NULL)
         return false;
-    }
-    /* Watched before it exists, so that a signal at any moment after
-     * finds it (base/cleanup.h). */
-    int watch = pfx_cleanup_watch(temp);
-    /* "x": fail rather than follow or truncate something already there. */
-    FILE *file = fopen(temp, "wbx");
-    if (file == NULL) {
-        pfx_cleanup_forget(watch);
-        pfx_diag_error(d, "cannot write '%s': %s", path, pfx_errno_text(errno, why, sizeof why));
-        free(temp);
-        return false;
-    }
-    pfx_png_ctx ctx = {.message = "", .write_errno = 0, .file = file};
-    bool ok = pfx_png_encode(&ctx, rgba, width, height);
-    if (!ok) {
-        if (ctx.write_errno != 0)
-            pfx_diag_error(d, "cannot write '%s': %s", path,
-                           pfx_errno_text(ctx.write_errno, why, sizeof why));
-        else
-            pfx_diag_error(d, "cannot encode '%s': %s", path, ctx.message);
-        fclose(file);
-    } else {
-        /* Buffered data can fail to land only at fflush or fclose. */
-        int failed_errno = 0;
-        if (fflush(file) != 0 || ferror(file))
-            failed_errno = errno != 0 ? errno : EIO;
-        if (fclose(file) != 0 && failed_errno == 0)
-            failed_errno = errno != 0 ? errno : EIO;
-        if (failed_errno != 0) {
-            pfx_diag_error(d, "cannot write '%s': %s", path,
-                           pfx_errno_text(failed_errno, why, sizeof why));
-            ok = false;
-        } else if (rename(temp, path) != 0) {
-            /* The temporary's name means nothing to the user; the path does. */
-            pfx_diag_error(d, "cannot write '%s': %s", path,
-                           pfx_errno_text(errno, why, sizeof why));
-            ok = false;
+    pfx_png_ctx ctx = {.message = "", .write_errno = 0, .file = pfx_atomic_stream(a)};
+    if (!pfx_png_encode(&ctx, rgba, width, height)) {
+        if (ctx.write_errno != 0) {
+            pfx_atomic_failed(a, ctx.write_errno);
+            return pfx_atomic_commit(a, false, d); /* reports the errno, removes the temporary */
         }
+        pfx_diag_error(d, "cannot encode '%s': %s", path, ctx.message);
+        pfx_atomic_abort(a);
+        return false;
     }
-    if (!ok)
-        unlink(temp);
-    pfx_cleanup_forget(watch);
-    free(temp);
-    return ok;
+    return pfx_atomic_commit(a, sync_dir, d);
+}
+
+bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height, pfx_diags *d) {
+    return png_write(path, rgba, width, height, true, d);
 }
 
 /* Applies the transforms that turn any PNG into 8-bit RGBA rows. */
@@ -267,26 +211,48 @@ uint8_t *pfx_png_read(const char *path, int *width, int *height) {
     return result;
 }
 
-/* Two slots used as a ring: slots head .. head+pending-1 (mod 2) are queued
- * or being written, in submission order; the caller renders into slot
- * (head + pending) % 2, which is free whenever pending < 2. The writer reads
- * a slot's pixels without the lock: the caller cannot get that slot back
- * until the writer has decremented pending under the lock. */
+/* A pool of encoder threads over a ring of 2 x threads slots. The caller
+ * fills slot `tail` (free whenever slot[tail].state is FREE) and submits it;
+ * each encoder takes the oldest READY slot, encodes and writes it without
+ * the lock, and frees it. The caller cannot get a slot back until its
+ * encoder has set it FREE under the lock, so pixels are never shared. Each
+ * frame is its own file, so frames may finish in any order and the bytes
+ * of every file are the same for any number of encoders. */
+enum slot_state { SLOT_FREE, SLOT_FILLING, SLOT_READY, SLOT_ENCODING };
+
+typedef struct png_slot {
+    uint8_t *pixels;
+    char *path;
+    long seq; /* submission number: encoders take the lowest READY */
+    enum slot_state state;
+} png_slot;
+
 struct pfx_png_queue {
     int width, height;
-    uint8_t *pixels[2];
-    char *path[2];
+    int threads, slot_count;
+    png_slot *slots;
     pthread_mutex_t lock;
-    pthread_cond_t work_ready; /* the writer waits: pending > 0 or stop */
-    pthread_cond_t slot_free;  /* the caller waits: pending < 2 */
-    int head;
-    int pending;
-    bool caller_has_slot; /* pfx_png_queue_buffer called, submit not yet */
+    pthread_cond_t work_ready; /* encoders wait: a READY slot or stop */
+    pthread_cond_t slot_free;  /* the caller waits: slot tail FREE; finish: all FREE */
+    int tail;                  /* the next slot the caller fills */
+    long submitted;
     bool stop;
     bool failed;
+    char *written;     /* a frame written (under the lock), whose
+                          directory finish syncs once */
     pfx_diags failure; /* the first failure, under the lock; handed over by finish */
-    pthread_t thread;
+    pthread_t *thread;
+    int started;
 };
+
+/* The oldest READY slot, or -1. Called under the lock. */
+static int oldest_ready(const pfx_png_queue *q) {
+    int best = -1;
+    for (int i = 0; i < q->slot_count; i++)
+        if (q->slots[i].state == SLOT_READY && (best < 0 || q->slots[i].seq < q->slots[best].seq))
+            best = i;
+    return best;
+}
 
 static void *pfx_png_queue_main(void *arg) {
     pfx_png_queue *q = arg;
@@ -294,57 +260,98 @@ static void *pfx_png_queue_main(void *arg) {
     pfx_diags_init_runtime(&error);
     pthread_mutex_lock(&q->lock);
     for (;;) {
-        while (q->pending == 0 && !q->stop)
+        int slot;
+        while ((slot = oldest_ready(q)) < 0 && !q->stop)
             pthread_cond_wait(&q->work_ready, &q->lock);
-        if (q->pending == 0)
-            break; /* stop, and everything submitted is written */
-        int slot = q->head;
-        char *path = q->path[slot];
-        q->path[slot] = NULL;
+        if (slot < 0)
+            break; /* stop, and everything submitted is taken */
+        png_slot *sl = &q->slots[slot];
+        sl->state = SLOT_ENCODING;
+        char *path = sl->path;
+        sl->path = NULL;
         bool skip = q->failed || path == NULL;
         pthread_mutex_unlock(&q->lock);
 
         /* After the first error, later frames are dropped, not written. */
-        bool ok = skip || pfx_png_write(path, q->pixels[slot], q->width, q->height, &error);
-        free(path);
+        bool ok = skip || png_write(path, sl->pixels, q->width, q->height, false, &error);
 
         pthread_mutex_lock(&q->lock);
+        if (ok && !skip) {
+            free(q->written);
+            q->written = path;
+        } else {
+            free(path);
+        }
         if (!ok && !q->failed) {
             q->failed = true;
             pfx_diags_append(&q->failure, &error);
         }
         pfx_diags_free(&error);
-        q->head = (q->head + 1) % 2;
-        q->pending--;
-        pthread_cond_signal(&q->slot_free);
+        sl->state = SLOT_FREE;
+        pthread_cond_broadcast(&q->slot_free);
     }
     pthread_mutex_unlock(&q->lock);
     return NULL;
 }
 
-pfx_png_queue *pfx_png_queue_create(int width, int height) {
+static void queue_free(pfx_png_queue *q) {
+    for (int i = 0; q->slots && i < q->slot_count; i++) {
+        free(q->slots[i].pixels);
+        free(q->slots[i].path);
+    }
+    free(q->slots);
+    free(q->thread);
+    free(q->written);
+    free(q);
+}
+
+/* Stops and joins the encoders started so far. */
+static void stop_encoders(pfx_png_queue *q) {
+    pthread_mutex_lock(&q->lock);
+    q->stop = true;
+    pthread_cond_broadcast(&q->work_ready);
+    pthread_mutex_unlock(&q->lock);
+    for (int i = 0; i < q->started; i++)
+        pthread_join(q->thread[i], NULL);
+    q->started = 0;
+}
+
+pfx_png_queue *pfx_png_queue_create(int width, int height, int threads) {
     if (width <= 0 || height <= 0 || width > 1000000 || height > 1000000 ||
         (size_t)width > SIZE_MAX / 4 / (size_t)height)
         return NULL;
+    if (threads < 1)
+        threads = 1;
+    if (threads > PFX_PNG_MAX_ENCODERS)
+        threads = PFX_PNG_MAX_ENCODERS;
     pfx_png_queue *q = calloc(1, sizeof *q);
     if (q == NULL)
         return NULL;
     q->width = width;
     q->height = height;
+    q->threads = threads;
+    q->slot_count = 2 * threads;
+    q->slots = calloc((size_t)q->slot_count, sizeof *q->slots);
+    q->thread = calloc((size_t)threads, sizeof *q->thread);
+    bool ok = q->slots && q->thread;
     size_t size = (size_t)width * (size_t)height * 4;
-    q->pixels[0] = malloc(size);
-    q->pixels[1] = malloc(size);
-    if (q->pixels[0] == NULL || q->pixels[1] == NULL)
-        goto fail_pixels;
-    if (pthread_mutex_init(&q->lock, NULL) != 0)
-        goto fail_pixels;
+    for (int i = 0; ok && i < q->slot_count; i++)
+        ok = (q->slots[i].pixels = malloc(size)) != NULL;
+    if (!ok || pthread_mutex_init(&q->lock, NULL) != 0) {
+        queue_free(q);
+        return NULL;
+    }
+    pfx_diags_init_runtime(&q->failure);
     if (pthread_cond_init(&q->work_ready, NULL) != 0)
         goto fail_lock;
     if (pthread_cond_init(&q->slot_free, NULL) != 0)
         goto fail_work_ready;
-    if (pthread_create(&q->thread, NULL, pfx_png_queue_main, q) != 0)
+    for (; q->started < threads; q->started++)
+        if (pthread_create(&q->thread[q->started], NULL, pfx_png_queue_main, q) != 0)
+            break;
+    if (q->started == 0)
         goto fail_slot_free;
-    return q;
+    return q; /* fewer encoders than asked for when threads ran out */
 
 fail_slot_free:
     pthread_cond_destroy(&q->slot_free);
@@ -352,28 +359,27 @@ fail_work_ready:
     pthread_cond_destroy(&q->work_ready);
 fail_lock:
     pthread_mutex_destroy(&q->lock);
-fail_pixels:
-    free(q->pixels[0]);
-    free(q->pixels[1]);
-    free(q);
+    pfx_diags_free(&q->failure);
+    queue_free(q);
     return NULL;
 }
 
 uint8_t *pfx_png_queue_buffer(pfx_png_queue *q) {
     pthread_mutex_lock(&q->lock);
-    while (q->pending == 2)
+    png_slot *sl = &q->slots[q->tail];
+    while (sl->state != SLOT_FREE && sl->state != SLOT_FILLING)
         pthread_cond_wait(&q->slot_free, &q->lock);
-    q->caller_has_slot = true;
-    uint8_t *pixels = q->pixels[(q->head + q->pending) % 2];
+    sl->state = SLOT_FILLING;
     pthread_mutex_unlock(&q->lock);
-    return pixels;
+    return sl->pixels;
 }
 
 void pfx_png_queue_submit(pfx_png_queue *q, const char *path) {
     /* Copied outside the lock; a failed copy becomes the queue's error. */
     char *copy = strdup(path);
     pthread_mutex_lock(&q->lock);
-    if (!q->caller_has_slot) {
+    png_slot *sl = &q->slots[q->tail];
+    if (sl->state != SLOT_FILLING) {
         /* Contract broken by the caller: nothing was rendered to submit. */
         if (!q->failed) {
             q->failed = true;
@@ -388,9 +394,10 @@ void pfx_png_queue_submit(pfx_png_queue *q, const char *path) {
         q->failed = true;
         pfx_diag_error(&q->failure, "cannot write '%s': out of memory", path);
     }
-    q->path[(q->head + q->pending) % 2] = copy;
-    q->pending++;
-    q->caller_has_slot = false;
+    sl->path = copy;
+    sl->seq = q->submitted++;
+    sl->state = SLOT_READY;
+    q->tail = (q->tail + 1) % q->slot_count;
     pthread_cond_signal(&q->work_ready);
     pthread_mutex_unlock(&q->lock);
 }
@@ -405,12 +412,12 @@ bool pfx_png_queue_failed(pfx_png_queue *q) {
 bool pfx_png_queue_finish(pfx_png_queue *q, pfx_diags *d) {
     if (q == NULL)
         return true;
-    pthread_mutex_lock(&q->lock);
-    q->stop = true;
-    pthread_cond_signal(&q->work_ready);
-    pthread_mutex_unlock(&q->lock);
-    pthread_join(q->thread, NULL);
+    stop_encoders(q); /* encoders drain every READY slot before they stop */
 
+    /* Each frame was synced before its rename; their names are synced
+     * here, once for the directory. */
+    if (!q->failed && q->written && !pfx_atomic_sync_dir(q->written, &q->failure))
+        q->failed = true;
     bool ok = !q->failed;
     if (d)
         pfx_diags_append(d, &q->failure);
@@ -418,10 +425,6 @@ bool pfx_png_queue_finish(pfx_png_queue *q, pfx_diags *d) {
     pthread_cond_destroy(&q->slot_free);
     pthread_cond_destroy(&q->work_ready);
     pthread_mutex_destroy(&q->lock);
-    free(q->path[0]);
-    free(q->path[1]);
-    free(q->pixels[0]);
-    free(q->pixels[1]);
-    free(q);
+    queue_free(q);
     return ok;
 }

@@ -8,9 +8,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 #include <webp/encode.h>
 #include <webp/mux.h>
+
+#include "output/atomic_file.h"
 
 struct pfx_webp {
     WebPAnimEncoder *enc;
@@ -74,20 +75,12 @@ bool pfx_webp_finish(pfx_webp *w, const char *path, long frames, bool commit, pf
         ok = false;
     }
     if (ok) {
-        char tmp[4200];
-        const char *slash = strrchr(path, '/');
-        int dir = slash ? (int)(slash - path + 1) : 0;
-        snprintf(tmp, sizeof tmp, "%.*s.%s.tmp-%ld", dir, path, path + dir, (long)getpid());
-        FILE *f = fopen(tmp, "wbx");
-        ok = f && fwrite(data.bytes, 1, data.size, f) == data.size;
-        int err = errno;
-        if (f && fclose(f) != 0 && ok)
-            ok = false, err = errno;
-        if (ok && rename(tmp, path) != 0)
-            ok = false, err = errno;
-        if (!ok) {
-            unlink(tmp);
-            pfx_diag_error(d, "cannot write '%s': %s", path, strerror(err ? err : EIO));
+        pfx_atomic_file *a = pfx_atomic_open(path, d);
+        ok = a != NULL;
+        if (a) {
+            if (fwrite(data.bytes, 1, data.size, pfx_atomic_stream(a)) != data.size)
+                pfx_atomic_failed(a, errno);
+            ok = pfx_atomic_commit(a, true, d);
         }
     }
     WebPDataClear(&data);

@@ -9,6 +9,8 @@
 #include <string.h>
 #include <yaml.h>
 
+#include "base/strmap.h"
+
 /* A container being built: its children are gathered in a growable vector
  * and copied into the arena when it closes. */
 typedef struct open_node {
@@ -33,6 +35,7 @@ typedef struct parser_state {
     int depth;
     anchor *anchors;
     size_t anchor_count, anchor_cap;
+    pfx_strmap anchor_index; /* name -> its latest definition in anchors */
     uint64_t total_weight;
     bool failed;
 } parser_state;
@@ -84,15 +87,20 @@ static void remember_anchor(parser_state *s, const yaml_char_t *name, pfx_node *
     char *copy = strdup((const char *)name);
     if (!copy)
         return;
+    /* The latest definition wins, as YAML says an anchor may be redefined. */
+    bool found;
+    size_t *at = pfx_strmap_add(&s->anchor_index, copy, strlen(copy), s->anchor_count, &found);
+    if (!at) {
+        free(copy);
+        return;
+    }
+    *at = s->anchor_count;
     s->anchors[s->anchor_count++] = (anchor){copy, n, weight};
 }
 
 static const anchor *find_anchor(const parser_state *s, const char *name) {
-    /* The latest definition wins, as YAML says an anchor may be redefined. */
-    for (size_t i = s->anchor_count; i-- > 0;)
-        if (strcmp(s->anchors[i].name, name) == 0)
-            return &s->anchors[i];
-    return NULL;
+    const size_t *i = pfx_strmap_get(&s->anchor_index, name, strlen(name));
+    return i ? &s->anchors[*i] : NULL;
 }
 
 /* Closes the container on top of the stack: copies its children into the
@@ -110,6 +118,9 @@ static bool close_container(parser_state *s, const yaml_char_t *anchor_name) {
         size_t pairs = o->count / 2;
         n->pairs = pfx_arena_alloc(&s->doc->arena, (pairs + 1) * sizeof *n->pairs);
         n->count = 0;
+        /* Duplicates by a hashed set of the keys kept so far: linear in the
+         * mapping's size, however many keys a file gives it. */
+        pfx_strmap seen = {.k0 = s->anchor_index.k0, .k1 = s->anchor_index.k1};
         for (size_t i = 0; n->pairs && i < pairs; i++) {
             pfx_node *k = o->kids[2 * i], *v = o->kids[2 * i + 1];
             if (k->kind != PFX_NODE_SCALAR) {
@@ -118,23 +129,25 @@ static bool close_container(parser_state *s, const yaml_char_t *anchor_name) {
                 ok = false;
                 continue;
             }
-            bool dup = false;
-            for (size_t j = 0; j < n->count && !dup; j++) {
-                const pfx_node *prev = n->pairs[j].key;
-                if (prev->len == k->len && memcmp(prev->text, k->text, k->len) == 0) {
-                    pfx_diag_add(s->d, PFX_SEV_ERROR, k->line, k->col, (int)k->len,
-                                 "duplicate key '%s'", k->text);
-                    pfx_diag_add(s->d, PFX_SEV_NOTE, prev->line, prev->col, (int)prev->len,
-                                 "'%s' first defined here", prev->text);
-                    dup = true;
-                }
+            bool dup;
+            size_t *first = pfx_strmap_add(&seen, k->text, k->len, n->count, &dup);
+            if (!first) {
+                ok = false;
+                s->failed = true;
+                break;
             }
             if (dup) {
+                const pfx_node *prev = n->pairs[*first].key;
+                pfx_diag_add(s->d, PFX_SEV_ERROR, k->line, k->col, (int)k->len,
+                             "duplicate key '%s'", k->text);
+                pfx_diag_add(s->d, PFX_SEV_NOTE, prev->line, prev->col, (int)prev->len,
+                             "'%s' first defined here", prev->text);
                 ok = false;
                 continue;
             }
             n->pairs[n->count++] = (pfx_pair){k, v};
         }
+        pfx_strmap_free(&seen);
     }
     uint64_t weight = o->weight + 1;
     free(o->kids);
@@ -248,6 +261,7 @@ static bool handle_event(parser_state *s, const yaml_event_t *ev) {
 bool pfx_parse(const char *text, size_t len, pfx_doc *doc, pfx_diags *d) {
     memset(doc, 0, sizeof *doc);
     parser_state s = {.doc = doc, .d = d, .text = text, .text_len = len};
+    pfx_strmap_init(&s.anchor_index);
     yaml_parser_t p;
     if (!yaml_parser_initialize(&p))
         return false;
@@ -297,6 +311,7 @@ bool pfx_parse(const char *text, size_t len, pfx_doc *doc, pfx_diags *d) {
     for (size_t i = 0; i < s.anchor_count; i++)
         free(s.anchors[i].name);
     free(s.anchors);
+    pfx_strmap_free(&s.anchor_index);
     yaml_parser_delete(&p);
     if (s.failed)
         ok = false;

@@ -3,15 +3,9 @@
  * renderer, from a backend in gl_context.h, one instanced draw per frame. It
  * does not make contexts, simulate, choose colours or write files; it only
  * turns sprites and a camera into pixels. */
-#include "render/render.h"
-#include "render/gl_context.h"
-
-/* Types, enums and PFNGL...PROC typedefs only: without GL_GLEXT_PROTOTYPES
- * it declares no function, so every call goes through the table below. */
-#include <GL/glcorearb.h>
+#include "render/render_internal.h"
 
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,134 +16,6 @@
  * projection. */
 #define PFX_NEAR 0.01
 #define PFX_FAR 1000.0
-#define PFX_PI 3.14159265358979323846 /* M_PI is not in strict C11 + POSIX */
-
-/* Every GL entry point render.c calls, 1.0 ones included, fetched through
- * the backend's GetProcAddress: with glvnd, libOpenGL's exported symbols
- * dispatch to whichever vendor is current, while libOSMesa brings its own;
- * asking the backend is right for both. */
-#define PFX_GL_FUNCS(X)                                                                            \
-    X(PFNGLGETERRORPROC, GetError)                                                                 \
-    X(PFNGLGETINTEGERVPROC, GetIntegerv)                                                           \
-    X(PFNGLENABLEPROC, Enable)                                                                     \
-    X(PFNGLDISABLEPROC, Disable)                                                                   \
-    X(PFNGLBLENDFUNCPROC, BlendFunc)                                                               \
-    X(PFNGLVIEWPORTPROC, Viewport)                                                                 \
-    X(PFNGLSCISSORPROC, Scissor)                                                                   \
-    X(PFNGLCLEARCOLORPROC, ClearColor)                                                             \
-    X(PFNGLCLEARPROC, Clear)                                                                       \
-    X(PFNGLPIXELSTOREIPROC, PixelStorei)                                                           \
-    X(PFNGLREADPIXELSPROC, ReadPixels)                                                             \
-    X(PFNGLFINISHPROC, Finish)                                                                     \
-    X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                                                   \
-    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                                             \
-    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                                                   \
-    X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)                                   \
-    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)                                     \
-    X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)                                                 \
-    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                                           \
-    X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                                                 \
-    X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)                                           \
-    X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                                                   \
-    X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                                             \
-    X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                                                   \
-    X(PFNGLGENBUFFERSPROC, GenBuffers)                                                             \
-    X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                                                       \
-    X(PFNGLBINDBUFFERPROC, BindBuffer)                                                             \
-    X(PFNGLBUFFERDATAPROC, BufferData)                                                             \
-    X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)                                           \
-    X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)                                   \
-    X(PFNGLVERTEXATTRIBDIVISORPROC, VertexAttribDivisor)                                           \
-    X(PFNGLDRAWARRAYSINSTANCEDPROC, DrawArraysInstanced)                                           \
-    X(PFNGLCREATESHADERPROC, CreateShader)                                                         \
-    X(PFNGLDELETESHADERPROC, DeleteShader)                                                         \
-    X(PFNGLSHADERSOURCEPROC, ShaderSource)                                                         \
-    X(PFNGLCOMPILESHADERPROC, CompileShader)                                                       \
-    X(PFNGLGETSHADERIVPROC, GetShaderiv)                                                           \
-    X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)                                                 \
-    X(PFNGLCREATEPROGRAMPROC, CreateProgram)                                                       \
-    X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                                                       \
-    X(PFNGLATTACHSHADERPROC, AttachShader)                                                         \
-    X(PFNGLLINKPROGRAMPROC, LinkProgram)                                                           \
-    X(PFNGLGETPROGRAMIVPROC, GetProgramiv)                                                         \
-    X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)                                               \
-    X(PFNGLUSEPROGRAMPROC, UseProgram)                                                             \
-    X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                                             \
-    X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)
-
-typedef struct pfx_gl {
-#define PFX_GL_FIELD(type, name) type name;
-    PFX_GL_FUNCS(PFX_GL_FIELD)
-#undef PFX_GL_FIELD
-} pfx_gl;
-
-struct pfx_renderer {
-    int width, height;
-    pfx_gl_context *ctx;
-    pfx_gl gl;
-    GLuint fbo, colour_rb, vao, quad_vbo, instance_vbo, program;
-    GLint view_loc, proj_loc;
-    float *pixels; /* width * height * 4 floats read back from the FBO */
-    /* Sort scratch, grown to the largest count seen: two key and two index
-     * arrays for the radix ping-pong, and a sprite copy for the permutation. */
-    size_t scratch_cap;
-    uint32_t *keys;
-    uint32_t *index;
-    pfx_sprite *sorted;
-};
-
-/* The sprite shader. Each instance is a unit quad with corners (+-1, +-1),
- * placed in view space at the sprite's centre and scaled by its radius
- * size/2, so it always faces the camera and shrinks with distance under
- * perspective. The quad lies in a plane of constant view depth, so the
- * interpolated corner coordinate is exact (no perspective distortion).
- *
- * Soft round falloff (documented in the man page): with d = distance from the
- * sprite centre divided by its radius, all four premultiplied components
- * (r, g, b, a) are multiplied by
- *     f(d) = (1 - d^2)^2   for d < 1,
- *     f(d) = 0             for d >= 1 (the fragment is discarded).
- * f is 1 at the centre, 0.5625 at half the radius, and reaches 0 with zero
- * slope at the rim, so sprites have no hard edge. It is a polynomial in d^2,
- * so no square root is needed. */
-static const char *vertex_src = "#version 330 core\n"
-                                "layout(location = 0) in vec2 corner;\n"
-                                "layout(location = 1) in vec4 centre_size;\n"
-                                "layout(location = 2) in vec4 colour;\n"
-                                "layout(location = 3) in vec2 angle_shape;\n"
-                                "uniform mat4 view;\n"
-                                "uniform mat4 proj;\n"
-                                "out vec2 v_corner;\n"
-                                "out vec4 v_colour;\n"
-                                "flat out float v_shape;\n"
-                                "void main() {\n"
-                                "    vec4 c = view * vec4(centre_size.xyz, 1.0);\n"
-                                "    float s = sin(angle_shape.x), k = cos(angle_shape.x);\n"
-                                "    vec2 turned = vec2(k * corner.x - s * corner.y,\n"
-                                "                       s * corner.x + k * corner.y);\n"
-                                "    c.xy += turned * (0.5 * centre_size.w);\n"
-                                "    gl_Position = proj * c;\n"
-                                "    v_corner = corner;\n"
-                                "    v_colour = colour;\n"
-                                "    v_shape = angle_shape.y;\n"
-                                "}\n";
-
-static const char *fragment_src = "#version 330 core\n"
-                                  "in vec2 v_corner;\n"
-                                  "in vec4 v_colour;\n"
-                                  "flat in float v_shape;\n"
-                                  "layout(location = 0) out vec4 frag;\n"
-                                  "void main() {\n"
-                                  "    if (v_shape > 0.5) {\n"
-                                  "        vec2 q = 1.0 - v_corner * v_corner;\n"
-                                  "        frag = v_colour * (q.x * q.x * q.y * q.y);\n"
-                                  "        return;\n"
-                                  "    }\n"
-                                  "    float d2 = dot(v_corner, v_corner);\n"
-                                  "    if (d2 >= 1.0) discard;\n"
-                                  "    float k = 1.0 - d2;\n"
-                                  "    frag = v_colour * (k * k);\n"
-                                  "}\n";
 
 /* pfx_gl_proc is void (*)(void), the generic function pointer type GCC
  * accepts in casts without -Wcast-function-type complaints. */
@@ -162,51 +28,6 @@ static bool load_gl(pfx_gl *gl, pfx_gl_context *ctx, pfx_diags *d) {
     }
     PFX_GL_FUNCS(PFX_GL_LOAD)
 #undef PFX_GL_LOAD
-    return true;
-}
-
-static GLuint compile_shader(pfx_renderer *r, GLenum type, const char *src, pfx_diags *d) {
-    GLuint s = r->gl.CreateShader(type);
-    r->gl.ShaderSource(s, 1, &src, NULL);
-    r->gl.CompileShader(s);
-    GLint ok = GL_FALSE;
-    r->gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[512] = "";
-        r->gl.GetShaderInfoLog(s, sizeof log, NULL, log);
-        pfx_diag_error(d, "cannot compile %s shader: %s",
-                       type == GL_VERTEX_SHADER ? "vertex" : "fragment", log);
-        r->gl.DeleteShader(s);
-        return 0;
-    }
-    return s;
-}
-
-static bool build_program(pfx_renderer *r, pfx_diags *d) {
-    GLuint vs = compile_shader(r, GL_VERTEX_SHADER, vertex_src, d);
-    if (!vs)
-        return false;
-    GLuint fs = compile_shader(r, GL_FRAGMENT_SHADER, fragment_src, d);
-    if (!fs) {
-        r->gl.DeleteShader(vs);
-        return false;
-    }
-    r->program = r->gl.CreateProgram();
-    r->gl.AttachShader(r->program, vs);
-    r->gl.AttachShader(r->program, fs);
-    r->gl.LinkProgram(r->program);
-    r->gl.DeleteShader(vs); /* flagged; freed with the program */
-    r->gl.DeleteShader(fs);
-    GLint ok = GL_FALSE;
-    r->gl.GetProgramiv(r->program, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[512] = "";
-        r->gl.GetProgramInfoLog(r->program, sizeof log, NULL, log);
-        pfx_diag_error(d, "cannot link sprite shader: %s", log);
-        return false;
-    }
-    r->view_loc = r->gl.GetUniformLocation(r->program, "view");
-    r->proj_loc = r->gl.GetUniformLocation(r->program, "proj");
     return true;
 }
 
@@ -230,9 +51,19 @@ static bool build_framebuffer(pfx_renderer *r, pfx_diags *d) {
     return true;
 }
 
-/* Vertex layout: attribute 0 is the quad corner (per vertex); attributes 1
- * and 2 read a pfx_sprite as two vec4s, (x, y, z, size) and (r, g, b, a),
- * advancing once per instance. The sprite array is uploaded as it is. */
+/* Vertex layout: attribute 0 is the quad corner (per vertex); attributes
+ * 1 to 4 read a pfx_sprite as four vec4s, advancing once per instance. The
+ * sprite array is uploaded as it is; a run of one material points the
+ * attributes at its first sprite (GL 3.3 has no base instance). */
+static void point_instances(pfx_renderer *r, size_t first) {
+    const size_t base = first * sizeof(pfx_sprite);
+    static const size_t offsets[4] = {offsetof(pfx_sprite, x), offsetof(pfx_sprite, r),
+                                      offsetof(pfx_sprite, angle), offsetof(pfx_sprite, vx)};
+    for (GLuint i = 0; i < 4; i++)
+        r->gl.VertexAttribPointer(1 + i, 4, GL_FLOAT, GL_FALSE, sizeof(pfx_sprite),
+                                  (const void *)(base + offsets[i]));
+}
+
 static void build_vertex_arrays(pfx_renderer *r) {
     static const float corners[8] = {-1, -1, 1, -1, -1, 1, 1, 1}; /* triangle strip */
     r->gl.GenVertexArrays(1, &r->vao);
@@ -244,18 +75,25 @@ static void build_vertex_arrays(pfx_renderer *r) {
     r->gl.EnableVertexAttribArray(0);
     r->gl.GenBuffers(1, &r->instance_vbo);
     r->gl.BindBuffer(GL_ARRAY_BUFFER, r->instance_vbo);
-    r->gl.VertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, sizeof(pfx_sprite),
-                              (const void *)offsetof(pfx_sprite, x));
-    r->gl.VertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, sizeof(pfx_sprite),
-                              (const void *)offsetof(pfx_sprite, r));
-    r->gl.VertexAttribPointer(3, 2, GL_FLOAT, GL_FALSE, sizeof(pfx_sprite),
-                              (const void *)offsetof(pfx_sprite, angle));
-    r->gl.EnableVertexAttribArray(1);
-    r->gl.EnableVertexAttribArray(2);
-    r->gl.EnableVertexAttribArray(3);
-    r->gl.VertexAttribDivisor(1, 1);
-    r->gl.VertexAttribDivisor(2, 1);
-    r->gl.VertexAttribDivisor(3, 1);
+    point_instances(r, 0);
+    for (GLuint i = 1; i <= 4; i++) {
+        r->gl.EnableVertexAttribArray(i);
+        r->gl.VertexAttribDivisor(i, 1);
+    }
+    /* Ribbons: a pfx_ribbon_vertex per vertex, three attributes. */
+    r->gl.GenVertexArrays(1, &r->ribbon_vao);
+    r->gl.BindVertexArray(r->ribbon_vao);
+    r->gl.GenBuffers(1, &r->ribbon_vbo);
+    r->gl.BindBuffer(GL_ARRAY_BUFFER, r->ribbon_vbo);
+    static const size_t at[3] = {offsetof(pfx_ribbon_vertex, x), offsetof(pfx_ribbon_vertex, r),
+                                 offsetof(pfx_ribbon_vertex, profile)};
+    static const GLint size[3] = {4, 4, 1};
+    for (GLuint i = 0; i < 3; i++) {
+        r->gl.VertexAttribPointer(i, size[i], GL_FLOAT, GL_FALSE, sizeof(pfx_ribbon_vertex),
+                                  (const void *)at[i]);
+        r->gl.EnableVertexAttribArray(i);
+    }
+    r->gl.BindVertexArray(r->vao);
 }
 
 static const char *const kind_names[] = {
@@ -317,6 +155,89 @@ static pfx_gl_context *create_context(pfx_renderer_kind kind, pfx_diags *d) {
 
 const char *pfx_renderer_name(const pfx_renderer *r) { return r->ctx->name; }
 
+/* Material k is built-in sprite k, facing the camera: what sprites mean
+ * before pfx_renderer_set_materials. */
+static bool default_materials(pfx_renderer *r, pfx_diags *d) {
+    size_t n = pfx_kind_count(pfx_sprite_names);
+    r->materials = calloc(n, sizeof *r->materials);
+    if (!r->materials) {
+        pfx_diag_error(d, "out of memory for the sprite materials");
+        return false;
+    }
+    r->material_count = n;
+    for (size_t k = 0; k < n; k++) {
+        r->materials[k].m = (pfx_material){
+            .sprite = (pfx_sprite_kind)k, .cols = 1, .rows = 1, .frames = 1, .axis = {0, 1, 0}};
+        if (!pfx_shader_bind(r, &r->materials[k], d))
+            return false;
+    }
+    return true;
+}
+
+pfx_render_settings pfx_render_settings_plain(const float bg[4]) {
+    pfx_render_settings s = {
+        .light_dir = {0, -1, 0}, .light_color = {1, 1, 1}, .ambient = {0.25f, 0.25f, 0.25f}};
+    memcpy(s.background, bg, sizeof s.background);
+    return s;
+}
+
+/* One texture with mipmaps: 8- or 16-bit RGBA rows top first (so texture
+ * t = 0 is the image's top row), linear between texels and mip levels. */
+static GLuint upload_texture(pfx_renderer *r, const pfx_image *img) {
+    GLuint t = 0;
+    r->gl.GenTextures(1, &t);
+    r->gl.BindTexture(GL_TEXTURE_2D, t);
+    r->gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    const bool wide = img->bits == 16;
+    r->gl.TexImage2D(GL_TEXTURE_2D, 0, wide ? GL_RGBA16 : GL_RGBA8, img->width, img->height, 0,
+                     GL_RGBA, wide ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE, img->pixels);
+    r->gl.GenerateMipmap(GL_TEXTURE_2D);
+    r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_NEAREST);
+    r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return t;
+}
+
+static void drop_textures(pfx_renderer *r) {
+    for (size_t i = 0; i < r->material_count; i++) {
+        GLuint t[2] = {r->materials[i].texture, r->materials[i].normal_map};
+        r->gl.DeleteTextures(2, t);
+    }
+}
+
+bool pfx_renderer_set_materials(pfx_renderer *r, const pfx_material *m, size_t count,
+                                pfx_diags *d) {
+    if (!r->ctx->make_current(r->ctx)) {
+        pfx_diag_error(d, "cannot make the '%s' context current", r->ctx->name);
+        return false;
+    }
+    pfx_gpu_material *g = calloc(count ? count : 1, sizeof *g);
+    if (!g) {
+        pfx_diag_error(d, "out of memory for %zu materials", count);
+        return false;
+    }
+    drop_textures(r);
+    free(r->materials);
+    r->materials = g;
+    r->material_count = count;
+    for (size_t i = 0; i < count; i++) {
+        g[i].m = m[i];
+        if (m[i].texture)
+            g[i].texture = upload_texture(r, m[i].texture);
+        if (m[i].normal_map)
+            g[i].normal_map = upload_texture(r, m[i].normal_map);
+        if (!pfx_shader_bind(r, &g[i], d))
+            return false;
+    }
+    GLenum e = r->gl.GetError();
+    if (e != GL_NO_ERROR) {
+        pfx_diag_error(d, "OpenGL error 0x%04x while uploading textures", (unsigned)e);
+        return false;
+    }
+    return true;
+}
+
 pfx_renderer *pfx_renderer_create(pfx_renderer_kind kind, int width, int height, pfx_diags *d) {
     if (width <= 0 || height <= 0) {
         pfx_diag_error(d, "invalid image size %dx%d", width, height);
@@ -346,7 +267,7 @@ pfx_renderer *pfx_renderer_create(pfx_renderer_kind kind, int width, int height,
                        (int)max_rb);
         goto fail;
     }
-    if (!build_framebuffer(r, d) || !build_program(r, d))
+    if (!build_framebuffer(r, d) || !pfx_shader_build_ribbon(r, d) || !default_materials(r, d))
         goto fail;
     build_vertex_arrays(r);
 
@@ -374,20 +295,13 @@ void pfx_renderer_destroy(pfx_renderer *r) {
     if (r->ctx)
         r->ctx->destroy(r->ctx); /* frees every GL object it owns */
     free(r->pixels);
+    free(r->blur);
+    free(r->materials);
     free(r->keys);
     free(r->index);
     free(r->sorted);
     free(r);
 }
-
-/* Camera matrices, column-major (m[col * 4 + row]) as GL expects. The view
- * matrix is gluLookAt's: forward f = normalize(target - position), side
- * s = normalize(f x up), true up u = s x f; the camera looks down -z. */
-typedef struct pfx_view {
-    double m[16];
-    double proj[16];
-    double forward[3], eye[3];
-} pfx_view;
 
 /* The camera was checked when the effect was compiled (pfx_camera_frame);
  * a caller that built one by hand gets the same words. */
@@ -441,102 +355,6 @@ static bool camera_matrices(const pfx_camera *cam, int width, int height, pfx_vi
     return true;
 }
 
-static bool grow_scratch(pfx_renderer *r, size_t count, pfx_diags *d) {
-    if (count <= r->scratch_cap)
-        return true;
-    size_t cap = r->scratch_cap ? r->scratch_cap : 1024;
-    while (cap < count)
-        cap *= 2;
-    uint32_t *keys = realloc(r->keys, 2 * cap * sizeof *keys);
-    if (keys)
-        r->keys = keys;
-    uint32_t *index = realloc(r->index, 2 * cap * sizeof *index);
-    if (index)
-        r->index = index;
-    pfx_sprite *sorted = realloc(r->sorted, cap * sizeof *sorted);
-    if (sorted)
-        r->sorted = sorted;
-    if (!keys || !index || !sorted) {
-        pfx_diag_error(d, "out of memory sorting %zu sprites", count);
-        return false;
-    }
-    r->scratch_cap = cap;
-    return true;
-}
-
-/* Maps a float to a uint32 whose unsigned order is the float's order
- * (negative floats have all bits flipped, positive ones only the sign). */
-static uint32_t float_order_key(float x) {
-    uint32_t b;
-    memcpy(&b, &x, sizeof b);
-    return (b & 0x80000000u) ? ~b : (b | 0x80000000u);
-}
-
-/* Back-to-front sort by view depth (distance along the camera's forward
- * axis), farthest first. LSD radix sort on 32-bit keys, 8 bits per pass:
- * O(n), stable by construction (equal depths keep input order), and exactly
- * reproducible. Keys are inverted so that ascending key = descending depth.
- * Passes where every key has the same digit are skipped. */
-static bool sort_back_to_front(pfx_renderer *r, const pfx_view *v, pfx_sprite *sprites,
-                               size_t count, pfx_diags *d) {
-    if (count < 2)
-        return true;
-    if (count > UINT32_MAX) {
-        pfx_diag_error(d, "too many sprites to sort: %zu", count);
-        return false;
-    }
-    if (!grow_scratch(r, count, d))
-        return false;
-    uint32_t *key = r->keys, *key_tmp = r->keys + r->scratch_cap;
-    uint32_t *idx = r->index, *idx_tmp = r->index + r->scratch_cap;
-    const double fx = v->forward[0], fy = v->forward[1], fz = v->forward[2];
-    const double ex = v->eye[0], ey = v->eye[1], ez = v->eye[2];
-    for (size_t i = 0; i < count; i++) {
-        double depth =
-            (sprites[i].x - ex) * fx + (sprites[i].y - ey) * fy + (sprites[i].z - ez) * fz;
-        key[i] = ~float_order_key((float)depth);
-        idx[i] = (uint32_t)i;
-    }
-    for (int shift = 0; shift < 32; shift += 8) {
-        size_t hist[256] = {0};
-        for (size_t i = 0; i < count; i++)
-            hist[(key[i] >> shift) & 0xff]++;
-        if (hist[(key[0] >> shift) & 0xff] == count)
-            continue; /* all keys share this digit: the pass would not move anything */
-        size_t sum = 0;
-        for (int d = 0; d < 256; d++) {
-            size_t c = hist[d];
-            hist[d] = sum;
-            sum += c;
-        }
-        for (size_t i = 0; i < count; i++) {
-            size_t dst = hist[(key[i] >> shift) & 0xff]++;
-            key_tmp[dst] = key[i];
-            idx_tmp[dst] = idx[i];
-        }
-        uint32_t *t = key;
-        key = key_tmp;
-        key_tmp = t;
-        t = idx;
-        idx = idx_tmp;
-        idx_tmp = t;
-    }
-    for (size_t i = 0; i < count; i++)
-        r->sorted[i] = sprites[idx[i]];
-    memcpy(sprites, r->sorted, count * sizeof *sprites);
-    return true;
-}
-
-static void upload_uniforms(pfx_renderer *r, const pfx_view *v) {
-    float view[16], proj[16];
-    for (int i = 0; i < 16; i++) {
-        view[i] = (float)v->m[i];
-        proj[i] = (float)v->proj[i];
-    }
-    r->gl.UniformMatrix4fv(r->view_loc, 1, GL_FALSE, view);
-    r->gl.UniformMatrix4fv(r->proj_loc, 1, GL_FALSE, proj);
-}
-
 /* Another renderer in this thread may have made its own context current. */
 static bool make_current(pfx_renderer *r, pfx_diags *d) {
     if (!r->ctx->make_current(r->ctx)) {
@@ -546,24 +364,55 @@ static bool make_current(pfx_renderer *r, pfx_diags *d) {
     return true;
 }
 
-/* Clear, upload, one instanced draw. The sprite array goes up whole with
- * glBufferData every frame: respecifying the store orphans last frame's, so
- * the driver never waits on it. */
-static void submit_frame(pfx_renderer *r, const pfx_view *v, const float clear[4],
-                         const pfx_sprite *sprites, size_t count) {
+/* The material sprite i names (material 0 for an index out of range). */
+static const pfx_gpu_material *material_of(const pfx_renderer *r, const pfx_sprite *sp) {
+    size_t k =
+        sp->material >= 0 && sp->material < (float)r->material_count ? (size_t)sp->material : 0;
+    return &r->materials[k];
+}
+
+/* Clear, upload, one instanced draw per run of sprites of one material. The
+ * sprite array goes up whole with glBufferData every frame: respecifying
+ * the store orphans last frame's, so the driver never waits on it. */
+static void submit_frame(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
+                         const float clear[4], const pfx_sprite *sprites, size_t count,
+                         pfx_ribbons ribbons) {
     r->gl.BindFramebuffer(GL_FRAMEBUFFER, r->fbo);
     r->gl.Viewport(0, 0, r->width, r->height);
     r->gl.ClearColor(clear[0], clear[1], clear[2], clear[3]);
     r->gl.Clear(GL_COLOR_BUFFER_BIT);
-    if (count > 0) {
-        r->gl.UseProgram(r->program);
-        upload_uniforms(r, v);
-        r->gl.BindVertexArray(r->vao);
-        r->gl.BindBuffer(GL_ARRAY_BUFFER, r->instance_vbo);
-        r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(count * sizeof *sprites), sprites,
-                         GL_STREAM_DRAW);
-        r->gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)count);
+    if (ribbons.count) {
+        float view[16], proj[16];
+        for (int i = 0; i < 16; i++) {
+            view[i] = (float)v->m[i];
+            proj[i] = (float)v->proj[i];
+        }
+        r->gl.UseProgram(r->ribbon_program);
+        r->gl.UniformMatrix4fv(r->ribbon_view, 1, GL_FALSE, view);
+        r->gl.UniformMatrix4fv(r->ribbon_proj, 1, GL_FALSE, proj);
+        r->gl.BindVertexArray(r->ribbon_vao);
+        r->gl.BindBuffer(GL_ARRAY_BUFFER, r->ribbon_vbo);
+        r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(ribbons.count * sizeof *ribbons.v),
+                         ribbons.v, GL_STREAM_DRAW);
+        r->gl.DrawArraysInstanced(GL_TRIANGLES, 0, (GLsizei)ribbons.count, 1);
     }
+    if (count == 0)
+        return;
+    r->gl.BindVertexArray(r->vao);
+    r->gl.BindBuffer(GL_ARRAY_BUFFER, r->instance_vbo);
+    r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(count * sizeof *sprites), sprites,
+                     GL_STREAM_DRAW);
+    for (size_t first = 0; first < count;) {
+        const pfx_gpu_material *g = material_of(r, &sprites[first]);
+        size_t end = first + 1;
+        while (end < count && material_of(r, &sprites[end]) == g)
+            end++;
+        pfx_shader_material(r, v, s, g);
+        point_instances(r, first);
+        r->gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)(end - first));
+        first = end;
+    }
+    point_instances(r, 0);
 }
 
 static void read_frame(pfx_renderer *r) {
@@ -571,25 +420,45 @@ static void read_frame(pfx_renderer *r) {
 }
 
 /* The pixels a frame's sprites can touch, in GL window coordinates (y up),
- * [x0, x1) x [y0, y1). Each quad lies at one view depth, so its image is
- * the projection of its view-space square, widened by sqrt 2 for turned
- * squares and by 2 pixels for rasterisation. A sprite at or behind the near
- * plane makes it the whole frame. Outside the box every pixel is the
- * background, so only the box is cleared, read back and converted. */
-typedef struct pixel_box {
-    int x0, y0, x1, y1;
-} pixel_box;
-
+ * [x0, x1) x [y0, y1). A camera-facing or velocity-stretched quad lies at
+ * one view depth, so its image is the projection of its view-space square
+ * of half-side max(size, length) / 2, widened by sqrt 2 for turned quads,
+ * by the minimum footprint and by 2 pixels for rasterisation. A quad in a
+ * world plane or about an axis tilts in depth, and a sprite at or behind
+ * the near plane: then the box is the whole frame. Outside the box every
+ * pixel is the background, so only the box is cleared, read back and
+ * converted. */
 static pixel_box sprites_box(const pfx_renderer *r, const pfx_view *v, const pfx_sprite *sp,
-                             size_t count) {
+                             size_t count, pfx_ribbons ribbons) {
     const pixel_box full = {0, 0, r->width, r->height};
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     const double *m = v->m, *p = v->proj;
+    /* Ribbon corners are final world points: each projects as it is. */
+    for (size_t i = 0; i < ribbons.count; i++) {
+        const pfx_ribbon_vertex *q = &ribbons.v[i];
+        double c[4] = {0, 0, 0, 1}, clip[4];
+        for (int row = 0; row < 3; row++)
+            c[row] = m[row] * q->x + m[4 + row] * q->y + m[8 + row] * q->z + m[12 + row];
+        for (int row = 0; row < 4; row++)
+            clip[row] = p[row] * c[0] + p[4 + row] * c[1] + p[8 + row] * c[2] + p[12 + row];
+        if (!(clip[3] > 1e-6) || !(fabs(clip[0]) < 1e30) || !(fabs(clip[1]) < 1e30))
+            return full;
+        for (int a = 0; a < 2; a++) {
+            double n = clip[a] / clip[3];
+            lo[a] = n < lo[a] ? n : lo[a];
+            hi[a] = n > hi[a] ? n : hi[a];
+        }
+    }
     for (size_t i = 0; i < count; i++) {
+        pfx_align align = material_of(r, &sp[i])->m.align;
+        if (align == PFX_ALIGN_AXIS || align == PFX_ALIGN_WORLD)
+            return full;
         double c[3];
         for (int row = 0; row < 3; row++)
             c[row] = m[row] * sp[i].x + m[4 + row] * sp[i].y + m[8 + row] * sp[i].z + m[12 + row];
-        double rad = 0.5 * sp[i].size * 1.4142136;
+        double side =
+            align == PFX_ALIGN_VELOCITY && sp[i].length > sp[i].size ? sp[i].length : sp[i].size;
+        double rad = 0.5 * side * 1.4142136;
         double w = p[3] * c[0] + p[7] * c[1] + p[11] * c[2] + p[15];
         if (!(w > 1e-6) || !(rad < 1e30))
             return full;
@@ -604,13 +473,14 @@ static pixel_box sprites_box(const pfx_renderer *r, const pfx_view *v, const pfx
                 hi[1] = ny > hi[1] ? ny : hi[1];
             }
     }
-    if (count == 0)
+    if (count == 0 && ribbons.count == 0)
         return (pixel_box){0, 0, 0, 0};
+    const double margin = 2 + PFX_MIN_FOOTPRINT_PX * 0.7072;
     double size[2] = {r->width, r->height};
     int b[4];
     for (int a = 0; a < 2; a++) {
-        double l = floor((lo[a] * 0.5 + 0.5) * size[a]) - 2,
-               h = ceil((hi[a] * 0.5 + 0.5) * size[a]) + 2;
+        double l = floor((lo[a] * 0.5 + 0.5) * size[a] - margin),
+               h = ceil((hi[a] * 0.5 + 0.5) * size[a] + margin);
         l = l < 0 ? 0 : l > size[a] ? size[a] : l;
         h = h < 0 ? 0 : h > size[a] ? size[a] : h;
         b[a] = (int)l;
@@ -621,112 +491,36 @@ static pixel_box sprites_box(const pfx_renderer *r, const pfx_view *v, const pfx
     return (pixel_box){b[0], b[1], b[2], b[3]};
 }
 
-/* fmax without the libm call (GCC must call it to keep its NaN rule): the
- * larger of x and y, and the other one when either is NaN. */
-static inline double max_of(double x, double y) { return (y > x || x != x) ? y : x; }
-
-/* lround(255 x) clamped to a byte. For 0 < x < 1, y = 255 x lies in (0, 255),
- * so truncation is floor and y - floor(y) is exact: rounding half away from
- * zero is then one comparison, with no libm call. */
-static inline uint8_t to_byte(double x) {
-    if (!(x > 0))
-        return 0; /* also NaN */
-    if (x >= 1)
-        return 255;
-    double y = 255.0 * x;
-    int t = (int)y;
-    return (uint8_t)(y - (double)t >= 0.5 ? t + 1 : t);
+/* The background as the float image holds it: premultiplied. */
+static void clear_colour(const pfx_render_settings *s, float clear[4]) {
+    const float *bg = s->background;
+    clear[0] = bg[0] * bg[3], clear[1] = bg[1] * bg[3], clear[2] = bg[2] * bg[3];
+    clear[3] = bg[3];
 }
 
-/* Premultiplied float framebuffer -> 8-bit straight alpha, top row first.
- *
- * A pixel holds premultiplied colour P = (r, g, b) and coverage A. Additive
- * particles add light with zero coverage, so P can exceed A (on a transparent
- * background A may even be 0 under a bright glow). Dividing by A would blow
- * up, and storing A alone would drop the glow. So the output alpha is
- *     A' = min(1, max(A, r, g, b)),
- * and the output colour is clamp(P / A', 0, 1) (or all zero when A' = 0).
- * Composited over black the result is colour * A' = P whenever P <= 1: an
- * additive particle on a transparent background then looks, placed over
- * black, exactly as it rendered over black, and where alpha blending
- * dominates (A >= every channel) this is the ordinary un-premultiply. Bytes
- * are lround(255 * x).
- *
- * Cost: most of a particle frame is untouched background, so an all-zero
- * pixel (all 16 bytes zero; -0.0 takes the general path) is written as zero
- * at once; the rest are computed in double with no libm calls. Measured on
- * effects/fire.yaml at 512x512 (80% transparent), 1.6 ms -> 0.5 ms a frame,
- * byte-identical output. */
-static inline void convert_one(const float *src, uint8_t *dst) {
-    uint32_t bits[4];
-    memcpy(bits, src, sizeof bits);
-    if ((bits[0] | bits[1] | bits[2] | bits[3]) == 0) {
-        memset(dst, 0, 4);
-        return;
-    }
-    double cr = src[0], cg = src[1], cb = src[2], a = src[3];
-    double ap = max_of(max_of(a, cr), max_of(cg, cb));
-    if (ap > 1)
-        ap = 1;
-    if (!(ap > 0)) {
-        dst[0] = dst[1] = dst[2] = dst[3] = 0;
-        return;
-    }
-    dst[0] = to_byte(cr / ap);
-    dst[1] = to_byte(cg / ap);
-    dst[2] = to_byte(cb / ap);
-    dst[3] = to_byte(ap);
-}
-
-/* Converts the read-back box (packed rows of its width, bottom row first)
- * into its place in rgba (top row first) and fills the rest of the image
- * with the background, converted once. */
-static void convert_pixels(const pfx_renderer *r, const pixel_box *box, const float clear[4],
-                           uint8_t *rgba) {
-    const size_t w = (size_t)r->width, bw = (size_t)(box->x1 - box->x0);
-    uint8_t bg[4];
-    convert_one(clear, bg);
-    uint32_t bg_word;
-    memcpy(&bg_word, bg, 4);
-    for (int y = 0; y < r->height; y++) {
-        uint8_t *dst = rgba + (size_t)y * w * 4;
-        int gl_y = r->height - 1 - y;
-        bool in = gl_y >= box->y0 && gl_y < box->y1;
-        size_t from = in ? (size_t)box->x0 : w, to = in ? (size_t)box->x1 : w;
-        for (size_t x = 0; x < from; x++)
-            memcpy(dst + 4 * x, &bg_word, 4);
-        if (in) {
-            const float *src = r->pixels + (size_t)(gl_y - box->y0) * bw * 4;
-            for (size_t x = from; x < to; x++, src += 4)
-                convert_one(src, dst + 4 * x);
-        }
-        for (size_t x = to; x < w; x++)
-            memcpy(dst + 4 * x, &bg_word, 4);
-    }
-}
-
-bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4],
-                       pfx_sprite *sprites, size_t count, bool sort, uint8_t *rgba, pfx_diags *d) {
-    if (count > (size_t)INT32_MAX) {
+/* Sorts, draws and reads back the box the sprites touch into r->pixels. */
+static bool render_float(pfx_renderer *r, const pfx_camera *cam, const pfx_render_settings *s,
+                         pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
+                         pixel_box *box, pfx_diags *d) {
+    if (count > (size_t)INT32_MAX || ribbons.count > (size_t)INT32_MAX) {
         pfx_diag_error(d, "too many sprites to draw: %zu", count);
         return false;
     }
     pfx_view v;
-    if (!camera_matrices(cam, r->width, r->height, &v, d))
+    if (!camera_matrices(cam, r->width, r->height, &v, d) || !make_current(r, d))
         return false;
-    if (!make_current(r, d))
+    if (sort && !pfx_sort_back_to_front(r, &v, sprites, count, d))
         return false;
-    if (sort && !sort_back_to_front(r, &v, sprites, count, d))
-        return false;
-    const float clear[4] = {bg[0] * bg[3], bg[1] * bg[3], bg[2] * bg[3], bg[3]};
-    pixel_box box = sprites_box(r, &v, sprites, count);
-    if (box.x1 > box.x0) {
+    float clear[4];
+    clear_colour(s, clear);
+    *box = sprites_box(r, &v, sprites, count, ribbons);
+    if (box->x1 > box->x0) {
         r->gl.BindFramebuffer(GL_FRAMEBUFFER, r->fbo);
         r->gl.Enable(GL_SCISSOR_TEST);
-        r->gl.Scissor(box.x0, box.y0, box.x1 - box.x0, box.y1 - box.y0);
-        submit_frame(r, &v, clear, sprites, count);
+        r->gl.Scissor(box->x0, box->y0, box->x1 - box->x0, box->y1 - box->y0);
+        submit_frame(r, &v, s, clear, sprites, count, ribbons);
         r->gl.Disable(GL_SCISSOR_TEST);
-        r->gl.ReadPixels(box.x0, box.y0, box.x1 - box.x0, box.y1 - box.y0, GL_RGBA, GL_FLOAT,
+        r->gl.ReadPixels(box->x0, box->y0, box->x1 - box->x0, box->y1 - box->y0, GL_RGBA, GL_FLOAT,
                          r->pixels);
     }
     GLenum e = r->gl.GetError();
@@ -734,8 +528,66 @@ bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4]
         pfx_diag_error(d, "OpenGL error 0x%04x while drawing %zu sprites", (unsigned)e, count);
         return false;
     }
-    convert_pixels(r, &box, clear, rgba);
     return true;
+}
+
+bool pfx_renderer_draw_frame(pfx_renderer *r, const pfx_camera *cam, const pfx_render_settings *s,
+                             pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
+                             uint8_t *rgba, pfx_diags *d) {
+    pixel_box box;
+    if (!render_float(r, cam, s, sprites, count, sort, ribbons, &box, d))
+        return false;
+    float clear[4];
+    clear_colour(s, clear);
+    pfx_convert_box(r, &box, clear, s, rgba);
+    return true;
+}
+
+bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4],
+                       pfx_sprite *sprites, size_t count, bool sort, uint8_t *rgba, pfx_diags *d) {
+    const pfx_render_settings s = pfx_render_settings_plain(bg);
+    return pfx_renderer_draw_frame(r, cam, &s, sprites, count, sort, (pfx_ribbons){NULL, 0}, rgba,
+                                   d);
+}
+
+bool pfx_renderer_blur_begin(pfx_renderer *r, pfx_diags *d) {
+    const size_t n = (size_t)r->width * (size_t)r->height * 4;
+    if (!r->blur && !(r->blur = malloc(n * sizeof *r->blur))) {
+        pfx_diag_error(d, "out of memory for motion blur at %dx%d", r->width, r->height);
+        return false;
+    }
+    memset(r->blur, 0, n * sizeof *r->blur);
+    return true;
+}
+
+/* Adds weight x the sub-frame's image: the box from r->pixels, the clear
+ * colour elsewhere, pixel by pixel in a fixed order. */
+bool pfx_renderer_blur_add(pfx_renderer *r, const pfx_camera *cam, const pfx_render_settings *s,
+                           pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
+                           float weight, pfx_diags *d) {
+    pixel_box box;
+    if (!render_float(r, cam, s, sprites, count, sort, ribbons, &box, d))
+        return false;
+    float clear[4];
+    clear_colour(s, clear);
+    const size_t bw = (size_t)(box.x1 - box.x0);
+    for (int y = 0; y < r->height; y++) {
+        float *dst = r->blur + (size_t)y * (size_t)r->width * 4;
+        for (int x = 0; x < r->width; x++, dst += 4) {
+            bool in = x >= box.x0 && x < box.x1 && y >= box.y0 && y < box.y1;
+            const float *src =
+                in ? r->pixels + ((size_t)(y - box.y0) * bw + (size_t)(x - box.x0)) * 4 : clear;
+            for (int c = 0; c < 4; c++)
+                dst[c] += weight * src[c];
+        }
+    }
+    return true;
+}
+
+void pfx_renderer_blur_resolve(pfx_renderer *r, const pfx_render_settings *s, uint8_t *rgba) {
+    float clear[4];
+    clear_colour(s, clear);
+    pfx_convert_full(r, r->blur, clear, s, rgba);
 }
 
 double pfx_renderer_bench_raw(pfx_renderer *r, const pfx_camera *cam, const pfx_sprite *sprites,
@@ -745,16 +597,17 @@ double pfx_renderer_bench_raw(pfx_renderer *r, const pfx_camera *cam, const pfx_
         !camera_matrices(cam, r->width, r->height, &v, NULL) || !make_current(r, NULL))
         return -1.0;
     const float clear[4] = {0, 0, 0, 0};
+    const pfx_render_settings s = pfx_render_settings_plain(clear);
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
     for (int i = 0; i < frames; i++) {
-        submit_frame(r, &v, clear, sprites, count);
+        submit_frame(r, &v, &s, clear, sprites, count, (pfx_ribbons){NULL, 0});
         r->gl.Finish();
         read_frame(r);
     }
     clock_gettime(CLOCK_MONOTONIC, &t1);
     if (r->gl.GetError() != GL_NO_ERROR)
         return -1.0;
-    double s = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
-    return s > 0 ? frames / s : -1.0;
+    double t = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    return t > 0 ? frames / t : -1.0;
 }

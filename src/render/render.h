@@ -12,23 +12,83 @@
 #include "base/diag.h"
 #include "model/effect.h"
 
-/* One particle as drawn: a camera-facing soft round sprite of world-space
- * diameter `size` centred at (x, y, z). Colour is premultiplied:
- * (r, g, b) = colour * alpha. `a` is the alpha that occludes what is behind:
- * the particle's alpha for alpha blending, 0 for additive blending. With the
- * single blend function (ONE, ONE_MINUS_SRC_ALPHA) this draws both modes in
- * one pass (premultiplied alpha; additive is "emission with zero coverage"). */
+/* One particle as drawn, 64 bytes, uploaded to GL as it is (four vec4s).
+ * A quad of world-space width `size` centred at (x, y, z), facing as its
+ * material says. Colour is premultiplied: (r, g, b) = colour * alpha *
+ * intensity; `a` is the alpha that occludes what is behind: the particle's
+ * alpha for alpha blending, 0 for additive blending. With the single blend
+ * function (ONE, ONE_MINUS_SRC_ALPHA) this draws both modes in one pass
+ * (premultiplied alpha; additive is "emission with zero coverage"). */
 typedef struct pfx_sprite {
     float x, y, z, size;
     float r, g, b, a;
-    float angle; /* radians, turning the sprite in the view plane */
-    float shape; /* the pfx_sprite_kind (PFX_SPRITE_ROUND, ...), as a float for the GPU */
+    float angle;      /* radians, turning the sprite in its plane */
+    float material;   /* index into the renderer's materials, as a float */
+    float frame;      /* flipbook: cell index plus the fraction towards the next */
+    float variant;    /* in [0, 1): the particle's own random (smoke puff, start cell) */
+    float vx, vy, vz; /* velocity, m/s: align velocity stretches along it on screen */
+    float length;     /* align velocity: the length in metres (size x length + |v| x speed) */
 } pfx_sprite;
 
-/* Sprite kinds (model/kinds.h). Round: alpha (1 - d^2)^2 with d the
- * distance from the centre over the radius (rotation does not show).
- * Square: the product of that falloff along the sprite's two axes,
- * (1 - x^2)^2 (1 - y^2)^2, a soft square whose rotation shows. */
+/* One corner of a ribbon, 36 bytes: ribbons come as a triangle list (three
+ * vertices a triangle) in world space, already facing the camera, so the
+ * renderer only projects them. Colour is premultiplied as a sprite's is
+ * (a = 0 for additive). `across` runs from -1 on one edge of the strip to
+ * +1 on the other; `profile` is the cross-section over it: 0 soft, (1 -
+ * across^2)^2 like a round sprite's falloff, 1 flat. */
+typedef struct pfx_ribbon_vertex {
+    float x, y, z, across;
+    float r, g, b, a;
+    float profile;
+} pfx_ribbon_vertex;
+
+/* The ribbons of a frame: `count` vertices (a multiple of 3), drawn in
+ * order before every sprite. */
+typedef struct pfx_ribbons {
+    const pfx_ribbon_vertex *v;
+    size_t count;
+} pfx_ribbons;
+
+/* How a run of sprites is drawn: one per emitter. Until
+ * pfx_renderer_set_materials, material k is built-in sprite kind k facing
+ * the camera. */
+typedef struct pfx_material {
+    pfx_sprite_kind sprite;
+    const pfx_image *texture;    /* NULL: the built-in sprite */
+    const pfx_image *normal_map; /* lit: NULL for a spherical normal */
+    int cols, rows, frames;      /* flipbook grid and cells (1, 1, 1 without one) */
+    bool frame_loop;             /* cells wrap (fps) or stop at the last (over life) */
+    bool frame_blend;            /* cross-fade between consecutive cells */
+    pfx_align align;
+    double axis[3]; /* AXIS: world axis; WORLD: plane normal (unit) */
+    bool lit;
+} pfx_material;
+
+/* What turns the float image into bytes, and the light of lit materials.
+ * pfx_render_settings_plain: straight alpha, no exposure, no tone curve,
+ * no dither, over `bg`. */
+typedef struct pfx_render_settings {
+    float background[4]; /* straight RGBA */
+    double exposure;     /* EV */
+    pfx_tonemap tonemap;
+    pfx_alpha_mode alpha;
+    bool dither;
+    double light_dir[3]; /* the direction light travels, unit */
+    float light_color[3], ambient[3];
+} pfx_render_settings;
+pfx_render_settings pfx_render_settings_plain(const float bg[4]);
+
+/* Built-in sprites (model/kinds.h), with (x, y) the quad's corner
+ * coordinates in [-1, 1] and d^2 = x^2 + y^2: round (1 - d^2)^2; square
+ * (1 - x^2)^2 (1 - y^2)^2, a soft square whose rotation shows; spark, an
+ * ellipse three times longer along y with a core three times brighter;
+ * smoke, the round falloff times two octaves of value noise offset by the
+ * particle's variant; flare, a soft halo, four rays and a hot core; ring,
+ * a soft annulus at 0.72 of the radius. A sprite narrower than
+ * PFX_MIN_FOOTPRINT_PX on screen is drawn that wide with its colour scaled
+ * by the width ratio (for each of its two axes), so its summed brightness
+ * does not depend on its size or where it falls on the pixel grid. */
+#define PFX_MIN_FOOTPRINT_PX 4.0
 
 /* Where the GL context comes from, one row each: the kind and its name as
  * --renderer and PFX_RENDERER spell it. auto is OSMesa where this pfx was
@@ -68,15 +128,39 @@ const char *pfx_renderer_name(const pfx_renderer *r);
 /* Frees the context, its GL objects and scratch memory; NULL is a no-op. */
 void pfx_renderer_destroy(pfx_renderer *r);
 
-/* Draws `count` sprites seen from `cam` over the straight-alpha background
- * `bg` and writes width*height*4 bytes of 8-bit straight-alpha RGBA, top row
- * first, into rgba. When `sort` is true the sprites are drawn back to front by
- * view depth (one sort over all of them, stable, so ties keep input order);
- * the sprites array is reordered in place (sprites may be NULL when count is
- * 0). Returns false (with an error in d) on a GL failure or when
- * the sort scratch cannot be grown; rgba is then unspecified. */
+/* The materials sprites name by index, one per emitter: textures are
+ * uploaded now (with mipmaps of their premultiplied texels). The renderer
+ * keeps pointers to the images, which must outlive it. False (with an
+ * error in d) when a texture cannot be uploaded. */
+bool pfx_renderer_set_materials(pfx_renderer *r, const pfx_material *m, size_t count, pfx_diags *d);
+
+/* Draws `count` sprites seen from `cam` and writes width*height*4 bytes of
+ * 8-bit RGBA (straight or premultiplied as `s` says), top row first, into
+ * rgba. When `sort` is true the sprites are drawn back to front by view
+ * depth (one sort over all of them, stable, so ties keep input order); the
+ * sprites array is reordered in place (sprites may be NULL when count is
+ * 0). Consecutive sprites of one material are one instanced draw. The
+ * ribbons (none: {NULL, 0}) are drawn first, in their order, under every
+ * sprite: one draw of their triangles. Returns
+ * false (with an error in d) on a GL failure or when the sort scratch
+ * cannot be grown; rgba is then unspecified. */
+bool pfx_renderer_draw_frame(pfx_renderer *r, const pfx_camera *cam, const pfx_render_settings *s,
+                             pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
+                             uint8_t *rgba, pfx_diags *d);
+/* pfx_renderer_draw_frame with pfx_render_settings_plain(bg). */
 bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4],
                        pfx_sprite *sprites, size_t count, bool sort, uint8_t *rgba, pfx_diags *d);
+
+/* Motion blur: the float images of several sub-frame times, averaged.
+ * begin clears the sum; each add draws the sprites as draw_frame would and
+ * adds `weight` times the float image (weights summing to 1); resolve
+ * converts the sum as draw_frame converts one image. The sum is kept in
+ * a fixed order, so the bytes do not depend on anything but the inputs. */
+bool pfx_renderer_blur_begin(pfx_renderer *r, pfx_diags *d);
+bool pfx_renderer_blur_add(pfx_renderer *r, const pfx_camera *cam, const pfx_render_settings *s,
+                           pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
+                           float weight, pfx_diags *d);
+void pfx_renderer_blur_resolve(pfx_renderer *r, const pfx_render_settings *s, uint8_t *rgba);
 
 /* The reference the pfx bench measures full rendering against: `frames`
  * times clears, uploads the sprites, makes the one instanced draw, glFinish

@@ -1,4 +1,5 @@
-/* From simulation state to renderer input. */
+/* From simulation state to renderer input: sprites (sprites_from_sim.c)
+ * and ribbons (ribbons_from_sim.c). */
 #ifndef PFX_SPRITES_H
 #define PFX_SPRITES_H
 
@@ -8,10 +9,35 @@
 /* True when any emitter blends by alpha: then every sprite, of every
  * emitter, is drawn in one back-to-front order. Additive alone needs none. */
 bool pfx_sprites_need_sort(const pfx_effect *e);
+/* One material per emitter, in emitter order (sprites name them by
+ * index), into out (room for e->emitter_count). */
+void pfx_sprites_materials(const pfx_effect *e, pfx_material *out);
+/* The image settings and light of the effect. */
+pfx_render_settings pfx_sprites_settings(const pfx_effect *e);
 /* The most sprites a frame can have: the sum of the pool capacities. */
 size_t pfx_sprites_capacity(const pfx_effect *e);
-/* Writes one sprite per live particle into out (room for
- * pfx_sprites_capacity); returns how many. */
+/* Writes one sprite per live particle of every `draw: sprite` emitter into
+ * out (room for pfx_sprites_capacity); returns how many. */
 size_t pfx_sprites_build(const pfx_sim *s, pfx_sprite *out);
+
+/* The intensity multiplier of a look at normalised age u. */
+static inline float pfx_look_intensity(const pfx_look *k, float u) {
+    if (!k->intensity_curve)
+        return k->intensity;
+    int i = (int)(u * (PFX_GRADIENT_LUT - 1) + 0.5f);
+    return k->intensity_lut[i < 0 ? 0 : i >= PFX_GRADIENT_LUT ? PFX_GRADIENT_LUT - 1 : i];
+}
+
+/* The vertices and sort scratch of a frame's ribbons, sized once from the
+ * effect's `draw: ribbon` pools. */
+typedef struct pfx_ribbon_buffer pfx_ribbon_buffer;
+/* NULL when out of memory; the caller frees it with pfx_ribbons_destroy. */
+pfx_ribbon_buffer *pfx_ribbons_create(const pfx_effect *e);
+void pfx_ribbons_destroy(pfx_ribbon_buffer *b);
+/* The ribbons of state s as triangles, facing s->effect's camera: for each
+ * `draw: ribbon` emitter in order, one strip per parent (by parent id),
+ * through its trail points in birth order. The result points into b and
+ * lives until the next build. */
+pfx_ribbons pfx_ribbons_build(pfx_ribbon_buffer *b, const pfx_sim *s);
 
 #endif

@@ -1,12 +1,18 @@
-/* Simulation state -> the sprites the renderer draws: size over life,
- * colour from the gradient, premultiplied, with the occluding alpha set to 0
- * for additive emitters (see pfx_sprite). It decides whether a depth sort is
- * needed: only when some emitter blends by alpha. */
+/* Simulation state -> what the renderer draws: one material per emitter
+ * (its look) and one sprite per live particle: size over life, colour from
+ * the gradient times intensity, premultiplied, with the occluding alpha set
+ * to 0 for additive emitters (see pfx_sprite); the flipbook cell, the
+ * particle's own variant, its velocity and stretched length. It decides
+ * whether a depth sort is needed: only when some emitter blends by alpha. */
 #include "render/sprites.h"
+
+#include <math.h>
+
+#include "base/rng.h"
 
 bool pfx_sprites_need_sort(const pfx_effect *e) {
     for (size_t i = 0; i < e->emitter_count; i++)
-        if (e->emitters[i].blend == PFX_BLEND_ALPHA)
+        if (e->emitters[i].blend == PFX_BLEND_ALPHA && e->emitters[i].look.draw == PFX_DRAW_SPRITE)
             return true;
     return false;
 }
@@ -18,29 +24,99 @@ size_t pfx_sprites_capacity(const pfx_effect *e) {
     return n;
 }
 
+void pfx_sprites_materials(const pfx_effect *e, pfx_material *out) {
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        const pfx_look *k = &e->emitters[i].look;
+        const pfx_flipbook *b = &k->flipbook;
+        out[i] = (pfx_material){.sprite = k->sprite,
+                                .texture = k->texture,
+                                .normal_map = k->normal_map,
+                                .cols = b->frames ? b->cols : 1,
+                                .rows = b->frames ? b->rows : 1,
+                                .frames = b->frames ? b->frames : 1,
+                                .frame_loop = b->fps > 0,
+                                .frame_blend = b->blend,
+                                .align = k->align,
+                                .axis = {k->axis[0], k->axis[1], k->axis[2]},
+                                .lit = k->lit};
+    }
+}
+
+pfx_render_settings pfx_sprites_settings(const pfx_effect *e) {
+    pfx_render_settings s = pfx_render_settings_plain(e->background);
+    s.exposure = e->exposure;
+    s.tonemap = e->tonemap;
+    s.alpha = e->alpha_mode;
+    s.dither = e->dither;
+    for (int a = 0; a < 3; a++) {
+        s.light_dir[a] = e->light_dir[a];
+        s.light_color[a] = e->light_color[a];
+        s.ambient[a] = e->light_ambient[a];
+    }
+    return s;
+}
+
+/* A particle's own random in [0, 1), from its emitter and birth index: the
+ * same every frame, with no column. */
+static float variant_of(size_t emitter, uint32_t id) {
+    uint64_t h = pfx_mix64(((uint64_t)emitter << 32) ^ id ^ 0x5bd1e9955bd1e995ULL);
+    return (float)((double)(h >> 40) / 16777216.0);
+}
+
+/* The flipbook cell (plus the fraction to the next) at normalised age u and
+ * age in seconds: `fps` cells per second, looping, or the sheet once over
+ * life; from the particle's own start cell when random. */
+static float cell_of(const pfx_flipbook *b, float u, double age, float variant) {
+    if (!b->frames)
+        return 0;
+    double start = b->random_start ? floor(variant * b->frames) : 0;
+    if (b->fps > 0)
+        return (float)fmod(start + age * b->fps, b->frames);
+    double f = (u < 0 ? 0 : u) * b->frames;
+    if (f > b->frames - 1e-4)
+        f = b->frames - 1e-4; /* the last cell at death, not the first again */
+    return (float)fmod(start + f, b->frames);
+}
+
 size_t pfx_sprites_build(const pfx_sim *s, pfx_sprite *out) {
     const pfx_effect *e = s->effect;
     size_t n = 0;
     for (size_t i = 0; i < e->emitter_count; i++) {
         const pfx_emitter *em = &e->emitters[i];
+        const pfx_look *k = &em->look;
         const pfx_pool *p = &s->pools[i];
+        if (k->draw != PFX_DRAW_SPRITE)
+            continue; /* its points make ribbons (ribbons_from_sim.c) */
         const bool additive = em->blend == PFX_BLEND_ADD;
+        /* A round sprite looks the same at any angle: skip the work. */
+        const bool turns =
+            k->sprite != PFX_SPRITE_ROUND || k->texture || k->lit || k->align == PFX_ALIGN_WORLD;
         for (uint32_t j = 0; j < p->count; j++) {
             float c[4];
             pfx_particle_color(em, p, j, c);
-            const float a = c[3];
-            out[n++] = (pfx_sprite){
-                .x = p->px[j],
-                .y = p->py[j],
-                .z = p->pz[j],
-                .size = pfx_particle_size(em, p, j),
-                .r = c[0] * a,
-                .g = c[1] * a,
-                .b = c[2] * a,
-                .a = additive ? 0.0f : a,
-                /* A round sprite looks the same at any angle: skip the work. */
-                .angle = em->sprite != PFX_SPRITE_ROUND ? pfx_particle_angle(em, p, j) : 0,
-                .shape = (float)em->sprite};
+            const double age = pfx_particle_age(p, j);
+            const float u = (float)age / p->lifetime[j], size = pfx_particle_size(em, p, j);
+            const float a = c[3], glow = a * pfx_look_intensity(k, u);
+            const float variant = variant_of(i, p->id[j]);
+            const float speed =
+                sqrtf(p->vx[j] * p->vx[j] + p->vy[j] * p->vy[j] + p->vz[j] * p->vz[j]);
+            out[n++] = (pfx_sprite){.x = p->px[j],
+                                    .y = p->py[j],
+                                    .z = p->pz[j],
+                                    .size = size,
+                                    .r = c[0] * glow,
+                                    .g = c[1] * glow,
+                                    .b = c[2] * glow,
+                                    .a = additive ? 0.0f : a,
+                                    .angle = turns ? pfx_particle_angle(em, p, j) : 0,
+                                    .material = (float)i,
+                                    .frame = cell_of(&k->flipbook, u, age, variant),
+                                    .variant = variant,
+                                    .vx = p->vx[j],
+                                    .vy = p->vy[j],
+                                    .vz = p->vz[j],
+                                    .length = size * (float)k->stretch_length +
+                                              speed * (float)k->stretch_speed};
         }
     }
     return n;

@@ -38,6 +38,8 @@
     X(angle0, float, STATE, pfx_needs_angle(em), "random sprite angle at birth, rad")              \
     X(spin, float, STATE, pfx_needs_spin(em), "random spin, rad/s")                                \
     X(stuck, uint8_t, STATE, em->sticks, "1 once stuck to a deflector")                            \
+    X(parent_id, uint32_t, STATE, em->look.draw == PFX_DRAW_RIBBON,                                \
+      "id of the particle whose trail made it: its ribbon")                                        \
     X(start_px, float, SCRATCH, em->deflector_count > 0,                                           \
       "start-of-step state the collision pass sweeps from")                                        \
     X(start_py, float, SCRATCH, em->deflector_count > 0, "")                                       \

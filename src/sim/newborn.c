@@ -69,6 +69,8 @@ bool pfx_sim_make_particle(pfx_sim *s, size_t i, double tb, double t1, const pfx
     }
     if (p->size_scale)
         p->size_scale[j] = parent && parent->inherit_size ? parent->size : 1;
+    if (p->parent_id)
+        p->parent_id[j] = parent ? parent->id : UINT32_MAX;
     const double v0[3] = {b.vel[0], b.vel[1], b.vel[2]};
     if (age > 0) {
         /* The rest of the step after the birth, by the emitter's own method:
@@ -151,6 +153,16 @@ void pfx_sim_emit(pfx_sim *s, size_t i, double t1) {
     }
 }
 
+/* Births a full pool cannot keep: counted, and their draws jumped over so
+ * the stream is where it would be had each been drawn. */
+static void drop_births(pfx_emitter_state *st, uint64_t n) {
+    if (!n)
+        return;
+    st->dropped += n;
+    st->born += n;
+    pfx_rng_advance(&st->rng, n * st->draws_per_birth);
+}
+
 void pfx_spawn_process(pfx_sim *s, double t1) {
     const pfx_effect *e = s->effect;
     if (!s->queues)
@@ -161,39 +173,44 @@ void pfx_spawn_process(pfx_sim *s, double t1) {
         bool any = false;
         for (size_t i = 0; i < e->emitter_count; i++) {
             pfx_spawn_queue *q = &s->queues[i];
-            if (!q->count)
+            if (!q->count) {
+                drop_births(&s->emitters[i], q->overflow);
+                q->overflow = 0;
                 continue;
+            }
             any = true;
             /* Take the queued records; events the births queue for this same
              * emitter land in the queue again for the next pass. */
             uint32_t n = q->count;
+            pfx_emitter_state *st = &s->emitters[i];
             for (uint32_t k = 0; k < n; k++) {
                 spawn_record r = q->items[k];
-                pfx_emitter_state *st = &s->emitters[i];
-                /* Two draws per event (count, probability) from the target's
-                 * spawn stream, whatever their values. */
-                double count = pfx_sample_value(&r.spawn->count, &st->spawn_rng);
-                double u = pfx_rng_unit(&st->spawn_rng);
-                if (u >= r.spawn->probability)
-                    continue;
-                uint64_t births = (uint64_t)floor(count);
                 const pfx_pool *p = &s->pools[i];
-                for (uint64_t c = 0; c < births; c++) {
+                for (uint64_t c = 0; c < r.births; c++) {
                     if (p->count == p->capacity) {
                         /* None of the rest can be kept: dropped at once. */
-                        uint64_t rest = births - c;
-                        st->dropped += rest;
-                        st->born += rest;
-                        pfx_rng_advance(&st->rng, rest * st->draws_per_birth);
+                        drop_births(st, r.births - c);
                         break;
                     }
                     pfx_sim_make_particle(s, i, r.t, t1, &r.parent);
                 }
             }
+            /* The births that found the queue at the pool's capacity come
+             * after every queued one, as they were raised after them. */
+            drop_births(st, q->overflow);
+            q->overflow = 0;
             memmove(q->items, q->items + n, (q->count - n) * sizeof *q->items);
             q->count -= n;
         }
         if (!any)
-            return;
+            break;
+    }
+    /* A new step: what is still queued (events raised after this pass, or
+     * past the last pass) counts against the pool again. */
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        pfx_spawn_queue *q = &s->queues[i];
+        q->queued = 0;
+        for (uint32_t k = 0; k < q->count; k++)
+            q->queued += q->items[k].births;
     }
 }

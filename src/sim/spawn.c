@@ -2,14 +2,16 @@
  * their exact time and back-extrapolated place, deflector hits with the
  * surface normal, trail births along the path) and turned into particles
  * after every emitter has moved (newborn.c), so the result does not depend
- * on the order of emitters in the file. Queues are allocated once; an event
- * past a full queue is counted as dropped by its target, never silently
- * lost. */
+ * on the order of emitters in the file. Queues are allocated once, no
+ * larger than their targets' pools; births past what a pool can take in a
+ * step are counted as dropped by the target, never silently lost. */
 #include "sim/spawn.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "sim/sample.h"
 
 bool pfx_spawn_has(const pfx_emitter *em, pfx_spawn_event event) {
     for (size_t k = 0; k < em->spawn_count; k++)
@@ -18,29 +20,35 @@ bool pfx_spawn_has(const pfx_emitter *em, pfx_spawn_event event) {
     return false;
 }
 
+size_t pfx_spawn_queue_capacity(const pfx_effect *e, size_t target) {
+    const double dt = 1.0 / e->sim_rate;
+    double cap = 0;
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        const pfx_emitter *em = &e->emitters[i];
+        for (size_t k = 0; k < em->spawn_count; k++) {
+            const pfx_spawn *sp = &em->spawns[k];
+            if (sp->target != target)
+                continue;
+            double per = sp->event == PFX_SPAWN_HIT     ? PFX_COLLIDE_MAX_HITS
+                         : sp->event == PFX_SPAWN_TRAIL ? ceil(sp->rate * dt) + 1
+                                                        : 1;
+            cap += per * em->capacity;
+        }
+    }
+    if (cap == 0)
+        return 0;
+    /* Each record holds at least one birth: the pool bounds them. */
+    double pool = e->emitters[target].capacity;
+    return (size_t)(cap + 16 < pool ? cap + 16 : pool);
+}
+
 bool pfx_spawn_queues_create(pfx_sim *s) {
     const pfx_effect *e = s->effect;
     s->queues = calloc(e->emitter_count + 1, sizeof *s->queues);
     if (!s->queues)
         return false;
-    /* A step's events, per target: each parent particle can die, be born,
-     * or hit at most PFX_COLLIDE_MAX_HITS deflectors once each in a step,
-     * and lay its trail births of one step; so the parents' pool sizes
-     * bound the queue whatever the counts and probabilities (an event
-     * that does not fire still needs its place until it is rolled). */
-    const double dt = 1.0 / e->sim_rate;
     for (size_t i = 0; i < e->emitter_count; i++) {
-        const pfx_emitter *em = &e->emitters[i];
-        for (size_t k = 0; k < em->spawn_count; k++) {
-            const pfx_spawn *sp = &em->spawns[k];
-            double per = sp->event == PFX_SPAWN_HIT     ? PFX_COLLIDE_MAX_HITS
-                         : sp->event == PFX_SPAWN_TRAIL ? ceil(sp->rate * dt) + 1
-                                                        : 1;
-            double cap = (double)s->queues[sp->target].cap + per * em->capacity + 16;
-            s->queues[sp->target].cap = (uint32_t)(cap < 4e9 ? cap : 4e9);
-        }
-    }
-    for (size_t i = 0; i < e->emitter_count; i++) {
+        s->queues[i].cap = (uint32_t)pfx_spawn_queue_capacity(e, i);
         if (!s->queues[i].cap)
             continue;
         s->queues[i].items = malloc(s->queues[i].cap * sizeof *s->queues[i].items);
@@ -48,6 +56,30 @@ bool pfx_spawn_queues_create(pfx_sim *s) {
             return false;
     }
     return true;
+}
+
+/* Draws the event's count and probability from the target's spawn stream
+ * (two draws per event, whatever their values, in the order events are
+ * raised) and queues it when it fires: the record to fill in, or NULL when
+ * it did not fire or the target's pool cannot take its births (then they
+ * are counted to drop). */
+static spawn_record *queue_event(pfx_sim *s, const pfx_spawn *sp, double t) {
+    pfx_emitter_state *st = &s->emitters[sp->target];
+    double count = pfx_sample_value(&sp->count, &st->spawn_rng);
+    double u = pfx_rng_unit(&st->spawn_rng);
+    if (u >= sp->probability || count < 1)
+        return NULL;
+    const uint64_t births = (uint64_t)floor(count);
+    pfx_spawn_queue *q = &s->queues[sp->target];
+    if (q->queued >= s->effect->emitters[sp->target].capacity || q->count == q->cap) {
+        q->overflow += births;
+        return NULL;
+    }
+    q->queued += births;
+    spawn_record *r = &q->items[q->count++];
+    r->t = t;
+    r->births = (uint32_t)births;
+    return r;
 }
 
 void pfx_spawn_queues_destroy(pfx_sim *s) {
@@ -68,14 +100,9 @@ void pfx_spawn_event_of(pfx_sim *s, size_t i, pfx_spawn_event event, uint32_t j,
         const pfx_spawn *sp = &em->spawns[k];
         if (sp->event != event || (sp->depth && generation >= (float)sp->depth))
             continue;
-        pfx_spawn_queue *q = &s->queues[sp->target];
-        if (q->count == q->cap) {
-            s->emitters[sp->target].dropped++;
+        spawn_record *r = queue_event(s, sp, t);
+        if (!r)
             continue;
-        }
-        spawn_record *r = &q->items[q->count++];
-        r->t = t;
-        r->spawn = sp;
         pfx_parent *pa = &r->parent;
         memcpy(pa->pos, pos, sizeof pa->pos);
         memcpy(pa->vel, vel, sizeof pa->vel);
@@ -86,6 +113,7 @@ void pfx_spawn_event_of(pfx_sim *s, size_t i, pfx_spawn_event event, uint32_t j,
         pa->inherit_color = sp->inherit_color;
         pa->inherit_size = sp->inherit_size;
         pa->generation = generation;
+        pa->id = p->id[j];
         if (sp->inherit_color) {
             float c[4];
             pfx_particle_color(em, p, j, c);
@@ -118,20 +146,16 @@ void pfx_spawn_trails(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t
                 const double at = m / sp->rate;
                 if (!(at < life))
                     break;
-                pfx_spawn_queue *q = &s->queues[sp->target];
-                if (q->count == q->cap) {
-                    s->emitters[sp->target].dropped++;
-                    continue;
-                }
                 const double back = a1 - at;
-                spawn_record *r = &q->items[q->count++];
-                r->t = t1 - back;
-                r->spawn = sp;
+                spawn_record *r = queue_event(s, sp, t1 - back);
+                if (!r)
+                    continue;
                 r->parent = (pfx_parent){.inherit_velocity = sp->inherit_velocity,
                                          .inherit_color = sp->inherit_color,
                                          .inherit_size = sp->inherit_size,
                                          .size = 1,
-                                         .generation = generation};
+                                         .generation = generation,
+                                         .id = p->id[j]};
                 const double pos[3] = {p->px[j] - p->vx[j] * back, p->py[j] - p->vy[j] * back,
                                        p->pz[j] - p->vz[j] * back};
                 const double vel[3] = {p->vx[j], p->vy[j], p->vz[j]};

@@ -14,21 +14,37 @@ typedef struct pfx_parent {
     bool inherit_velocity, inherit_color, inherit_size;
     float color[3], size;
     float generation;
+    uint32_t id; /* the parent's id: a ribbon's points are grouped by it */
 } pfx_parent;
 
-/* One queued event: what the child takes from its parent, when, and which
- * sub-emitter entry made it. */
+/* One queued event that fired: what the children take from their parent,
+ * when, and how many there are (its count and probability were drawn when
+ * it was queued). */
 typedef struct spawn_record {
     pfx_parent parent;
     double t;
-    const pfx_spawn *spawn;
+    uint32_t births;
 } spawn_record;
 
-/* A target emitter's events of the step, in the order they were queued. */
+/* A target emitter's events of the step, in the order they were queued.
+ * It holds at most as many births as the target's pool: once the births
+ * queued since the last pass reach the pool's capacity, the pool will be
+ * full before any later event is processed, so later births are only
+ * counted (in overflow) and dropped after the queued ones, as a full pool
+ * drops them. Its size is thereby bounded by the pool's, whatever the
+ * parents' counts. */
 typedef struct pfx_spawn_queue {
     spawn_record *items;
     uint32_t count, cap;
+    uint64_t queued;   /* births in items, and processed since the step began */
+    uint64_t overflow; /* births past the pool's capacity, to drop */
 } pfx_spawn_queue;
+
+/* The records target emitter i's queue holds: the events its parents can
+ * raise in one step (each parent particle dies, is born, lays its trail
+ * births of one step or hits up to PFX_COLLIDE_MAX_HITS deflectors), and
+ * never more than the target's pool can take. 0: no sub-emitter feeds it. */
+size_t pfx_spawn_queue_capacity(const pfx_effect *e, size_t i);
 
 /* Creates one particle of emitter i born at tb (<= t1) and advanced to t1:
  * the draws, the partial step, the deflector sweep, and its own on_birth

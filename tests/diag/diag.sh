@@ -174,6 +174,66 @@ gen_long_scalar() { # a 1 MB scalar value: one error
     errors_shown 1
 }
 
+# bounded SECONDS KIB: tighter limits for the runs of one case, where the
+# issue is time or memory (a parse or compile must stay linear in the file).
+# Under AddressSanitizer the time is four times as long and the memory is
+# not bounded (its shadow memory needs more).
+bounded() {
+    pfx_timeout=$1
+    pfx_vm=$2
+    if [ "$asan" = 1 ]; then
+        pfx_timeout=$(($1 * 4))
+        pfx_vm=unlimited
+    fi
+}
+
+# Linear in the file: each of these took minutes or gigabytes when a check
+# was quadratic or came after the work it bounds. 5 s and 500 MB each.
+gen_keys_150000() { # one mapping of 150,000 keys (2 MB): the duplicate check is hashed
+    write keys_150000 'head + b"    extra:\n" + b"".join(b"      k%d: 1\n" % i for i in range(150000))'
+    bounded 5 500000
+    expect keys_150000 1 ":5:5: error: unknown key 'extra' in emitter 'flame'"
+    errors_shown 1
+}
+gen_keys_150000_same() { # 150,000 copies of one key: 200 diagnostics kept, the rest counted
+    write keys_150000_same 'head + b"    extra:\n" + b"      k: 1\n" * 150000'
+    bounded 5 500000
+    expect keys_150000_same 1 ":7:7: error: duplicate key 'k'" ":6:7: note: 'k' first defined here" \
+        "more diagnostics not shown"
+    errors_shown 199
+}
+gen_keys_150000_unknown() { # 150,000 unknown keys of an emitter: no suggestion sought past the cap
+    write keys_150000_unknown 'head + b"".join(b"    k%d: 1\n" % i for i in range(150000))'
+    bounded 5 500000
+    expect keys_150000_unknown 1 ":5:5: error: unknown key 'k0' in emitter 'flame'" \
+        ": note: 149800 more diagnostics not shown"
+}
+gen_anchors_100000() { # 100,000 anchors, then 100,000 aliases of the first: anchors are hashed
+    write anchors_100000 'head + b"    extra:\n" + b"".join(b"      - &a%d %d\n" % (i, i) for i in range(100000)) + b"      - *a0\n" * 100000'
+    bounded 5 500000
+    expect anchors_100000 1 ":5:5: error: unknown key 'extra' in emitter 'flame'"
+    errors_shown 1
+}
+gen_emitters_150000() { # 150,000 emitters: the cap of 1024 is checked before compiling any
+    write emitters_150000 'b"pfx: 1\nemitters:\n" + b"".join(b"  e%d: {}\n" % i for i in range(150000))'
+    bounded 5 500000
+    expect emitters_150000 1 ":3:3: error: an effect has at most 1024 emitters, got 150000"
+    errors_shown 1
+}
+gen_bursts_150000() { # 150,000 bursts: the cap of 256 before reading any
+    write bursts_150000 'head + b"    bursts:\n" + b"      - { time: 1, count: 1 }\n" * 150000'
+    bounded 5 500000
+    expect bursts_150000 1 ":6:7: error: an emitter has at most 256 bursts, got 150000"
+    errors_shown 1
+}
+
+gen_mesh_fifo() { # a mesh file that is a FIFO with no writer: refused, not waited on
+    mkfifo "$work/fifo.obj" || flunk "mkfifo failed"
+    write mesh_fifo 'b"pfx: 1\nemitters:\n  flame:\n    shape: { type: mesh, file: fifo.obj }\n"'
+    expect mesh_fifo 1 ":4:32: error: cannot open 'fifo.obj': not a regular file"
+    errors_shown 1
+}
+
 generated_case() {
     begin "generated/$1"
     if declare -F "gen_$1" >/dev/null; then

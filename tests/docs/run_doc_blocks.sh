@@ -51,7 +51,9 @@ count_man=$(find "$work" -name 'man*.yaml' | wc -l)
 [ "$count_man" -ge 2 ] && pass "the man pages have $count_man effect examples" ||
     fail "found $count_man effect examples in the man pages, expected at least 2"
 
-# Relative mesh paths in the examples name files of effects/.
+# Relative mesh paths in the examples name files of effects/; textures are
+# read beside the effect, so effects/textures is linked beside the blocks.
+ln -s "$src/effects/textures" "$work/textures"
 for f in "$work"/*.yaml; do
     [ -e "$f" ] || continue
     name=${f##*/}

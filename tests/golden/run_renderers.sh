@@ -4,8 +4,11 @@
 # byte-identical PNGs. Several examples are rendered both ways at 96x96,
 # four frames each: additive (fire, galaxy), alpha-blended and depth-sorted
 # (smoke), square turning sprites and both blends (explosion, after its
-# burst at 0.2 s), and alpha over additive (fountain_basin); the first and
-# last of the four must differ, so they hold more than the background. auto
+# burst at 0.2 s, with motion blur and flipbooks), alpha over additive
+# (fountain_basin), and the sprite looks: textured flipbooks, lit smoke,
+# flares and tone mapping (campfire), velocity-stretched and world-aligned
+# ring sprites (rain, shockwave, sparks_steps); the first and last of the
+# four must differ, so they hold more than the background. auto
 # must be OSMesa where it is built. A
 # render with another seed must differ, which shows the comparison can fail,
 # and Mesa's EGL log shows that egl-cpu really goes through libEGL (and
@@ -20,7 +23,8 @@ set -u
 pfx=${1:?usage: run_renderers.sh PATH-TO-PFX SOURCE-DIR}
 src=${2:?usage: run_renderers.sh PATH-TO-PFX SOURCE-DIR}
 # effect:first:last
-cases=(fire:0:3 smoke:0:3 explosion:8:11 fountain_basin:0:3 galaxy:0:3)
+cases=(fire:0:3 smoke:0:3 explosion:8:11 fountain_basin:0:3 galaxy:0:3 campfire:30:33
+    rain:10:13 shockwave:8:11 sparks_steps:10:13 sword_swipe:4:7)
 small=(--size 96x96 -q)
 
 source "$src/tests/harness.sh" renderers "$@"

@@ -18,7 +18,8 @@ src=${2:?usage: run_egl_gpu.sh PATH-TO-PFX SOURCE-DIR}
 python=/usr/bin/python3
 max_diff=3        # out of 255, per channel
 max_fraction=0.01 # of all channel values
-cases=(fire:0:3 smoke:0:3 explosion:8:11)
+cases=(fire:0:3 smoke:0:3 explosion:8:11 campfire:30:33 rain:10:13 shockwave:8:11
+    sword_swipe:4:7)
 small=(--size 96x96 -q)
 
 source "$src/tests/harness.sh" egl-gpu "$@"

@@ -9,12 +9,14 @@ source "$(dirname "${BASH_SOURCE[0]}")/../harness.sh" signals "$@"
 cd "$work" || exit 2
 FIRE=$src/effects/fire.yaml
 
-# interrupt SIGNAL DIR ARGS...: starts pfx ARGS, waits until DIR holds a
-# frame (so that writing is under way), sends SIGNAL, and sets $status.
+# interrupt SIGNAL DIR ARGS...: starts pfx ARGS (SIGINT not ignored, as
+# from a terminal: a background job of a script starts with SIGINT ignored,
+# and pfx leaves an ignored signal ignored), waits until DIR holds a frame
+# (so that writing is under way), sends SIGNAL, and sets $status.
 interrupt() {
     local sig=$1 dir=$2
     shift 2
-    "$pfx" "$@" >/dev/null 2>"$work/err" &
+    env --default-signal=INT "$pfx" "$@" >/dev/null 2>"$work/err" &
     local pid=$! n=0
     until [ -n "$(ls -A "$dir" 2>/dev/null)" ] || [ $n -ge 600 ]; do
         sleep 0.05

@@ -414,9 +414,11 @@ static void test_read_converts(void) {
     unlink(path);
 }
 
-static void test_queue_order(void) {
-    enum { frames = 5, w = 48, h = 32 };
-    pfx_png_queue *q = pfx_png_queue_create(w, h);
+/* Every frame arrives whole at its own path, with one encoder or several
+ * (frames then finish in any order; the files are the same). */
+static void queue_frames(int encoders) {
+    enum { frames = 7, w = 48, h = 32 };
+    pfx_png_queue *q = pfx_png_queue_create(w, h, encoders);
     CHECK(q != NULL);
     if (q == NULL)
         return;
@@ -448,7 +450,13 @@ static void test_queue_order(void) {
     check_entries(test_dir, 0);
 }
 
-/* The first error is the one reported, and frames after it are dropped. */
+static void test_queue_order(void) {
+    queue_frames(1);
+    queue_frames(3);
+}
+
+/* The first error is the one reported, and frames after it are dropped
+ * (with one encoder, which takes frames strictly one after another). */
 static void test_queue_first_error(void) {
     enum { w = 8, h = 8 };
     char good[512], bad1[512], bad2[512], after[512];
@@ -457,7 +465,7 @@ static void test_queue_first_error(void) {
     path_in(bad2, sizeof bad2, "missing_dir/q_bad2.png");
     path_in(after, sizeof after, "q_after.png");
     const char *paths[4] = {good, bad1, bad2, after};
-    pfx_png_queue *q = pfx_png_queue_create(w, h);
+    pfx_png_queue *q = pfx_png_queue_create(w, h, 1);
     CHECK(q != NULL);
     if (q == NULL)
         return;
@@ -479,14 +487,14 @@ static void test_queue_first_error(void) {
 /* Finishing with nothing submitted, or with a buffer taken but never
  * submitted, succeeds and frees everything. */
 static void test_queue_empty(void) {
-    pfx_png_queue *q = pfx_png_queue_create(4, 4);
+    pfx_png_queue *q = pfx_png_queue_create(4, 4, 2);
     CHECK(q != NULL);
     CHECK(pfx_png_queue_finish(q, NULL));
-    q = pfx_png_queue_create(4, 4);
+    q = pfx_png_queue_create(4, 4, 2);
     CHECK(q != NULL);
     CHECK(pfx_png_queue_buffer(q) != NULL);
     CHECK(pfx_png_queue_finish(q, NULL));
-    CHECK(pfx_png_queue_create(0, 4) == NULL);
+    CHECK(pfx_png_queue_create(0, 4, 1) == NULL);
 }
 
 int main(void) {

@@ -528,7 +528,7 @@ static void test_footprint(void) {
     CHECK(len > 0 && len < sizeof text - 1);
     text[len] = '\0';
     compiled c;
-    if (!compile_text(&c, text)) {
+    if (!compile_as(&c, text, path, NULL)) {
         compiled_free(&c);
         return;
     }

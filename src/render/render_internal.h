@@ -1,0 +1,173 @@
+/* What the files of src/render share: the GL entry points, the renderer's
+ * state, the camera's matrices, the screen box a frame touches. Private to
+ * src/render. */
+#ifndef PFX_RENDER_INTERNAL_H
+#define PFX_RENDER_INTERNAL_H
+
+#include "render/gl_context.h"
+#include "render/render.h"
+
+/* Types, enums and PFNGL...PROC typedefs only: without GL_GLEXT_PROTOTYPES
+ * it declares no function, so every call goes through the table below. */
+#include <GL/glcorearb.h>
+
+/* Every GL entry point render.c calls, 1.0 ones included, fetched through
+ * the backend's GetProcAddress: with glvnd, libOpenGL's exported symbols
+ * dispatch to whichever vendor is current, while libOSMesa brings its own;
+ * asking the backend is right for both. */
+#define PFX_GL_FUNCS(X)                                                                            \
+    X(PFNGLGETERRORPROC, GetError)                                                                 \
+    X(PFNGLGETINTEGERVPROC, GetIntegerv)                                                           \
+    X(PFNGLENABLEPROC, Enable)                                                                     \
+    X(PFNGLDISABLEPROC, Disable)                                                                   \
+    X(PFNGLBLENDFUNCPROC, BlendFunc)                                                               \
+    X(PFNGLVIEWPORTPROC, Viewport)                                                                 \
+    X(PFNGLSCISSORPROC, Scissor)                                                                   \
+    X(PFNGLCLEARCOLORPROC, ClearColor)                                                             \
+    X(PFNGLCLEARPROC, Clear)                                                                       \
+    X(PFNGLPIXELSTOREIPROC, PixelStorei)                                                           \
+    X(PFNGLREADPIXELSPROC, ReadPixels)                                                             \
+    X(PFNGLFINISHPROC, Finish)                                                                     \
+    X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                                                   \
+    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                                             \
+    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                                                   \
+    X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)                                   \
+    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)                                     \
+    X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)                                                 \
+    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                                           \
+    X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                                                 \
+    X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)                                           \
+    X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                                                   \
+    X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                                             \
+    X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                                                   \
+    X(PFNGLGENBUFFERSPROC, GenBuffers)                                                             \
+    X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                                                       \
+    X(PFNGLBINDBUFFERPROC, BindBuffer)                                                             \
+    X(PFNGLBUFFERDATAPROC, BufferData)                                                             \
+    X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)                                           \
+    X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)                                   \
+    X(PFNGLVERTEXATTRIBDIVISORPROC, VertexAttribDivisor)                                           \
+    X(PFNGLDRAWARRAYSINSTANCEDPROC, DrawArraysInstanced)                                           \
+    X(PFNGLCREATESHADERPROC, CreateShader)                                                         \
+    X(PFNGLDELETESHADERPROC, DeleteShader)                                                         \
+    X(PFNGLSHADERSOURCEPROC, ShaderSource)                                                         \
+    X(PFNGLCOMPILESHADERPROC, CompileShader)                                                       \
+    X(PFNGLGETSHADERIVPROC, GetShaderiv)                                                           \
+    X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)                                                 \
+    X(PFNGLCREATEPROGRAMPROC, CreateProgram)                                                       \
+    X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                                                       \
+    X(PFNGLATTACHSHADERPROC, AttachShader)                                                         \
+    X(PFNGLLINKPROGRAMPROC, LinkProgram)                                                           \
+    X(PFNGLGETPROGRAMIVPROC, GetProgramiv)                                                         \
+    X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)                                               \
+    X(PFNGLUSEPROGRAMPROC, UseProgram)                                                             \
+    X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                                             \
+    X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)                                                 \
+    X(PFNGLUNIFORM1IPROC, Uniform1i)                                                               \
+    X(PFNGLUNIFORM1FPROC, Uniform1f)                                                               \
+    X(PFNGLUNIFORM2FPROC, Uniform2f)                                                               \
+    X(PFNGLUNIFORM3FPROC, Uniform3f)                                                               \
+    X(PFNGLGENTEXTURESPROC, GenTextures)                                                           \
+    X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                                     \
+    X(PFNGLBINDTEXTUREPROC, BindTexture)                                                           \
+    X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                                                       \
+    X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                                             \
+    X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                                       \
+    X(PFNGLGENERATEMIPMAPPROC, GenerateMipmap)
+
+typedef struct pfx_gl {
+#define PFX_GL_FIELD(type, name) type name;
+    PFX_GL_FUNCS(PFX_GL_FIELD)
+#undef PFX_GL_FIELD
+} pfx_gl;
+
+/* Uniform locations of a sprite program (render/shader.c). */
+typedef struct pfx_sprite_uniforms {
+    GLint view, proj, px_per_unit, min_px, axis, plane_x, plane_y;
+    GLint tex, grid, frames, frame_loop, normal_tex, light_dir, light_color, ambient;
+} pfx_sprite_uniforms;
+
+/* A sprite program specialised for one combination of material switches
+ * (render/shader.c says which and why). */
+typedef struct pfx_program {
+    unsigned key;
+    GLuint id;
+    pfx_sprite_uniforms u;
+} pfx_program;
+
+/* Sprite kinds x alignments x texture, cross-fade, light and normal-map
+ * switches give far more combinations than an effect's emitters use; an
+ * effect has at most this many materials' worth of distinct ones. */
+#define PFX_MAX_PROGRAMS 64
+
+/* A material as the GPU holds it: the caller's description, its textures
+ * (0: none) and its program (an index into the renderer's). */
+typedef struct pfx_gpu_material {
+    pfx_material m;
+    GLuint texture, normal_map;
+    size_t program;
+} pfx_gpu_material;
+
+struct pfx_renderer {
+    int width, height;
+    pfx_gl_context *ctx;
+    pfx_gl gl;
+    GLuint fbo, colour_rb, vao, quad_vbo, instance_vbo;
+    pfx_program programs[PFX_MAX_PROGRAMS];
+    size_t program_count;
+    GLuint ribbon_vao, ribbon_vbo, ribbon_program; /* ribbons: world-space triangles */
+    GLint ribbon_view, ribbon_proj;
+    pfx_gpu_material *materials;
+    size_t material_count;
+    float *pixels; /* width * height * 4 floats read back from the FBO */
+    float *blur;   /* motion blur: the weighted sum of full float images */
+    /* Sort scratch, grown to the largest count seen: two key and two index
+     * arrays for the radix ping-pong, and a sprite copy for the permutation. */
+    size_t scratch_cap;
+    uint32_t *keys;
+    uint32_t *index;
+    pfx_sprite *sorted;
+};
+
+/* Camera matrices, column-major (m[col * 4 + row]) as GL expects. The view
+ * matrix is gluLookAt's: forward f = normalize(target - position), side
+ * s = normalize(f x up), true up u = s x f; the camera looks down -z. */
+typedef struct pfx_view {
+    double m[16];
+    double proj[16];
+    double forward[3], eye[3];
+} pfx_view;
+
+/* The pixels a frame's sprites can touch, in GL window coordinates (y up),
+ * [x0, x1) x [y0, y1). */
+typedef struct pixel_box {
+    int x0, y0, x1, y1;
+} pixel_box;
+
+/* render/shader.c: bind gives g the program its switches need, compiling
+ * and linking it the first time; material makes g's program current and
+ * sets its uniforms (camera, light, alignment, flipbook, textures).
+ * Programs live until the context does. */
+bool pfx_shader_bind(pfx_renderer *r, pfx_gpu_material *g, pfx_diags *d);
+void pfx_shader_material(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
+                         const pfx_gpu_material *g);
+/* render/shader.c: the ribbon program (world-space triangles, no
+ * switches), into r->ribbon_program and its two uniforms. */
+bool pfx_shader_build_ribbon(pfx_renderer *r, pfx_diags *d);
+
+/* render/sort.c: back-to-front by view depth, stable (LSD radix on float
+ * keys); false with an error when the scratch cannot grow. */
+bool pfx_sort_back_to_front(pfx_renderer *r, const pfx_view *v, pfx_sprite *sprites, size_t count,
+                            pfx_diags *d);
+
+/* render/convert.c: the float image (premultiplied colour, coverage) to
+ * 8-bit RGBA as the settings say. `box` is the read-back part in
+ * r->pixels (packed rows of its width, bottom row first); the rest of the
+ * image is the clear colour. */
+void pfx_convert_box(const pfx_renderer *r, const pixel_box *box, const float clear[4],
+                     const pfx_render_settings *s, uint8_t *rgba);
+/* The whole image of `src` (width * height * 4 floats, bottom row first). */
+void pfx_convert_full(const pfx_renderer *r, const float *src, const float clear[4],
+                      const pfx_render_settings *s, uint8_t *rgba);
+
+#endif

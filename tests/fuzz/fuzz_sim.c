@@ -1,0 +1,72 @@
+/* libFuzzer target: what compiles runs. Any bytes are loaded as in
+ * fuzz_load.c with a budget of 500 particles; an effect that compiles is
+ * simulated to its first three frames (when they are at most 2,000 steps
+ * away) and each frame is turned into sprites and drawn at 32x32 by one
+ * renderer made at the first input. The simulation asserts its invariants
+ * instead of reporting, so any sanitizer report or abort here is a bug of
+ * the compiler (it let bad input through) or of the stage itself. */
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "jobs/load.h"
+#include "render/render.h"
+#include "render/sprites.h"
+#include "sim/sim.h"
+
+#define MAX_STEPS 2000.0
+#define FRAMES 3
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+static pfx_renderer *renderer(void) {
+    static pfx_renderer *r;
+    static bool tried;
+    if (!tried) {
+        char err[256];
+        tried = true;
+        r = pfx_renderer_create(PFX_RENDERER_AUTO, 32, 32, err, sizeof err);
+        if (!r)
+            fprintf(stderr, "fuzz_sim: no renderer (%s): simulating only\n", err);
+    }
+    return r;
+}
+
+static void run(const pfx_effect *e) {
+    long frames = pfx_effect_frame_count(e);
+    if (frames > FRAMES)
+        frames = FRAMES;
+    if (pfx_sim_frame_time(e, frames - 1) * e->sim_rate > MAX_STEPS)
+        return;
+    pfx_diags d;
+    pfx_diags_init_runtime(&d);
+    pfx_sim *sim = pfx_sim_create(e, &d), *view = pfx_sim_create(e, &d);
+    pfx_sprite *sprites = malloc((pfx_sprites_capacity(e) + 1) * sizeof *sprites);
+    pfx_renderer *r = renderer();
+    static uint8_t rgba[32 * 32 * 4];
+    for (long f = 0; sim && view && sprites && f < frames; f++) {
+        const pfx_sim *state = pfx_sim_frame(sim, view, f);
+        if (sim->failed || view->failed)
+            break;
+        size_t n = pfx_sprites_build(state, sprites);
+        char err[256];
+        if (r)
+            pfx_renderer_draw(r, &e->camera, e->background, sprites, n, pfx_sprites_need_sort(e),
+                              rgba, err, sizeof err);
+    }
+    free(sprites);
+    pfx_sim_destroy(view);
+    pfx_sim_destroy(sim);
+    pfx_diags_free(&d);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+    pfx_loaded l;
+    pfx_compile_options opt = {.max_particles = 500};
+    const pfx_effect *e = pfx_load_bytes(&l, "/nonexistent/fuzz.yaml", data, size, &opt);
+    if (e)
+        run(e);
+    pfx_loaded_free(&l);
+    return 0;
+}
