@@ -12,12 +12,20 @@
 
 #include "bench/accuracy.h"
 #include "bench/speed.h"
+#include "compile/read.h"
 #include "compile/schema.h"
+#include "jobs/assemble.h"
+#include "jobs/atlas_job.h"
+#include "jobs/delivery.h"
 #include "jobs/estimate.h"
 #include "jobs/load.h"
+#include "jobs/parallel.h"
+#include "jobs/preview.h"
+#include "jobs/progress.h"
 #include "jobs/render_job.h"
+#include "jobs/slice.h"
 #include "output/atomic_file.h"
-#include "output/bake_csv.h"
+#include "output/bake.h"
 #include "render/render.h"
 #include "render/sprites.h"
 #include "sim/schedule.h"
@@ -27,28 +35,36 @@
 #define EXIT_USAGE 2
 
 static const char usage_text[] =
-    "usage: pfx validate [--format text|json] [--max-particles N] [--max-memory SIZE]\n"
-    "                  FILE...\n"
-    "       pfx render FILE -o DIR [--frames A:B] [--size WxH] [--fps N] [--seed N]\n"
-    "                  [--max-particles N] [--max-memory SIZE] [--renderer R] [--alpha MODE]\n"
-    "                  [--threads N] [-q]\n"
-    "       pfx bake FILE -o OUT.csv [--every N] [--frames A:B] [--fps N] [--seed N]\n"
-    "                  [--max-particles N] [--max-memory SIZE] [--threads N]\n"
+    "usage: pfx validate [--format text|json] [--werror] [--max-particles N]\n"
+    "                  [--max-memory SIZE] FILE...\n"
+    "       pfx render FILE... -o DIR [-j N] [--keep-going] [--frames A:B] [--size WxH]\n"
+    "                  [--fps N] [--seed N] [--max-particles N] [--max-memory SIZE]\n"
+    "                  [--renderer R] [--alpha MODE] [--threads N] [--force]\n"
+    "                  [--depfile FILE] [--progress json]\n"
+    "                  [--atlas[=CxR]] [--padding N] [--extrude N] [--crop]\n"
+    "                  [--preview OUT.webp] [-q]\n"
+    "                  [--slice I/N | --slice-env VAR --slice-count N]\n"
+    "       pfx bake FILE -o OUT [--format csv|ply|pcache] [--every N] [--frames A:B]\n"
+    "                  [--fps N] [--seed N] [--max-particles N] [--max-memory SIZE]\n"
+    "                  [--threads N] [--force] [--depfile FILE]\n"
     "       pfx info FILE [--seed N] [--max-particles N] [--max-memory SIZE]\n"
     "       pfx bench [--json] [--renderer R]\n"
     "       pfx bench accuracy -o DIR\n"
+    "       pfx assemble DIR... -o OUT [--atlas[=CxR]] [--preview OUT.webp]\n"
     "       pfx schema\n"
     "\n"
     "commands:\n"
     "  validate   check effect files like a compiler; exit 1 if any has an error\n"
-    "  render     render the effect to DIR/<name>_0000.png, _0001.png, ...\n"
-    "  bake       write the particle state of every output frame as CSV\n"
+    "  render     render to DIR/<name>_0000.png, ... (several FILEs: DIR/<name>/...)\n"
+    "  bake       write the particle state of every output frame: CSV, PLY or pcache\n"
     "  info       show what the compiled effect holds\n"
     "  bench      measure simulation and rendering speed (or integrator accuracy)\n"
+    "  assemble   gather the frames of slices (--slice) into OUT, checking each\n"
     "  schema     print the JSON Schema of the effect format\n"
     "\n"
     "options:\n"
-    "  -o, --output PATH       output directory (render, bench accuracy) or file (bake)\n"
+    "  -o, --output PATH       output directory (render, bench accuracy) or file (bake;\n"
+    "                          - is standard output)\n"
     "      --frames A:B        only frames A to B inclusive, numbered as in a full render\n"
     "      --size WxH          image size in pixels, overriding image.size\n"
     "      --fps N             output frames per second, overriding fps\n"
@@ -57,12 +73,30 @@ static const char usage_text[] =
     "      --max-memory SIZE   refuse a run estimated to need more (K, M, G, T;\n"
     "                          default half of physical memory)\n"
     "      --every N           bake every Nth frame (default 1)\n"
-    "      --format FMT        diagnostics as 'text' (default) or 'json' lines\n"
+    "      --format FMT        diagnostics as 'text' (default) or 'json' lines; for bake,\n"
+    "                          the cache: csv, ply or pcache (default: from the extension)\n"
+    "  -j, --jobs N            render with N threads, each a contiguous part of the frames\n"
+    "      --keep-going        render the other FILEs after one fails\n"
+    "      --atlas[=CxR]       also pack the frames into <name>_atlas.png, a grid of C x R\n"
+    "                          (default: from the frame count), and <name>_atlas.json\n"
+    "      --padding N         atlas: pixels around each frame in its cell (default 2)\n"
+    "      --extrude N         atlas: of those, how many repeat the frame's edge (default 1)\n"
+    "      --crop              atlas: cut every frame to one box around all visible pixels\n"
+    "      --preview OUT.webp  also write the frames as a looping animated WebP (lossless)\n"
+    "      --werror            treat warnings in an effect as errors (exit status 1)\n"
+    "      --progress json     a JSON line on stderr per frame drawn, and one at the end\n"
     "      --json              bench: the figures as one JSON object\n"
     "      --threads N         simulation threads (default: PFX_THREADS, else the\n"
     "                          machine's cores); the output is the same for any N\n"
     "      --renderer R        how to get OpenGL (render, bench): auto (default: osmesa\n"
     "                          where built, else egl-cpu), osmesa, egl-cpu, egl-gpu\n"
+    "      --force             render or bake even when DIR/<name>.manifest.json (or\n"
+    "                          OUT.manifest.json) says the outputs are up to date\n"
+    "      --depfile FILE      also write FILE: a Make rule naming every input read\n"
+    "      --slice I/N         render only slice I (from 0) of N contiguous frame ranges\n"
+    "      --slice-env VAR     the slice index from $VAR (SLURM_ARRAY_TASK_ID,\n"
+    "                          JOB_COMPLETION_INDEX, ...), with --slice-count N\n"
+    "      --slice-count N     the number of slices for --slice-env\n"
     "      --alpha MODE        PNG alpha: straight or premultiplied, overriding\n"
     "                          image.alpha\n"
     "  -q, --quiet             no progress line and no notes\n"
@@ -73,13 +107,26 @@ typedef struct options {
     const char *output;
     long first, last; /* --frames; last < 0: to the end */
     bool has_frames;
-    bool json;
-    bool bench_json; /* bench --json */
+    const char *format; /* --format, as given; NULL: the command's default */
+    bool json;          /* diagnostics as JSON lines (validate --format json) */
+    bool bench_json;    /* bench --json */
     bool quiet;
     long every;
     pfx_renderer_kind renderer; /* --renderer */
     bool has_renderer;
     uint64_t max_memory; /* --max-memory, else half of physical memory */
+    bool force;          /* --force: run even when the manifest says up to date */
+    const char *depfile; /* --depfile FILE */
+    long slice, slices;  /* --slice I/N, or --slice-env and --slice-count; slices 0: none */
+    const char *slice_env;
+    long slice_count;
+    int jobs;                      /* -j N: threads for render's frames; 0 or 1: one */
+    bool keep_going;               /* --keep-going: render the other files after a failure */
+    bool progress_json;            /* --progress json: a JSON line per frame on stderr */
+    bool werror;                   /* --werror: an effect with a warning fails */
+    bool atlas;                    /* --atlas[=COLSxROWS] */
+    pfx_atlas_layout atlas_layout; /* its grid, --padding, --extrude, --crop */
+    const char *preview;           /* --preview out.webp */
     pfx_compile_options compile;
 } options;
 
@@ -128,6 +175,48 @@ static bool renderer_kind(const options *o, pfx_renderer_kind *kind) {
     return true;
 }
 
+/* --frames: N (one frame), A:B, or A: (from A to the end, last = -1). */
+static bool parse_frames(const char *arg, options *o) {
+    char buf[64];
+    unsigned long long a, b = 0;
+    if (strlen(arg) >= sizeof buf)
+        return false;
+    strcpy(buf, arg);
+    char *colon = strchr(buf, ':');
+    if (colon)
+        *colon = 0;
+    if (!parse_ulong(buf, &a) || a > 100000000)
+        return false;
+    bool to_end = colon && colon[1] == 0;
+    if (!colon)
+        b = a;
+    else if (!to_end && (!parse_ulong(colon + 1, &b) || b < a || b > 100000000))
+        return false;
+    o->first = (long)a;
+    o->last = to_end ? -1 : (long)b;
+    o->has_frames = true;
+    return true;
+}
+
+/* --size: WxH, the x in either case. */
+static bool parse_size(const char *arg, unsigned *w, unsigned *h, char *extra) {
+    return sscanf(arg, "%u%*[xX]%u%c", w, h, extra) == 2;
+}
+
+/* The word to blame for an unknown option or a missing value. getopt has
+ * permuted argv and, inside a cluster such as "-j4", not yet moved optind
+ * past it, so argv[optind - 1] can be another word: a short option is
+ * named by optopt, a long one is the element just consumed. */
+static const char *option_word(char **argv, int opt) {
+    static char word[3];
+    if (opt > 0 && opt < 256) {
+        word[0] = '-';
+        word[1] = (char)opt;
+        return word;
+    }
+    return argv[optind - 1];
+}
+
 /* Parses the options after the command; returns -1 on success or the exit
  * status to stop with. Positional arguments are left in argv[optind..]. */
 static int parse_options(int argc, char **argv, options *o) {
@@ -143,7 +232,20 @@ static int parse_options(int argc, char **argv, options *o) {
         OPT_ALPHA,
         OPT_MAX_MEMORY,
         OPT_THREADS,
-        OPT_JSON
+        OPT_JSON,
+        OPT_FORCE,
+        OPT_DEPFILE,
+        OPT_SLICE,
+        OPT_SLICE_ENV,
+        OPT_SLICE_COUNT,
+        OPT_KEEP_GOING,
+        OPT_PROGRESS,
+        OPT_WERROR,
+        OPT_ATLAS,
+        OPT_PADDING,
+        OPT_EXTRUDE,
+        OPT_CROP,
+        OPT_PREVIEW
     };
     static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
                                              {"frames", required_argument, 0, OPT_FRAMES},
@@ -154,6 +256,20 @@ static int parse_options(int argc, char **argv, options *o) {
                                              {"every", required_argument, 0, OPT_EVERY},
                                              {"format", required_argument, 0, OPT_FORMAT},
                                              {"renderer", required_argument, 0, OPT_RENDERER},
+                                             {"force", no_argument, 0, OPT_FORCE},
+                                             {"depfile", required_argument, 0, OPT_DEPFILE},
+                                             {"slice", required_argument, 0, OPT_SLICE},
+                                             {"slice-env", required_argument, 0, OPT_SLICE_ENV},
+                                             {"slice-count", required_argument, 0, OPT_SLICE_COUNT},
+                                             {"jobs", required_argument, 0, 'j'},
+                                             {"keep-going", no_argument, 0, OPT_KEEP_GOING},
+                                             {"progress", required_argument, 0, OPT_PROGRESS},
+                                             {"werror", no_argument, 0, OPT_WERROR},
+                                             {"atlas", optional_argument, 0, OPT_ATLAS},
+                                             {"padding", required_argument, 0, OPT_PADDING},
+                                             {"extrude", required_argument, 0, OPT_EXTRUDE},
+                                             {"crop", no_argument, 0, OPT_CROP},
+                                             {"preview", required_argument, 0, OPT_PREVIEW},
                                              {"alpha", required_argument, 0, OPT_ALPHA},
                                              {"max-memory", required_argument, 0, OPT_MAX_MEMORY},
                                              {"threads", required_argument, 0, OPT_THREADS},
@@ -171,12 +287,14 @@ static int parse_options(int argc, char **argv, options *o) {
         o->compile.threads = (int)v;
     }
     o->last = -1;
+    o->atlas_layout.padding = 2;
+    o->atlas_layout.extrude = 1;
     o->every = 1;
     o->max_memory = pfx_memory_default_bound();
     opterr = 0;
     optind = 2; /* argv[1] is the command */
     int c;
-    while ((c = getopt_long(argc, argv, ":o:qh", longopts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":o:j:qh", longopts, NULL)) != -1) {
         switch (c) {
         case 'o':
             o->output = optarg;
@@ -184,31 +302,74 @@ static int parse_options(int argc, char **argv, options *o) {
         case 'q':
             o->quiet = true;
             break;
+        case 'j':
+            if (!parse_ulong(optarg, &v) || v < 1 || v > 256)
+                return usage_error("-j takes a number of threads from 1 to 256, got '%s'", optarg);
+            o->jobs = (int)v;
+            break;
+        case OPT_KEEP_GOING:
+            o->keep_going = true;
+            break;
+        case OPT_ATLAS: {
+            /* --atlas, --atlas=8x4 or --atlas 8x4: a grid word may follow. */
+            const char *grid = optarg;
+            unsigned c = 0, r = 0;
+            char extra;
+            if (!grid && optind < argc && parse_size(argv[optind], &c, &r, &extra))
+                grid = argv[optind++];
+            if (grid &&
+                (!parse_size(grid, &c, &r, &extra) || c < 1 || r < 1 || c > 16384 || r > 16384))
+                return usage_error("--atlas takes COLSxROWS, such as 8x8, got '%s'", grid);
+            o->atlas = true;
+            o->atlas_layout.columns = (int)c;
+            o->atlas_layout.rows = (int)r;
+            break;
+        }
+        case OPT_PADDING:
+        case OPT_EXTRUDE:
+            if (!parse_ulong(optarg, &v) || v > 256)
+                return usage_error(c == OPT_PADDING
+                                       ? "--padding takes pixels from 0 to 256, got '%s'"
+                                       : "--extrude takes pixels from 0 to 256, got '%s'",
+                                   optarg);
+            if (c == OPT_PADDING)
+                o->atlas_layout.padding = (int)v;
+            else
+                o->atlas_layout.extrude = (int)v;
+            break;
+        case OPT_PREVIEW: {
+            size_t n = strlen(optarg);
+            if (n < 6 || strcmp(optarg + n - 5, ".webp"))
+                return usage_error("--preview writes an animated WebP: give a path ending in "
+                                   "'.webp', got '%s'",
+                                   optarg);
+            o->preview = optarg;
+            break;
+        }
+        case OPT_CROP:
+            o->atlas_layout.crop = true;
+            break;
+        case OPT_WERROR:
+            o->werror = true;
+            break;
+        case OPT_PROGRESS:
+            if (strcmp(optarg, "json"))
+                return usage_error("--progress takes 'json', got '%s'", optarg);
+            o->progress_json = true;
+            break;
         case 'h':
             fputs(usage_text, stdout);
             return 0;
-        case OPT_FRAMES: {
-            char *colon = strchr(optarg, ':');
-            unsigned long long a, b;
-            if (!colon)
-                return usage_error("--frames takes A:B (first and last frame), got '%s'", optarg);
-            *colon = 0;
-            bool ok =
-                parse_ulong(optarg, &a) && parse_ulong(colon + 1, &b) && a <= b && b <= 100000000;
-            *colon = ':';
-            if (!ok)
-                return usage_error("--frames takes A:B with 0 <= A <= B <= 100000000, got '%s'",
+        case OPT_FRAMES:
+            if (!parse_frames(optarg, o))
+                return usage_error("--frames takes N, A:B or A: (to the end) with 0 <= A <= B <= "
+                                   "100000000, got '%s'",
                                    optarg);
-            o->first = (long)a;
-            o->last = (long)b;
-            o->has_frames = true;
             break;
-        }
         case OPT_SIZE: {
             unsigned w, h;
             char extra;
-            if (sscanf(optarg, "%ux%u%c", &w, &h, &extra) != 2 || w < 1 || h < 1 || w > 16384 ||
-                h > 16384)
+            if (!parse_size(optarg, &w, &h, &extra) || w < 1 || h < 1 || w > 16384 || h > 16384)
                 return usage_error("--size takes WxH with each side from 1 to 16384, got '%s'",
                                    optarg);
             if ((unsigned long long)w * h > PFX_MAX_IMAGE_PIXELS)
@@ -245,9 +406,9 @@ static int parse_options(int argc, char **argv, options *o) {
             o->every = (long)v;
             break;
         case OPT_FORMAT:
-            if (strcmp(optarg, "text") && strcmp(optarg, "json"))
-                return usage_error("--format takes 'text' or 'json', got '%s'", optarg);
-            o->json = !strcmp(optarg, "json");
+            /* Each command reads its own words (validate: text, json; bake:
+             * csv, ply, pcache); see format_of. */
+            o->format = optarg;
             break;
         case OPT_RENDERER:
             if (!parse_renderer("--renderer", optarg, &o->renderer))
@@ -276,11 +437,76 @@ static int parse_options(int argc, char **argv, options *o) {
         case OPT_JSON:
             o->bench_json = true;
             break;
-        case ':':
-            return usage_error("option '%s' needs a value", argv[optind - 1]);
-        default:
-            return usage_error("unknown option '%s'", argv[optind - 1]);
+        case OPT_FORCE:
+            o->force = true;
+            break;
+        case OPT_DEPFILE:
+            o->depfile = optarg;
+            break;
+        case OPT_SLICE: {
+            long i, n;
+            char extra;
+            if (sscanf(optarg, "%ld/%ld%c", &i, &n, &extra) != 2 || n < 1 || n > 1000000 || i < 0 ||
+                i >= n)
+                return usage_error("--slice takes I/N with 0 <= I < N <= 1000000, got '%s'",
+                                   optarg);
+            o->slice = i;
+            o->slices = n;
+            break;
         }
+        case OPT_SLICE_ENV:
+            o->slice_env = optarg;
+            break;
+        case OPT_SLICE_COUNT:
+            if (!parse_ulong(optarg, &v) || v < 1 || v > 1000000)
+                return usage_error("--slice-count takes a number from 1 to 1000000, got '%s'",
+                                   optarg);
+            o->slice_count = (long)v;
+            break;
+        case ':':
+            return usage_error("option '%s' needs a value", option_word(argv, optopt));
+        default:
+            return usage_error("unknown option '%s'", option_word(argv, optopt));
+        }
+    }
+    /* --slice-env VAR takes the index from the environment now, so that
+     * every later step sees one resolved slice. */
+    if (o->slice_env) {
+        if (!o->slice_count)
+            return usage_error("%s", "--slice-env needs --slice-count N");
+        o->slices = o->slice_count;
+        const char *v = getenv(o->slice_env);
+        if (!pfx_slice_index_from_env(o->slice_env, o->slices, &o->slice)) {
+            fprintf(stderr,
+                    "pfx: --slice-env %s: the variable must hold a slice index from 0 to %ld, "
+                    "got '%s'\n",
+                    o->slice_env, o->slices - 1, v ? v : "(unset)");
+            return EXIT_USAGE;
+        }
+    } else if (o->slice_count) {
+        return usage_error("%s", "--slice-count goes with --slice-env VAR");
+    }
+    if (o->preview && o->slices)
+        return usage_error("%s", "--preview needs every frame: give it to 'pfx assemble' instead "
+                                 "of the slices");
+    if (o->preview && argc - optind > 1 && strcmp(argv[1], "render") == 0) {
+        int files = 0;
+        for (int i = optind; i < argc; i++)
+            files += argv[i][0] != '-';
+        if (files > 1)
+            return usage_error("%s", "--preview names one file: give one FILE");
+    }
+    if (o->atlas && o->slices)
+        return usage_error("%s", "--atlas needs every frame: give it to 'pfx assemble' instead "
+                                 "of the slices");
+    if (o->slices && strcmp(argv[1], "render"))
+        return usage_error("%s", "--slice and --slice-env are for render");
+    /* --format: the diagnostics' form for every command but bake, whose
+     * word names the cache format (read in cmd_bake). */
+    if (o->format && strcmp(argv[1], "bake")) {
+        if (strcmp(o->format, "text") && strcmp(o->format, "json"))
+            return usage_error("--format takes 'text' or 'json', got '%s'", o->format);
+        o->json = !strcmp(o->format, "json");
     }
     return -1;
 }
@@ -289,6 +515,13 @@ static int parse_options(int argc, char **argv, options *o) {
 static pfx_effect *load(pfx_loaded *l, const char *path, const options *o) {
     pfx_effect *e = pfx_load(l, path, &o->compile);
     pfx_diags_print(&l->diags, stderr, o->json);
+    /* --werror: the effect stays in l (freed with it), unused. */
+    if (e && o->werror && l->diags.warnings > 0) {
+        fprintf(stderr, "pfx: '%s': %d warning%s treated as error%s (--werror)\n", path,
+                l->diags.warnings, l->diags.warnings == 1 ? "" : "s",
+                l->diags.warnings == 1 ? "" : "s");
+        return NULL;
+    }
     return e;
 }
 
@@ -345,6 +578,21 @@ static bool make_dirs(const char *path, pfx_diags *d) {
     }
 }
 
+/* mkdir -p of the directory part of a file path. */
+static bool make_parent_dirs(const char *path, pfx_diags *d) {
+    const char *slash = strrchr(path, '/');
+    if (!slash || slash == path)
+        return true;
+    char dir[4096];
+    if ((size_t)(slash - path) >= sizeof dir) {
+        pfx_diag_error(d, "output path is too long");
+        return false;
+    }
+    memcpy(dir, path, (size_t)(slash - path));
+    dir[slash - path] = 0;
+    return make_dirs(dir, d);
+}
+
 /* The file's name without directory and extension: out/fire_0000.png. */
 static void file_stem(const char *path, char *out, size_t size) {
     const char *base = strrchr(path, '/');
@@ -359,11 +607,15 @@ static void file_stem(const char *path, char *out, size_t size) {
 static bool frame_range(const pfx_effect *e, const options *o, long *first, long *last) {
     long n = pfx_effect_frame_count(e);
     *first = o->has_frames ? o->first : 0;
-    *last = o->has_frames ? o->last : n - 1;
+    *last = o->has_frames && o->last >= 0 ? o->last : n - 1;
     /* A looping effect's frames go on for ever: frame f is frame f mod n. */
-    if (*last >= n && !(e->loop && *last < 1000000)) {
-        fprintf(stderr, "pfx: --frames %ld:%ld is outside the effect's frames 0:%ld\n", o->first,
-                o->last, n - 1);
+    if ((*last >= n && !(e->loop && *last < 1000000)) || *first > *last) {
+        if (o->last < 0)
+            fprintf(stderr, "pfx: --frames %ld: is outside the effect's frames 0:%ld\n", o->first,
+                    n - 1);
+        else
+            fprintf(stderr, "pfx: --frames %ld:%ld is outside the effect's frames 0:%ld\n",
+                    o->first, o->last, n - 1);
         return false;
     }
     return true;
@@ -389,56 +641,226 @@ static bool memory_fits(const pfx_effect *e, long first, long last, bool render,
     return false;
 }
 
-static int cmd_render(int argc, char **argv, const options *o) {
-    if (optind != argc - 1)
-        return usage_error("%s", "render takes one FILE and -o DIR");
-    if (!o->output)
-        return usage_error("%s", "render needs -o DIR");
-    pfx_renderer_kind kind;
-    if (!renderer_kind(o, &kind))
-        return EXIT_USAGE;
-    const char *path = argv[optind];
+/* The manifest's settings common to render and bake (the effect's values
+ * after --fps, --size, --seed and --max-particles), and its inputs. */
+static bool describe_run(pfx_delivery *dl, const pfx_effect *e, long first, long last,
+                         pfx_diags *d) {
+    char seed[32];
+    snprintf(seed, sizeof seed, "%llu", (unsigned long long)e->seed);
+    pfx_manifest_set_range(dl->now, "frames", first, last);
+    pfx_manifest_set_number(dl->now, "fps", e->fps);
+    pfx_manifest_set_number(dl->now, "width", e->width);
+    pfx_manifest_set_number(dl->now, "height", e->height);
+    pfx_manifest_set_string(dl->now, "seed", seed);
+    pfx_manifest_set_number(dl->now, "max_particles", (double)e->max_particles);
+    pfx_manifest_set_number(dl->now, "loop", e->loop);
+    return pfx_manifest_add_effect(dl->now, e, d);
+}
+
+/* Says that there was nothing to do, with the key that proved it. */
+static void say_up_to_date(const options *o, const char *path, const char *where,
+                           pfx_delivery *dl) {
+    if (!o->quiet)
+        fprintf(stderr,
+                "pfx: '%s' is up to date in '%s' (bake key %.12s); nothing to do, --force "
+                "redoes it\n",
+                path, where, pfx_manifest_key(dl->now));
+}
+
+/* Renders one effect file into dir: the whole of `pfx render` for one FILE.
+ * Returns the exit status. */
+static int render_one(const char *path, const char *dir, pfx_renderer_kind kind, const options *o) {
     pfx_loaded l;
     pfx_effect *e = load(&l, path, o);
     int status = EXIT_INVALID;
     pfx_diags run;
     pfx_diags_init_runtime(&run);
-    char stem[256];
+    char stem[256], manifest[4096 + 320];
     file_stem(path, stem, sizeof stem);
-    pfx_render_job job = {
-        .effect = e, .dir = o->output, .stem = stem, .progress = !o->quiet && isatty(2)};
+    snprintf(manifest, sizeof manifest, "%s/%s.manifest.json", dir, stem);
+    pfx_render_job job = {.effect = e,
+                          .dir = dir,
+                          .stem = stem,
+                          .progress = !o->quiet && !o->progress_json && isatty(2)};
+    pfx_progress progress;
+    bool reporting = false;
+    pfx_delivery dl = {.dir = dir,
+                       .manifest_path = manifest,
+                       .depfile = o->depfile,
+                       .target = manifest,
+                       .force = o->force};
     if (!e)
         goto done;
     if (!frame_range(e, o, &job.first, &job.last)) {
         status = EXIT_USAGE;
         goto done;
     }
+    /* A slice: its part of the range, and a manifest of its own, so that
+     * slices may share a directory. */
+    long all_first = job.first, all_last = job.last;
+    if (o->slices) {
+        pfx_slice_range(all_first, all_last, o->slice, o->slices, &job.first, &job.last);
+        snprintf(manifest, sizeof manifest, "%s/%s.slice-%04ld-of-%04ld.manifest.json", dir, stem,
+                 o->slice, o->slices);
+    }
+    if (o->progress_json) {
+        pfx_progress_init(&progress, stderr, path, job.last - job.first + 1);
+        job.on_frame = pfx_progress_frame;
+        job.on_frame_ctx = &progress;
+        reporting = true;
+    }
     if (!memory_fits(e, job.first, job.last, true, o, &run))
         goto done;
     /* The renderer before the directory: one that cannot start writes
      * nothing. */
     job.renderer = pfx_renderer_create(kind, e->width, e->height, &run);
-    if (!job.renderer || !make_dirs(o->output, &run))
+    if (!job.renderer || !make_dirs(dir, &run))
         goto done;
-    if (!pfx_render_job_run(&job, &run))
+    if (!pfx_delivery_begin(&dl, "render", &run) ||
+        !describe_run(&dl, e, job.first, job.last, &run))
         goto done;
-    if (!o->quiet)
+    pfx_manifest_set_string(dl.now, "renderer", pfx_renderer_name(job.renderer));
+    if (o->slices)
+        pfx_manifest_set_slice(dl.now, o->slice, o->slices, all_first, all_last);
+    pfx_atlas_layout atlas = o->atlas_layout;
+    if (o->atlas) {
+        /* The sheet's size is known now but for --crop, which only makes
+         * it smaller: one that cannot be made fails before any frame. */
+        pfx_atlas_layout check = atlas;
+        check.frame_w = e->width;
+        check.frame_h = e->height;
+        check.frames = (int)(job.last - job.first + 1);
+        if (!pfx_atlas_layout_resolve(&check, &run))
+            goto done;
+        pfx_atlas_job_describe(&atlas, dl.now);
+    }
+    if (o->preview)
+        pfx_manifest_set_string(dl.now, "preview", o->preview);
+    if (pfx_delivery_up_to_date(&dl) && (!o->preview || access(o->preview, F_OK) == 0)) {
+        if (pfx_delivery_skip(&dl, &run)) {
+            say_up_to_date(o, path, dir, &dl);
+            status = 0;
+        }
+        goto done;
+    }
+    if (!(o->jobs > 1 ? pfx_render_job_run_parallel(&job, kind, o->jobs, &run)
+                      : pfx_render_job_run(&job, &run)))
+        goto done;
+    for (long f = job.first; f <= job.last; f++) {
+        char name[300];
+        snprintf(name, sizeof name, "%s_%04ld.png", stem, f);
+        if (!pfx_manifest_add_output(dl.now, dir, name, &run))
+            goto done;
+    }
+    if (o->atlas &&
+        !pfx_atlas_job_run(dir, stem, job.first, job.last, e->fps, e->loop, &atlas, dl.now, &run))
+        goto done;
+    if (o->preview && !pfx_preview_run(dir, stem, job.first, job.last, e->fps, o->preview, &run))
+        goto done;
+    if (!pfx_delivery_finish(&dl, &run))
+        goto done;
+    if (!o->quiet) {
         pfx_sim_note_dropped(job.sim, &run);
+        if (job.first > job.last)
+            fprintf(stderr, "pfx: slice %ld of %ld of '%s' has no frames (%ld frames in all)",
+                    o->slice, o->slices, path, all_last - all_first + 1);
+        else
+            fprintf(stderr, "pfx: rendered '%s': %ld frames (%ld to %ld) in '%s'", path,
+                    job.frames_done, job.first, job.last, dir);
+        if (o->slices && job.first <= job.last)
+            fprintf(stderr, ", slice %ld of %ld", o->slice, o->slices);
+        if (o->atlas)
+            fprintf(stderr, ", atlas %dx%d of %dx%d", atlas.columns, atlas.rows, atlas.width,
+                    atlas.height);
+        if (o->preview)
+            fprintf(stderr, ", preview '%s'", o->preview);
+        if (dl.stale_removed)
+            fprintf(stderr, ", %zu stale removed", dl.stale_removed);
+        fputc('\n', stderr);
+    }
     status = 0;
 done:
     pfx_diags_print(&run, stderr, false);
+    if (reporting)
+        pfx_progress_finish(&progress, status);
     pfx_diags_free(&run);
+    pfx_delivery_free(&dl);
     pfx_renderer_destroy(job.renderer);
     pfx_render_job_free(&job);
     pfx_loaded_free(&l);
     return status;
 }
 
+/* pfx render FILE... -o DIR: one file into DIR, several each into
+ * DIR/<name>/, one after another (-j works inside each); the exit status is
+ * the worst, and the first failure stops the rest unless --keep-going. */
+static int cmd_render(int argc, char **argv, const options *o) {
+    if (optind >= argc)
+        return usage_error("%s", "render needs a FILE and -o DIR");
+    if (!o->output)
+        return usage_error("%s", "render needs -o DIR");
+    int files = argc - optind;
+    if (files > 1 && o->depfile)
+        return usage_error("%s", "--depfile names one target: give one FILE");
+    for (int i = optind; i < argc; i++)
+        for (int k = optind; k < i; k++) {
+            char a[256], b[256];
+            file_stem(argv[i], a, sizeof a);
+            file_stem(argv[k], b, sizeof b);
+            if (!strcmp(a, b))
+                return usage_error("two effects would render into '%s': rename one", a);
+        }
+    pfx_renderer_kind kind;
+    if (!renderer_kind(o, &kind))
+        return EXIT_USAGE;
+    int worst = 0;
+    for (int i = optind; i < argc; i++) {
+        char dir[4096], stem[256];
+        file_stem(argv[i], stem, sizeof stem);
+        snprintf(dir, sizeof dir, "%s/%s", o->output, stem);
+        int status = render_one(argv[i], files > 1 ? dir : o->output, kind, o);
+        if (status > worst)
+            worst = status;
+        if (status && !o->keep_going) {
+            if (i + 1 < argc)
+                fprintf(stderr,
+                        "pfx: stopped after '%s' failed; %d file%s not rendered "
+                        "(--keep-going renders them)\n",
+                        argv[i], argc - i - 1, argc - i - 1 == 1 ? "" : "s");
+            break;
+        }
+    }
+    return worst;
+}
+
+/* The bake's format: --format, else the output's extension (.ply, .pcache),
+ * else CSV. False (after the usage error) on a word that names none. */
+static bool bake_format(const options *o, pfx_bake_format *f) {
+    *f = PFX_BAKE_CSV;
+    if (o->format) {
+        if (pfx_bake_format_parse(o->format, f))
+            return true;
+        usage_error("bake --format takes 'csv', 'ply' or 'pcache', got '%s'", o->format);
+        return false;
+    }
+    const char *dot = strrchr(o->output, '.');
+    if (dot && !strchr(dot, '/'))
+        pfx_bake_format_parse(dot + 1, f);
+    return true;
+}
+
 static int cmd_bake(int argc, char **argv, const options *o) {
     if (optind != argc - 1)
-        return usage_error("%s", "bake takes one FILE and -o OUT.csv");
+        return usage_error("%s", "bake takes one FILE and -o OUT");
     if (!o->output)
-        return usage_error("%s", "bake needs -o OUT.csv");
+        return usage_error("%s", "bake needs -o OUT (a .csv, .ply or .pcache file, or - for "
+                                 "standard output)");
+    pfx_bake_format format;
+    if (!bake_format(o, &format))
+        return EXIT_USAGE;
+    bool to_stdout = !strcmp(o->output, "-");
+    if (to_stdout && o->depfile)
+        return usage_error("%s", "--depfile needs a file to name as its target, not -o -");
     pfx_loaded l;
     pfx_effect *e = load(&l, argv[optind], o);
     int status = EXIT_INVALID;
@@ -447,6 +869,21 @@ static int cmd_bake(int argc, char **argv, const options *o) {
     long first, last;
     pfx_sim *sim = NULL, *view = NULL;
     pfx_bake *b = NULL;
+    /* The manifest: OUT.manifest.json beside OUT (none for standard
+     * output), listing OUT by its name. */
+    char dir[4096] = ".", manifest[4200];
+    const char *name = o->output, *slash = strrchr(o->output, '/');
+    if (slash) {
+        snprintf(dir, sizeof dir, "%.*s", slash == o->output ? 1 : (int)(slash - o->output),
+                 o->output);
+        name = slash + 1;
+    }
+    snprintf(manifest, sizeof manifest, "%s.manifest.json", o->output);
+    pfx_delivery dl = {.dir = dir,
+                       .manifest_path = to_stdout ? NULL : manifest,
+                       .depfile = o->depfile,
+                       .target = o->output,
+                       .force = o->force};
     if (!e)
         goto done;
     if (!frame_range(e, o, &first, &last)) {
@@ -455,13 +892,26 @@ static int cmd_bake(int argc, char **argv, const options *o) {
     }
     if (!memory_fits(e, first, last, false, o, &run))
         goto done;
+    if (!pfx_delivery_begin(&dl, "bake", &run) || !describe_run(&dl, e, first, last, &run))
+        goto done;
+    pfx_manifest_set_string(dl.now, "format", pfx_bake_format_name(format));
+    pfx_manifest_set_number(dl.now, "every", (double)o->every);
+    if (!to_stdout && pfx_delivery_up_to_date(&dl)) {
+        if (pfx_delivery_skip(&dl, &run)) {
+            say_up_to_date(o, argv[optind], o->output, &dl);
+            status = 0;
+        }
+        goto done;
+    }
     sim = pfx_sim_create(e, &run);
     view = pfx_sim_create(e, &run);
     if (!sim || !view) {
         pfx_diag_error(&run, "out of memory");
         goto done;
     }
-    b = pfx_bake_open(o->output, &run);
+    if (!to_stdout && !make_parent_dirs(o->output, &run))
+        goto done;
+    b = pfx_bake_open(o->output, format, e, &run);
     if (!b)
         goto done;
     bool ok = true;
@@ -479,12 +929,19 @@ static int cmd_bake(int argc, char **argv, const options *o) {
             pfx_diag_error(&run, "cannot write the bake");
         goto done;
     }
-    if (!o->quiet)
+    if (!to_stdout &&
+        (!pfx_manifest_add_output(dl.now, dir, name, &run) || !pfx_delivery_finish(&dl, &run)))
+        goto done;
+    if (!o->quiet) {
         pfx_sim_note_dropped(sim, &run);
+        fprintf(stderr, "pfx: baked '%s': frames %ld to %ld as %s to '%s'\n", argv[optind], first,
+                last, pfx_bake_format_name(format), to_stdout ? "standard output" : o->output);
+    }
     status = 0;
 done:
     pfx_diags_print(&run, stderr, false);
     pfx_diags_free(&run);
+    pfx_delivery_free(&dl);
     pfx_sim_destroy(view);
     pfx_sim_destroy(sim);
     pfx_loaded_free(&l);
@@ -589,6 +1046,30 @@ static int cmd_info(int argc, char **argv, const options *o) {
     return 0;
 }
 
+/* pfx assemble DIR... -o OUT: the slices of renders into one directory. */
+static int cmd_assemble(int argc, char **argv, const options *o) {
+    if (optind >= argc)
+        return usage_error("%s", "assemble needs at least one DIR (with the slices' frames)");
+    if (!o->output)
+        return usage_error("%s", "assemble needs -o OUT");
+    pfx_diags run;
+    pfx_diags_init_runtime(&run);
+    pfx_assemble_report r;
+    pfx_assemble_options opt = {.atlas = o->atlas ? &o->atlas_layout : NULL, .preview = o->preview};
+    bool ok = make_dirs(o->output, &run) &&
+              pfx_assemble((const char *const *)argv + optind, (size_t)(argc - optind), o->output,
+                           &opt, &r, &run);
+    if (ok && !o->quiet)
+        fprintf(stderr,
+                "pfx: assembled %zu frames of %zu render%s in '%s' (%zu linked, %zu copied, %zu "
+                "already there)\n",
+                r.frames, r.effects, r.effects == 1 ? "" : "s", o->output, r.linked, r.copied,
+                r.kept);
+    pfx_diags_print(&run, stderr, false);
+    pfx_diags_free(&run);
+    return ok ? 0 : EXIT_INVALID;
+}
+
 /* The JSON Schema of the effect format, from the key tables. */
 static int cmd_schema(int argc, char **argv) {
     if (optind != argc)
@@ -626,6 +1107,9 @@ static int cmd_bench(int argc, char **argv, const options *o) {
     return ok ? 0 : EXIT_INVALID;
 }
 
+static const char *const commands[] = {"validate", "render", "bake",     "info",
+                                       "bench",    "schema", "assemble", NULL};
+
 int main(int argc, char **argv) {
     /* Before any thread starts: a signal removes the temporary files. */
     pfx_atomic_guard_signals();
@@ -656,5 +1140,13 @@ int main(int argc, char **argv) {
         return cmd_bench(argc, argv, &o);
     if (!strcmp(cmd, "schema"))
         return cmd_schema(argc, argv);
+    if (!strcmp(cmd, "assemble"))
+        return cmd_assemble(argc, argv, &o);
+    const char *sug = pfx_suggest(cmd, commands);
+    if (sug) {
+        fprintf(stderr, "pfx: unknown command '%s'; did you mean '%s'?\n", cmd, sug);
+        fputs("Try 'pfx --help' for more information.\n", stderr);
+        return EXIT_USAGE;
+    }
     return usage_error("unknown command '%s'", cmd);
 }

@@ -176,6 +176,46 @@ static void print_json_string(FILE *out, const char *s) {
     fputc('"', out);
 }
 
+/* The length of the well-formed UTF-8 character at s (at most n bytes), or
+ * 0 when the bytes there are not one (RFC 3629: no overlong forms, no
+ * surrogates, nothing above U+10FFFF). */
+static size_t utf8_length(const char *s, size_t n, unsigned *code) {
+    const unsigned char *u = (const unsigned char *)s;
+    *code = u[0];
+    if (u[0] < 0x80)
+        return 1;
+    size_t len = u[0] >= 0xc2 && u[0] <= 0xdf   ? 2
+                 : u[0] >= 0xe0 && u[0] <= 0xef ? 3
+                 : u[0] >= 0xf0 && u[0] <= 0xf4 ? 4
+                                                : 0;
+    if (len == 0 || len > n)
+        return 0;
+    for (size_t i = 1; i < len; i++)
+        if ((u[i] & 0xc0) != 0x80)
+            return 0;
+    unsigned cp = len == 2   ? (u[0] & 0x1fu) << 6 | (u[1] & 0x3fu)
+                  : len == 3 ? (u[0] & 0x0fu) << 12 | (u[1] & 0x3fu) << 6 | (u[2] & 0x3fu)
+                             : (u[0] & 0x07u) << 18 | (u[1] & 0x3fu) << 12 | (u[2] & 0x3fu) << 6 |
+                                   (u[3] & 0x3fu);
+    if ((len == 3 && (cp < 0x800 || (cp >= 0xd800 && cp <= 0xdfff))) ||
+        (len == 4 && (cp < 0x10000 || cp > 0x10ffff)))
+        return 0;
+    *code = cp;
+    return len;
+}
+
+/* Terminal columns of a printed character: 2 for the East Asian wide and
+ * fullwidth blocks (CJK, Hangul, fullwidth forms, emoji), else 1. */
+static int display_width(unsigned c) {
+    return (c >= 0x1100 && c <= 0x115f) || (c >= 0x2e80 && c <= 0xa4cf && c != 0x303f) ||
+                   (c >= 0xac00 && c <= 0xd7a3) || (c >= 0xf900 && c <= 0xfaff) ||
+                   (c >= 0xfe30 && c <= 0xfe4f) || (c >= 0xff00 && c <= 0xff60) ||
+                   (c >= 0xffe0 && c <= 0xffe6) || (c >= 0x1f300 && c <= 0x1f64f) ||
+                   (c >= 0x1f900 && c <= 0x1f9ff) || (c >= 0x20000 && c <= 0x3fffd)
+               ? 2
+               : 1;
+}
+
 static void print_text(const pfx_diags *d, const pfx_diag *g, FILE *out) {
     if (!d->file) { /* a runtime failure: "pfx: message", git's form */
         if (g->severity == PFX_SEV_ERROR)
@@ -193,20 +233,25 @@ static void print_text(const pfx_diags *d, const pfx_diag *g, FILE *out) {
     const char *text = source_line(d, g->line, &len);
     if (!text)
         return;
-    /* Long lines are cut so a minified file cannot flood the terminal; bytes
-     * that are not printable ASCII are shown as '?' so the caret lines up. */
+    /* Long lines are cut so a minified file cannot flood the terminal. */
     const size_t max_shown = 200;
     size_t shown = len < max_shown ? len : max_shown;
     fprintf(out, "%5d | ", g->line);
-    /* libyaml counts columns in characters: a multi-byte UTF-8 character
-     * is one '?', so the caret stays under its column. */
+    /* libyaml counts columns in characters: a well-formed UTF-8 character
+     * is printed as it is and counts one column; the caret line pads each
+     * by its width on a terminal (two for CJK), so the caret stays under
+     * it. Control characters and malformed bytes are shown as '?'. */
+    unsigned char width[200];
     size_t cols = 0;
-    for (size_t i = 0; i < shown; i++) {
-        unsigned char c = (unsigned char)text[i];
-        if ((c & 0xc0) == 0x80)
-            continue;
-        fputc(c == '\t' ? ' ' : (c >= 0x20 && c < 0x7f) ? c : '?', out);
-        cols++;
+    for (size_t i = 0; i < shown;) {
+        unsigned code;
+        size_t n = utf8_length(text + i, shown - i, &code);
+        if (n > 1)
+            fwrite(text + i, 1, n, out);
+        else
+            fputc(code == '\t' ? ' ' : (code >= 0x20 && code < 0x7f) ? (int)code : '?', out);
+        width[cols++] = (unsigned char)(n > 1 ? display_width(code) : 1);
+        i += n ? n : 1;
     }
     fputs(shown < len ? " ...\n" : "\n", out);
     fputs("      | ", out);
@@ -214,12 +259,14 @@ static void print_text(const pfx_diags *d, const pfx_diag *g, FILE *out) {
     if ((size_t)col > cols + 1)
         col = (int)cols + 1;
     for (int i = 1; i < col; i++)
-        fputc(' ', out);
+        fprintf(out, "%*s", width[i - 1], "");
     fputc('^', out);
     int span = g->span;
     if ((size_t)(col - 1 + span) > cols)
         span = (int)cols - (col - 1);
     for (int i = 1; i < span; i++)
+        fprintf(out, "%.*s", width[col - 1 + i], "~~");
+    if (span >= 1 && col <= (int)cols && width[col - 1] == 2)
         fputc('~', out);
     fputc('\n', out);
 }

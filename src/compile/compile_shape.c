@@ -271,6 +271,7 @@ static void read_mesh(pfx_reader *r, const pfx_node *n, const pfx_node *type, pf
     s->tris = m.tris;
     s->cum = m.cum;
     s->cum_count = m.tri_count;
+    s->file = pfx_arena_strndup(r->arena, path, strlen(path));
 }
 
 bool pfx_compile_shape(pfx_reader *r, const pfx_node *n, pfx_shape *s, const char *emitter,

@@ -82,6 +82,52 @@ const char *pfx_suggest(const char *word, const char *const *allowed) {
     return best_d <= limit ? best : NULL;
 }
 
+/* Names that users of other engines type, with the pfx key that means the
+ * same: Unity's Particle System modules (start_lifetime, gravity_modifier,
+ * ...) and Godot's ParticleProcessMaterial (lifetime is shared; amount,
+ * initial_velocity, ...). A hint is given only where that key is allowed in
+ * the mapping at hand. */
+typedef struct engine_key {
+    const char *name, *engine, *pfx;
+} engine_key;
+
+static const engine_key engine_keys[] = {
+    {"start_lifetime", "Unity", "lifetime"},
+    {"start_speed", "Unity", "speed"},
+    {"start_size", "Unity", "size"},
+    {"start_color", "Unity", "color"},
+    {"start_rotation", "Unity", "rotation"},
+    {"gravity_modifier", "Unity", "gravity_scale"},
+    {"rate_over_time", "Unity", "rate"},
+    {"emission_rate", "Unity", "rate"},
+    {"color_over_lifetime", "Unity", "color"},
+    {"size_over_lifetime", "Unity", "size"},
+    {"start_delay", "Unity", "start"},
+    {"looping", "Unity", "loop"},
+    {"simulation_speed", "Unity", "sim"},
+    {"initial_velocity", "Godot", "speed"},
+    {"initial_velocity_min", "Godot", "speed"},
+    {"initial_velocity_max", "Godot", "speed"},
+    {"scale_amount", "Godot", "size"},
+    {"scale_curve", "Godot", "size"},
+    {"color_ramp", "Godot", "color"},
+    {"emission_shape", "Godot", "shape"},
+    {"one_shot", "Godot", "bursts"},
+    {"preprocess", "Godot", "prewarm"},
+    {"fixed_fps", "Godot", "rate"},
+};
+
+static const engine_key *engine_key_find(const char *name, const char *const *allowed) {
+    for (size_t i = 0; i < sizeof engine_keys / sizeof *engine_keys; i++) {
+        if (strcmp(engine_keys[i].name, name))
+            continue;
+        for (const char *const *a = allowed; *a; a++)
+            if (!strcmp(*a, engine_keys[i].pfx))
+                return &engine_keys[i];
+    }
+    return NULL;
+}
+
 bool pfx_read_check_keys(pfx_reader *r, const pfx_node *map, const char *const *allowed,
                          const char *where) {
     bool ok = true;
@@ -99,9 +145,13 @@ bool pfx_read_check_keys(pfx_reader *r, const pfx_node *map, const char *const *
         for (size_t j = 0; j < n; j++)
             shown[j] = k->text[j] ? k->text[j] : '?';
         shown[n] = 0;
+        const engine_key *ek = engine_key_find(k->text, allowed);
         /* Past the cap the message is only counted: no suggestion to find. */
-        const char *s = r->d->count < PFX_DIAG_MAX ? pfx_suggest(k->text, allowed) : NULL;
-        if (s)
+        const char *s = ek || r->d->count >= PFX_DIAG_MAX ? NULL : pfx_suggest(k->text, allowed);
+        if (ek)
+            pfx_read_error(r, k, "unknown key '%s' in %s; %s's '%s' is pfx's '%s'", shown, where,
+                           ek->engine, ek->name, ek->pfx);
+        else if (s)
             pfx_read_error(r, k, "unknown key '%s' in %s; did you mean '%s'?", shown, where, s);
         else
             pfx_read_error(r, k, "unknown key '%s' in %s", shown, where);
@@ -369,6 +419,45 @@ static bool is_rgb_list(const pfx_node *n) {
     return false;
 }
 
+#define COLOUR_FORMS                                                                               \
+    "a colour is \"#rgb\", \"#rgba\", \"#rrggbb\" or \"#rrggbbaa\" (quoted), [r, g, b] or "        \
+    "[r, g, b, a] in 0..1, or transparent"
+
+/* An empty plain scalar followed on its line by '#': the user wrote an
+ * unquoted hex colour, which YAML read as a comment. Reports that, at the
+ * '#', with the quoted form, and returns true; false when it is not so. */
+static bool comment_after(pfx_reader *r, const pfx_node *n, const char *what) {
+    const char *src = r->d->source, *end = src + r->d->source_len;
+    if (!src || n->line < 1)
+        return false;
+    const char *p = src;
+    for (int l = 1; l < n->line && p; l++) {
+        p = memchr(p, '\n', (size_t)(end - p));
+        p = p ? p + 1 : NULL;
+    }
+    if (!p)
+        return false;
+    const char *eol = memchr(p, '\n', (size_t)(end - p));
+    eol = eol ? eol : end;
+    const char *hash = memchr(p, '#', (size_t)(eol - p));
+    if (!hash)
+        return false;
+    /* libyaml counts columns in characters. */
+    int col = 1;
+    for (const char *c = p; c < hash; c++)
+        col += ((unsigned char)*c & 0xc0) != 0x80;
+    if (col < n->col)
+        return false;
+    int len = 1;
+    while (hash + len < eol && !isspace((unsigned char)hash[len]))
+        len++;
+    pfx_diag_add(r->d, PFX_SEV_ERROR, n->line, col, len,
+                 "'#' starts a YAML comment, so '%s' is empty; quote the colour: %s: \"%.*s\"",
+                 what, what, len, hash);
+    pfx_diag_add(r->d, PFX_SEV_NOTE, n->line, col, len, COLOUR_FORMS);
+    return true;
+}
+
 bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, double rgb_max,
                     float out[4]) {
     if (n->kind == PFX_NODE_SCALAR) {
@@ -378,10 +467,10 @@ bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, double r
         }
         if (parse_hex_color(n->text, out))
             return true;
-        pfx_read_error(r, n,
-                       "malformed colour '%s' in '%s'; expected \"#rrggbb\", \"#rrggbbaa\", "
-                       "[r, g, b] or [r, g, b, a] in 0..1",
-                       n->text, what);
+        if (n->plain && n->len == 0 && comment_after(r, n, what))
+            return false;
+        pfx_read_error(r, n, "malformed colour '%s' in '%s'", n->text, what);
+        pfx_diag_add(r->d, PFX_SEV_NOTE, n->line, n->col, 1, COLOUR_FORMS);
         return false;
     }
     if (is_scalar_list(n) && (n->count == 3 || n->count == 4)) {
@@ -400,10 +489,8 @@ bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, double r
             out[i] = (float)c[i];
         return ok;
     }
-    pfx_read_error(r, n,
-                   "malformed colour in '%s'; expected \"#rrggbb\", \"#rrggbbaa\", [r, g, b] or "
-                   "[r, g, b, a] in 0..1",
-                   what);
+    pfx_read_error(r, n, "malformed colour in '%s'", what);
+    pfx_diag_add(r->d, PFX_SEV_NOTE, n->line, n->col, 1, COLOUR_FORMS);
     return false;
 }
 

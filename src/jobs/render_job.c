@@ -112,6 +112,8 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
         job->frames_done++;
         job->sprites_drawn += n;
         job->sprite_count = n;
+        if (job->on_frame)
+            job->on_frame(job->on_frame_ctx, f, n);
         if (job->progress)
             fprintf(stderr, "\rpfx: frame %ld of %ld-%ld (%zu particles)   ", f, job->first,
                     job->last, n);

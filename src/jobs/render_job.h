@@ -19,8 +19,12 @@ typedef struct pfx_render_job {
     const char *dir, *stem;
     long first, last;
     bool progress; /* a "\rpfx: frame ..." line on stderr as frames go */
-    int threads;   /* PNG encoder threads; 0: the effect's threads (--threads), else one
-                      per online core */
+    /* Called after each frame is drawn and handed to the PNG writer, from
+     * the thread running the job (see jobs/progress.h), or NULL. */
+    void (*on_frame)(void *ctx, long frame, size_t particles);
+    void *on_frame_ctx;
+    int threads; /* PNG encoder threads; 0: the effect's threads (--threads), else one
+                    per online core */
 
     /* Out, valid after pfx_render_job_run until pfx_render_job_free. */
     long frames_done;     /* frames drawn and handed to the writer */

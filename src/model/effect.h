@@ -96,6 +96,9 @@ typedef struct pfx_shape {
     /* Mesh: vertices (x, y, z) and three vertex indices per triangle. */
     const double *verts;
     const uint32_t *tris;
+    /* Mesh: the OBJ's path as it was opened (relative to the working
+     * directory), so that manifests and depfiles can name the input. */
+    const char *file;
 } pfx_shape;
 
 /* A named force: its motion-model entry in SI units (radians, m, s). */

@@ -96,33 +96,41 @@ static char *temp_name(const char *path) {
     return temp;
 }
 
-pfx_atomic_file *pfx_atomic_open(const char *path, pfx_diags *d) {
+/* A registered temporary for path: a new empty file open for writing, or
+ * (link_from not NULL) a hard link to link_from. NULL with the errno in
+ * *errnum. */
+static pfx_atomic_file *start(const char *path, const char *link_from, int *errnum) {
     pfx_atomic_file *a = calloc(1, sizeof *a);
     char *copy = strdup(path);
     if (!a || !copy) {
         free(a);
         free(copy);
-        report(d, path, ENOMEM);
+        *errnum = ENOMEM;
         return NULL;
     }
     a->path = copy;
     a->slot = -1;
-    int errnum = 0;
+    *errnum = 0;
     pthread_mutex_lock(&registry_lock);
     for (int i = 0; i < SLOTS && a->slot < 0; i++)
         if (!registry[i])
             a->slot = i;
     if (dying)
-        errnum = EINTR;
+        *errnum = EINTR;
     else if (a->slot < 0)
-        errnum = EMFILE;
+        *errnum = EMFILE;
     else if (!(a->temp = temp_name(path)))
-        errnum = errno ? errno : ENOMEM;
-    if (!errnum) {
+        *errnum = errno ? errno : ENOMEM;
+    if (!*errnum && link_from) {
+        if (link(link_from, a->temp) != 0)
+            *errnum = errno;
+        else
+            registry[a->slot] = a->temp;
+    } else if (!*errnum) {
         /* O_EXCL: fail rather than follow or truncate something there. */
         int fd = open(a->temp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (fd < 0 || !(a->f = fdopen(fd, "wb"))) {
-            errnum = errno;
+            *errnum = errno;
             if (fd >= 0) {
                 close(fd);
                 unlink(a->temp);
@@ -132,13 +140,20 @@ pfx_atomic_file *pfx_atomic_open(const char *path, pfx_diags *d) {
         }
     }
     pthread_mutex_unlock(&registry_lock);
-    if (errnum) {
-        report(d, path, errnum);
+    if (*errnum) {
         free(a->temp);
         free(a->path);
         free(a);
         return NULL;
     }
+    return a;
+}
+
+pfx_atomic_file *pfx_atomic_open(const char *path, pfx_diags *d) {
+    int errnum;
+    pfx_atomic_file *a = start(path, NULL, &errnum);
+    if (!a)
+        report(d, path, errnum);
     return a;
 }
 
@@ -200,6 +215,18 @@ void pfx_atomic_abort(pfx_atomic_file *a) {
         fclose(a->f);
     finish(a, false);
     destroy(a);
+}
+
+int pfx_atomic_link(const char *from, const char *path, pfx_diags *d) {
+    int errnum;
+    pfx_atomic_file *a = start(path, from, &errnum);
+    if (!a)
+        return 0;
+    errnum = finish(a, true);
+    if (errnum)
+        report(d, path, errnum);
+    destroy(a);
+    return errnum ? -1 : 1;
 }
 
 bool pfx_atomic_sync_dir(const char *path, pfx_diags *d) {

@@ -1,9 +1,10 @@
 /* Output files that appear whole or not at all. Each is written to a
  * temporary name in its own directory, flushed to the disk (fsync) and
  * renamed into place; a failed write, a full disk, a file-size limit or a
- * signal removes the temporary. Every writer in output/ goes through here,
- * so the temporary names, the errors and the durability are the same for
- * every format. */
+ * signal removes the temporary. Every file render, bake and assemble write
+ * (frames, caches, manifests, atlases, previews, depfiles) goes through
+ * here, so the temporary names, the errors and the durability are the same
+ * for every format. */
 #ifndef PFX_ATOMIC_FILE_H
 #define PFX_ATOMIC_FILE_H
 
@@ -31,6 +32,13 @@ bool pfx_atomic_commit(pfx_atomic_file *a, bool sync_dir, pfx_diags *d);
 /* Closes and removes the temporary without a message (the caller failed
  * for its own reason), and frees a. NULL is a no-op. */
 void pfx_atomic_abort(pfx_atomic_file *a);
+/* Puts a hard link to `from` at `path`: links it to a temporary name as
+ * pfx_atomic_open names it (removed by a signal like any temporary) and
+ * renames that into place. Returns 1 when linked; 0 when no link could be
+ * made (another file system, or one without hard links), with nothing
+ * reported or left behind, so the caller may copy through pfx_atomic_open
+ * instead; -1 when the rename failed, reported in d. Thread-safe. */
+int pfx_atomic_link(const char *from, const char *path, pfx_diags *d);
 /* fsyncs the directory that holds path; false with the errno in d. */
 bool pfx_atomic_sync_dir(const char *path, pfx_diags *d);
 

@@ -93,8 +93,9 @@ want_status 0
 for f in 0000 0001 0002; do
     [ -s "$work/frames/fire_$f.png" ] || flunk "no fire_$f.png"
 done
+[ -s "$work/frames/fire.manifest.json" ] || flunk "no fire.manifest.json"
 n=$(find "$work/frames" -type f | wc -l)
-[ "$n" -eq 3 ] || flunk "$n files in the output directory, expected 3 (no temporaries)"
+[ "$n" -eq 4 ] || flunk "$n files in the output directory, expected 3 frames and the manifest (no temporaries)"
 end
 
 begin "render -q is silent"
@@ -108,8 +109,55 @@ end
 begin "render without a terminal shows no progress"
 pfx_run render "$FIRE" -o "$work/noprogress" "${TINY[@]}"
 want_status 0
-grep -q 'frame' "$work/err" && flunk "a progress line on a non-terminal stderr"
+grep -q 'frame [0-9]* of' "$work/err" && flunk "a progress line on a non-terminal stderr"
 grep -q $'\r' "$work/err" && flunk "a carriage return on a non-terminal stderr"
+end
+
+# Success is one summary line on stderr unless -q, terminal or not.
+begin "render prints a one-line summary"
+pfx_run render "$FIRE" -o "$work/summary" "${TINY[@]}"
+want_status 0
+stdout_empty
+[ "$(wc -l <"$work/err")" -eq 1 ] || flunk "stderr has $(wc -l <"$work/err") lines, not 1"
+stderr_has "pfx: rendered '$FIRE': 3 frames (0 to 2) in '$work/summary'"
+end
+
+begin "bake prints a one-line summary"
+pfx_run bake "$FIRE" -o "$work/summary.csv" --frames 0:2
+want_status 0
+[ "$(wc -l <"$work/err")" -eq 1 ] || flunk "stderr has $(wc -l <"$work/err") lines, not 1"
+stderr_has "pfx: baked '$FIRE': frames 0 to 2 as csv to '$work/summary.csv'"
+end
+
+# --frames N is one frame, A: runs to the end; --size takes X or x.
+begin "--frames 5 renders frame 5 alone"
+pfx_run render "$FIRE" -o "$work/one" --frames 5 --size 32x32 -q
+want_status 0
+[ "$(ls "$work/one" 2>/dev/null | grep -v manifest)" = fire_0005.png ] || flunk "wrote: $(ls "$work/one" 2>/dev/null | tr '\n' ' ')"
+end
+
+begin "--frames 117: renders to the last frame"
+pfx_run render "$FIRE" -o "$work/tail" --frames 117: --size 32x32 -q
+want_status 0
+[ "$(ls "$work/tail" 2>/dev/null | grep -v manifest | tr '\n' ' ')" = "fire_0117.png fire_0118.png fire_0119.png " ] ||
+    flunk "wrote: $(ls "$work/tail" 2>/dev/null | tr '\n' ' ')"
+end
+
+begin "--size 40X24 in capitals"
+pfx_run render "$FIRE" -o "$work/caps" --frames 0 --size 40X24 -q
+want_status 0
+"$py" - "$work/caps/fire_0000.png" <<'PY' || flunk "the PNG is not 40x24"
+import struct, sys
+with open(sys.argv[1], "rb") as f:
+    head = f.read(24)
+sys.exit(0 if struct.unpack(">II", head[16:24]) == (40, 24) else 1)
+PY
+end
+
+begin "bake creates its directory"
+pfx_run bake "$FIRE" -o "$work/new/dir/fire.csv" --frames 0:1 -q
+want_status 0
+[ -s "$work/new/dir/fire.csv" ] || flunk "no $work/new/dir/fire.csv"
 end
 
 # On a terminal (a pty from script(1), when installed) the progress line
@@ -131,7 +179,8 @@ pfx_run bake "$FIRE" -o "$work/fire.csv" --frames 0:2
 want_status 0
 [ "$(head -1 "$work/fire.csv" 2>/dev/null)" = "frame,time,emitter,id,x,y,z,vx,vy,vz,age,lifetime,size,r,g,b,a" ] ||
     flunk "the CSV header is wrong"
-[ -z "$(find "$work" -maxdepth 1 -name 'fire.csv.*')" ] || flunk "a temporary file was left behind"
+[ -z "$(find "$work" -maxdepth 1 -name '*fire.csv.*' ! -name fire.csv.manifest.json)" ] ||
+    flunk "a temporary file was left behind"
 end
 
 begin "bake the tiny effect"
@@ -190,7 +239,7 @@ end
 begin "bake an invalid file creates nothing"
 pfx_run bake "$work/bad.yaml" -o "$work/bad.csv"
 want_status 1
-[ -z "$(find "$work" -maxdepth 1 -name 'bad.csv*')" ] || flunk "a CSV or temporary was created"
+[ -z "$(find "$work" -maxdepth 1 -name '*bad.csv*')" ] || flunk "a CSV or temporary was created"
 end
 
 begin "render under a regular file"
@@ -209,11 +258,11 @@ stderr_has "'$work/x/file.txt'"
 [ "$(find "$work/x" | wc -l)" -eq 2 ] || flunk "something was left in $work/x"
 end
 
-begin "bake into a missing directory"
-pfx_run bake "$FIRE" -o /nonexistent/dir/a.csv --frames 0:2
+begin "bake under a regular file"
+pfx_run bake "$FIRE" -o "$work/x/file.txt/a.csv" --frames 0:2
 want_status 1
-stderr_has "cannot write '/nonexistent/dir/a.csv': No such file or directory"
-[ ! -e /nonexistent ] || flunk "/nonexistent was created"
+stderr_has "cannot create '$work/x/file.txt': Not a directory"
+[ "$(find "$work/x" | wc -l)" -eq 2 ] || flunk "something was left in $work/x"
 end
 
 begin "bake onto a directory"
@@ -222,7 +271,7 @@ pfx_run bake "$FIRE" -o "$work/adir" --frames 0:2
 want_status 1
 stderr_has "'$work/adir'"
 [ -z "$(ls -A "$work/adir")" ] || flunk "something was written into the directory"
-[ -z "$(find "$work" -maxdepth 1 -name 'adir.*')" ] || flunk "a temporary was left behind"
+[ -z "$(find "$work" -maxdepth 1 -name '*adir.*')" ] || flunk "a temporary was left behind"
 end
 
 # ---- renderers: --renderer wins over PFX_RENDERER; one that cannot start
@@ -275,12 +324,19 @@ usage_error "unknown option" "unknown option '--bogus'" validate --bogus "$FIRE"
 usage_error "unknown short option" "unknown option '-x'" render "$FIRE" -o "$work/u" -x
 usage_error "validate without a file" "validate needs at least one FILE" validate
 usage_error "render without -o" "render needs -o DIR" render "$FIRE" "${TINY[@]}"
-usage_error "bake without -o" "bake needs -o OUT.csv" bake "$FIRE"
+usage_error "bake without -o" "bake needs -o OUT" bake "$FIRE"
 usage_error "-o without a value" "option '-o' needs a value" render "$FIRE" -o
-usage_error "render with two files" "render takes one FILE" render "$FIRE" "$FIRE" -o "$work/u"
-usage_error "--frames 5:2" "--frames takes A:B with 0 <= A <= B <= 100000000, got '5:2'" \
-    render "$FIRE" -o "$work/u" --frames 5:2
-usage_error "--frames without a colon" "--frames takes A:B" render "$FIRE" -o "$work/u" --frames 5
+usage_error "render with one file twice" "two effects would render into 'fire': rename one" render "$FIRE" "$FIRE" -o "$work/u"
+usage_error "--frames 5:2" "--frames takes N, A:B or A: (to the end)" render "$FIRE" -o "$work/u" --frames 5:2
+usage_error "--frames x" "--frames takes N, A:B or A:" render "$FIRE" -o "$work/u" --frames x
+frames_error "--frames 200: beyond the last frame" "--frames 200: is outside the effect's frames 0:119" \
+    render "$FIRE" -o "$work/u" --frames 200:
+usage_error "a mistyped command gets a suggestion" "unknown command 'rendr'; did you mean 'render'?" \
+    rendr "$FIRE"
+usage_error "an unknown option in a cluster names itself" "unknown option '-x'" \
+    render "$FIRE" -o "$work/u" -x4
+usage_error "an unknown long option names itself" "unknown option '--bogus=3'" \
+    render "$FIRE" -o "$work/u" --bogus=3
 frames_error "--frames beyond the last frame" "--frames 0:1000000 is outside the effect's frames" \
     render "$FIRE" -o "$work/u" --frames 0:1000000 --size 64x64
 frames_error "bake --frames beyond the last frame" "--frames 0:1000000 is outside the effect's frames" \

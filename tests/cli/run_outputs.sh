@@ -139,9 +139,12 @@ else
     echo "skip: full-disk checks (no tmpfs in a user namespace here)"
 fi
 
-# ---- names at the limit: the temporary fits whenever the final name does
+# ---- names at the limit: the temporary fits whenever the final name does.
+# A render also writes <stem>.manifest.json, 5 bytes longer than a frame's
+# name, so the stems are those whose manifest fits; the temporaries of both
+# the frame and the manifest have to be cut.
 name_max=$(getconf NAME_MAX "$work" 2>/dev/null || echo 255)
-for stem_len in 240 243 $((name_max - 9)); do
+for stem_len in 236 239 $((name_max - 14)); do
     stem=$(printf 'e%.0s' $(seq "$stem_len"))
     cp "$work/heavy.yaml" "$work/$stem.yaml"
     begin "render an effect whose name is $stem_len bytes: ${stem_len}+9-byte frames"
@@ -149,7 +152,9 @@ for stem_len in 240 243 $((name_max - 9)); do
     finished && want_status 0
     stderr_empty
     [ -s "$work/long$stem_len/${stem}_0000.png" ] || flunk "no ${stem}_0000.png"
-    [ "$(ls -A "$work/long$stem_len" | wc -l)" -eq 1 ] || flunk "more than the frame was left"
+    [ -s "$work/long$stem_len/$stem.manifest.json" ] || flunk "no $stem.manifest.json"
+    [ "$(ls -A "$work/long$stem_len" | wc -l)" -eq 2 ] ||
+        flunk "more than the frame and the manifest were left"
     end
     rm -f "$work/$stem.yaml"
 done
@@ -173,7 +178,8 @@ end
 begin "bake under a symlink loop: the path and the errno"
 pfx_run bake "$FIRE" -o "$work/loop/a.csv" --frames 0:0
 finished && want_status 1
-stderr_has "pfx: cannot write '$work/loop/a.csv': Too many levels of symbolic links"
+# bake creates the directory of OUT, as render creates DIR.
+stderr_has "pfx: cannot create '$work/loop': Too many levels of symbolic links"
 end
 
 summary

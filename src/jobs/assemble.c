@@ -1,0 +1,266 @@
+/* The gathering of jobs/assemble.h. Every frame is checked against the
+ * hash its slice recorded before it is linked, so a slice that a node
+ * crashed in the middle of (a manifest older than its frames, or a frame
+ * damaged in transfer) is caught here, not in the film. A frame lands in
+ * out under a temporary name and is renamed, as render writes it
+ * (output/atomic_file.h). */
+#include "jobs/assemble.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/sha256.h"
+#include "jobs/atlas_job.h"
+#include "jobs/manifest.h"
+#include "jobs/preview.h"
+#include "output/atomic_file.h"
+
+#define SLICE_MARK ".slice-"
+#define MANIFEST_SUFFIX ".manifest.json"
+
+typedef struct part {
+    char *stem; /* the render's name: fire */
+    char *dir;  /* where the slice's frames are */
+    char *path; /* its manifest */
+    pfx_manifest *m;
+} part;
+
+typedef struct parts {
+    part *items;
+    size_t count, cap;
+} parts;
+
+static void parts_free(parts *p) {
+    for (size_t i = 0; i < p->count; i++) {
+        free(p->items[i].stem);
+        free(p->items[i].dir);
+        free(p->items[i].path);
+        pfx_manifest_destroy(p->items[i].m);
+    }
+    free(p->items);
+}
+
+/* "fire.slice-0003-of-0008.manifest.json" -> stem "fire". */
+static char *slice_stem(const char *name) {
+    size_t len = strlen(name), suf = strlen(MANIFEST_SUFFIX);
+    const char *mark = strstr(name, SLICE_MARK);
+    if (name[0] == '.' || len <= suf || strcmp(name + len - suf, MANIFEST_SUFFIX) || !mark ||
+        mark == name)
+        return NULL;
+    return strndup(name, (size_t)(mark - name));
+}
+
+static bool scan_dir(const char *dir, parts *p, pfx_diags *d) {
+    DIR *dh = opendir(dir);
+    if (!dh) {
+        pfx_diag_error(d, "cannot read '%s': %s", dir, strerror(errno));
+        return false;
+    }
+    bool ok = true;
+    struct dirent *ent;
+    while ((ent = readdir(dh)) && ok) {
+        char *stem = slice_stem(ent->d_name);
+        if (!stem)
+            continue;
+        if (p->count == p->cap) {
+            size_t cap = p->cap ? 2 * p->cap : 16;
+            part *items = realloc(p->items, cap * sizeof *items);
+            if (!items) {
+                free(stem);
+                pfx_diag_error(d, "out of memory");
+                ok = false;
+                break;
+            }
+            p->items = items;
+            p->cap = cap;
+        }
+        part *it = &p->items[p->count++];
+        *it = (part){.stem = stem, .dir = strdup(dir)};
+        size_t n = strlen(dir) + strlen(ent->d_name) + 2;
+        it->path = malloc(n);
+        if (!it->dir || !it->path) {
+            pfx_diag_error(d, "out of memory");
+            ok = false;
+            break;
+        }
+        snprintf(it->path, n, "%s/%s", dir, ent->d_name);
+        it->m = pfx_manifest_read(it->path);
+        if (!it->m) {
+            pfx_diag_error(d, "'%s' is not a pfx manifest", it->path);
+            ok = false;
+        }
+    }
+    closedir(dh);
+    return ok;
+}
+
+static int by_stem_then_path(const void *a, const void *b) {
+    const part *x = a, *y = b;
+    int c = strcmp(x->stem, y->stem);
+    return c ? c : strcmp(x->path, y->path);
+}
+
+/* Copies src to dst through a temporary (output/atomic_file.h). */
+static bool copy_file(const char *src, const char *dst, pfx_diags *d) {
+    FILE *in = fopen(src, "rb");
+    if (!in) {
+        pfx_diag_error(d, "cannot read '%s': %s", src, strerror(errno));
+        return false;
+    }
+    pfx_atomic_file *a = pfx_atomic_open(dst, d);
+    if (!a) {
+        fclose(in);
+        return false;
+    }
+    FILE *out = pfx_atomic_stream(a);
+    char buf[1 << 16];
+    size_t n;
+    bool ok = true;
+    while (ok && (n = fread(buf, 1, sizeof buf, in)) > 0)
+        if (fwrite(buf, 1, n, out) != n) {
+            pfx_atomic_failed(a, errno);
+            ok = false;
+        }
+    if (ok && ferror(in)) {
+        pfx_diag_error(d, "cannot read '%s': %s", src, strerror(errno ? errno : EIO));
+        fclose(in);
+        pfx_atomic_abort(a);
+        return false;
+    }
+    fclose(in);
+    return pfx_atomic_commit(a, false, d);
+}
+
+/* Puts dir/name into out/name, checked against sha256. */
+static bool gather(const char *dir, const char *name, const char *sha256, const char *out,
+                   pfx_assemble_report *r, pfx_diags *d) {
+    char src[4096], dst[4096], hex[PFX_SHA256_HEX];
+    snprintf(src, sizeof src, "%s/%s", dir, name);
+    snprintf(dst, sizeof dst, "%s/%s", out, name);
+    if (!pfx_sha256_file(src, hex)) {
+        pfx_diag_error(d, "cannot read '%s': %s", src, strerror(errno));
+        return false;
+    }
+    if (strcmp(hex, sha256)) {
+        pfx_diag_error(d, "'%s' does not match the hash its slice's manifest records", src);
+        return false;
+    }
+    if (pfx_sha256_file(dst, hex) && !strcmp(hex, sha256)) {
+        r->kept++;
+        return true;
+    }
+    /* A hard link where the file system allows it, else a copy. */
+    int linked = pfx_atomic_link(src, dst, d);
+    if (linked < 0 || (!linked && !copy_file(src, dst, d)))
+        return false;
+    if (linked)
+        r->linked++;
+    else
+        r->copied++;
+    return true;
+}
+
+/* One render: parts p[0..n) share a stem. */
+static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_options *opt,
+                         pfx_assemble_report *r, pfx_diags *d) {
+    pfx_manifest **ms = malloc(n * sizeof *ms);
+    const char **names = malloc(n * sizeof *names);
+    bool ok = ms && names;
+    for (size_t i = 0; ok && i < n; i++) {
+        ms[i] = p[i].m;
+        names[i] = p[i].path;
+    }
+    long first = 0, last = -1;
+    pfx_manifest *all = ok ? pfx_manifest_assemble(ms, names, n, &first, &last, d) : NULL;
+    free(ms);
+    free(names);
+    if (!all)
+        return false;
+    /* Every frame of the range exactly once, and nothing else. */
+    size_t expected = (size_t)(last - first + 1);
+    if (pfx_manifest_output_count(all) != expected) {
+        pfx_diag_error(d, "the slices of '%s' hold %zu files for the %zu frames %ld to %ld",
+                       p[0].stem, pfx_manifest_output_count(all), expected, first, last);
+        ok = false;
+    }
+    for (long f = first; ok && f <= last; f++) {
+        char want[300];
+        snprintf(want, sizeof want, "%s_%04ld.png", p[0].stem, f);
+        const char *got = pfx_manifest_output(all, (size_t)(f - first), NULL);
+        if (!got || strcmp(got, want)) {
+            pfx_diag_error(d, "frame %ld of '%s' is in no slice", f, p[0].stem);
+            ok = false;
+        }
+    }
+    for (size_t i = 0; ok && i < n; i++)
+        for (size_t k = 0; ok && k < pfx_manifest_output_count(p[i].m); k++) {
+            const char *sha, *name = pfx_manifest_output(p[i].m, k, &sha);
+            ok = gather(p[i].dir, name, sha, out, r, d);
+        }
+    /* The atlas and preview as render makes them, and in its settings, so
+     * that the key is the one a single render with them would have. */
+    double fps = pfx_manifest_get_number(all, "fps", 30);
+    bool loop = pfx_manifest_get_number(all, "loop", 0) != 0;
+    if (ok && opt->atlas) {
+        pfx_atlas_layout atlas = *opt->atlas;
+        pfx_atlas_job_describe(&atlas, all);
+        ok = pfx_atlas_job_run(out, p[0].stem, first, last, fps, loop, &atlas, all, d);
+    }
+    if (ok && opt->preview) {
+        pfx_manifest_set_string(all, "preview", opt->preview);
+        ok = pfx_preview_run(out, p[0].stem, first, last, fps, opt->preview, d);
+    }
+    pfx_manifest_key(all);
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s.manifest.json", out, p[0].stem);
+    if (ok) {
+        pfx_manifest *prev = pfx_manifest_read(path);
+        if (prev)
+            pfx_manifest_remove_stale(prev, all, out, d);
+        pfx_manifest_destroy(prev);
+        ok = pfx_manifest_write(all, path, d);
+    }
+    if (ok) {
+        r->effects++;
+        r->frames += expected;
+    }
+    pfx_manifest_destroy(all);
+    return ok;
+}
+
+bool pfx_assemble(const char *const *dirs, size_t n, const char *out,
+                  const pfx_assemble_options *opt, pfx_assemble_report *r, pfx_diags *d) {
+    *r = (pfx_assemble_report){0};
+    parts p = {0};
+    bool ok = true;
+    for (size_t i = 0; i < n && ok; i++)
+        ok = scan_dir(dirs[i], &p, d);
+    if (ok && p.count == 0) {
+        pfx_diag_error(d, "no slice manifests (NAME.slice-I-of-N.manifest.json) in the "
+                          "directories given");
+        ok = false;
+    }
+    if (ok) {
+        qsort(p.items, p.count, sizeof *p.items, by_stem_then_path);
+        if (opt->preview && strcmp(p.items[0].stem, p.items[p.count - 1].stem)) {
+            pfx_diag_error(d, "--preview names one file, and the slices are of '%s' and '%s'",
+                           p.items[0].stem, p.items[p.count - 1].stem);
+            ok = false;
+        }
+    }
+    if (ok) {
+        qsort(p.items, p.count, sizeof *p.items, by_stem_then_path);
+        for (size_t i = 0; i < p.count;) {
+            size_t j = i + 1;
+            while (j < p.count && !strcmp(p.items[j].stem, p.items[i].stem))
+                j++;
+            ok = assemble_one(p.items + i, j - i, out, opt, r, d) && ok;
+            i = j;
+        }
+    }
+    parts_free(&p);
+    return ok;
+}

@@ -1,0 +1,366 @@
+/* Manifests (jobs/manifest.h) as jansson objects: built up by the command,
+ * written atomically, read back to decide whether a run has anything to do
+ * and which files of the previous run are stale. The bake key is the
+ * SHA-256 of a canonical dump (sorted keys, compact) of the version,
+ * command, settings and inputs: never of the outputs, which it predicts. */
+#include "jobs/manifest.h"
+
+#include <errno.h>
+#include <jansson.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "output/atomic_file.h"
+
+#define MANIFEST_FORMAT 1
+
+struct pfx_manifest {
+    json_t *root; /* format, pfx_version, command, settings, inputs, bake_key, outputs */
+    char key[PFX_SHA256_HEX];
+};
+
+static json_t *member(const pfx_manifest *m, const char *k) { return json_object_get(m->root, k); }
+
+pfx_manifest *pfx_manifest_create(const char *command) {
+    pfx_manifest *m = calloc(1, sizeof *m);
+    if (!m)
+        return NULL;
+    m->root =
+        json_pack("{s:i, s:s, s:s, s:{}, s:[], s:[]}", "pfx_manifest", MANIFEST_FORMAT,
+                  "pfx_version", PFX_VERSION, "command", command, "settings", "inputs", "outputs");
+    if (!m->root) {
+        free(m);
+        return NULL;
+    }
+    return m;
+}
+
+void pfx_manifest_destroy(pfx_manifest *m) {
+    if (!m)
+        return;
+    json_decref(m->root);
+    free(m);
+}
+
+void pfx_manifest_set_string(pfx_manifest *m, const char *key, const char *value) {
+    json_object_set_new(member(m, "settings"), key, json_string(value));
+}
+
+/* Whole numbers as JSON integers, so that 30 reads as 30 and not 30.0. */
+void pfx_manifest_set_number(pfx_manifest *m, const char *key, double value) {
+    json_t *v =
+        value == (double)(json_int_t)value ? json_integer((json_int_t)value) : json_real(value);
+    json_object_set_new(member(m, "settings"), key, v);
+}
+
+void pfx_manifest_set_range(pfx_manifest *m, const char *key, long first, long last) {
+    json_object_set_new(member(m, "settings"), key,
+                        json_pack("[I, I]", (json_int_t)first, (json_int_t)last));
+}
+
+double pfx_manifest_get_number(const pfx_manifest *m, const char *key, double fallback) {
+    json_t *v = json_object_get(member(m, "settings"), key);
+    return json_is_number(v) ? json_number_value(v) : fallback;
+}
+
+static json_t *find_path(json_t *list, const char *path) {
+    size_t i;
+    json_t *v;
+    json_array_foreach(list, i, v) {
+        const char *p = json_string_value(json_object_get(v, "path"));
+        if (p && !strcmp(p, path))
+            return v;
+    }
+    return NULL;
+}
+
+bool pfx_manifest_add_input(pfx_manifest *m, const char *path, pfx_diags *d) {
+    json_t *inputs = member(m, "inputs");
+    if (find_path(inputs, path))
+        return true;
+    char hex[PFX_SHA256_HEX];
+    if (!pfx_sha256_file(path, hex)) {
+        pfx_diag_error(d, "cannot read input '%s': %s", path, strerror(errno));
+        return false;
+    }
+    json_array_append_new(inputs, json_pack("{s:s, s:s}", "path", path, "sha256", hex));
+    return true;
+}
+
+bool pfx_manifest_add_effect(pfx_manifest *m, const pfx_effect *e, pfx_diags *d) {
+    bool ok = pfx_manifest_add_input(m, e->path, d);
+    for (size_t i = 0; i < e->emitter_count; i++)
+        if (e->emitters[i].shape.file)
+            ok = pfx_manifest_add_input(m, e->emitters[i].shape.file, d) && ok;
+    return ok;
+}
+
+size_t pfx_manifest_input_count(const pfx_manifest *m) {
+    return json_array_size(member(m, "inputs"));
+}
+
+const char *pfx_manifest_input(const pfx_manifest *m, size_t i) {
+    return json_string_value(json_object_get(json_array_get(member(m, "inputs"), i), "path"));
+}
+
+const char *pfx_manifest_key(pfx_manifest *m) {
+    json_t *keyed = json_pack("{s:O, s:O, s:O, s:O}", "pfx_version", member(m, "pfx_version"),
+                              "command", member(m, "command"), "settings", member(m, "settings"),
+                              "inputs", member(m, "inputs"));
+    char *text = keyed ? json_dumps(keyed, JSON_SORT_KEYS | JSON_COMPACT) : NULL;
+    json_decref(keyed);
+    if (!text)
+        return NULL;
+    pfx_sha256_bytes(text, strlen(text), m->key);
+    free(text);
+    json_object_set_new(m->root, "bake_key", json_string(m->key));
+    return m->key;
+}
+
+bool pfx_manifest_add_output(pfx_manifest *m, const char *dir, const char *name, pfx_diags *d) {
+    char path[4096], hex[PFX_SHA256_HEX];
+    int n = snprintf(path, sizeof path, "%s/%s", dir, name);
+    if (n < 0 || (size_t)n >= sizeof path) {
+        pfx_diag_error(d, "output path '%s/%s' is too long", dir, name);
+        return false;
+    }
+    if (!pfx_sha256_file(path, hex)) {
+        pfx_diag_error(d, "cannot read output '%s': %s", path, strerror(errno));
+        return false;
+    }
+    json_t *outputs = member(m, "outputs"), *old = find_path(outputs, name);
+    if (old)
+        json_object_set_new(old, "sha256", json_string(hex));
+    else
+        json_array_append_new(outputs, json_pack("{s:s, s:s}", "path", name, "sha256", hex));
+    return true;
+}
+
+size_t pfx_manifest_output_count(const pfx_manifest *m) {
+    return json_array_size(member(m, "outputs"));
+}
+
+const char *pfx_manifest_output(const pfx_manifest *m, size_t i, const char **sha256) {
+    json_t *o = json_array_get(member(m, "outputs"), i);
+    if (sha256)
+        *sha256 = json_string_value(json_object_get(o, "sha256"));
+    return json_string_value(json_object_get(o, "path"));
+}
+
+bool pfx_manifest_write(pfx_manifest *m, const char *path, pfx_diags *d) {
+    if (!member(m, "bake_key"))
+        pfx_manifest_key(m);
+    pfx_atomic_file *a = pfx_atomic_open(path, d);
+    if (!a)
+        return false;
+    FILE *f = pfx_atomic_stream(a);
+    if (json_dumpf(m->root, f, JSON_INDENT(2) | JSON_PRESERVE_ORDER) != 0 || fputc('\n', f) == EOF)
+        pfx_atomic_failed(a, errno);
+    return pfx_atomic_commit(a, true, d);
+}
+
+pfx_manifest *pfx_manifest_read(const char *path) {
+    json_t *root = json_load_file(path, 0, NULL);
+    json_t *format = json_object_get(root, "pfx_manifest");
+    if (!json_is_integer(format) || json_integer_value(format) != MANIFEST_FORMAT ||
+        !json_is_array(json_object_get(root, "outputs")) ||
+        !json_is_array(json_object_get(root, "inputs")) ||
+        !json_is_object(json_object_get(root, "settings"))) {
+        json_decref(root);
+        return NULL;
+    }
+    pfx_manifest *m = calloc(1, sizeof *m);
+    if (!m) {
+        json_decref(root);
+        return NULL;
+    }
+    m->root = root;
+    return m;
+}
+
+const char *pfx_manifest_recorded_key(const pfx_manifest *m) {
+    return json_string_value(member(m, "bake_key"));
+}
+
+/* A name a manifest may list: a plain file in its directory. */
+static bool plain_name(const char *name) {
+    return name && *name && name[0] != '.' && !strchr(name, '/');
+}
+
+static bool file_has(const char *dir, const char *name, const char *sha256) {
+    char path[4096], hex[PFX_SHA256_HEX];
+    int n = snprintf(path, sizeof path, "%s/%s", dir, name);
+    return n > 0 && (size_t)n < sizeof path && sha256 && pfx_sha256_file(path, hex) &&
+           !strcmp(hex, sha256);
+}
+
+bool pfx_manifest_up_to_date(const pfx_manifest *prev, const char *key, const char *dir) {
+    const char *recorded = pfx_manifest_recorded_key(prev);
+    if (!recorded || !key || strcmp(recorded, key) || pfx_manifest_output_count(prev) == 0)
+        return false;
+    for (size_t i = 0; i < pfx_manifest_output_count(prev); i++) {
+        const char *sha, *name = pfx_manifest_output(prev, i, &sha);
+        if (!plain_name(name) || !file_has(dir, name, sha))
+            return false;
+    }
+    return true;
+}
+
+size_t pfx_manifest_remove_stale(const pfx_manifest *prev, const pfx_manifest *now, const char *dir,
+                                 pfx_diags *d) {
+    size_t removed = 0;
+    json_t *keep = member(now, "outputs");
+    for (size_t i = 0; i < pfx_manifest_output_count(prev); i++) {
+        const char *sha, *name = pfx_manifest_output(prev, i, &sha);
+        if (!plain_name(name) || find_path(keep, name))
+            continue;
+        char path[4096];
+        int n = snprintf(path, sizeof path, "%s/%s", dir, name);
+        if (n < 0 || (size_t)n >= sizeof path || access(path, F_OK) != 0)
+            continue;
+        if (!file_has(dir, name, sha)) {
+            pfx_diag_add(d, PFX_SEV_NOTE, 0, 0, 1, "kept stale '%s': it changed since pfx wrote it",
+                         path);
+            continue;
+        }
+        if (unlink(path) == 0)
+            removed++;
+        else
+            pfx_diag_error(d, "cannot remove stale '%s': %s", path, strerror(errno));
+    }
+    return removed;
+}
+
+static bool merge_outputs(pfx_manifest *dst, const pfx_manifest *src, pfx_diags *d);
+
+void pfx_manifest_set_slice(pfx_manifest *m, long index, long count, long first, long last) {
+    json_object_set_new(m->root, "slice",
+                        json_pack("{s:I, s:I, s:[I, I]}", "index", (json_int_t)index, "count",
+                                  (json_int_t)count, "frames", (json_int_t)first,
+                                  (json_int_t)last));
+}
+
+static bool is_render(const pfx_manifest *m) {
+    const char *c = json_string_value(member(m, "command"));
+    return c && !strcmp(c, "render");
+}
+
+/* The slice member of a part: index, count and the whole range. */
+static bool slice_of(const pfx_manifest *m, json_int_t *index, json_int_t *count, json_int_t *first,
+                     json_int_t *last) {
+    return json_unpack(member(m, "slice"), "{s:I, s:I, s:[I, I]}", "index", index, "count", count,
+                       "frames", first, last) == 0 &&
+           *count >= 1 && *index >= 0 && *index < *count && *first <= *last;
+}
+
+/* The settings without the frame range, for comparing slices. */
+static json_t *settings_but_frames(const pfx_manifest *m) {
+    json_t *s = json_deep_copy(member(m, "settings"));
+    json_object_del(s, "frames");
+    return s;
+}
+
+static int by_path(const void *a, const void *b) {
+    const char *x = json_string_value(json_object_get(*(json_t *const *)a, "path"));
+    const char *y = json_string_value(json_object_get(*(json_t *const *)b, "path"));
+    return strcmp(x ? x : "", y ? y : "");
+}
+
+pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *const *names, size_t n,
+                                    long *first, long *last, pfx_diags *d) {
+    json_int_t index, count, f0, f1, c0 = 0, a0 = 0, b0 = 0;
+    const char **seen = NULL;
+    pfx_manifest *out = NULL;
+    json_t *ref = NULL;
+    int errors = d->errors;
+    for (size_t k = 0; k < n; k++) {
+        if (!slice_of(parts[k], &index, &count, &f0, &f1) || !is_render(parts[k])) {
+            pfx_diag_error(d, "'%s' is not the manifest of a render slice", names[k]);
+            continue;
+        }
+        json_t *s = settings_but_frames(parts[k]);
+        if (!ref) {
+            ref = s;
+            c0 = count, a0 = f0, b0 = f1;
+            seen = calloc((size_t)count, sizeof *seen);
+            out = pfx_manifest_create("render");
+            if (!seen || !out) {
+                pfx_diag_error(d, "out of memory");
+                break;
+            }
+            json_object_set_new(out->root, "settings",
+                                json_deep_copy(member(parts[k], "settings")));
+            json_object_set(out->root, "inputs", member(parts[k], "inputs"));
+        } else {
+            bool same = json_equal(ref, s) && count == c0 && f0 == a0 && f1 == b0 &&
+                        json_equal(member(parts[k], "inputs"), member(out, "inputs"));
+            json_decref(s);
+            if (!same) {
+                pfx_diag_error(d,
+                               "'%s' is a slice of another render than '%s' (other inputs, "
+                               "settings or slice count)",
+                               names[k], names[0]);
+                continue;
+            }
+        }
+        if (seen[index]) {
+            pfx_diag_error(d, "slice %lld of %lld is in both '%s' and '%s'", (long long)index,
+                           (long long)count, seen[index], names[k]);
+            continue;
+        }
+        seen[index] = names[k];
+        merge_outputs(out, parts[k], d);
+    }
+    for (json_int_t i = 0; seen && i < c0; i++)
+        if (!seen[i])
+            pfx_diag_error(d, "slice %lld of %lld is missing", (long long)i, (long long)c0);
+    free(seen);
+    json_decref(ref);
+    if (!out || d->errors > errors) {
+        pfx_manifest_destroy(out);
+        return NULL;
+    }
+    /* Sorted outputs, and the frames of the whole render. */
+    json_t *outputs = member(out, "outputs");
+    size_t count_out = json_array_size(outputs);
+    json_t **items = malloc((count_out + 1) * sizeof *items);
+    if (!items) {
+        pfx_manifest_destroy(out);
+        pfx_diag_error(d, "out of memory");
+        return NULL;
+    }
+    for (size_t i = 0; i < count_out; i++)
+        items[i] = json_incref(json_array_get(outputs, i));
+    qsort(items, count_out, sizeof *items, by_path);
+    json_array_clear(outputs);
+    for (size_t i = 0; i < count_out; i++)
+        json_array_append_new(outputs, items[i]);
+    free(items);
+    *first = (long)a0;
+    *last = (long)b0;
+    pfx_manifest_set_range(out, "frames", *first, *last);
+    pfx_manifest_key(out);
+    return out;
+}
+
+/* Appends src's outputs to dst; a name already there is an error. */
+static bool merge_outputs(pfx_manifest *dst, const pfx_manifest *src, pfx_diags *d) {
+    json_t *outputs = member(dst, "outputs");
+    for (size_t i = 0; i < pfx_manifest_output_count(src); i++) {
+        const char *sha, *name = pfx_manifest_output(src, i, &sha);
+        if (!plain_name(name) || !sha)
+            continue;
+        json_t *old = find_path(outputs, name);
+        const char *old_sha = old ? json_string_value(json_object_get(old, "sha256")) : NULL;
+        if (old) {
+            pfx_diag_error(d, "'%s' is in two slices%s", name,
+                           old_sha && strcmp(old_sha, sha) ? ", with different contents" : "");
+            return false;
+        }
+        if (!old)
+            json_array_append_new(outputs, json_pack("{s:s, s:s}", "path", name, "sha256", sha));
+    }
+    return true;
+}

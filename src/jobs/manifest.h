@@ -1,0 +1,86 @@
+/* Manifests: what a render or bake read and wrote, beside its outputs as
+ * JSON (through jansson). The pfx version, the command, the resolved
+ * settings, the SHA-256 of every input (the effect, its meshes) and of every
+ * output, and a bake key: the SHA-256 of everything that decides the
+ * outputs. A re-run whose key and outputs match the previous manifest has
+ * nothing to do; files the previous manifest listed and the new one does
+ * not are stale and removed. */
+#ifndef PFX_JOBS_MANIFEST_H
+#define PFX_JOBS_MANIFEST_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "base/diag.h"
+#include "base/sha256.h"
+#include "model/effect.h"
+
+typedef struct pfx_manifest pfx_manifest;
+
+/* An empty manifest for `command` ("render", "bake"). NULL when out of
+ * memory. Free with pfx_manifest_destroy. */
+pfx_manifest *pfx_manifest_create(const char *command);
+void pfx_manifest_destroy(pfx_manifest *m);
+
+/* A resolved setting (part of the bake key). */
+void pfx_manifest_set_string(pfx_manifest *m, const char *key, const char *value);
+void pfx_manifest_set_number(pfx_manifest *m, const char *key, double value);
+void pfx_manifest_set_range(pfx_manifest *m, const char *key, long first, long last);
+
+/* Hashes the input at path and lists it (part of the bake key); a second
+ * call with the same path does nothing. False, with the reason in d, when
+ * it cannot be read. */
+bool pfx_manifest_add_input(pfx_manifest *m, const char *path, pfx_diags *d);
+/* The effect file and every file it read (meshes). */
+bool pfx_manifest_add_effect(pfx_manifest *m, const pfx_effect *e, pfx_diags *d);
+size_t pfx_manifest_input_count(const pfx_manifest *m);
+const char *pfx_manifest_input(const pfx_manifest *m, size_t i);
+
+/* The bake key over the version, command, settings and inputs so far, as
+ * 64 hex digits (owned by m, valid until the next change). */
+const char *pfx_manifest_key(pfx_manifest *m);
+
+/* Hashes dir/name and lists it as an output by its name (relative to the
+ * manifest's directory). False, with the reason in d, when unreadable. */
+bool pfx_manifest_add_output(pfx_manifest *m, const char *dir, const char *name, pfx_diags *d);
+size_t pfx_manifest_output_count(const pfx_manifest *m);
+const char *pfx_manifest_output(const pfx_manifest *m, size_t i, const char **sha256);
+
+/* Writes m to path whole or not at all (a temporary renamed into place).
+ * False with the reason in d. */
+bool pfx_manifest_write(pfx_manifest *m, const char *path, pfx_diags *d);
+
+/* The manifest at path, or NULL when there is none or it is not one of
+ * pfx's (then nothing is trusted from it). */
+pfx_manifest *pfx_manifest_read(const char *path);
+/* The key the manifest recorded, or NULL. */
+const char *pfx_manifest_recorded_key(const pfx_manifest *m);
+
+/* True when prev records `key` and every output it lists is in dir with
+ * the recorded SHA-256: a re-run would write the same bytes. */
+bool pfx_manifest_up_to_date(const pfx_manifest *prev, const char *key, const char *dir);
+
+/* Removes from dir each output prev lists and now does not, when the file
+ * still has the hash pfx recorded (a file changed since, or never written
+ * by pfx, is never touched: a note says so). Names with a '/' or a leading
+ * '.' are ignored. Returns how many were removed. */
+size_t pfx_manifest_remove_stale(const pfx_manifest *prev, const pfx_manifest *now, const char *dir,
+                                 pfx_diags *d);
+
+/* A number setting, or `fallback` when m has none. */
+double pfx_manifest_get_number(const pfx_manifest *m, const char *key, double fallback);
+
+/* Marks m as slice `index` of `count` of the frames first..last (the
+ * frames of all slices together). */
+void pfx_manifest_set_slice(pfx_manifest *m, long index, long count, long first, long last);
+
+/* The one manifest of a render cut into slices: the slices' manifests
+ * (named by `names` in messages) must be every slice of one render
+ * exactly once: the same inputs, settings but for the frames, and count;
+ * no output twice. The result has the settings of a single-process render
+ * of all the frames (so the same bake key) and every output, sorted; its
+ * frame range is in *first, *last. NULL with the reasons in d. */
+pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *const *names, size_t n,
+                                    long *first, long *last, pfx_diags *d);
+
+#endif

@@ -1,0 +1,52 @@
+/* Sprite sheets: frames packed into one even grid read row by row from the
+ * top left, as every engine's flipbook expects (Unity's Texture Sheet
+ * Animation, Unreal's SubUV, Godot's particle animation), with a
+ * transparent gutter, edge extrusion and colour bled into transparent
+ * pixels so that bilinear filtering and mipmaps show no dark halos; and
+ * the JSON that describes it (TexturePacker's hash format plus the numbers
+ * each engine asks for). */
+#ifndef PFX_OUTPUT_ATLAS_H
+#define PFX_OUTPUT_ATLAS_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "base/diag.h"
+
+#define PFX_ATLAS_MAX_SIDE 16384
+
+typedef struct pfx_atlas_layout {
+    /* In. */
+    int frame_w, frame_h; /* every frame's size */
+    int frames;
+    int columns, rows; /* 0: chosen from the frame count */
+    int padding;       /* transparent pixels around each frame in its cell */
+    int extrude;       /* of those, how many repeat the frame's edge (<= padding) */
+    bool crop;         /* cut every frame to one box around all visible pixels */
+    /* Out, from pfx_atlas_layout_resolve and pfx_atlas_compose. */
+    int crop_x, crop_y, crop_w, crop_h; /* the box within a frame */
+    int cell_w, cell_h;                 /* crop + 2 padding */
+    int width, height;                  /* the sheet */
+} pfx_atlas_layout;
+
+/* Chooses the grid (columns = ceil(sqrt(frames)), rows to fit, when not
+ * given) and checks it: enough cells, a sheet at most 16384 pixels a side.
+ * False with the reason in d. Call after the crop box is known. */
+bool pfx_atlas_layout_resolve(pfx_atlas_layout *l, pfx_diags *d);
+
+/* The box around every pixel with alpha > 0 of frames[0..n) (each
+ * frame_w x frame_h RGBA), into l->crop_*; the whole frame when none is
+ * visible. */
+void pfx_atlas_find_crop(pfx_atlas_layout *l, uint8_t *const *frames, int n);
+
+/* Composes the sheet (l->width x l->height straight RGBA, malloc'd, the
+ * caller frees) from the resolved layout. NULL when out of memory. */
+uint8_t *pfx_atlas_compose(const pfx_atlas_layout *l, uint8_t *const *frames);
+
+/* Writes the JSON at path (whole or not at all): frames by name (names[i]
+ * for frame i) with their rectangles, the grid, fps, loop and the alpha
+ * mode, for the sheet named `image`. False with the reason in d. */
+bool pfx_atlas_write_json(const char *path, const pfx_atlas_layout *l, const char *image,
+                          const char *const *names, double fps, bool loop, pfx_diags *d);
+
+#endif

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# --werror: an effect with a warning fails (exit 1) after its warning is
+# printed, for validate, render and bake; without it the same file passes.
+#
+#   bash run_werror.sh PATH-TO-PFX SOURCE-DIR
+set -u
+source "$(dirname "${BASH_SOURCE[0]}")/../harness.sh" werror "$@"
+cd "$work" || exit 2
+W=$src/tests/diag/no_emitters_warning.yaml
+
+begin "validate passes a warning without --werror"
+pfx_run validate "$W"
+want_status 0
+stderr_has "warning: the effect has no 'emitters'"
+end
+
+begin "validate --werror fails on it"
+pfx_run validate --werror "$W"
+want_status 1
+stderr_has "warning: the effect has no 'emitters'"
+stderr_has "pfx: '$W': 1 warning treated as error (--werror)"
+end
+
+begin "bake --werror writes nothing"
+pfx_run bake "$W" -o w.csv --werror
+want_status 1
+[ ! -e w.csv ] || flunk "w.csv was written"
+end
+
+begin "validate --werror passes a clean file"
+pfx_run validate --werror "$src/effects/fire.yaml"
+want_status 0
+end
+
+summary

@@ -1,0 +1,125 @@
+#!/usr/bin/env bash
+# --atlas: the sheet and its JSON read back by readers pfx has no part in
+# (Pillow for the PNGs, Python's json): every frame rectangle holds that
+# frame's pixels exactly (alpha, and colour where alpha > 0), the gutter beyond the extruded ring is
+# transparent, the ring repeats the frame's edge, no transparent pixel near
+# a visible one is left black (colour bleed), --crop keeps every visible
+# pixel, and the numbers each engine asks for agree with the grid.
+#
+#   bash run_atlas.sh PATH-TO-PFX SOURCE-DIR
+set -u
+source "$(dirname "${BASH_SOURCE[0]}")/../harness.sh" atlas "$@"
+cd "$work" || exit 2
+FIRE=$src/effects/fire.yaml
+A=(--size 48x40 --frames 10:20 --seed 4 -q)
+
+# check DIR PADDING EXTRUDE COLS ROWS CROP
+check() {
+    "$py" - "$@" <<'PY'
+import json, sys
+from PIL import Image
+import numpy as np
+d, pad, ext, cols, rows, crop = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5]), sys.argv[6] == "1"
+meta = json.load(open(d + "/fire_atlas.json"))
+sheet = np.asarray(Image.open(d + "/fire_atlas.png").convert("RGBA")).astype(int)
+bad = []
+g = meta["grid"]
+names = list(meta["frames"])
+if (g["columns"], g["rows"]) != (cols, rows) or g["frames"] != len(names) != 11:
+    bad.append("grid %s" % g)
+if (meta["unity"]["tiles_x"], meta["unity"]["tiles_y"], meta["unreal"]["sub_images_horizontal"],
+        meta["godot"]["v_frames"]) != (cols, rows, cols, rows) or meta["meta"]["alpha"] != "straight":
+    bad.append("engine numbers %s %s %s" % (meta["unity"], meta["unreal"], meta["godot"]))
+if sheet.shape[:2] != (meta["meta"]["size"]["h"], meta["meta"]["size"]["w"]) or \
+        sheet.shape[:2] != (rows * g["cell"]["h"], cols * g["cell"]["w"]):
+    bad.append("sheet %s" % (sheet.shape,))
+near_black = 0
+for k, name in enumerate(names):
+    f = meta["frames"][name]
+    r, src = f["frame"], f["spriteSourceSize"]
+    frame = np.asarray(Image.open(d + "/" + name).convert("RGBA")).astype(int)
+    part = frame[src["y"]:src["y"] + src["h"], src["x"]:src["x"] + src["w"]]
+    if crop and (frame[:, :, 3].sum() != part[:, :, 3].sum()):
+        bad.append("%s: the crop cuts visible pixels" % name)
+    cx, cy = (k % cols) * g["cell"]["w"], (k // cols) * g["cell"]["h"]
+    if (r["x"], r["y"]) != (cx + pad, cy + pad):
+        bad.append("%s at %s" % (name, r))
+    cell = sheet[cy:cy + g["cell"]["h"], cx:cx + g["cell"]["w"]]
+    inner = cell[pad:pad + r["h"], pad:pad + r["w"]]
+    # Equal as images: the same alpha, and the same colour where alpha > 0
+    # (bleeding gives fully transparent pixels colour; that is its point).
+    same = lambda x, y: np.array_equal(x[..., 3], y[..., 3]) and \
+        np.array_equal(x[..., :3][x[..., 3] > 0], y[..., :3][y[..., 3] > 0])
+    if not same(inner, part):
+        bad.append("%s: its rectangle is not the frame" % name)
+    if ext and pad:
+        if not (same(cell[pad - 1, pad:pad + r["w"]], part[0]) and
+                same(cell[pad:pad + r["h"], pad + r["w"]], part[:, -1])):
+            bad.append("%s: the ring does not repeat the edge" % name)
+    e = min(ext, pad)
+    gutter = np.ones(cell.shape[:2], bool)
+    gutter[pad - e:pad + r["h"] + e, pad - e:pad + r["w"] + e] = False
+    if cell[gutter][:, 3].any():
+        bad.append("%s: the gutter is not transparent" % name)
+    # Bleed: a transparent pixel next to a visible one carries colour.
+    a = cell[:, :, 3] > 0
+    nb = np.zeros_like(a)
+    nb[1:, :] |= a[:-1, :]; nb[:-1, :] |= a[1:, :]; nb[:, 1:] |= a[:, :-1]; nb[:, :-1] |= a[:, 1:]
+    edge = (~a) & nb
+    near_black += int((cell[edge][:, :3].sum(axis=1) == 0).sum())
+if near_black:
+    bad.append("%d transparent pixels beside visible ones are black" % near_black)
+print(("FAIL %s: " % d + "; ".join(bad)) if bad else
+      "ok   %s: %d frames in %dx%d cells, pixels, gutter, ring and bleed as stated" % (d, len(names), cols, rows))
+PY
+}
+
+begin "--atlas: a grid from the frame count"
+pfx_run render "$FIRE" -o a "${A[@]}" --atlas
+want_status 0
+[ -f a/fire_atlas.png ] && [ -f a/fire_atlas.json ] || flunk "no atlas"
+grep -q '"fire_atlas.png"' a/fire.manifest.json && grep -q '"fire_atlas.json"' a/fire.manifest.json ||
+    flunk "the manifest does not list the atlas"
+end
+tally "$(check a 2 1 4 3 0)"
+
+begin "--atlas 6x2 --padding 3 --extrude 2"
+pfx_run render "$FIRE" -o b "${A[@]}" --atlas 6x2 --padding 3 --extrude 2
+want_status 0
+end
+tally "$(check b 3 2 6 2 0)"
+
+begin "--atlas=11x1 --padding 0 --crop"
+pfx_run render "$FIRE" -o c "${A[@]}" --atlas=11x1 --padding 0 --crop
+want_status 0
+"$py" -c 'import json,sys; m=json.load(open("c/fire_atlas.json")); f=m["frames"]["fire_0010.png"]; sys.exit(not (f["trimmed"] and f["frame"]["w"] < 48))' ||
+    flunk "the frames were not cropped"
+end
+tally "$(check c 0 1 11 1 1)"
+
+begin "a render without --atlas removes the old sheet"
+pfx_run render "$FIRE" -o a "${A[@]}"
+want_status 0
+[ ! -e a/fire_atlas.png ] && [ ! -e a/fire_atlas.json ] || flunk "the old atlas is still there"
+end
+
+begin "an atlas over 16384 pixels fails before rendering"
+pfx_run render "$FIRE" -o big --size 2000x2000 --frames 0:80 --atlas
+want_status 1
+stderr_has "is 18036x18036, over the 16384 limit"
+[ -z "$(ls big 2>/dev/null)" ] || flunk "files were written: $(ls big | head -3)"
+end
+
+begin "a grid too small for the frames"
+pfx_run render "$FIRE" -o small "${A[@]}" --atlas 3x3
+want_status 1
+stderr_has "an atlas of 3x3 cells cannot hold 11 frames"
+end
+
+begin "--atlas with a bad grid is a usage error"
+pfx_run render "$FIRE" -o u "${A[@]}" --atlas=0x3
+want_status 2
+stderr_has "--atlas takes COLSxROWS, such as 8x8, got '0x3'"
+end
+
+summary

@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# --preview out.webp, read back by libwebp's own tools (webpinfo validates
+# the file, webpmux -info counts its frames) and by Pillow, which decodes
+# every frame: each must equal its PNG (alpha, and colour where alpha > 0;
+# the preview is lossless), with 1/fps between frames and looping for ever.
+#
+#   bash run_preview.sh PATH-TO-PFX SOURCE-DIR
+set -u
+source "$(dirname "${BASH_SOURCE[0]}")/../harness.sh" preview "$@"
+cd "$work" || exit 2
+FIRE=$src/effects/fire.yaml
+
+begin "render --preview"
+pfx_run render "$FIRE" -o f --frames 5:16 --size 48x48 --fps 25 --preview f/fire.webp
+want_status 0
+stderr_has "preview 'f/fire.webp'"
+end
+
+begin "webpinfo and webpmux read it: 12 frames, animated, looping"
+if command -v webpinfo >/dev/null && command -v webpmux >/dev/null; then
+    webpinfo f/fire.webp >info.txt 2>&1 || flunk "webpinfo rejects it: $(tail -3 info.txt)"
+    grep -q "Animation: 1" info.txt || flunk "not animated"
+    webpmux -info f/fire.webp >mux.txt 2>&1 || flunk "webpmux rejects it"
+    grep -q "Number of frames: 12" mux.txt || flunk "$(grep 'Number of frames' mux.txt)"
+    grep -q "Loop Count : 0" mux.txt || flunk "does not loop for ever"
+else
+    flunk "webpinfo or webpmux is missing (Debian's webp; ./install-deps --test)"
+fi
+end
+
+out=$("$py" - <<'PY'
+from PIL import Image
+import numpy as np
+im = Image.open("f/fire.webp")
+bad = []
+if getattr(im, "n_frames", 1) != 12:
+    bad.append("%d frames" % getattr(im, "n_frames", 1))
+for k in range(min(12, getattr(im, "n_frames", 1))):
+    im.seek(k)
+    got = np.asarray(im.convert("RGBA")).astype(int)
+    want = np.asarray(Image.open("f/fire_%04d.png" % (5 + k)).convert("RGBA")).astype(int)
+    if got.shape != want.shape or not np.array_equal(got[..., 3], want[..., 3]) or \
+            not np.array_equal(got[..., :3][got[..., 3] > 0], want[..., :3][want[..., 3] > 0]):
+        bad.append("frame %d differs" % k)
+    if im.info.get("duration") not in (40,):
+        bad.append("frame %d lasts %s ms" % (k, im.info.get("duration")))
+print(("FAIL the frames through Pillow: " + "; ".join(bad)) if bad else
+      "ok   Pillow decodes 12 frames of 40 ms equal to the PNGs")
+PY
+)
+tally "$out"
+
+begin "--preview needs a .webp path"
+pfx_run render "$FIRE" -o g --preview g/fire.gif
+want_status 2
+stderr_has "--preview writes an animated WebP: give a path ending in '.webp', got 'g/fire.gif'"
+end
+
+begin "a deleted preview is made again though the frames are up to date"
+rm f/fire.webp
+pfx_run render "$FIRE" -o f --frames 5:16 --size 48x48 --fps 25 --preview f/fire.webp
+want_status 0
+[ -s f/fire.webp ] || flunk "no preview"
+end
+
+summary
