@@ -511,18 +511,22 @@ static int parse_options(int argc, char **argv, options *o) {
     return -1;
 }
 
-/* Loads and compiles one file, printing its diagnostics. */
+/* --werror: true (with a line saying so) when l has warnings to fail on. */
+static bool fails_on_warnings(const pfx_loaded *l, const char *path, const options *o) {
+    if (!o->werror || l->diags.warnings == 0)
+        return false;
+    fprintf(stderr, "pfx: '%s': %d warning%s treated as error%s (--werror)\n", path,
+            l->diags.warnings, l->diags.warnings == 1 ? "" : "s",
+            l->diags.warnings == 1 ? "" : "s");
+    return true;
+}
+
+/* Loads and compiles one file, printing its diagnostics. With --werror a
+ * warning fails it: the effect stays in l (freed with it), unused. */
 static pfx_effect *load(pfx_loaded *l, const char *path, const options *o) {
     pfx_effect *e = pfx_load(l, path, &o->compile);
     pfx_diags_print(&l->diags, stderr, o->json);
-    /* --werror: the effect stays in l (freed with it), unused. */
-    if (e && o->werror && l->diags.warnings > 0) {
-        fprintf(stderr, "pfx: '%s': %d warning%s treated as error%s (--werror)\n", path,
-                l->diags.warnings, l->diags.warnings == 1 ? "" : "s",
-                l->diags.warnings == 1 ? "" : "s");
-        return NULL;
-    }
-    return e;
+    return e && !fails_on_warnings(l, path, o) ? e : NULL;
 }
 
 static int cmd_validate(int argc, char **argv, const options *o) {
@@ -537,10 +541,10 @@ static int cmd_validate(int argc, char **argv, const options *o) {
             pfx_estimate est;
             pfx_estimate_run(e, 0, pfx_effect_frame_count(e) - 1, true, &est);
             pfx_estimate_warn(&l, &est, o->max_memory);
-        } else {
-            status = EXIT_INVALID;
         }
         pfx_diags_print(&l.diags, stderr, o->json);
+        if (!e || fails_on_warnings(&l, argv[i], o))
+            status = EXIT_INVALID;
         pfx_loaded_free(&l);
     }
     return status;

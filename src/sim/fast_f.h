@@ -17,7 +17,11 @@
  * same order (lane-wise arithmetic, no FMA: the build has
  * -ffp-contract=off and the clone does not enable FMA), so they give the
  * same bits; wider vectors only do more particles at once. */
-#if defined(__x86_64__) && defined(__has_attribute) && !defined(PFX_NO_CLONES)
+/* Not with clang (14 here): it emits a clone's callers against a symbol
+ * that only its own translation unit resolves, so calls from other files
+ * fail to link. */
+#if defined(__x86_64__) && defined(__has_attribute) && !defined(PFX_NO_CLONES) &&                  \
+    !defined(__clang__)
 #if __has_attribute(target_clones)
 #define PFX_CLONES __attribute__((target_clones("avx2", "default")))
 #endif

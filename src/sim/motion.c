@@ -6,6 +6,8 @@
  * model/stability.c). */
 #include "sim/motion.h"
 
+#include "sim/fast_f.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -227,18 +229,8 @@ curl_octave(size_t n, const float *restrict x, const float *restrict y, const fl
     }
 }
 
-/* x86-64: an AVX2 copy beside the baseline one, picked at load time. Both
- * run the same operations in the same order (lane-wise arithmetic, no FMA:
- * -ffp-contract=off, and the clone does not enable it), so they give the
- * same bits; the wider vectors only do more points at once. */
-#if defined(__x86_64__) && defined(__has_attribute)
-#if __has_attribute(target_clones) && !defined(PFX_NO_CLONES)
-#define PFX_CLONES __attribute__((target_clones("avx2", "default")))
-#endif
-#endif
-#ifndef PFX_CLONES
-#define PFX_CLONES
-#endif
+/* PFX_CLONES (sim/fast_f.h): an AVX2 copy beside the baseline one on x86-64,
+ * giving the same bits. */
 
 PFX_CLONES
 void pfx_curl_noise_f(size_t n, const float *x, const float *y, const float *z, float inv,

@@ -24,11 +24,13 @@ static pfx_renderer *renderer(void) {
     static pfx_renderer *r;
     static bool tried;
     if (!tried) {
-        char err[256];
+        pfx_diags d;
+        pfx_diags_init_runtime(&d);
         tried = true;
-        r = pfx_renderer_create(PFX_RENDERER_AUTO, 32, 32, err, sizeof err);
+        r = pfx_renderer_create(PFX_RENDERER_AUTO, 32, 32, &d);
         if (!r)
-            fprintf(stderr, "fuzz_sim: no renderer (%s): simulating only\n", err);
+            fprintf(stderr, "fuzz_sim: no renderer: simulating only\n");
+        pfx_diags_free(&d);
     }
     return r;
 }
@@ -45,17 +47,24 @@ static void run(const pfx_effect *e) {
     pfx_sprite *sprites = malloc((pfx_sprites_capacity(e) + 1) * sizeof *sprites);
     pfx_renderer *r = renderer();
     static uint8_t rgba[32 * 32 * 4];
+    /* The effect's looks (textures, flipbooks, light), as pfx render sets them. */
+    pfx_material *materials = malloc((e->emitter_count + 1) * sizeof *materials);
+    const pfx_render_settings settings = pfx_sprites_settings(e);
+    if (materials)
+        pfx_sprites_materials(e, materials);
+    if (r && (!materials || !pfx_renderer_set_materials(r, materials, e->emitter_count, &d)))
+        r = NULL;
     for (long f = 0; sim && view && sprites && f < frames; f++) {
         const pfx_sim *state = pfx_sim_frame(sim, view, f);
         if (sim->failed || view->failed)
             break;
         size_t n = pfx_sprites_build(state, sprites);
-        char err[256];
         if (r)
-            pfx_renderer_draw(r, &e->camera, e->background, sprites, n, pfx_sprites_need_sort(e),
-                              rgba, err, sizeof err);
+            pfx_renderer_draw_frame(r, &e->camera, &settings, sprites, n, pfx_sprites_need_sort(e),
+                                    (pfx_ribbons){NULL, 0}, rgba, &d);
     }
     free(sprites);
+    free(materials);
     pfx_sim_destroy(view);
     pfx_sim_destroy(sim);
     pfx_diags_free(&d);
