@@ -15,8 +15,8 @@ static bool range_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_
 
 /* `[{at: u, value: v}, ...]` with u in [0, 1] increasing, sampled into lut
  * (linear between keys, held beyond the ends). */
-static bool read_life_curve(pfx_reader *r, const pfx_node *n, const char *what, double lo,
-                            double hi, float lut[PFX_GRADIENT_LUT]) {
+bool pfx_read_life_curve(pfx_reader *r, const pfx_node *n, const char *what, double lo, double hi,
+                         float lut[PFX_GRADIENT_LUT]) {
     enum { MAX_KEYS = 64 };
     double at[MAX_KEYS], val[MAX_KEYS];
     pfx_key_list_spec spec = {what, "at", MAX_KEYS, 1, false, 0, 1, lo, hi};
@@ -38,7 +38,7 @@ static bool read_life_curve(pfx_reader *r, const pfx_node *n, const char *what, 
 static void compile_size(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
     static const char *const size_keys[] = {"start", "end", NULL};
     if (n->kind == PFX_NODE_SEQ && n->count > 0 && n->items[0]->kind == PFX_NODE_MAP) {
-        em->size_curve = read_life_curve(r, n, "size", 0, MAX_SIZE, em->size_lut);
+        em->size_curve = pfx_read_life_curve(r, n, "size", 0, MAX_SIZE, em->size_lut);
         return;
     }
     if (n->kind == PFX_NODE_MAP && (pfx_node_get(n, "start") || pfx_node_get(n, "end"))) {
@@ -60,7 +60,7 @@ static void compile_size(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
 static void compile_alpha(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
     static const char *const alpha_keys[] = {"start", "end", NULL};
     if (n->kind == PFX_NODE_SEQ) {
-        em->alpha_curve = read_life_curve(r, n, "alpha", 0, 1, em->alpha_lut);
+        em->alpha_curve = pfx_read_life_curve(r, n, "alpha", 0, 1, em->alpha_lut);
         return;
     }
     double a0 = 1, a1 = 1;

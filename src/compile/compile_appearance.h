@@ -9,4 +9,9 @@
  * defaults for absent keys). Reports problems; false on any error. */
 bool pfx_compile_appearance(pfx_reader *r, const pfx_node *n, pfx_emitter *em);
 
+/* A curve [{at, value}] over normalised age (values in [lo, hi]) sampled
+ * linearly into lut; false (reported) when it is malformed. */
+bool pfx_read_life_curve(pfx_reader *r, const pfx_node *n, const char *what, double lo, double hi,
+                         float lut[PFX_GRADIENT_LUT]);
+
 #endif

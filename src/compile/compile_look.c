@@ -6,6 +6,8 @@
  * error at its key, before anything runs. */
 #include "compile/compile_look.h"
 
+#include "compile/compile_appearance.h"
+
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
@@ -242,7 +244,6 @@ static void read_align_vector(pfx_reader *r, const pfx_node *n, pfx_look *look) 
 
 /* intensity: a number, or a curve [{at, value}] over normalised age. */
 static void read_intensity(pfx_reader *r, const pfx_node *v, pfx_look *look) {
-    enum { MAX_KEYS = 64 };
     if (!(v->kind == PFX_NODE_SEQ && v->count && v->items[0]->kind == PFX_NODE_MAP)) {
         double x;
         if (pfx_read_number(r, v, "intensity", &x) &&
@@ -251,21 +252,8 @@ static void read_intensity(pfx_reader *r, const pfx_node *v, pfx_look *look) {
             look->intensity = (float)x;
         return;
     }
-    double at[MAX_KEYS], val[MAX_KEYS];
-    pfx_key_list_spec spec = {"intensity", "at", MAX_KEYS, 1, false, 0, 1, 0, PFX_HDR_MAX};
-    if (!pfx_read_key_list(r, v, &spec, at, val))
-        return;
-    for (int i = 0; i < PFX_GRADIENT_LUT; i++) {
-        double u = (double)i / (PFX_GRADIENT_LUT - 1);
-        size_t k = 0;
-        while (k + 1 < v->count && at[k + 1] <= u)
-            k++;
-        double s = val[k];
-        if (k + 1 < v->count && u > at[k])
-            s = val[k] + (val[k + 1] - val[k]) * (u - at[k]) / (at[k + 1] - at[k]);
-        look->intensity_lut[i] = (float)s;
-    }
-    look->intensity_curve = true;
+    look->intensity_curve =
+        pfx_read_life_curve(r, v, "intensity", 0, PFX_HDR_MAX, look->intensity_lut);
 }
 
 /* A ribbon is a strip through points, not a sprite per point: the keys

@@ -94,12 +94,9 @@ void pfx_estimate_run(const pfx_effect *e, long first, long last, bool render, p
             out->bytes[PFX_MEMORY_SORT] = cap * (4 * sizeof(uint32_t) + sizeof(pfx_sprite));
         }
         /* RGBA32F in GL and its float read-back, and motion blur's float
-         * sum; two RGBA8 frames per PNG encoder thread (one per core). */
+         * sum; two RGBA8 frames per PNG encoder thread. */
         out->bytes[PFX_MEMORY_FRAMEBUFFER] = (e->blur_samples > 1 ? 3 : 2) * image * 16;
-        long cores = sysconf(_SC_NPROCESSORS_ONLN);
-        double encoders = cores < 1                      ? 1
-                          : cores > PFX_PNG_MAX_ENCODERS ? PFX_PNG_MAX_ENCODERS
-                                                         : cores;
+        const double encoders = pfx_png_encoder_count(e->threads);
         out->bytes[PFX_MEMORY_ENCODER] = 2 * encoders * image * 4;
         /* Textures: the decoded pixels, and their copy in GL with mipmaps
          * (4/3 of the base level). */

@@ -4,7 +4,6 @@
 
 #include <stdio.h>
 #include <stdlib.h>
-#include <unistd.h>
 
 #include "output/png_write.h"
 #include "render/sprites.h"
@@ -75,12 +74,7 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
         pfx_diag_error(d, "out of memory for %zu particles", pfx_sprites_capacity(e));
         return false;
     }
-    int encoders = job->threads > 0 ? job->threads : e->threads;
-    if (encoders <= 0) {
-        long cores = sysconf(_SC_NPROCESSORS_ONLN);
-        encoders =
-            cores > 0 ? (int)(cores < PFX_PNG_MAX_ENCODERS ? cores : PFX_PNG_MAX_ENCODERS) : 1;
-    }
+    const int encoders = pfx_png_encoder_count(job->threads > 0 ? job->threads : e->threads);
     pfx_png_queue *q = pfx_png_queue_create(e->width, e->height, encoders);
     if (!q) {
         pfx_diag_error(d, "cannot start the PNG writer");

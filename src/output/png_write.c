@@ -8,6 +8,8 @@
 
 #include "output/png_write.h"
 
+#include "base/workers.h"
+
 #include "base/diag.h"
 #include "output/atomic_file.h"
 
@@ -316,14 +318,16 @@ static void stop_encoders(pfx_png_queue *q) {
     q->started = 0;
 }
 
+int pfx_png_encoder_count(int wanted) {
+    int n = wanted > 0 ? wanted : pfx_workers_cores();
+    return n < 1 ? 1 : n > PFX_PNG_MAX_ENCODERS ? PFX_PNG_MAX_ENCODERS : n;
+}
+
 pfx_png_queue *pfx_png_queue_create(int width, int height, int threads) {
     if (width <= 0 || height <= 0 || width > 1000000 || height > 1000000 ||
         (size_t)width > SIZE_MAX / 4 / (size_t)height)
         return NULL;
-    if (threads < 1)
-        threads = 1;
-    if (threads > PFX_PNG_MAX_ENCODERS)
-        threads = PFX_PNG_MAX_ENCODERS;
+    threads = pfx_png_encoder_count(threads < 1 ? 1 : threads);
     pfx_png_queue *q = calloc(1, sizeof *q);
     if (q == NULL)
         return NULL;

@@ -28,6 +28,11 @@ typedef struct pfx_png_queue pfx_png_queue;
 /* The most encoder threads a queue starts. */
 #define PFX_PNG_MAX_ENCODERS 64
 
+/* How many encoders a queue for `wanted` threads starts: wanted, or one per
+ * online core when it is 0, within 1 .. PFX_PNG_MAX_ENCODERS. The memory
+ * estimate and the render both ask here. */
+int pfx_png_encoder_count(int wanted);
+
 /* Creates a queue for frames of width x height with `threads` encoders
  * (1 to PFX_PNG_MAX_ENCODERS; 2 x threads frame buffers) and starts them;
  * the caller owns it and ends it with pfx_png_queue_finish. NULL if the

@@ -37,6 +37,18 @@ static void FN(region_weight)(const pfx_motion_region *g, size_t n, const R *x, 
     }
 }
 
+/* Rodrigues' rotation of (u, v, w) about the unit axis (ux, uy, uz) by the
+ * angle whose cosine and sine are c and s (the spiral's turn). */
+static inline void FN(turn_about)(R ux, R uy, R uz, R c, R s, R *u, R *v, R *w) {
+    R dot = ux * *u + uy * *v + uz * *w;
+    R cx = uy * *w - uz * *v, cy = uz * *u - ux * *w, cz = ux * *v - uy * *u;
+    R oc = dot * (1 - c);
+    R nu = *u * c + cx * s + ux * oc, nv = *v * c + cy * s + uy * oc;
+    *w = *w * c + cz * s + uz * oc;
+    *u = nu;
+    *v = nv;
+}
+
 /* force_over_life: a = curve(u), u = (t - birth) / lifetime, each
  * particle's normalised age at the stage time t (so every scheme sees the
  * force change within its step). In an animated emitter's space the curve's
@@ -500,28 +512,14 @@ static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, 
             if (uniform) {
                 const double th = F->rate * 1.0 * h;
                 const R c = (R)cos(th), s = (R)sin(th);
-                for (size_t j = 0; j < n; j++) {
-                    R dot = ux * U[j] + uy * V[j] + uz * W[j];
-                    R cx = uy * W[j] - uz * V[j], cy = uz * U[j] - ux * W[j],
-                      cz = ux * V[j] - uy * U[j];
-                    R oc = dot * (1 - c);
-                    U[j] = U[j] * c + cx * s + ux * oc;
-                    V[j] = V[j] * c + cy * s + uy * oc;
-                    W[j] = W[j] * c + cz * s + uz * oc;
-                }
+                for (size_t j = 0; j < n; j++)
+                    FN(turn_about)(ux, uy, uz, c, s, &U[j], &V[j], &W[j]);
                 continue;
             }
             FN(region_weight)(&F->region, n, X, Y, Z, w);
             for (size_t j = 0; j < n; j++) {
                 double th = F->rate * (double)w[j] * h;
-                R c = (R)cos(th), s = (R)sin(th);
-                R dot = ux * U[j] + uy * V[j] + uz * W[j];
-                R cx = uy * W[j] - uz * V[j], cy = uz * U[j] - ux * W[j],
-                  cz = ux * V[j] - uy * U[j];
-                R oc = dot * (1 - c);
-                U[j] = U[j] * c + cx * s + ux * oc;
-                V[j] = V[j] * c + cy * s + uy * oc;
-                W[j] = W[j] * c + cz * s + uz * oc;
+                FN(turn_about)(ux, uy, uz, (R)cos(th), (R)sin(th), &U[j], &V[j], &W[j]);
             }
         } else if (F->kind == PFX_MOTION_SPEED_LIMIT) {
             FN(region_weight)(&F->region, n, X, Y, Z, w);

@@ -1,7 +1,6 @@
 /* The estimate of a run (jobs/estimate.c) against what the simulation
  * really allocates, the step count from its definition, and --max-memory's
  * size parser; and the spawn queues' bound by their target pools. */
-#include <unistd.h>
 
 #include "jobs/estimate.h"
 #include "output/png_write.h"
@@ -67,8 +66,7 @@ static void test_render_parts(void) {
     for (size_t i = 0; i < e->emitter_count; i++)
         particles += e->emitters[i].capacity;
     /* 512 x 512: RGBA32F twice; RGBA8 twice per encoder, one per core. */
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    double encoders = cores < 1 ? 1 : cores > PFX_PNG_MAX_ENCODERS ? PFX_PNG_MAX_ENCODERS : cores;
+    const double encoders = pfx_png_encoder_count(e->threads);
     CHECK_NEAR(est.bytes[PFX_MEMORY_FRAMEBUFFER], 2.0 * 512 * 512 * 16, 0);
     CHECK_NEAR(est.bytes[PFX_MEMORY_ENCODER], 2.0 * encoders * 512 * 512 * 4, 0);
     CHECK_NEAR(est.bytes[PFX_MEMORY_SPRITES], 2 * (particles + 1) * sizeof(pfx_sprite), 0);
