@@ -207,8 +207,11 @@ static void bench_sim(report *r, int cores, double bandwidth) {
     const double sizes[] = {1e4, 1e5, 1e6, 1e7};
     const double limit = bandwidth * 1e9 / SIM_BYTES_PER_STEP;
     for (int k = 0; k < 4; k++) {
-        const int counts[2] = {1, cores};
-        for (int c = 0; c < (cores > 1 ? 2 : 1); c++) {
+        /* One thread, two (the scaling the issue asks of two cores) and
+         * every core, each once. */
+        const int counts[3] = {1, 2, cores};
+        const int rows = cores > 2 ? 3 : cores;
+        for (int c = 0; c < rows; c++) {
             pfx_loaded l;
             if (!fountain(&l, sizes[k], "", "", true, counts[c])) {
                 pfx_loaded_free(&l);

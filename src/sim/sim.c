@@ -123,7 +123,11 @@ static void advance(pfx_sim *s, double t1) {
         const pfx_emitter *em = &e->emitters[i];
         pfx_pool *p = &s->pools[i];
         if (dt > 0) {
-            uint32_t alarm = pfx_step_move(s, i, t0, t1 - t0);
+            /* Deflectors (lifetime_loss, kill) and kill rules change
+             * lifetimes after the move; without them the move pass finds
+             * the deaths, in parallel. */
+            const bool scan = !em->deflector_count && !em->kill;
+            uint32_t alarm = pfx_step_move(s, i, t0, t1, scan);
             p->time = t1;
             if (alarm < p->count)
                 pfx_step_check_state(s, i, alarm, t1);
@@ -136,7 +140,10 @@ static void advance(pfx_sim *s, double t1) {
                 pfx_emitter_pose_at(em, t1, &pose);
                 pfx_kill_apply(em->kill, p, pose.position, em->alpha_at_age);
             }
-            pfx_step_kill_expired(s, i, t1);
+            if (scan)
+                pfx_step_kill_flagged(s, i, t1);
+            else
+                pfx_step_kill_expired(s, i, t1);
         }
         p->time = t1;
         p->newborn = p->count;

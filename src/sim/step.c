@@ -135,7 +135,21 @@ typedef struct move_job {
     pfx_sim *s;
     size_t emitter;
     double t0, span;
+    double t1;        /* the step's end, for the death scan */
+    bool scan_deaths; /* no later pass of the step changes a lifetime */
 } move_job;
+
+/* Whether particles [first, first + n) hold one dead at t1 (age >=
+ * lifetime): the test of pfx_step_kill_expired, branch-free so that it
+ * vectorises. */
+static bool block_has_death(const pfx_pool *p, uint32_t first, uint32_t n, double t1) {
+    const double *birth = p->birth + first;
+    const float *lifetime = p->lifetime + first;
+    int dead = 0;
+    for (uint32_t j = 0; j < n; j++)
+        dead |= t1 - birth[j] >= lifetime[j];
+    return dead;
+}
 
 static void move_block(void *arg, size_t b) {
     const move_job *j = arg;
@@ -153,23 +167,28 @@ static void move_block(void *arg, size_t b) {
         memcpy(p->start_vy + first, p->vy + first, bytes);
         memcpy(p->start_vz + first, p->vz + first, bytes);
     }
+    bool bad;
     if (em->motion) {
         pfx_motion_pool_f view = pfx_step_motion_view(p, first, n);
         pfx_motion_advance_f(&s->plans[j->emitter], &view, j->t0, j->span);
         pfx_bad_kind why;
-        s->block_flags[b] = pfx_motion_find_bad_f(&view, &why) != n;
+        bad = pfx_motion_find_bad_f(&view, &why) != n;
     } else {
-        s->block_flags[b] = step_gravity(em, p, first, n, (float)j->span);
+        bad = step_gravity(em, p, first, n, (float)j->span);
     }
+    /* Without the scan every block counts as holding a death, and the
+     * serial pass looks at all of them. */
+    const bool death = !j->scan_deaths || block_has_death(p, first, n, j->t1);
+    s->block_flags[b] = (uint8_t)((bad ? PFX_BLOCK_BAD : 0) | (death ? PFX_BLOCK_DEATH : 0));
 }
 
-uint32_t pfx_step_move(pfx_sim *s, size_t i, double t0, double span) {
+uint32_t pfx_step_move(pfx_sim *s, size_t i, double t0, double t1, bool scan_deaths) {
     pfx_pool *p = &s->pools[i];
     const size_t blocks = ((size_t)p->count + PFX_SIM_BLOCK - 1) / PFX_SIM_BLOCK;
-    move_job job = {s, i, t0, span};
+    move_job job = {s, i, t0, t1 - t0, t1, scan_deaths};
     pfx_workers_run(s->workers, blocks, move_block, &job);
     for (size_t b = 0; b < blocks; b++)
-        if (s->block_flags[b])
+        if (s->block_flags[b] & PFX_BLOCK_BAD)
             return (uint32_t)(b * PFX_SIM_BLOCK);
     return p->count;
 }
@@ -222,8 +241,10 @@ void pfx_step_collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t
                 hits ? on_hit : NULL, &hc, &st->collisions);
 }
 
-/* Death at age >= lifetime; the last live particle fills the hole. */
-void pfx_step_kill_expired(pfx_sim *s, size_t emitter, double t1) {
+/* Death at age >= lifetime in particles [i, until); the last live particle
+ * fills each hole and is tested where it lands, so the removals happen in
+ * ascending index order whatever range is scanned. */
+static void kill_range(pfx_sim *s, size_t emitter, double t1, uint32_t i, uint32_t until) {
     pfx_pool *p = &s->pools[emitter];
     const bool deaths = pfx_spawn_has(&s->effect->emitters[emitter], PFX_SPAWN_DEATH);
     const double *birth = p->birth;
@@ -231,9 +252,10 @@ void pfx_step_kill_expired(pfx_sim *s, size_t emitter, double t1) {
     /* Most blocks hold no death: a branch-free scan (vectorised) skips them,
      * and only a block with a death runs the swap-remove loop. */
     enum { BLOCK = 64 };
-    uint32_t i = 0;
-    while (i < p->count) {
+    while (i < p->count && i < until) {
         uint32_t end = p->count - i > BLOCK ? i + BLOCK : p->count;
+        if (end > until)
+            end = until;
         int dead = 0;
         for (uint32_t j = i; j < end; j++)
             dead |= t1 - birth[j] >= lifetime[j];
@@ -260,4 +282,21 @@ void pfx_step_kill_expired(pfx_sim *s, size_t emitter, double t1) {
                 end = p->count;
         }
     }
+}
+
+void pfx_step_kill_expired(pfx_sim *s, size_t emitter, double t1) {
+    kill_range(s, emitter, t1, 0, UINT32_MAX);
+}
+
+/* A block that held no death when the move pass scanned it holds none now:
+ * nothing changed a lifetime since, and a swap-remove only fills the hole
+ * being scanned. So skipping those blocks removes exactly the particles, in
+ * exactly the order, of the scan over every particle. */
+void pfx_step_kill_flagged(pfx_sim *s, size_t emitter, double t1) {
+    const pfx_pool *p = &s->pools[emitter];
+    const size_t blocks = ((size_t)p->count + PFX_SIM_BLOCK - 1) / PFX_SIM_BLOCK;
+    for (size_t b = 0; b < blocks && b * PFX_SIM_BLOCK < p->count; b++)
+        if (s->block_flags[b] & PFX_BLOCK_DEATH)
+            kill_range(s, emitter, t1, (uint32_t)(b * PFX_SIM_BLOCK),
+                       (uint32_t)((b + 1) * PFX_SIM_BLOCK));
 }

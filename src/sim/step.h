@@ -5,13 +5,19 @@
 
 #include "sim/state.h"
 
-/* Emitter i's live particles moved from t0 by `span` seconds (the gravity
- * kernel or the emitter's motion plan), in blocks of PFX_SIM_BLOCK spread
- * over the simulation's threads, each block saving the start state its
- * deflectors sweep from and checking its own state. Returns the first
- * index of the first block that may hold a non-finite or runaway particle
- * (for pfx_step_check_state to confirm and name), or the count when none. */
-uint32_t pfx_step_move(pfx_sim *s, size_t i, double t0, double span);
+/* What the move pass found in a block (pfx_sim.block_flags). */
+enum { PFX_BLOCK_BAD = 1, PFX_BLOCK_DEATH = 2 };
+
+/* Emitter i's live particles moved from t0 to t1 (the gravity kernel or
+ * the emitter's motion plan), in blocks of PFX_SIM_BLOCK spread over the
+ * simulation's threads, each block saving the start state its deflectors
+ * sweep from and checking its own state. With scan_deaths each block also
+ * notes whether it holds a particle dead at t1 (for pfx_step_kill_flagged),
+ * so that the serial death pass reads only those blocks; without it every
+ * block is noted. Returns the first index of the first block that may hold
+ * a non-finite or runaway particle (for pfx_step_check_state to confirm
+ * and name), or the count when none. */
+uint32_t pfx_step_move(pfx_sim *s, size_t i, double t0, double t1, bool scan_deaths);
 /* Whether a newborn of a gravity-only emitter at (x, v) under acceleration
  * a, living `life` more seconds, could ever trip the state check. */
 bool pfx_step_may_run_away(const float x[3], const float v[3], const double a[3], double life);
@@ -27,5 +33,8 @@ void pfx_step_collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t
 /* Deaths at age >= lifetime at t1 (on_death events queued); the last live
  * particle fills each hole. */
 void pfx_step_kill_expired(pfx_sim *s, size_t i, double t1);
+/* pfx_step_kill_expired over the blocks the last pfx_step_move noted, with
+ * the same result: valid while no lifetime changed since that pass. */
+void pfx_step_kill_flagged(pfx_sim *s, size_t i, double t1);
 
 #endif
