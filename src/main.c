@@ -19,6 +19,7 @@
 #include "jobs/delivery.h"
 #include "jobs/estimate.h"
 #include "jobs/load.h"
+#include "jobs/motion_job.h"
 #include "jobs/parallel.h"
 #include "jobs/preview.h"
 #include "jobs/progress.h"
@@ -43,6 +44,7 @@ static const char usage_text[] =
     "                  [--depfile FILE] [--progress json]\n"
     "                  [--atlas[=CxR]] [--padding N] [--extrude N] [--crop]\n"
     "                  [--preview OUT.webp] [-q]\n"
+    "                  [--motion-vectors [--mv-max PIXELS] [--mv-flip-y]]\n"
     "                  [--slice I/N | --slice-env VAR --slice-count N]\n"
     "       pfx bake FILE -o OUT [--format csv|ply|pcache] [--every N] [--frames A:B]\n"
     "                  [--fps N] [--seed N] [--max-particles N] [--max-memory SIZE]\n"
@@ -83,6 +85,11 @@ static const char usage_text[] =
     "      --extrude N         atlas: of those, how many repeat the frame's edge (default 1)\n"
     "      --crop              atlas: cut every frame to one box around all visible pixels\n"
     "      --preview OUT.webp  also write the frames as a looping animated WebP (lossless)\n"
+    "      --motion-vectors    also write <name>_mv_NNNN.png: 16-bit motion to the next\n"
+    "                          frame, R right, G up, 0.5 none (with --atlas: a sheet)\n"
+    "      --mv-max PIXELS     the displacement that encodes as 0 or 1 (default: the\n"
+    "                          largest in the sequence)\n"
+    "      --mv-flip-y         motion vectors with G = down (V down, as in Unreal)\n"
     "      --werror            treat warnings in an effect as errors (exit status 1)\n"
     "      --progress json     a JSON line on stderr per frame drawn, and one at the end\n"
     "      --json              bench: the figures as one JSON object\n"
@@ -127,6 +134,9 @@ typedef struct options {
     bool atlas;                    /* --atlas[=COLSxROWS] */
     pfx_atlas_layout atlas_layout; /* its grid, --padding, --extrude, --crop */
     const char *preview;           /* --preview out.webp */
+    bool motion_vectors;           /* --motion-vectors */
+    double mv_max;                 /* --mv-max PIXELS; 0: the sequence's largest */
+    bool mv_flip_y;                /* --mv-flip-y */
     pfx_compile_options compile;
 } options;
 
@@ -245,7 +255,10 @@ static int parse_options(int argc, char **argv, options *o) {
         OPT_PADDING,
         OPT_EXTRUDE,
         OPT_CROP,
-        OPT_PREVIEW
+        OPT_PREVIEW,
+        OPT_MOTION_VECTORS,
+        OPT_MV_MAX,
+        OPT_MV_FLIP_Y
     };
     static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
                                              {"frames", required_argument, 0, OPT_FRAMES},
@@ -270,6 +283,9 @@ static int parse_options(int argc, char **argv, options *o) {
                                              {"extrude", required_argument, 0, OPT_EXTRUDE},
                                              {"crop", no_argument, 0, OPT_CROP},
                                              {"preview", required_argument, 0, OPT_PREVIEW},
+                                             {"motion-vectors", no_argument, 0, OPT_MOTION_VECTORS},
+                                             {"mv-max", required_argument, 0, OPT_MV_MAX},
+                                             {"mv-flip-y", no_argument, 0, OPT_MV_FLIP_Y},
                                              {"alpha", required_argument, 0, OPT_ALPHA},
                                              {"max-memory", required_argument, 0, OPT_MAX_MEMORY},
                                              {"threads", required_argument, 0, OPT_THREADS},
@@ -348,6 +364,20 @@ static int parse_options(int argc, char **argv, options *o) {
         }
         case OPT_CROP:
             o->atlas_layout.crop = true;
+            break;
+        case OPT_MOTION_VECTORS:
+            o->motion_vectors = true;
+            break;
+        case OPT_MV_MAX: {
+            char *end;
+            double px = strtod(optarg, &end);
+            if (*end || !(px > 0 && px <= 1e6))
+                return usage_error("--mv-max takes pixels in (0, 1000000], got '%s'", optarg);
+            o->mv_max = px;
+            break;
+        }
+        case OPT_MV_FLIP_Y:
+            o->mv_flip_y = true;
             break;
         case OPT_WERROR:
             o->werror = true;
@@ -499,6 +529,13 @@ static int parse_options(int argc, char **argv, options *o) {
     if (o->atlas && o->slices)
         return usage_error("%s", "--atlas needs every frame: give it to 'pfx assemble' instead "
                                  "of the slices");
+    if ((o->mv_max > 0 || o->mv_flip_y) && !o->motion_vectors)
+        return usage_error("%s", "--mv-max and --mv-flip-y go with --motion-vectors");
+    if (o->motion_vectors && strcmp(argv[1], "render"))
+        return usage_error("%s", "--motion-vectors is for render");
+    if (o->motion_vectors && o->slices)
+        return usage_error("%s", "--motion-vectors does not work with --slice yet: render the "
+                                 "frames with --frames A:B instead");
     if (o->slices && strcmp(argv[1], "render"))
         return usage_error("%s", "--slice and --slice-env are for render");
     /* --format: the diagnostics' form for every command but bake, whose
@@ -740,12 +777,24 @@ static int render_one(const char *path, const char *dir, pfx_renderer_kind kind,
     }
     if (o->preview)
         pfx_manifest_set_string(dl.now, "preview", o->preview);
+    pfx_mv_meta mv = {
+        .max_px = o->mv_max, .max_given = o->mv_max > 0, .flip_y = o->mv_flip_y, .fps = e->fps};
+    if (o->motion_vectors)
+        pfx_mv_describe(&mv, dl.now);
     if (pfx_delivery_up_to_date(&dl) && (!o->preview || access(o->preview, F_OK) == 0)) {
         if (pfx_delivery_skip(&dl, &run)) {
             say_up_to_date(o, path, dir, &dl);
             status = 0;
         }
         goto done;
+    }
+    /* --motion-vectors: one scale for the whole sequence, whatever the
+     * range, unless --mv-max gives it. */
+    if (o->motion_vectors) {
+        if (!mv.max_given && !pfx_mv_sequence_max(e, &mv.max_px, &run))
+            goto done;
+        job.motion = &mv;
+        atlas.motion = &mv;
     }
     if (!(o->jobs > 1 ? pfx_render_job_run_parallel(&job, kind, o->jobs, &run)
                       : pfx_render_job_run(&job, &run)))
@@ -756,6 +805,10 @@ static int render_one(const char *path, const char *dir, pfx_renderer_kind kind,
         if (!pfx_manifest_add_output(dl.now, dir, name, &run))
             goto done;
     }
+    if (o->motion_vectors &&
+        (!pfx_mv_add_outputs(dl.now, dir, stem, job.first, job.last, &run) ||
+         (!o->atlas && !pfx_mv_sidecar_run(dir, stem, job.first, job.last, &mv, dl.now, &run))))
+        goto done;
     if (o->atlas &&
         !pfx_atlas_job_run(dir, stem, job.first, job.last, e->fps, e->loop, &atlas, dl.now, &run))
         goto done;
@@ -778,6 +831,8 @@ static int render_one(const char *path, const char *dir, pfx_renderer_kind kind,
                     atlas.height);
         if (o->preview)
             fprintf(stderr, ", preview '%s'", o->preview);
+        if (o->motion_vectors)
+            fprintf(stderr, ", motion vectors up to %g px", mv.max_px);
         if (dl.stale_removed)
             fprintf(stderr, ", %zu stale removed", dl.stale_removed);
         fputc('\n', stderr);

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "jobs/motion_job.h"
 #include "output/png_write.h"
 
 void pfx_atlas_job_describe(const pfx_atlas_layout *l, pfx_manifest *m) {
@@ -70,14 +71,29 @@ bool pfx_atlas_job_run(const char *dir, const char *stem, long first, long last,
     snprintf(png, sizeof png, "%s/%s", dir, image);
     snprintf(json, sizeof json, "%s/%s_atlas.json", dir, stem);
     ok = ok && pfx_png_write(png, sheet, l->width, l->height, d);
-    if (ok && !pfx_atlas_write_json(json, l, image, (const char *const *)names, fps, loop, d)) {
-        remove(png); /* both or neither */
+    /* --motion-vectors: their sheet in the same layout, before the JSON
+     * that names it. */
+    char mv_image[300] = "", mv_png[4400];
+    snprintf(mv_png, sizeof mv_png, "%s/%s_mv_atlas.png", dir, stem);
+    if (ok && l->motion &&
+        !pfx_mv_atlas_write(dir, stem, first, last, l, mv_image, sizeof mv_image, d)) {
+        remove(png);
         ok = false;
     }
+    l->motion_image = mv_image;
+    if (ok && !pfx_atlas_write_json(json, l, image, (const char *const *)names, fps, loop, d)) {
+        remove(png); /* both or neither */
+        if (l->motion)
+            remove(mv_png);
+        ok = false;
+    }
+    l->motion_image = NULL;
     if (ok && m) {
         char name[320];
         snprintf(name, sizeof name, "%s_atlas.json", stem);
-        ok = pfx_manifest_add_output(m, dir, image, d) && pfx_manifest_add_output(m, dir, name, d);
+        ok = pfx_manifest_add_output(m, dir, image, d) &&
+             pfx_manifest_add_output(m, dir, name, d) &&
+             (!l->motion || pfx_manifest_add_output(m, dir, mv_image, d));
     }
     for (long k = 0; frames && k < n; k++)
         free(frames[k]);

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "jobs/motion_job.h"
 #include "output/png_write.h"
 #include "render/sprites.h"
 
@@ -23,12 +24,22 @@ static bool frame_path(const pfx_render_job *job, long frame, char *out, size_t 
  * slices and reruns give the same bytes. Returns the sprites drawn at the
  * frame's own time, or -1 on failure (reported into d). */
 static long draw_frame(pfx_render_job *job, long f, const pfx_render_settings *s, bool sort,
-                       uint8_t *pixels, pfx_diags *d) {
+                       uint8_t *pixels, pfx_mv_frame *mv, pfx_diags *d) {
     const pfx_effect *e = job->effect;
     const pfx_sim *state = pfx_sim_frame(job->sim, job->view, f);
     if (job->sim->failed || job->view->failed)
         return -1; /* the sims reported into d */
     size_t n = pfx_sprites_build(state, job->sprites);
+    /* Motion vectors first: the frame's own sprites, before the colour
+     * pass sorts them or motion blur replaces them with later ones. */
+    char path[4600];
+    if (job->motion && !pfx_mv_frame_path(job->dir, job->stem, f, path, sizeof path)) {
+        pfx_diag_error(d, "output path '%s/%s_mv_%04ld.png' is too long", job->dir, job->stem, f);
+        return -1;
+    }
+    if (job->motion &&
+        !pfx_mv_frame_write(mv, job->renderer, e, s, job->sprites, n, job->motion, path, d))
+        return -1;
     pfx_ribbons ribbons = pfx_ribbons_build(job->ribbons, state);
     if (e->blur_samples <= 1)
         return pfx_renderer_draw_frame(job->renderer, &e->camera, s, job->sprites, n, sort, ribbons,
@@ -89,11 +100,14 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
     pfx_sprites_materials(e, materials);
     bool failed = !pfx_renderer_set_materials(job->renderer, materials, e->emitter_count, d);
     free(materials);
+    pfx_mv_frame mv = {NULL, NULL};
+    if (!failed && job->motion)
+        failed = !pfx_mv_frame_init(&mv, e, d);
     const bool sort = pfx_sprites_need_sort(e);
     const pfx_render_settings settings = pfx_sprites_settings(e);
     char name[4600];
     for (long f = job->first; !failed && f <= job->last && !pfx_png_queue_failed(q); f++) {
-        long drawn = draw_frame(job, f, &settings, sort, pfx_png_queue_buffer(q), d);
+        long drawn = draw_frame(job, f, &settings, sort, pfx_png_queue_buffer(q), &mv, d);
         failed = drawn < 0;
         size_t n = failed ? 0 : (size_t)drawn;
         if (!failed && !frame_path(job, f, name, sizeof name)) {
@@ -112,6 +126,7 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
             fprintf(stderr, "\rpfx: frame %ld of %ld-%ld (%zu particles)   ", f, job->first,
                     job->last, n);
     }
+    pfx_mv_frame_free(&mv);
     if (job->progress)
         fputc('\n', stderr);
     /* The writer's own failure (a full disk, a vanished directory) is

@@ -23,6 +23,9 @@ typedef struct pfx_render_job {
      * the thread running the job (see jobs/progress.h), or NULL. */
     void (*on_frame)(void *ctx, long frame, size_t particles);
     void *on_frame_ctx;
+    /* --motion-vectors: also dir/stem_mv_NNNN.png, encoded by this (NULL:
+     * none, and no motion pass is drawn). */
+    const struct pfx_mv_meta *motion;
     int threads; /* PNG encoder threads; 0: the effect's threads (--threads), else one
                     per online core */
 

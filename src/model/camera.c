@@ -33,3 +33,38 @@ pfx_camera_fault pfx_camera_frame(const pfx_camera *cam, double side[3], double 
     up[2] = s[0] * f[1] - s[1] * f[0];
     return PFX_CAMERA_OK;
 }
+
+/* gluLookAt's view then gluPerspective's (or glOrtho's) projection, the
+ * matrices render.c builds, written out: view-space c = (s.q, u.q, -f.q)
+ * for q = p - eye; perspective clip = (c.x t / aspect, c.y t) over w =
+ * -c.z with t = 1 / tan(fov / 2); ortho (c.x / half-width, c.y /
+ * half-height) over 1. */
+bool pfx_camera_project(const pfx_camera *cam, int width, int height, const double p[3],
+                        double px[2], double *depth) {
+    double s[3], u[3], f[3], q[3];
+    if (pfx_camera_frame(cam, s, u, f) != PFX_CAMERA_OK)
+        return false;
+    for (int i = 0; i < 3; i++)
+        q[i] = p[i] - cam->position[i];
+    double cx = s[0] * q[0] + s[1] * q[1] + s[2] * q[2];
+    double cy = u[0] * q[0] + u[1] * q[1] + u[2] * q[2];
+    double ahead = f[0] * q[0] + f[1] * q[1] + f[2] * q[2];
+    double aspect = (double)width / (double)height, nx, ny, w;
+    if (cam->ortho) {
+        double half_h = 0.5 * cam->ortho_height;
+        nx = cx / (half_h * aspect);
+        ny = cy / half_h;
+        w = 1.0;
+    } else {
+        double t = 1.0 / tan(0.5 * cam->fov);
+        nx = cx * t / aspect;
+        ny = cy * t;
+        w = ahead;
+    }
+    if (!(w > 1e-6))
+        return false;
+    px[0] = (nx / w * 0.5 + 0.5) * width;
+    px[1] = (ny / w * 0.5 + 0.5) * height;
+    *depth = w;
+    return true;
+}

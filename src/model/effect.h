@@ -345,6 +345,14 @@ typedef enum pfx_camera_fault {
 pfx_camera_fault pfx_camera_frame(const pfx_camera *cam, double side[3], double up[3],
                                   double forward[3]);
 
+/* Where world point p lands in a width x height image seen through cam, as
+ * the renderer projects it: px[0] from the left edge, px[1] up from the
+ * bottom edge, in pixels; *depth is the distance along the view direction
+ * (perspective) or 1 (ortho). False, with px unset, for a degenerate
+ * camera or a point not in front of it (depth <= 1e-6). */
+bool pfx_camera_project(const pfx_camera *cam, int width, int height, const double p[3],
+                        double px[2], double *depth);
+
 typedef struct pfx_effect {
     const char *path; /* the file it came from */
     double duration;

@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "output/atomic_file.h"
+#include "output/motion_vectors.h"
 
 #define BLEED_PASSES 16
 
@@ -194,6 +195,8 @@ bool pfx_atlas_write_json(const char *path, const pfx_atlas_layout *l, const cha
         l->columns, "tiles_y", l->rows, "frames", l->frames, "fps", fps, "unreal",
         "sub_images_horizontal", l->columns, "sub_images_vertical", l->rows, "godot", "h_frames",
         l->columns, "v_frames", l->rows);
+    if (root && l->motion)
+        json_object_set_new(root, "motion_vectors", pfx_mv_json(l->motion, l, l->motion_image));
     if (!root) {
         pfx_diag_error(d, "cannot write '%s': out of memory", path);
         return false;

@@ -23,6 +23,10 @@ typedef struct pfx_atlas_layout {
     int padding;       /* transparent pixels around each frame in its cell */
     int extrude;       /* of those, how many repeat the frame's edge (<= padding) */
     bool crop;         /* cut every frame to one box around all visible pixels */
+    /* --motion-vectors: the sheet of motion vectors laid out alike (NULL:
+     * none), described in the JSON as "motion_vectors" with its image. */
+    const struct pfx_mv_meta *motion;
+    const char *motion_image;
     /* Out, from pfx_atlas_layout_resolve and pfx_atlas_compose. */
     int crop_x, crop_y, crop_w, crop_h; /* the box within a frame */
     int cell_w, cell_h;                 /* crop + 2 padding */

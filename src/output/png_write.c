@@ -213,6 +213,123 @@ uint8_t *pfx_png_read(const char *path, int *width, int *height) {
     return result;
 }
 
+/* 16-bit RGBA: the same chunks and compression as the 8-bit frames. PNG
+ * stores samples big-endian; png_set_swap turns host order into that on a
+ * little-endian machine. */
+static bool png_encode16(pfx_png_ctx *ctx, const uint16_t *rgba, int width, int height) {
+    png_structp png =
+        png_create_write_struct(PNG_LIBPNG_VER_STRING, ctx, pfx_png_on_error, pfx_png_on_warning);
+    png_infop info = png ? png_create_info_struct(png) : NULL;
+    if (info == NULL) {
+        png_destroy_write_struct(&png, NULL);
+        snprintf(ctx->message, sizeof ctx->message, "out of memory");
+        return false;
+    }
+    if (setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, &info);
+        return false;
+    }
+    png_set_write_fn(png, ctx, pfx_png_on_write, pfx_png_on_flush);
+    png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, 16, PNG_COLOR_TYPE_RGBA,
+                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_compression_level(png, PFX_PNG_ZLIB_LEVEL);
+    png_set_compression_strategy(png, PFX_PNG_ZLIB_STRATEGY);
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PFX_PNG_FILTERS);
+    png_write_info(png, info);
+    const uint16_t one = 1;
+    if (*(const uint8_t *)&one == 1)
+        png_set_swap(png);
+    size_t stride = (size_t)width * 4;
+    for (int y = 0; y < height; y++)
+        png_write_row(png, (png_const_bytep)(rgba + (size_t)y * stride));
+    png_write_end(png, info);
+    png_destroy_write_struct(&png, &info);
+    return true;
+}
+
+bool pfx_png_write16(const char *path, const uint16_t *rgba, int width, int height, bool sync_dir,
+                     pfx_diags *d) {
+    if (rgba == NULL || width <= 0 || height <= 0 || width > 1000000 || height > 1000000) {
+        pfx_diag_error(d, "cannot write '%s': invalid image size %dx%d", path, width, height);
+        return false;
+    }
+    pfx_atomic_file *a = pfx_atomic_open(path, d);
+    if (a == NULL)
+        return false;
+    pfx_png_ctx ctx = {.message = "", .write_errno = 0, .file = pfx_atomic_stream(a)};
+    if (!png_encode16(&ctx, rgba, width, height)) {
+        if (ctx.write_errno != 0) {
+            pfx_atomic_failed(a, ctx.write_errno);
+            return pfx_atomic_commit(a, false, d);
+        }
+        pfx_diag_error(d, "cannot encode '%s': %s", path, ctx.message);
+        pfx_atomic_abort(a);
+        return false;
+    }
+    return pfx_atomic_commit(a, sync_dir, d);
+}
+
+uint16_t *pfx_png_read16(const char *path, int *width, int *height) {
+    FILE *file = fopen(path, "rb");
+    if (file == NULL)
+        return NULL;
+    pfx_png_ctx ctx = {.message = "", .write_errno = 0, .file = file};
+    png_structp png =
+        png_create_read_struct(PNG_LIBPNG_VER_STRING, &ctx, pfx_png_on_error, pfx_png_on_warning);
+    png_infop info = png != NULL ? png_create_info_struct(png) : NULL;
+    if (info == NULL) {
+        png_destroy_read_struct(&png, NULL, NULL);
+        fclose(file);
+        return NULL;
+    }
+    uint16_t *volatile pixels = NULL;
+    png_bytep *volatile rows = NULL;
+    if (setjmp(png_jmpbuf(png))) {
+        free(rows);
+        free(pixels);
+        png_destroy_read_struct(&png, &info, NULL);
+        fclose(file);
+        return NULL;
+    }
+    png_init_io(png, file);
+    png_read_info(png, info);
+    /* png_set_expand_16 widens 8-bit samples (and palette, low-depth grey
+     * and tRNS, through png_set_expand) to 16 bits. */
+    int color = png_get_color_type(png, info);
+    png_set_expand(png);
+    png_set_expand_16(png);
+    if (color == PNG_COLOR_TYPE_GRAY || color == PNG_COLOR_TYPE_GRAY_ALPHA)
+        png_set_gray_to_rgb(png);
+    if (!png_get_valid(png, info, PNG_INFO_tRNS) && (color & PNG_COLOR_MASK_ALPHA) == 0)
+        png_set_add_alpha(png, 0xffff, PNG_FILLER_AFTER);
+    const uint16_t one = 1;
+    if (*(const uint8_t *)&one == 1)
+        png_set_swap(png);
+    png_set_interlace_handling(png);
+    png_read_update_info(png, info);
+    png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
+    size_t stride = (size_t)w * 8;
+    if (png_get_rowbytes(png, info) != stride)
+        png_error(png, "not 16-bit RGBA after transforms");
+    pixels = malloc(stride * h);
+    rows = malloc(sizeof(png_bytep) * h);
+    if (pixels == NULL || rows == NULL)
+        png_error(png, "out of memory");
+    for (png_uint_32 y = 0; y < h; y++)
+        rows[y] = (png_bytep)pixels + (size_t)y * stride;
+    png_read_image(png, rows);
+    png_read_end(png, NULL);
+    uint16_t *result = pixels;
+    free(rows);
+    png_destroy_read_struct(&png, &info, NULL);
+    fclose(file);
+    if (width != NULL)
+        *width = (int)w;
+    if (height != NULL)
+        *height = (int)h;
+    return result;
+}
+
 /* A pool of encoder threads over a ring of 2 x threads slots. The caller
  * fills slot `tail` (free whenever slot[tail].state is FREE) and submits it;
  * each encoder takes the oldest READY slot, encodes and writes it without

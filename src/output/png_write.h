@@ -16,6 +16,16 @@
  * in d and leaves no file at `path` or at the temporary name. */
 bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height, pfx_diags *d);
 
+/* Writes width*height 16-bit RGBA samples (host byte order, top row
+ * first) as a 16-bit RGBA PNG, atomically as pfx_png_write does; sync_dir:
+ * also fsync the directory (false when the caller syncs it once after a
+ * batch). Motion-vector frames and sheets (output/motion_vectors.h). */
+bool pfx_png_write16(const char *path, const uint16_t *rgba, int width, int height, bool sync_dir,
+                     pfx_diags *d);
+/* Reads any PNG as 16-bit RGBA samples in host byte order (8-bit images
+ * widened by x 257). Returns a malloc'd buffer the caller frees, or NULL. */
+uint16_t *pfx_png_read16(const char *path, int *width, int *height);
+
 /* Reads an 8-bit RGBA PNG (for tests). Returns a malloc'd buffer the caller
  * frees, or NULL. */
 uint8_t *pfx_png_read(const char *path, int *width, int *height);

@@ -300,6 +300,7 @@ void pfx_renderer_destroy(pfx_renderer *r) {
     free(r->keys);
     free(r->index);
     free(r->sorted);
+    free(r->mv_pixels);
     free(r);
 }
 
@@ -611,3 +612,17 @@ double pfx_renderer_bench_raw(pfx_renderer *r, const pfx_camera *cam, const pfx_
     double t = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
     return t > 0 ? frames / t : -1.0;
 }
+
+/* render_internal.h's doors into this file for the passes kept in their
+ * own files (render/motion_vectors.c). */
+bool pfx_render_view(const pfx_camera *cam, int width, int height, pfx_view *v, pfx_diags *d) {
+    return camera_matrices(cam, width, height, v, d);
+}
+
+bool pfx_render_make_current(pfx_renderer *r, pfx_diags *d) { return make_current(r, d); }
+
+const pfx_gpu_material *pfx_render_material_of(const pfx_renderer *r, const pfx_sprite *sp) {
+    return material_of(r, sp);
+}
+
+void pfx_render_point_instances(pfx_renderer *r, size_t first) { point_instances(r, first); }

@@ -162,6 +162,23 @@ bool pfx_renderer_blur_add(pfx_renderer *r, const pfx_camera *cam, const pfx_ren
                            float weight, pfx_diags *d);
 void pfx_renderer_blur_resolve(pfx_renderer *r, const pfx_render_settings *s, uint8_t *rgba);
 
+/* Motion vectors: the sprites drawn as draw_frame draws them (the same
+ * quads, falloff, flipbook alpha and minimum footprint, no ribbons), each
+ * pixel getting the weighted mean of the displacements of the sprites over
+ * it, where a sprite's displacement is its centre's projected position at
+ * t + dt (x + v dt, linear) minus at t, in pixels of the frame, and its
+ * weight is its falloff (texture alpha) times its alpha (1 for additive
+ * sprites, whose colour pass alpha is 0), over the footprint widening,
+ * clamped to [0, 1]. Writes width*height*3 floats, top row first: dx
+ * (+right), dy (+up), and the coverage 1 - prod(1 - weight) in [0, 1]; a
+ * pixel no sprite touches is (0, 0, 0). A sprite whose centre is behind
+ * the camera at t or t + dt weighs 0. Drawn into a float target of its
+ * own, made on the first call. Does not reorder sprites. False with an
+ * error in d on a GL failure. */
+bool pfx_renderer_motion_vectors(pfx_renderer *r, const pfx_camera *cam,
+                                 const pfx_render_settings *s, const pfx_sprite *sprites,
+                                 size_t count, double dt, float *mv, pfx_diags *d);
+
 /* The reference the pfx bench measures full rendering against: `frames`
  * times clears, uploads the sprites, makes the one instanced draw, glFinish
  * and reads the float framebuffer back; no sort and no 8-bit conversion.

@@ -73,7 +73,8 @@
     X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                                                       \
     X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                                             \
     X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                                       \
-    X(PFNGLGENERATEMIPMAPPROC, GenerateMipmap)
+    X(PFNGLGENERATEMIPMAPPROC, GenerateMipmap)                                                     \
+    X(PFNGLBLENDFUNCSEPARATEPROC, BlendFuncSeparate)
 
 typedef struct pfx_gl {
 #define PFX_GL_FIELD(type, name) type name;
@@ -85,6 +86,7 @@ typedef struct pfx_gl {
 typedef struct pfx_sprite_uniforms {
     GLint view, proj, px_per_unit, min_px, axis, plane_x, plane_y;
     GLint tex, grid, frames, frame_loop, normal_tex, light_dir, light_color, ambient;
+    GLint mv_dt, mv_size; /* the motion-vector variant only (-1 elsewhere) */
 } pfx_sprite_uniforms;
 
 /* A sprite program specialised for one combination of material switches
@@ -127,6 +129,11 @@ struct pfx_renderer {
     uint32_t *keys;
     uint32_t *index;
     pfx_sprite *sorted;
+    /* Motion vectors (render/motion_vectors.c): their own float target and
+     * read-back, made on first use so that a render without them pays
+     * nothing. */
+    GLuint mv_fbo, mv_rb;
+    float *mv_pixels;
 };
 
 /* Camera matrices, column-major (m[col * 4 + row]) as GL expects. The view
@@ -151,6 +158,20 @@ typedef struct pixel_box {
 bool pfx_shader_bind(pfx_renderer *r, pfx_gpu_material *g, pfx_diags *d);
 void pfx_shader_material(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
                          const pfx_gpu_material *g);
+/* render/shader.c: makes current the motion-vector variant of g's program
+ * (linked on first use; false with an error when it cannot be) and sets
+ * its uniforms, with dt the seconds the motion spans. */
+bool pfx_shader_motion(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
+                       const pfx_gpu_material *g, double dt, pfx_diags *d);
+/* render/render.c, for the passes in other files: the camera's matrices
+ * (false with an error for a degenerate camera), a current context, the
+ * material a sprite names, and the instance attributes pointed at sprite
+ * `first` of the uploaded array. */
+bool pfx_render_view(const pfx_camera *cam, int width, int height, pfx_view *v, pfx_diags *d);
+bool pfx_render_make_current(pfx_renderer *r, pfx_diags *d);
+const pfx_gpu_material *pfx_render_material_of(const pfx_renderer *r, const pfx_sprite *sp);
+void pfx_render_point_instances(pfx_renderer *r, size_t first);
+
 /* render/shader.c: the ribbon program (world-space triangles, no
  * switches), into r->ribbon_program and its two uniforms. */
 bool pfx_shader_build_ribbon(pfx_renderer *r, pfx_diags *d);

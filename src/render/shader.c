@@ -37,6 +37,11 @@ static const char *vertex_src =
     "flat out vec2 v_frame;\n"
     "flat out vec3 v_ax;\n"
     "flat out vec3 v_ay;\n"
+    "#if MOTION\n"
+    "uniform float mv_dt;\n"
+    "uniform vec2 mv_size;\n"
+    "flat out vec3 v_mv;\n"
+    "#endif\n"
     "void main() {\n"
     "    vec4 c = view * vec4(centre_size.xyz, 1.0);\n"
     "    float hx = 0.5 * centre_size.w, hy = hx;\n"
@@ -71,6 +76,13 @@ static const char *vertex_src =
     "    v_frame = turn.zw;\n"
     "    v_ax = ax;\n"
     "    v_ay = ay;\n"
+    "#if MOTION\n"
+    "    vec4 a = proj * c;\n"
+    "    vec4 b = proj * (view * vec4(centre_size.xyz + motion.xyz * mv_dt, 1.0));\n"
+    "    float opacity = (colour.a > 0.0 ? colour.a : 1.0) / (gx * gy);\n"
+    "    v_mv = a.w > 1e-6 && b.w > 1e-6\n"
+    "               ? vec3((b.xy / b.w - a.xy / a.w) * 0.5 * mv_size, opacity) : vec3(0.0);\n"
+    "#endif\n"
     "}\n";
 
 /* The built-in sprites as functions of the corner coordinate q (f = 0 is
@@ -83,6 +95,9 @@ static const char *fragment_src =
     "flat in vec2 v_frame;\n"
     "flat in vec3 v_ax;\n"
     "flat in vec3 v_ay;\n"
+    "#if MOTION\n"
+    "flat in vec3 v_mv;\n"
+    "#endif\n"
     "uniform sampler2D tex;\n"
     "uniform vec2 grid;\n"
     "uniform float frames;\n"
@@ -158,7 +173,12 @@ static const char *fragment_src =
     "    if (f <= 0.0) discard;\n"
     "    vec4 base = vec4(f);\n"
     "#endif\n"
+    "#if MOTION\n"
+    "    float w = clamp(base.a * v_mv.z, 0.0, 1.0);\n"
+    "    frag = vec4(v_mv.xy * w, w, w);\n"
+    "#else\n"
     "    frag = v_colour * base;\n"
+    "#endif\n"
     "#if LIT\n"
     "    vec3 az = cross(v_ax, v_ay);\n"
     "#if NORMAL_MAPPED\n"
@@ -233,7 +253,7 @@ static void find_uniforms(pfx_renderer *r, pfx_program *prog) {
     PFX_UNIFORM(axis) PFX_UNIFORM(plane_x) PFX_UNIFORM(plane_y);
     PFX_UNIFORM(tex) PFX_UNIFORM(grid) PFX_UNIFORM(frames) PFX_UNIFORM(frame_loop);
     PFX_UNIFORM(normal_tex) PFX_UNIFORM(light_dir) PFX_UNIFORM(light_color);
-    PFX_UNIFORM(ambient);
+    PFX_UNIFORM(ambient) PFX_UNIFORM(mv_dt) PFX_UNIFORM(mv_size);
 #undef PFX_UNIFORM
 }
 
@@ -276,13 +296,19 @@ static GLuint build_program(pfx_renderer *r, const char *defines, const char *vs
     return p;
 }
 
+/* The motion-vector variant of a program (render/motion_vectors.c): the
+ * same quad and falloff, writing motion instead of colour; light does not
+ * move anything, so it is switched off there. */
+#define PFX_PROGRAM_MOTION (1u << 12)
+
 static bool link_program(pfx_renderer *r, pfx_program *prog, pfx_diags *d) {
-    char defines[160];
+    char defines[200];
     unsigned k = prog->key;
     snprintf(defines, sizeof defines,
              "#define KIND %u\n#define ALIGN %u\n#define TEXTURED %u\n#define FRAME_BLEND %u\n"
-             "#define LIT %u\n#define NORMAL_MAPPED %u\n",
-             k & 15u, (k >> 4) & 15u, (k >> 8) & 1u, (k >> 9) & 1u, (k >> 10) & 1u, (k >> 11) & 1u);
+             "#define LIT %u\n#define NORMAL_MAPPED %u\n#define MOTION %u\n",
+             k & 15u, (k >> 4) & 15u, (k >> 8) & 1u, (k >> 9) & 1u, (k >> 10) & 1u, (k >> 11) & 1u,
+             (k >> 12) & 1u);
     prog->id = build_program(r, defines, vertex_src, fragment_src, "sprite", d);
     if (!prog->id)
         return false;
@@ -302,11 +328,12 @@ bool pfx_shader_build_ribbon(pfx_renderer *r, pfx_diags *d) {
     return true;
 }
 
-bool pfx_shader_bind(pfx_renderer *r, pfx_gpu_material *g, pfx_diags *d) {
-    unsigned key = program_key(g);
+/* The index of the program for `key`, linked the first time it is asked
+ * for; false (with an error) when it cannot be. */
+static bool find_program(pfx_renderer *r, unsigned key, size_t *index, pfx_diags *d) {
     for (size_t i = 0; i < r->program_count; i++)
         if (r->programs[i].key == key) {
-            g->program = i;
+            *index = i;
             return true;
         }
     if (r->program_count == PFX_MAX_PROGRAMS) {
@@ -317,8 +344,12 @@ bool pfx_shader_bind(pfx_renderer *r, pfx_gpu_material *g, pfx_diags *d) {
     prog->key = key;
     if (!link_program(r, prog, d))
         return false;
-    g->program = r->program_count++;
+    *index = r->program_count++;
     return true;
+}
+
+bool pfx_shader_bind(pfx_renderer *r, pfx_gpu_material *g, pfx_diags *d) {
+    return find_program(r, program_key(g), &g->program, d);
 }
 
 /* A world direction in view space (the view matrix's rotation). */
@@ -361,10 +392,10 @@ static void plane_basis(const double n[3], double x[3], double y[3]) {
     y[2] = n[0] * x[1] - n[1] * x[0];
 }
 
-void pfx_shader_material(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
-                         const pfx_gpu_material *g) {
+/* Makes `prog` current with g's uniforms. */
+static void use_program(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
+                        const pfx_gpu_material *g, const pfx_program *prog) {
     const pfx_material *m = &g->m;
-    const pfx_program *prog = &r->programs[g->program];
     const pfx_sprite_uniforms *u = &prog->u;
     r->gl.UseProgram(prog->id);
     set_frame(r, u, v, s);
@@ -385,4 +416,22 @@ void pfx_shader_material(pfx_renderer *r, const pfx_view *v, const pfx_render_se
     r->gl.ActiveTexture(GL_TEXTURE1);
     r->gl.BindTexture(GL_TEXTURE_2D, g->normal_map);
     r->gl.ActiveTexture(GL_TEXTURE0);
+}
+
+void pfx_shader_material(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
+                         const pfx_gpu_material *g) {
+    use_program(r, v, s, g, &r->programs[g->program]);
+}
+
+bool pfx_shader_motion(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
+                       const pfx_gpu_material *g, double dt, pfx_diags *d) {
+    const unsigned lit = 1u << 10 | 1u << 11;
+    size_t i;
+    if (!find_program(r, (program_key(g) & ~lit) | PFX_PROGRAM_MOTION, &i, d))
+        return false;
+    const pfx_program *prog = &r->programs[i];
+    use_program(r, v, s, g, prog);
+    r->gl.Uniform1f(prog->u.mv_dt, (float)dt);
+    r->gl.Uniform2f(prog->u.mv_size, (float)r->width, (float)r->height);
+    return true;
 }

@@ -1,0 +1,156 @@
+/* jobs/motion_job.h: the scale pass, the frames, the sheet and the sidecar
+ * of --motion-vectors; the drawing is render/motion_vectors.c's and the
+ * encoding output/motion_vectors.c's. */
+#include "jobs/motion_job.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "output/png_write.h"
+#include "render/sprites.h"
+#include "sim/sim.h"
+
+/* Whether sprite sp, centred at pixel c (at depth w), can touch the frame:
+ * its quad lies within its half-diagonal of its centre, widened by the
+ * minimum footprint and 2 pixels, as render.c bounds what it reads back. */
+static bool reaches_frame(const pfx_effect *e, const pfx_sprite *sp, const double c[2], double w) {
+    const pfx_camera *cam = &e->camera;
+    double px_per_m =
+        cam->ortho ? e->height / cam->ortho_height : 0.5 * e->height / tan(0.5 * cam->fov) / w;
+    double side = sp->length > sp->size ? sp->length : sp->size;
+    double r = 0.5 * side * 1.4142136 * px_per_m + PFX_MIN_FOOTPRINT_PX + 2;
+    return c[0] + r > 0 && c[0] - r < e->width && c[1] + r > 0 && c[1] - r < e->height;
+}
+
+bool pfx_mv_sequence_max(const pfx_effect *e, double *max_px, pfx_diags *d) {
+    pfx_sim *sim = pfx_sim_create(e, d), *view = pfx_sim_create(e, d);
+    pfx_sprite *sprites = malloc((pfx_sprites_capacity(e) + 1) * sizeof *sprites);
+    bool ok = sim && view && sprites;
+    if (!ok)
+        pfx_diag_error(d, "out of memory for %zu particles", pfx_sprites_capacity(e));
+    const double dt = 1.0 / e->fps;
+    double most = 0;
+    const long frames = pfx_effect_frame_count(e);
+    for (long f = 0; ok && f < frames; f++) {
+        const pfx_sim *state = pfx_sim_frame(sim, view, f);
+        if (sim->failed || view->failed) {
+            ok = false;
+            break;
+        }
+        size_t n = pfx_sprites_build(state, sprites);
+        for (size_t i = 0; i < n; i++) {
+            const pfx_sprite *sp = &sprites[i];
+            const double p[3] = {sp->x, sp->y, sp->z},
+                         q[3] = {sp->x + sp->vx * dt, sp->y + sp->vy * dt, sp->z + sp->vz * dt};
+            double a[2], b[2], wa, wb;
+            if (!pfx_camera_project(&e->camera, e->width, e->height, p, a, &wa) ||
+                !pfx_camera_project(&e->camera, e->width, e->height, q, b, &wb) ||
+                !reaches_frame(e, sp, a, wa))
+                continue;
+            double dx = fabs(b[0] - a[0]), dy = fabs(b[1] - a[1]);
+            double m = dx > dy ? dx : dy;
+            most = m > most ? m : most;
+        }
+    }
+    pfx_sim_destroy(sim);
+    pfx_sim_destroy(view);
+    free(sprites);
+    *max_px = most > 0 && isfinite(most) ? most : 1.0;
+    return ok;
+}
+
+bool pfx_mv_frame_init(pfx_mv_frame *b, const pfx_effect *e, pfx_diags *d) {
+    const size_t n = (size_t)e->width * (size_t)e->height;
+    b->mv = malloc(n * 3 * sizeof *b->mv);
+    b->samples = malloc(n * 4 * sizeof *b->samples);
+    if (!b->mv || !b->samples) {
+        pfx_diag_error(d, "out of memory for motion vectors at %dx%d", e->width, e->height);
+        return false;
+    }
+    return true;
+}
+
+void pfx_mv_frame_free(pfx_mv_frame *b) {
+    free(b->mv);
+    free(b->samples);
+    b->mv = NULL;
+    b->samples = NULL;
+}
+
+bool pfx_mv_frame_write(pfx_mv_frame *b, pfx_renderer *r, const pfx_effect *e,
+                        const pfx_render_settings *s, const pfx_sprite *sprites, size_t count,
+                        const pfx_mv_meta *m, const char *path, pfx_diags *d) {
+    if (!pfx_renderer_motion_vectors(r, &e->camera, s, sprites, count, 1.0 / e->fps, b->mv, d))
+        return false;
+    pfx_mv_encode(b->mv, e->width, e->height, m, b->samples);
+    return pfx_png_write16(path, b->samples, e->width, e->height, false, d);
+}
+
+bool pfx_mv_frame_path(const char *dir, const char *stem, long frame, char *out, size_t size) {
+    int n = snprintf(out, size, "%s/%s_mv_%04ld.png", dir, stem, frame);
+    return n > 0 && (size_t)n < size;
+}
+
+bool pfx_mv_add_outputs(pfx_manifest *mf, const char *dir, const char *stem, long first, long last,
+                        pfx_diags *d) {
+    for (long f = first; f <= last; f++) {
+        char name[320];
+        snprintf(name, sizeof name, "%s_mv_%04ld.png", stem, f);
+        if (!pfx_manifest_add_output(mf, dir, name, d))
+            return false;
+    }
+    return true;
+}
+
+bool pfx_mv_atlas_write(const char *dir, const char *stem, long first, long last,
+                        const pfx_atlas_layout *l, char *image, size_t image_size, pfx_diags *d) {
+    const long n = last - first + 1;
+    uint16_t **frames = calloc((size_t)n, sizeof *frames);
+    uint16_t *sheet = NULL;
+    bool ok = frames != NULL;
+    if (!ok)
+        pfx_diag_error(d, "out of memory");
+    char path[4400];
+    for (long k = 0; ok && k < n; k++) {
+        int w, h;
+        pfx_mv_frame_path(dir, stem, first + k, path, sizeof path);
+        frames[k] = pfx_png_read16(path, &w, &h);
+        if (!frames[k]) {
+            pfx_diag_error(d, "cannot read the motion vectors '%s' for the atlas", path);
+            ok = false;
+        } else if (w != l->frame_w || h != l->frame_h) {
+            pfx_diag_error(d, "'%s' is %dx%d, not %dx%d like the colour frames", path, w, h,
+                           l->frame_w, l->frame_h);
+            ok = false;
+        }
+    }
+    if (ok && !(sheet = pfx_mv_atlas_compose(l, frames))) {
+        pfx_diag_error(d, "out of memory for an atlas of %dx%d", l->width, l->height);
+        ok = false;
+    }
+    snprintf(image, image_size, "%s_mv_atlas.png", stem);
+    snprintf(path, sizeof path, "%s/%s", dir, image);
+    ok = ok && pfx_png_write16(path, sheet, l->width, l->height, true, d);
+    for (long k = 0; frames && k < n; k++)
+        free(frames[k]);
+    free(frames);
+    free(sheet);
+    return ok;
+}
+
+bool pfx_mv_sidecar_run(const char *dir, const char *stem, long first, long last,
+                        const pfx_mv_meta *m, pfx_manifest *mf, pfx_diags *d) {
+    char path[4400], pattern[300], name[300];
+    snprintf(pattern, sizeof pattern, "%s_mv_%%04d.png", stem);
+    snprintf(name, sizeof name, "%s_mv.json", stem);
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    return pfx_mv_write_sidecar(path, m, pattern, first, last, d) &&
+           (!mf || pfx_manifest_add_output(mf, dir, name, d));
+}
+
+void pfx_mv_describe(const pfx_mv_meta *m, pfx_manifest *mf) {
+    pfx_manifest_set_number(mf, "motion_vectors", 1);
+    pfx_manifest_set_number(mf, "mv_max", m->max_given ? m->max_px : 0);
+    pfx_manifest_set_number(mf, "mv_flip_y", m->flip_y);
+}

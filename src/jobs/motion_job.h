@@ -1,0 +1,64 @@
+/* --motion-vectors around the frame loop: the scale chosen from the whole
+ * sequence, each frame's motion-vector PNG, the sheet beside the colour
+ * atlas, and the sidecar JSON when there is no atlas. */
+#ifndef PFX_JOBS_MOTION_JOB_H
+#define PFX_JOBS_MOTION_JOB_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "base/diag.h"
+#include "jobs/manifest.h"
+#include "model/effect.h"
+#include "output/atlas.h"
+#include "output/motion_vectors.h"
+#include "render/render.h"
+
+/* The largest displacement to the next frame, max(|dx|, |dy|) in pixels,
+ * of any sprite that can be seen (its centre in front of the camera at
+ * both ends and its quad reaching into the frame) over every frame of the
+ * effect, 0 .. frame count - 1: a pass of the simulation without drawing.
+ * Every frame and every slice of a render then shares one scale, so their
+ * bytes do not depend on the range rendered. 1 when nothing moves. False
+ * (with the simulation's failure in d) when the simulation fails. */
+bool pfx_mv_sequence_max(const pfx_effect *e, double *max_px, pfx_diags *d);
+
+/* Scratch for one renderer's motion-vector frames. */
+typedef struct pfx_mv_frame {
+    float *mv;         /* width x height x 3 floats from the renderer */
+    uint16_t *samples; /* width x height x 4 encoded samples */
+} pfx_mv_frame;
+
+/* Allocates the scratch; false (with the reason in d) when out of memory. */
+bool pfx_mv_frame_init(pfx_mv_frame *b, const pfx_effect *e, pfx_diags *d);
+void pfx_mv_frame_free(pfx_mv_frame *b);
+
+/* Draws the motion vectors of `count` sprites at the effect's camera over
+ * 1 / fps and writes them to `path` (the directory synced by the caller).
+ * False with the reason in d. */
+bool pfx_mv_frame_write(pfx_mv_frame *b, pfx_renderer *r, const pfx_effect *e,
+                        const pfx_render_settings *s, const pfx_sprite *sprites, size_t count,
+                        const pfx_mv_meta *m, const char *path, pfx_diags *d);
+
+/* dir/stem_mv_NNNN.png; false when it does not fit in size. */
+bool pfx_mv_frame_path(const char *dir, const char *stem, long frame, char *out, size_t size);
+
+/* Lists dir/stem_mv_NNNN.png of first..last as outputs of mf. */
+bool pfx_mv_add_outputs(pfx_manifest *mf, const char *dir, const char *stem, long first, long last,
+                        pfx_diags *d);
+
+/* The motion-vector sheet dir/stem_mv_atlas.png of frames first..last laid
+ * out by l, resolved for the colour atlas (jobs/atlas_job.c calls it, so
+ * the two line up); `image` gets its file name. False with the reason in
+ * d, nothing written. */
+bool pfx_mv_atlas_write(const char *dir, const char *stem, long first, long last,
+                        const pfx_atlas_layout *l, char *image, size_t image_size, pfx_diags *d);
+
+/* Without an atlas: dir/stem_mv.json, listed in mf. */
+bool pfx_mv_sidecar_run(const char *dir, const char *stem, long first, long last,
+                        const pfx_mv_meta *m, pfx_manifest *mf, pfx_diags *d);
+
+/* The settings of m into mf (part of the bake key). */
+void pfx_mv_describe(const pfx_mv_meta *m, pfx_manifest *mf);
+
+#endif

@@ -1,0 +1,106 @@
+/* The motion-vector pass: the frame's sprites drawn once more, each writing
+ * its own screen-space displacement over dt seconds (from its exact
+ * velocity) weighted by its falloff, summed in a float target of its own
+ * and divided by the summed weight. It does not encode or write anything
+ * (output/motion_vectors.c does), and it is never run unless asked. */
+#include "render/render_internal.h"
+
+#include <stdlib.h>
+
+/* The float target, made the first time: RGBA32F so that the weighted sums
+ * of many faint sprites keep their precision. */
+static bool build_target(pfx_renderer *r, pfx_diags *d) {
+    if (r->mv_fbo)
+        return true;
+    r->mv_pixels = malloc((size_t)r->width * (size_t)r->height * 4 * sizeof(float));
+    if (!r->mv_pixels) {
+        pfx_diag_error(d, "out of memory for motion vectors at %dx%d", r->width, r->height);
+        return false;
+    }
+    r->gl.GenRenderbuffers(1, &r->mv_rb);
+    r->gl.BindRenderbuffer(GL_RENDERBUFFER, r->mv_rb);
+    r->gl.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA32F, r->width, r->height);
+    r->gl.GenFramebuffers(1, &r->mv_fbo);
+    r->gl.BindFramebuffer(GL_FRAMEBUFFER, r->mv_fbo);
+    r->gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, r->mv_rb);
+    GLenum status = r->gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+        pfx_diag_error(d, "motion-vector framebuffer %dx%d is incomplete (status 0x%04x)", r->width,
+                       r->height, (unsigned)status);
+        return false;
+    }
+    return true;
+}
+
+/* One instanced draw per run of one material, as the colour pass draws. The
+ * blend sums (dx w, dy w, w) in RGB and keeps A = 1 - prod(1 - w), the
+ * coverage of the sprites laid over each other; both are independent of
+ * the drawing order but for rounding, and the order is the caller's. */
+static bool draw_motion(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
+                        const pfx_sprite *sprites, size_t count, double dt, pfx_diags *d) {
+    r->gl.BindFramebuffer(GL_FRAMEBUFFER, r->mv_fbo);
+    r->gl.Viewport(0, 0, r->width, r->height);
+    r->gl.ClearColor(0, 0, 0, 0);
+    r->gl.Clear(GL_COLOR_BUFFER_BIT);
+    if (count == 0)
+        return true;
+    r->gl.BlendFuncSeparate(GL_ONE, GL_ONE, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    r->gl.BindVertexArray(r->vao);
+    r->gl.BindBuffer(GL_ARRAY_BUFFER, r->instance_vbo);
+    r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(count * sizeof *sprites), sprites,
+                     GL_STREAM_DRAW);
+    bool ok = true;
+    for (size_t first = 0; ok && first < count;) {
+        const pfx_gpu_material *g = pfx_render_material_of(r, &sprites[first]);
+        size_t end = first + 1;
+        while (end < count && pfx_render_material_of(r, &sprites[end]) == g)
+            end++;
+        ok = pfx_shader_motion(r, v, s, g, dt, d);
+        if (ok) {
+            pfx_render_point_instances(r, first);
+            r->gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)(end - first));
+        }
+        first = end;
+    }
+    pfx_render_point_instances(r, 0);
+    r->gl.BlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); /* the colour pass's, as it was */
+    return ok;
+}
+
+bool pfx_renderer_motion_vectors(pfx_renderer *r, const pfx_camera *cam,
+                                 const pfx_render_settings *s, const pfx_sprite *sprites,
+                                 size_t count, double dt, float *mv, pfx_diags *d) {
+    if (count > (size_t)INT32_MAX) {
+        pfx_diag_error(d, "too many sprites to draw: %zu", count);
+        return false;
+    }
+    pfx_view v;
+    if (!pfx_render_view(cam, r->width, r->height, &v, d) || !pfx_render_make_current(r, d) ||
+        !build_target(r, d))
+        return false;
+    bool drawn = draw_motion(r, &v, s, sprites, count, dt, d);
+    r->gl.ReadPixels(0, 0, r->width, r->height, GL_RGBA, GL_FLOAT, r->mv_pixels);
+    r->gl.BindFramebuffer(GL_FRAMEBUFFER, r->fbo);
+    GLenum e = r->gl.GetError();
+    if (!drawn)
+        return false;
+    if (e != GL_NO_ERROR) {
+        pfx_diag_error(d, "OpenGL error 0x%04x while drawing motion vectors of %zu sprites",
+                       (unsigned)e, count);
+        return false;
+    }
+    /* GL's rows run bottom up; the caller's top down. A pixel no sprite
+     * touches has weight 0: no motion, no coverage. */
+    const size_t w = (size_t)r->width;
+    for (int y = 0; y < r->height; y++) {
+        const float *src = r->mv_pixels + (size_t)(r->height - 1 - y) * w * 4;
+        float *dst = mv + (size_t)y * w * 3;
+        for (size_t x = 0; x < w; x++, src += 4, dst += 3) {
+            float sum = src[2];
+            dst[0] = sum > 0 ? src[0] / sum : 0.0f;
+            dst[1] = sum > 0 ? src[1] / sum : 0.0f;
+            dst[2] = src[3] < 0 ? 0.0f : src[3] > 1 ? 1.0f : src[3];
+        }
+    }
+    return true;
+}

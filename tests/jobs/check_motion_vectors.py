@@ -1,0 +1,138 @@
+"""Motion-vector frames with known answers, through `pfx render
+--motion-vectors`: single particles at a constant velocity under a
+perspective camera, whose displacement per frame is worked out here from
+the camera's fov and the image size; the encoding read back by a decoder
+of our own (tests/png16.py: Pillow reads 16-bit RGBA as 8-bit).
+
+usage: check_motion_vectors.py PFX WORKDIR SOURCE-DIR"""
+import json
+import math
+import os
+import subprocess
+import sys
+
+import numpy as np
+
+PFX, WORK, SRC = sys.argv[1], sys.argv[2], sys.argv[3]
+sys.path.insert(0, os.path.join(SRC, "tests"))
+import png16  # noqa: E402
+
+failures = []
+W, H, FPS, FOV, DIST = 96, 64, 10, 40.0, 5.0
+# A point on the plane z = 0 seen from (0, 0, 5) moves on screen by
+# v dt x (H / 2) / tan(fov / 2) / distance pixels (gluPerspective; the
+# horizontal scale is the same per pixel since aspect = W / H).
+PX_PER_M = (H / 2) / math.tan(math.radians(FOV) / 2) / DIST
+
+
+def check(ok, what):
+    print(("ok   " if ok else "FAIL ") + what)
+    if not ok:
+        failures.append(what)
+
+
+HEAD = f"""pfx: 1
+duration: 1
+fps: {FPS}
+seed: 3
+camera: {{ position: [0, 0, {DIST}], target: [0, 0, 0], fov: {FOV} }}
+image: {{ size: [{W}, {H}], background: "#00000000" }}
+emitters:
+"""
+
+ONE = """  {name}:
+    bursts: [{{ time: 0, count: 1 }}]
+    position: [{x}, {y}, 0]
+    speed: {speed}
+    direction: [{dx}, {dy}, 0]
+    spread: 0
+    lifetime: 10
+    size: 0.6
+    color: "{color}"
+    blend: {blend}
+    forces: []
+"""
+
+
+def one(name="one", x=0.0, y=0.0, speed=1.2, d=(1, 0), color="#ffffffff", blend="alpha"):
+    return ONE.format(name=name, x=x, y=y, speed=speed, dx=d[0], dy=d[1], color=color, blend=blend)
+
+
+def render(name, emitters, *args):
+    path = os.path.join(WORK, name + ".yaml")
+    with open(path, "w") as f:
+        f.write(HEAD + emitters)
+    out = os.path.join(WORK, name)
+    subprocess.run([PFX, "render", path, "-o", out, "-q", "--motion-vectors", *args], check=True)
+    frames = [png16.decode(os.path.join(out, f"{name}_mv_{k:04d}.png")) for k in range(FPS)]
+    return out, frames
+
+
+def decode(v, max_px, sign=1):
+    return sign * (v.astype(np.float64) / 65535.0 - 0.5) * 2.0 * max_px
+
+
+STEP = 1.2 / FPS * PX_PER_M  # px per frame at 1.2 m/s
+
+
+def single(name, d, args, max_px, sign_y=1):
+    """One particle moving along d: inside its footprint R and G decode to
+    the displacement; outside, (0.5, 0.5, 0, 0)."""
+    _, frames = render(name, one(x=-0.3 * d[0], y=-0.3 * d[1], d=d), *args)
+    want = (STEP * d[0], STEP * d[1])
+    bound = 2.0 * max_px / 65535  # one step of the 16-bit encoding
+    worst, outside_bad, covered = 0.0, 0, 0
+    for f in frames[:6]:
+        cov = f[..., 3] > 0
+        covered += int(cov.sum())
+        ex = np.abs(decode(f[..., 0][cov], max_px) - want[0]).max()
+        ey = np.abs(decode(f[..., 1][cov], max_px, sign_y) - want[1]).max()
+        worst = max(worst, ex, ey)
+        out = f[~cov]
+        outside_bad += int(((out[:, 0] != 32768) | (out[:, 1] != 32768) | (out[:, 2] != 0)).sum())
+        outside_bad += int((f[..., 2] != 0).sum())
+    check(covered > 6 * 50 and worst <= bound,
+          f"{name}: inside the footprint R, G decode to ({want[0]:.4f}, {want[1]:.4f}) px "
+          f"within {worst:.2e} (bound {bound:.2e}, one 16-bit step)")
+    check(outside_bad == 0, f"{name}: outside it (0.5, 0.5), A = 0, and B = 0 everywhere")
+    return frames
+
+
+f = single("right", (1, 0), ["--mv-max", "4"], 4.0)
+cov = f[2][..., 3] > 0
+check((f[2][..., 0][cov] > 32768).all() and (f[2][..., 1][cov] == 32768).all(),
+      "moving right: R > 0.5 and G = 0.5 exactly")
+check(f[2][..., 3].max() > 0.95 * 65535, f"coverage reaches {f[2][..., 3].max() / 65535:.3f} at the centre")
+f = single("up", (0, 1), ["--mv-max", "4"], 4.0)
+cov = f[2][..., 3] > 0
+check((f[2][..., 1][cov] > 32768).all() and (f[2][..., 0][cov] == 32768).all(),
+      "moving up: G > 0.5 (+G = up) and R = 0.5")
+f = single("up_flipped", (0, 1), ["--mv-max", "4", "--mv-flip-y"], 4.0, sign_y=-1)
+cov = f[2][..., 3] > 0
+check((f[2][..., 1][cov] < 32768).all(), "moving up with --mv-flip-y: G < 0.5 (+G = down)")
+
+# The scale from the sequence: the largest displacement is the one
+# particle's, so R is 1 inside it and the sidecar says max_px = STEP.
+out, f = render("auto", one(x=-0.3))
+meta = json.load(open(os.path.join(out, "auto_mv.json")))["motion_vectors"]
+check(abs(meta["max_px"] - STEP) < 1e-6 * STEP and meta["g"].startswith("+y: up"),
+      f"auto scale: max_px {meta['max_px']:.6f}, formula {STEP:.6f}")
+cov = f[3][..., 3] > 0
+check((f[3][..., 0][cov] >= 65534).all(), "auto scale: R is 1 inside the fastest particle")
+
+# Additive: colour alpha 0, yet weighted by the sprite's shape.
+f = single("additive", (1, 0), ["--mv-max", "4"], 4.0)[2]
+
+# Two particles over each other, opposite velocities, equal alpha: their
+# mean, 0.5 (no motion), wherever both are.
+for blend in ("alpha", "add"):
+    both = one("a", d=(1, 0), color="#ffffff80", blend=blend) + \
+        one("b", d=(-1, 0), color="#ffffff80", blend=blend)
+    _, f = render("pair_" + blend, both, "--mv-max", "4")
+    cov = f[0][..., 3] > 0
+    r = f[0][..., 0][cov].astype(int)
+    check(cov.sum() > 50 and np.abs(r - 32768).max() <= 1,
+          f"two {blend} particles with opposite velocities over each other: R = 0.5 "
+          f"(off by at most {np.abs(r - 32768).max()} of 65535)")
+
+sys.exit(1 if failures else 0)
