@@ -554,7 +554,7 @@ static int cmd_validate(int argc, char **argv, const options *o) {
 static bool make_dirs(const char *path, pfx_diags *d) {
     char buf[4096];
     if (strlen(path) >= sizeof buf) {
-        pfx_diag_error(d, "output path is too long");
+        pfx_diag_error(d, PFX_RULE_TOO_LARGE, "output path is too long");
         return false;
     }
     strcpy(buf, path);
@@ -564,15 +564,18 @@ static bool make_dirs(const char *path, pfx_diags *d) {
             *p = 0;
             struct stat st;
             if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
-                pfx_diag_error(d, "cannot create '%s': %s", buf, strerror(errno));
+                pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot create '%s': %s", buf,
+                               strerror(errno));
                 return false;
             }
             if (stat(buf, &st) != 0) { /* a symlink loop, a dangling link */
-                pfx_diag_error(d, "cannot create '%s': %s", buf, strerror(errno));
+                pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot create '%s': %s", buf,
+                               strerror(errno));
                 return false;
             }
             if (!S_ISDIR(st.st_mode)) {
-                pfx_diag_error(d, "cannot create '%s': %s", buf, strerror(ENOTDIR));
+                pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot create '%s': %s", buf,
+                               strerror(ENOTDIR));
                 return false;
             }
             *p = saved;
@@ -589,7 +592,7 @@ static bool make_parent_dirs(const char *path, pfx_diags *d) {
         return true;
     char dir[4096];
     if ((size_t)(slash - path) >= sizeof dir) {
-        pfx_diag_error(d, "output path is too long");
+        pfx_diag_error(d, PFX_RULE_TOO_LARGE, "output path is too long");
         return false;
     }
     memcpy(dir, path, (size_t)(slash - path));
@@ -634,7 +637,7 @@ static bool memory_fits(const pfx_effect *e, long first, long last, bool render,
     if (!o->max_memory || est.total_bytes <= (double)o->max_memory)
         return true;
     char need[32], bound[32], part[32];
-    pfx_diag_error(run,
+    pfx_diag_error(run, PFX_RULE_MEMORY_BOUND,
                    "this %s needs up to %s of memory, over the bound of %s (--max-memory, "
                    "default half of physical memory); the most goes to the %s: %s",
                    render ? "render" : "bake",
@@ -910,7 +913,7 @@ static int cmd_bake(int argc, char **argv, const options *o) {
     sim = pfx_sim_create(e, &run);
     view = pfx_sim_create(e, &run);
     if (!sim || !view) {
-        pfx_diag_error(&run, "out of memory");
+        pfx_diag_error(&run, PFX_RULE_OUT_OF_MEMORY, "out of memory");
         goto done;
     }
     if (!to_stdout && !make_parent_dirs(o->output, &run))
@@ -930,7 +933,7 @@ static int cmd_bake(int argc, char **argv, const options *o) {
     }
     if (!pfx_bake_close(b, ok, &run) || !ok) {
         if (!run.errors)
-            pfx_diag_error(&run, "cannot write the bake");
+            pfx_diag_error(&run, PFX_RULE_WRITE_FAILED, "cannot write the bake");
         goto done;
     }
     if (!to_stdout &&

@@ -21,7 +21,7 @@
 
 bool pfx_atlas_layout_resolve(pfx_atlas_layout *l, pfx_diags *d) {
     if (l->frames < 1) {
-        pfx_diag_error(d, "an atlas needs at least one frame");
+        pfx_diag_error(d, PFX_RULE_IMPOSSIBLE_REQUEST, "an atlas needs at least one frame");
         return false;
     }
     if (!l->columns && !l->rows) {
@@ -33,7 +33,8 @@ bool pfx_atlas_layout_resolve(pfx_atlas_layout *l, pfx_diags *d) {
         l->columns = (l->frames + l->rows - 1) / l->rows;
     }
     if ((long long)l->columns * l->rows < l->frames) {
-        pfx_diag_error(d, "an atlas of %dx%d cells cannot hold %d frames", l->columns, l->rows,
+        pfx_diag_error(d, PFX_RULE_IMPOSSIBLE_REQUEST,
+                       "an atlas of %dx%d cells cannot hold %d frames", l->columns, l->rows,
                        l->frames);
         return false;
     }
@@ -46,7 +47,7 @@ bool pfx_atlas_layout_resolve(pfx_atlas_layout *l, pfx_diags *d) {
     l->cell_h = l->crop_h + 2 * l->padding;
     long long w = (long long)l->cell_w * l->columns, h = (long long)l->cell_h * l->rows;
     if (w > PFX_ATLAS_MAX_SIDE || h > PFX_ATLAS_MAX_SIDE) {
-        pfx_diag_error(d,
+        pfx_diag_error(d, PFX_RULE_TOO_LARGE,
                        "an atlas of %dx%d cells of %dx%d pixels is %lldx%lld, over the %d "
                        "limit; use fewer frames, a smaller --size or --crop",
                        l->columns, l->rows, l->cell_w, l->cell_h, w, h, PFX_ATLAS_MAX_SIDE);
@@ -195,7 +196,7 @@ bool pfx_atlas_write_json(const char *path, const pfx_atlas_layout *l, const cha
         "sub_images_horizontal", l->columns, "sub_images_vertical", l->rows, "godot", "h_frames",
         l->columns, "v_frames", l->rows);
     if (!root) {
-        pfx_diag_error(d, "cannot write '%s': out of memory", path);
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "cannot write '%s': out of memory", path);
         return false;
     }
     pfx_atomic_file *a = pfx_atomic_open(path, d);
