@@ -26,6 +26,7 @@
 #include "jobs/slice.h"
 #include "output/atomic_file.h"
 #include "output/bake.h"
+#include "output/sarif.h"
 #include "render/render.h"
 #include "render/sprites.h"
 #include "sim/schedule.h"
@@ -35,8 +36,9 @@
 #define EXIT_USAGE 2
 
 static const char usage_text[] =
-    "usage: pfx validate [--format text|json] [--werror] [--max-particles N]\n"
+    "usage: pfx validate [--format text|json|sarif] [--werror] [--max-particles N]\n"
     "                  [--max-memory SIZE] FILE...\n"
+    "       pfx validate --list-rules\n"
     "       pfx render FILE... -o DIR [-j N] [--keep-going] [--frames A:B] [--size WxH]\n"
     "                  [--fps N] [--seed N] [--max-particles N] [--max-memory SIZE]\n"
     "                  [--renderer R] [--alpha MODE] [--threads N] [--force]\n"
@@ -73,8 +75,11 @@ static const char usage_text[] =
     "      --max-memory SIZE   refuse a run estimated to need more (K, M, G, T;\n"
     "                          default half of physical memory)\n"
     "      --every N           bake every Nth frame (default 1)\n"
-    "      --format FMT        diagnostics as 'text' (default) or 'json' lines; for bake,\n"
+    "      --format FMT        diagnostics as 'text' (default) or 'json' lines, or for\n"
+    "                          validate one SARIF 2.1.0 log on stdout ('sarif'); for bake,\n"
     "                          the cache: csv, ply or pcache (default: from the extension)\n"
+    "      --list-rules        validate: print every diagnostic's rule id, severity, name\n"
+    "                          and meaning\n"
     "  -j, --jobs N            render with N threads, each a contiguous part of the frames\n"
     "      --keep-going        render the other FILEs after one fails\n"
     "      --atlas[=CxR]       also pack the frames into <name>_atlas.png, a grid of C x R\n"
@@ -109,6 +114,8 @@ typedef struct options {
     bool has_frames;
     const char *format; /* --format, as given; NULL: the command's default */
     bool json;          /* diagnostics as JSON lines (validate --format json) */
+    bool sarif;         /* validate --format sarif: one SARIF log on stdout */
+    bool list_rules;    /* validate --list-rules */
     bool bench_json;    /* bench --json */
     bool quiet;
     long every;
@@ -241,6 +248,7 @@ static int parse_options(int argc, char **argv, options *o) {
         OPT_KEEP_GOING,
         OPT_PROGRESS,
         OPT_WERROR,
+        OPT_LIST_RULES,
         OPT_ATLAS,
         OPT_PADDING,
         OPT_EXTRUDE,
@@ -265,6 +273,7 @@ static int parse_options(int argc, char **argv, options *o) {
                                              {"keep-going", no_argument, 0, OPT_KEEP_GOING},
                                              {"progress", required_argument, 0, OPT_PROGRESS},
                                              {"werror", no_argument, 0, OPT_WERROR},
+                                             {"list-rules", no_argument, 0, OPT_LIST_RULES},
                                              {"atlas", optional_argument, 0, OPT_ATLAS},
                                              {"padding", required_argument, 0, OPT_PADDING},
                                              {"extrude", required_argument, 0, OPT_EXTRUDE},
@@ -352,6 +361,9 @@ static int parse_options(int argc, char **argv, options *o) {
         case OPT_WERROR:
             o->werror = true;
             break;
+        case OPT_LIST_RULES:
+            o->list_rules = true;
+            break;
         case OPT_PROGRESS:
             if (strcmp(optarg, "json"))
                 return usage_error("--progress takes 'json', got '%s'", optarg);
@@ -406,7 +418,7 @@ static int parse_options(int argc, char **argv, options *o) {
             o->every = (long)v;
             break;
         case OPT_FORMAT:
-            /* Each command reads its own words (validate: text, json; bake:
+            /* Each command reads its own words (validate: text, json, sarif; bake:
              * csv, ply, pcache); see format_of. */
             o->format = optarg;
             break;
@@ -504,10 +516,16 @@ static int parse_options(int argc, char **argv, options *o) {
     /* --format: the diagnostics' form for every command but bake, whose
      * word names the cache format (read in cmd_bake). */
     if (o->format && strcmp(argv[1], "bake")) {
-        if (strcmp(o->format, "text") && strcmp(o->format, "json"))
-            return usage_error("--format takes 'text' or 'json', got '%s'", o->format);
+        bool validate = !strcmp(argv[1], "validate");
+        o->sarif = validate && !strcmp(o->format, "sarif");
+        if (strcmp(o->format, "text") && strcmp(o->format, "json") && !o->sarif)
+            return usage_error(validate ? "--format takes 'text', 'json' or 'sarif', got '%s'"
+                                        : "--format takes 'text' or 'json', got '%s'",
+                               o->format);
         o->json = !strcmp(o->format, "json");
     }
+    if (o->list_rules && strcmp(argv[1], "validate"))
+        return usage_error("%s", "--list-rules is for validate");
     return -1;
 }
 
@@ -530,10 +548,22 @@ static pfx_effect *load(pfx_loaded *l, const char *path, const options *o) {
 }
 
 static int cmd_validate(int argc, char **argv, const options *o) {
+    if (o->list_rules) {
+        pfx_rules_print(stdout);
+        return 0;
+    }
     if (optind >= argc)
         return usage_error("%s", "validate needs at least one FILE");
     int status = 0;
-    for (int i = optind; i < argc; i++) {
+    /* --format sarif: every file's diagnostics gather into one log, written
+     * to stdout at the end (stderr keeps the --werror lines and failures
+     * to build or write the log). */
+    pfx_diags run;
+    pfx_diags_init_runtime(&run);
+    pfx_sarif *sarif = o->sarif ? pfx_sarif_create() : NULL;
+    if (o->sarif && !sarif)
+        pfx_diag_error(&run, PFX_RULE_OUT_OF_MEMORY, "out of memory for the SARIF log");
+    for (int i = optind; i < argc && !run.errors; i++) {
         pfx_loaded l;
         pfx_effect *e = pfx_load(&l, argv[i], &o->compile);
         if (e) {
@@ -542,11 +572,22 @@ static int cmd_validate(int argc, char **argv, const options *o) {
             pfx_estimate_run(e, 0, pfx_effect_frame_count(e) - 1, true, &est);
             pfx_estimate_warn(&l, &est, o->max_memory);
         }
-        pfx_diags_print(&l.diags, stderr, o->json);
+        if (sarif && !pfx_sarif_add(sarif, &l.diags))
+            pfx_diag_error(&run, PFX_RULE_OUT_OF_MEMORY, "out of memory for the SARIF log");
+        if (!sarif)
+            pfx_diags_print(&l.diags, stderr, o->json);
         if (!e || fails_on_warnings(&l, argv[i], o))
             status = EXIT_INVALID;
         pfx_loaded_free(&l);
     }
+    if (sarif && !run.errors && !pfx_sarif_write(sarif, stdout))
+        pfx_diag_error(&run, PFX_RULE_WRITE_FAILED,
+                       "cannot write the SARIF log to standard output");
+    pfx_sarif_destroy(sarif);
+    pfx_diags_print(&run, stderr, false);
+    if (run.errors)
+        status = EXIT_INVALID;
+    pfx_diags_free(&run);
     return status;
 }
 
