@@ -27,6 +27,7 @@
 #include "jobs/slice.h"
 #include "output/atomic_file.h"
 #include "output/bake.h"
+#include "output/sarif.h"
 #include "render/render.h"
 #include "render/sprites.h"
 #include "sim/schedule.h"
@@ -36,8 +37,9 @@
 #define EXIT_USAGE 2
 
 static const char usage_text[] =
-    "usage: pfx validate [--format text|json] [--werror] [--max-particles N]\n"
+    "usage: pfx validate [--format text|json|sarif] [--werror] [--max-particles N]\n"
     "                  [--max-memory SIZE] FILE...\n"
+    "       pfx validate --list-rules\n"
     "       pfx render FILE... -o DIR [-j N] [--keep-going] [--frames A:B] [--size WxH]\n"
     "                  [--fps N] [--seed N] [--max-particles N] [--max-memory SIZE]\n"
     "                  [--renderer R] [--alpha MODE] [--threads N] [--force]\n"
@@ -75,8 +77,11 @@ static const char usage_text[] =
     "      --max-memory SIZE   refuse a run estimated to need more (K, M, G, T;\n"
     "                          default half of physical memory)\n"
     "      --every N           bake every Nth frame (default 1)\n"
-    "      --format FMT        diagnostics as 'text' (default) or 'json' lines; for bake,\n"
+    "      --format FMT        diagnostics as 'text' (default) or 'json' lines, or for\n"
+    "                          validate one SARIF 2.1.0 log on stdout ('sarif'); for bake,\n"
     "                          the cache: csv, ply or pcache (default: from the extension)\n"
+    "      --list-rules        validate: print every diagnostic's rule id, severity, name\n"
+    "                          and meaning\n"
     "  -j, --jobs N            render with N threads, each a contiguous part of the frames\n"
     "      --keep-going        render the other FILEs after one fails\n"
     "      --atlas[=CxR]       also pack the frames into <name>_atlas.png, a grid of C x R\n"
@@ -116,6 +121,8 @@ typedef struct options {
     bool has_frames;
     const char *format; /* --format, as given; NULL: the command's default */
     bool json;          /* diagnostics as JSON lines (validate --format json) */
+    bool sarif;         /* validate --format sarif: one SARIF log on stdout */
+    bool list_rules;    /* validate --list-rules */
     bool bench_json;    /* bench --json */
     bool quiet;
     long every;
@@ -251,6 +258,7 @@ static int parse_options(int argc, char **argv, options *o) {
         OPT_KEEP_GOING,
         OPT_PROGRESS,
         OPT_WERROR,
+        OPT_LIST_RULES,
         OPT_ATLAS,
         OPT_PADDING,
         OPT_EXTRUDE,
@@ -278,6 +286,7 @@ static int parse_options(int argc, char **argv, options *o) {
                                              {"keep-going", no_argument, 0, OPT_KEEP_GOING},
                                              {"progress", required_argument, 0, OPT_PROGRESS},
                                              {"werror", no_argument, 0, OPT_WERROR},
+                                             {"list-rules", no_argument, 0, OPT_LIST_RULES},
                                              {"atlas", optional_argument, 0, OPT_ATLAS},
                                              {"padding", required_argument, 0, OPT_PADDING},
                                              {"extrude", required_argument, 0, OPT_EXTRUDE},
@@ -382,6 +391,9 @@ static int parse_options(int argc, char **argv, options *o) {
         case OPT_WERROR:
             o->werror = true;
             break;
+        case OPT_LIST_RULES:
+            o->list_rules = true;
+            break;
         case OPT_PROGRESS:
             if (strcmp(optarg, "json"))
                 return usage_error("--progress takes 'json', got '%s'", optarg);
@@ -436,7 +448,7 @@ static int parse_options(int argc, char **argv, options *o) {
             o->every = (long)v;
             break;
         case OPT_FORMAT:
-            /* Each command reads its own words (validate: text, json; bake:
+            /* Each command reads its own words (validate: text, json, sarif; bake:
              * csv, ply, pcache); see format_of. */
             o->format = optarg;
             break;
@@ -541,10 +553,16 @@ static int parse_options(int argc, char **argv, options *o) {
     /* --format: the diagnostics' form for every command but bake, whose
      * word names the cache format (read in cmd_bake). */
     if (o->format && strcmp(argv[1], "bake")) {
-        if (strcmp(o->format, "text") && strcmp(o->format, "json"))
-            return usage_error("--format takes 'text' or 'json', got '%s'", o->format);
+        bool validate = !strcmp(argv[1], "validate");
+        o->sarif = validate && !strcmp(o->format, "sarif");
+        if (strcmp(o->format, "text") && strcmp(o->format, "json") && !o->sarif)
+            return usage_error(validate ? "--format takes 'text', 'json' or 'sarif', got '%s'"
+                                        : "--format takes 'text' or 'json', got '%s'",
+                               o->format);
         o->json = !strcmp(o->format, "json");
     }
+    if (o->list_rules && strcmp(argv[1], "validate"))
+        return usage_error("%s", "--list-rules is for validate");
     return -1;
 }
 
@@ -567,10 +585,22 @@ static pfx_effect *load(pfx_loaded *l, const char *path, const options *o) {
 }
 
 static int cmd_validate(int argc, char **argv, const options *o) {
+    if (o->list_rules) {
+        pfx_rules_print(stdout);
+        return 0;
+    }
     if (optind >= argc)
         return usage_error("%s", "validate needs at least one FILE");
     int status = 0;
-    for (int i = optind; i < argc; i++) {
+    /* --format sarif: every file's diagnostics gather into one log, written
+     * to stdout at the end (stderr keeps the --werror lines and failures
+     * to build or write the log). */
+    pfx_diags run;
+    pfx_diags_init_runtime(&run);
+    pfx_sarif *sarif = o->sarif ? pfx_sarif_create() : NULL;
+    if (o->sarif && !sarif)
+        pfx_diag_error(&run, PFX_RULE_OUT_OF_MEMORY, "out of memory for the SARIF log");
+    for (int i = optind; i < argc && !run.errors; i++) {
         pfx_loaded l;
         pfx_effect *e = pfx_load(&l, argv[i], &o->compile);
         if (e) {
@@ -579,11 +609,22 @@ static int cmd_validate(int argc, char **argv, const options *o) {
             pfx_estimate_run(e, 0, pfx_effect_frame_count(e) - 1, true, &est);
             pfx_estimate_warn(&l, &est, o->max_memory);
         }
-        pfx_diags_print(&l.diags, stderr, o->json);
+        if (sarif && !pfx_sarif_add(sarif, &l.diags))
+            pfx_diag_error(&run, PFX_RULE_OUT_OF_MEMORY, "out of memory for the SARIF log");
+        if (!sarif)
+            pfx_diags_print(&l.diags, stderr, o->json);
         if (!e || fails_on_warnings(&l, argv[i], o))
             status = EXIT_INVALID;
         pfx_loaded_free(&l);
     }
+    if (sarif && !run.errors && !pfx_sarif_write(sarif, stdout))
+        pfx_diag_error(&run, PFX_RULE_WRITE_FAILED,
+                       "cannot write the SARIF log to standard output");
+    pfx_sarif_destroy(sarif);
+    pfx_diags_print(&run, stderr, false);
+    if (run.errors)
+        status = EXIT_INVALID;
+    pfx_diags_free(&run);
     return status;
 }
 
@@ -591,7 +632,7 @@ static int cmd_validate(int argc, char **argv, const options *o) {
 static bool make_dirs(const char *path, pfx_diags *d) {
     char buf[4096];
     if (strlen(path) >= sizeof buf) {
-        pfx_diag_error(d, "output path is too long");
+        pfx_diag_error(d, PFX_RULE_TOO_LARGE, "output path is too long");
         return false;
     }
     strcpy(buf, path);
@@ -601,15 +642,18 @@ static bool make_dirs(const char *path, pfx_diags *d) {
             *p = 0;
             struct stat st;
             if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
-                pfx_diag_error(d, "cannot create '%s': %s", buf, strerror(errno));
+                pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot create '%s': %s", buf,
+                               strerror(errno));
                 return false;
             }
             if (stat(buf, &st) != 0) { /* a symlink loop, a dangling link */
-                pfx_diag_error(d, "cannot create '%s': %s", buf, strerror(errno));
+                pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot create '%s': %s", buf,
+                               strerror(errno));
                 return false;
             }
             if (!S_ISDIR(st.st_mode)) {
-                pfx_diag_error(d, "cannot create '%s': %s", buf, strerror(ENOTDIR));
+                pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot create '%s': %s", buf,
+                               strerror(ENOTDIR));
                 return false;
             }
             *p = saved;
@@ -626,7 +670,7 @@ static bool make_parent_dirs(const char *path, pfx_diags *d) {
         return true;
     char dir[4096];
     if ((size_t)(slash - path) >= sizeof dir) {
-        pfx_diag_error(d, "output path is too long");
+        pfx_diag_error(d, PFX_RULE_TOO_LARGE, "output path is too long");
         return false;
     }
     memcpy(dir, path, (size_t)(slash - path));
@@ -671,7 +715,7 @@ static bool memory_fits(const pfx_effect *e, long first, long last, bool render,
     if (!o->max_memory || est.total_bytes <= (double)o->max_memory)
         return true;
     char need[32], bound[32], part[32];
-    pfx_diag_error(run,
+    pfx_diag_error(run, PFX_RULE_MEMORY_BOUND,
                    "this %s needs up to %s of memory, over the bound of %s (--max-memory, "
                    "default half of physical memory); the most goes to the %s: %s",
                    render ? "render" : "bake",
@@ -965,7 +1009,7 @@ static int cmd_bake(int argc, char **argv, const options *o) {
     sim = pfx_sim_create(e, &run);
     view = pfx_sim_create(e, &run);
     if (!sim || !view) {
-        pfx_diag_error(&run, "out of memory");
+        pfx_diag_error(&run, PFX_RULE_OUT_OF_MEMORY, "out of memory");
         goto done;
     }
     if (!to_stdout && !make_parent_dirs(o->output, &run))
@@ -985,7 +1029,7 @@ static int cmd_bake(int argc, char **argv, const options *o) {
     }
     if (!pfx_bake_close(b, ok, &run) || !ok) {
         if (!run.errors)
-            pfx_diag_error(&run, "cannot write the bake");
+            pfx_diag_error(&run, PFX_RULE_WRITE_FAILED, "cannot write the bake");
         goto done;
     }
     if (!to_stdout &&

@@ -7,6 +7,35 @@
 #include <stdlib.h>
 #include <string.h>
 
+const pfx_rule_info pfx_rules[] = {
+#define PFX_RULE_ROW(num, id, name, sev, help) {PFX_RULE_##id, name, PFX_SEV_##sev, help},
+    PFX_DIAG_RULES(PFX_RULE_ROW)
+#undef PFX_RULE_ROW
+};
+const size_t pfx_rule_count = sizeof pfx_rules / sizeof pfx_rules[0];
+
+const pfx_rule_info *pfx_rule_find(pfx_rule rule) {
+    for (size_t i = 0; i < pfx_rule_count && rule != PFX_RULE_NONE; i++)
+        if (pfx_rules[i].rule == rule)
+            return &pfx_rules[i];
+    return NULL;
+}
+
+void pfx_rules_print(FILE *out) {
+    static const char *const sev[] = {"error", "warning", "note"};
+    for (size_t i = 0; i < pfx_rule_count; i++)
+        fprintf(out, "PFX%04d  %-7s  %-20s  %s\n", (int)pfx_rules[i].rule,
+                sev[pfx_rules[i].severity], pfx_rules[i].name, pfx_rules[i].help);
+}
+
+const char *pfx_rule_id(pfx_rule rule, char *buf, size_t size) {
+    if (rule == PFX_RULE_NONE)
+        snprintf(buf, size, "%s", "");
+    else
+        snprintf(buf, size, "PFX%04d", (int)rule);
+    return buf;
+}
+
 void pfx_diags_init(pfx_diags *d, const char *file, const char *source, size_t source_len) {
     memset(d, 0, sizeof *d);
     d->file = file;
@@ -16,26 +45,34 @@ void pfx_diags_init(pfx_diags *d, const char *file, const char *source, size_t s
 
 void pfx_diags_init_runtime(pfx_diags *d) { pfx_diags_init(d, NULL, NULL, 0); }
 
-void pfx_diag_error(pfx_diags *d, const char *fmt, ...) {
+void pfx_diag_error(pfx_diags *d, pfx_rule rule, const char *fmt, ...) {
     if (!d)
         return;
     va_list ap;
     va_start(ap, fmt);
-    pfx_diag_vadd(d, PFX_SEV_ERROR, 0, 0, 0, fmt, ap);
+    pfx_diag_vadd(d, PFX_SEV_ERROR, 0, 0, 0, rule, fmt, ap);
     va_end(ap);
 }
 
-void pfx_diag_error_at(const pfx_diag_at *at, const char *fmt, ...) {
+void pfx_diag_error_at(const pfx_diag_at *at, pfx_rule rule, const char *fmt, ...) {
     va_list ap;
     va_start(ap, fmt);
-    pfx_diag_vadd(at->d, PFX_SEV_ERROR, at->line, at->col, at->span > 0 ? at->span : 1, fmt, ap);
+    pfx_diag_vadd(at->d, PFX_SEV_ERROR, at->line, at->col, at->span > 0 ? at->span : 1, rule, fmt,
+                  ap);
+    va_end(ap);
+}
+
+void pfx_diag_note(pfx_diags *d, int line, int col, int span, const char *fmt, ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    pfx_diag_vadd(d, PFX_SEV_NOTE, line, col, span, PFX_RULE_NONE, fmt, ap);
     va_end(ap);
 }
 
 void pfx_diags_append(pfx_diags *dst, pfx_diags *src) {
     for (size_t i = 0; i < src->count; i++) {
         const pfx_diag *g = &src->items[i];
-        pfx_diag_add(dst, g->severity, g->line, g->col, g->span, "%s", g->message);
+        pfx_diag_add(dst, g->severity, g->line, g->col, g->span, g->rule, "%s", g->message);
     }
     pfx_diags_free(src);
 }
@@ -48,8 +85,8 @@ void pfx_diags_free(pfx_diags *d) {
     d->count = d->cap = 0;
 }
 
-void pfx_diag_vadd(pfx_diags *d, pfx_severity sev, int line, int col, int span, const char *fmt,
-                   va_list ap) {
+void pfx_diag_vadd(pfx_diags *d, pfx_severity sev, int line, int col, int span, pfx_rule rule,
+                   const char *fmt, va_list ap) {
     if (!d)
         return;
     if (sev == PFX_SEV_ERROR)
@@ -106,16 +143,17 @@ void pfx_diag_vadd(pfx_diags *d, pfx_severity sev, int line, int col, int span, 
     g->col = col;
     g->span = span > 0 ? span : 1;
     g->seq = (int)d->count;
+    g->rule = sev == PFX_SEV_NOTE ? PFX_RULE_NONE : rule;
     g->message = strdup(buf);
     if (g->message)
         d->count++;
 }
 
-void pfx_diag_add(pfx_diags *d, pfx_severity sev, int line, int col, int span, const char *fmt,
-                  ...) {
+void pfx_diag_add(pfx_diags *d, pfx_severity sev, int line, int col, int span, pfx_rule rule,
+                  const char *fmt, ...) {
     va_list ap;
     va_start(ap, fmt);
-    pfx_diag_vadd(d, sev, line, col, span, fmt, ap);
+    pfx_diag_vadd(d, sev, line, col, span, rule, fmt, ap);
     va_end(ap);
 }
 
@@ -217,18 +255,23 @@ static int display_width(unsigned c) {
 }
 
 static void print_text(const pfx_diags *d, const pfx_diag *g, FILE *out) {
+    /* The rule id ends the line, as gcc and clang-tidy print their option
+     * or check name: " [PFX3001]". */
+    char id[16], tail[20] = "";
+    if (g->rule != PFX_RULE_NONE)
+        snprintf(tail, sizeof tail, " [%s]", pfx_rule_id(g->rule, id, sizeof id));
     if (!d->file) { /* a runtime failure: "pfx: message", git's form */
         if (g->severity == PFX_SEV_ERROR)
-            fprintf(out, "pfx: %s\n", g->message);
+            fprintf(out, "pfx: %s%s\n", g->message, tail);
         else
-            fprintf(out, "pfx: %s: %s\n", severity_name(g->severity), g->message);
+            fprintf(out, "pfx: %s: %s%s\n", severity_name(g->severity), g->message, tail);
         return;
     }
     if (g->line > 0)
-        fprintf(out, "%s:%d:%d: %s: %s\n", d->file, g->line, g->col, severity_name(g->severity),
-                g->message);
+        fprintf(out, "%s:%d:%d: %s: %s%s\n", d->file, g->line, g->col, severity_name(g->severity),
+                g->message, tail);
     else
-        fprintf(out, "%s: %s: %s\n", d->file, severity_name(g->severity), g->message);
+        fprintf(out, "%s: %s: %s%s\n", d->file, severity_name(g->severity), g->message, tail);
     size_t len = 0;
     const char *text = source_line(d, g->line, &len);
     if (!text)
@@ -271,10 +314,16 @@ static void print_text(const pfx_diags *d, const pfx_diag *g, FILE *out) {
     fputc('\n', out);
 }
 
-void pfx_diags_print(const pfx_diags *d, FILE *out, bool json) {
+size_t *pfx_diags_order(const pfx_diags *d) {
     diag_group *groups = malloc((d->count + 1) * sizeof *groups);
+    size_t *order = malloc((d->count + 1) * sizeof *order);
+    if (!groups || !order) {
+        free(groups);
+        free(order);
+        return NULL;
+    }
     size_t n = 0;
-    for (size_t i = 0; i < d->count && groups; i++) {
+    for (size_t i = 0; i < d->count; i++) {
         const pfx_diag *g = &d->items[i];
         if (g->severity == PFX_SEV_NOTE && n > 0) {
             groups[n - 1].count++;
@@ -282,27 +331,43 @@ void pfx_diags_print(const pfx_diags *d, FILE *out, bool json) {
         }
         groups[n++] = (diag_group){g->line, g->col, g->seq, i, 1};
     }
-    if (groups)
-        qsort(groups, n, sizeof *groups, group_cmp);
-    for (size_t k = 0; k < n; k++) {
-        for (size_t i = groups[k].first; i < groups[k].first + groups[k].count; i++) {
-            const pfx_diag *g = &d->items[i];
-            if (json) {
-                fputs("{\"file\":", out);
-                if (d->file)
-                    print_json_string(out, d->file);
-                else
-                    fputs("null", out);
-                fprintf(out, ",\"line\":%d,\"column\":%d,\"severity\":\"%s\",\"message\":", g->line,
-                        g->col, severity_name(g->severity));
-                print_json_string(out, g->message);
-                fputs("}\n", out);
-            } else {
-                print_text(d, g, out);
-            }
-        }
-    }
+    qsort(groups, n, sizeof *groups, group_cmp);
+    size_t k = 0;
+    for (size_t j = 0; j < n; j++)
+        for (size_t i = groups[j].first; i < groups[j].first + groups[j].count; i++)
+            order[k++] = i;
     free(groups);
+    return order;
+}
+
+static void print_json(const pfx_diags *d, const pfx_diag *g, FILE *out) {
+    fputs("{\"file\":", out);
+    if (d->file)
+        print_json_string(out, d->file);
+    else
+        fputs("null", out);
+    char id[16];
+    fprintf(out, ",\"line\":%d,\"column\":%d,\"severity\":\"%s\",\"rule\":", g->line, g->col,
+            severity_name(g->severity));
+    if (g->rule != PFX_RULE_NONE)
+        fprintf(out, "\"%s\"", pfx_rule_id(g->rule, id, sizeof id));
+    else
+        fputs("null", out);
+    fputs(",\"message\":", out);
+    print_json_string(out, g->message);
+    fputs("}\n", out);
+}
+
+void pfx_diags_print(const pfx_diags *d, FILE *out, bool json) {
+    size_t *order = pfx_diags_order(d);
+    for (size_t k = 0; k < d->count && order; k++) {
+        const pfx_diag *g = &d->items[order[k]];
+        if (json)
+            print_json(d, g, out);
+        else
+            print_text(d, g, out);
+    }
+    free(order);
     if (d->dropped && !json)
         fprintf(out, "%s: note: %d more diagnostics not shown\n", d->file ? d->file : "pfx",
                 d->dropped);

@@ -101,7 +101,7 @@ bool pfx_bench_looks(FILE *out, pfx_renderer *r, int width, int height, pfx_diag
     uint8_t *rgba = malloc((size_t)width * height * 4);
     bool ok = tex.pixels && sheet.pixels && s && rgba;
     if (!ok)
-        pfx_diag_error(d, "out of memory for the sprite benchmark");
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for the sprite benchmark");
     const pfx_material round = {.sprite = PFX_SPRITE_ROUND, .cols = 1, .rows = 1, .frames = 1};
     look_case cases[] = {
         {"round (the plain sprite)", round, 0},

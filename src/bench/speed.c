@@ -319,7 +319,7 @@ static bool bench_render(report *rep, const char *fire_path, pfx_renderer *r, in
                           .first = 0,
                           .last = pfx_effect_frame_count(e) - 1};
     if (!mkdtemp(dir)) {
-        pfx_diag_error(d, "cannot create '%s': %s", dir, strerror(errno));
+        pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot create '%s': %s", dir, strerror(errno));
         pfx_loaded_free(&l);
         return false;
     }
@@ -393,7 +393,7 @@ bool pfx_bench_speed(FILE *out, const char *fire_path, pfx_renderer_kind rendere
         if (text)
             fprintf(out, "%s\n", text);
         else
-            pfx_diag_error(d, "out of memory");
+            pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
         ok = text != NULL;
         free(text);
     }

@@ -52,14 +52,16 @@ static void read_fov(pfx_reader *r, const pfx_node *map, const pfx_node *v, void
     if (!pfx_read_number(r, v, "fov", &deg))
         return;
     if (!(deg > 0 && deg < 180))
-        pfx_read_error(r, v, "'fov' must be between 0 and 180 degrees (exclusive), got %g", deg);
+        pfx_read_error(r, v, PFX_RULE_OUT_OF_RANGE,
+                       "'fov' must be between 0 and 180 degrees (exclusive), got %g", deg);
     k->fov = deg * PFX_DEGREE;
 }
 
 static void read_ortho(pfx_reader *r, const pfx_node *map, const pfx_node *v, void *dest) {
     pfx_camera *k = dest;
     if (pfx_node_get(map, "fov")) {
-        pfx_read_error(r, v, "'camera' takes either 'fov' or 'ortho', not both");
+        pfx_read_error(r, v, PFX_RULE_CONFLICTING_KEYS,
+                       "'camera' takes either 'fov' or 'ortho', not both");
         return;
     }
     if (pfx_read_number(r, v, "ortho", &k->ortho_height)) {
@@ -119,11 +121,12 @@ static void compile_camera(compiler *c, const pfx_node *cam) {
     const pfx_node *target = pfx_node_get(cam, "target"), *up = pfx_node_get(cam, "up");
     switch (pfx_camera_frame(k, side, up_axis, forward)) {
     case PFX_CAMERA_SAME_POINT:
-        pfx_read_error(&c->r, target ? target : cam,
+        pfx_read_error(&c->r, target ? target : cam, PFX_RULE_INCONSISTENT_VALUES,
                        "camera 'position' and 'target' are the same point");
         break;
     case PFX_CAMERA_UP_PARALLEL:
-        pfx_read_error(&c->r, up ? up : cam, "camera 'up' is parallel to the view direction");
+        pfx_read_error(&c->r, up ? up : cam, PFX_RULE_INCONSISTENT_VALUES,
+                       "camera 'up' is parallel to the view direction");
         break;
     case PFX_CAMERA_OK:
         break;
@@ -152,7 +155,7 @@ static void read_image_size(pfx_reader *r, const pfx_node *map, const pfx_node *
     for (int i = 0; i < 2; i++) {
         const pfx_node *n = size->items[i];
         if (wh[i] != floor(wh[i]) || wh[i] < 1 || wh[i] > MAX_IMAGE_SIDE) {
-            pfx_read_error(r, n,
+            pfx_read_error(r, n, PFX_RULE_OUT_OF_RANGE,
                            "image 'size' must be whole numbers of pixels from 1 to %d, got %g",
                            MAX_IMAGE_SIDE, wh[i]);
             sides_ok = false;
@@ -162,7 +165,7 @@ static void read_image_size(pfx_reader *r, const pfx_node *map, const pfx_node *
     e->height = (int)fmin(fmax(wh[1], 1), MAX_IMAGE_SIDE);
     /* Each side in range, the two together may still be too many. */
     if (sides_ok && (double)e->width * e->height > (double)PFX_MAX_IMAGE_PIXELS)
-        pfx_read_error(r, size,
+        pfx_read_error(r, size, PFX_RULE_TOO_LARGE,
                        "image 'size' %dx%d has %.0f pixels; the renderer's float framebuffer "
                        "holds at most %llu (16 bytes a pixel, 2 GiB), such as 16384x8192",
                        e->width, e->height, (double)e->width * e->height,
@@ -203,7 +206,8 @@ static void read_version(pfx_reader *r, const pfx_node *map, const pfx_node *v, 
     (void)map, (void)dest;
     double version;
     if (pfx_read_number(r, v, "pfx", &version) && version != PFX_FORMAT_VERSION)
-        pfx_read_error(r, v, "unsupported format version '%s'; this pfx reads version %d", v->text,
+        pfx_read_error(r, v, PFX_RULE_FORMAT_VERSION,
+                       "unsupported format version '%s'; this pfx reads version %d", v->text,
                        PFX_FORMAT_VERSION);
 }
 
@@ -281,8 +285,8 @@ static void compile_forces(compiler *c, const pfx_node *forces) {
     if (!pfx_read_map(&c->r, forces, "forces"))
         return;
     if (forces->count > PFX_MAX_FORCES) {
-        pfx_read_error(&c->r, forces, "an effect has at most %d forces, got %zu", PFX_MAX_FORCES,
-                       forces->count);
+        pfx_read_error(&c->r, forces, PFX_RULE_TOO_MANY, "an effect has at most %d forces, got %zu",
+                       PFX_MAX_FORCES, forces->count);
         return;
     }
     c->e->forces = pfx_arena_alloc(c->r.arena, (forces->count + 1) * sizeof *c->e->forces);
@@ -297,8 +301,9 @@ static void compile_deflectors(compiler *c, const pfx_node *defl) {
     if (!pfx_read_map(&c->r, defl, "deflectors"))
         return;
     if (defl->count > PFX_MAX_DEFLECTORS) {
-        pfx_read_error(&c->r, defl, "an effect has at most %d deflectors, got %zu",
-                       PFX_MAX_DEFLECTORS, defl->count);
+        pfx_read_error(&c->r, defl, PFX_RULE_TOO_MANY,
+                       "an effect has at most %d deflectors, got %zu", PFX_MAX_DEFLECTORS,
+                       defl->count);
         return;
     }
     c->e->deflectors = pfx_arena_alloc(c->r.arena, (defl->count + 1) * sizeof *c->e->deflectors);
@@ -314,12 +319,13 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
     compiler c = {.r = {d, arena}, .opt = opt};
     int errors_before = d->errors;
     if (!root) {
-        pfx_diag_add(d, PFX_SEV_ERROR, 1, 1, 1,
+        pfx_diag_add(d, PFX_SEV_ERROR, 1, 1, 1, PFX_RULE_EMPTY_FILE,
                      "the file is empty; an effect starts with 'pfx: 1' and lists its 'emitters'");
         return NULL;
     }
     if (root->kind != PFX_NODE_MAP) {
-        pfx_read_error(&c.r, root, "an effect file must be a mapping of keys, got %s",
+        pfx_read_error(&c.r, root, PFX_RULE_WRONG_TYPE,
+                       "an effect file must be a mapping of keys, got %s",
                        pfx_node_kind_name(root));
         return NULL;
     }
@@ -340,7 +346,7 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
 
     pfx_keys_check(&c.r, root, &pfx_schema_top, "the effect");
     if (!pfx_node_get(root, "pfx"))
-        pfx_diag_add(d, PFX_SEV_ERROR, root->line, root->col, 1,
+        pfx_diag_add(d, PFX_SEV_ERROR, root->line, root->col, 1, PFX_RULE_FORMAT_VERSION,
                      "missing 'pfx: 1' (the format version) at the top of the effect");
     pfx_keys_read(&c.r, root, &pfx_schema_top, e);
     const pfx_node *v;
@@ -365,8 +371,9 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
     if (!at)
         at = pfx_node_get(root, "fps");
     if (e->duration * e->fps > MAX_FRAMES)
-        pfx_read_error(&c.r, at ? at : root, "duration x fps gives %.0f frames; the most is %.0f",
-                       e->duration * e->fps, MAX_FRAMES);
+        pfx_read_error(&c.r, at ? at : root, PFX_RULE_TOO_MUCH_WORK,
+                       "duration x fps gives %.0f frames; the most is %.0f", e->duration * e->fps,
+                       MAX_FRAMES);
     /* Every frame needs the simulation run up to it: bound the steps. */
     double steps = (e->prewarm + e->duration) * e->sim_rate;
     if (steps > MAX_STEPS) {
@@ -374,7 +381,7 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
         const pfx_node *where = pfx_node_get(sim, "prewarm");
         if (!where)
             where = at ? at : pfx_node_get(sim, "rate");
-        pfx_read_error(&c.r, where ? where : root,
+        pfx_read_error(&c.r, where ? where : root, PFX_RULE_TOO_MUCH_WORK,
                        "'prewarm' + 'duration' at %g steps/s is %.0f simulation steps; the most is "
                        "%.0f",
                        e->sim_rate, steps, MAX_STEPS);
@@ -383,13 +390,14 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
     const pfx_node *loop = pfx_node_get(root, "loop");
     const pfx_node *emitters = pfx_node_get(root, "emitters");
     if (!emitters) {
-        pfx_diag_add(d, PFX_SEV_WARNING, root->line, root->col, 1,
+        pfx_diag_add(d, PFX_SEV_WARNING, root->line, root->col, 1, PFX_RULE_EMPTY_EFFECT,
                      "the effect has no 'emitters': every frame will be empty");
     } else if (pfx_read_map(&c.r, emitters, "emitters") && emitters->count > PFX_MAX_EMITTERS) {
         /* Before compiling any: the cap bounds the work, not only the
          * result. */
-        pfx_read_error(&c.r, emitters, "an effect has at most %d emitters, got %zu",
-                       PFX_MAX_EMITTERS, emitters->count);
+        pfx_read_error(&c.r, emitters, PFX_RULE_TOO_MANY,
+                       "an effect has at most %d emitters, got %zu", PFX_MAX_EMITTERS,
+                       emitters->count);
     } else if (emitters->kind == PFX_NODE_MAP) {
         e->emitters = pfx_arena_alloc(arena, (emitters->count + 1) * sizeof *e->emitters);
         if (!e->emitters)
@@ -417,7 +425,7 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
                 e->emitters[i].horizon = end - e->emitters[i].start + 1;
             /* Frame 0 of a loop comes after its warm-up: bound those steps too. */
             if (e->loop && end * e->sim_rate > MAX_STEPS)
-                pfx_read_error(&c.r, loop,
+                pfx_read_error(&c.r, loop, PFX_RULE_TOO_MUCH_WORK,
                                "the loop shows frames from t = %g s (when every particle alive "
                                "repeats), %.0f simulation steps; the most is %.0f: shorten the "
                                "lifetimes or lower sim.rate",

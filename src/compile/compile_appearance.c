@@ -99,7 +99,7 @@ static void compile_color(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
         return;
     const pfx_node *rnd = pfx_node_get(n, "random"), *pick = pfx_node_get(n, "pick");
     if ((rnd != NULL) == (pick != NULL)) {
-        pfx_read_error(r, n,
+        pfx_read_error(r, n, PFX_RULE_WRONG_TYPE,
                        "'color' as a mapping takes either {random: [c1, c2]} or "
                        "{pick: gradient}");
         return;
@@ -111,7 +111,7 @@ static void compile_color(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
     }
     if (rnd->kind != PFX_NODE_SEQ || rnd->count != 2 ||
         (rnd->items[0]->kind == PFX_NODE_SCALAR && rnd->items[0]->plain)) {
-        pfx_read_error(r, rnd, "'random' takes two colours [c1, c2]");
+        pfx_read_error(r, rnd, PFX_RULE_WRONG_TYPE, "'random' takes two colours [c1, c2]");
         return;
     }
     if (pfx_read_color(r, rnd->items[0], "color", PFX_HDR_MAX, em->color_a) &&

@@ -17,7 +17,7 @@ static void read_normal(pfx_reader *r, const pfx_node *map, const pfx_node *v, v
     pfx_deflector *d = dest;
     if (pfx_read_vec3_within(r, map, "normal", d->normal, 1e6) && d->normal[0] == 0 &&
         d->normal[1] == 0 && d->normal[2] == 0)
-        pfx_read_error(r, v, "'normal' must not be the zero vector");
+        pfx_read_error(r, v, PFX_RULE_ZERO_VECTOR, "'normal' must not be the zero vector");
 }
 
 /* A bounded plane's [w, h] or a box's [x, y, z]: each above 0, at most 1e6. */
@@ -28,8 +28,8 @@ static void read_size(pfx_reader *r, const pfx_node *map, const pfx_node *v, voi
     if (pfx_read_numbers(r, v, "size", d->size, count))
         for (int i = 0; i < count; i++)
             if (!(d->size[i] > 0 && d->size[i] <= 1e6))
-                pfx_read_error(r, v->items[i], "'size' must be above 0 and at most 1e6, got %g",
-                               d->size[i]);
+                pfx_read_error(r, v->items[i], PFX_RULE_OUT_OF_RANGE,
+                               "'size' must be above 0 and at most 1e6, got %g", d->size[i]);
 }
 
 #define POINT_ROWS                                                                                 \

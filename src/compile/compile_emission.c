@@ -61,7 +61,7 @@ static bool read_rate(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
         return false;
     const pfx_node *m = pfx_node_get(n, "mean"), *v = pfx_node_get(n, "var");
     if (!m) {
-        pfx_read_error(r, n,
+        pfx_read_error(r, n, PFX_RULE_WRONG_TYPE,
                        "'rate' must be a number, {mean, var}, {initial, delta} or a curve "
                        "[{t, value}, ...]");
         return false;
@@ -78,13 +78,14 @@ static bool read_bursts(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
     static const char *const burst_keys[] = {"time",     "count",       "cycles",
                                              "interval", "probability", NULL};
     if (n->kind != PFX_NODE_SEQ) {
-        pfx_read_error(r, n,
+        pfx_read_error(r, n, PFX_RULE_WRONG_TYPE,
                        "'bursts' must be a list of {time, count, cycles, interval, "
                        "probability}");
         return false;
     }
     if (n->count > MAX_KEYS) {
-        pfx_read_error(r, n, "an emitter has at most %d bursts, got %zu", MAX_KEYS, n->count);
+        pfx_read_error(r, n, PFX_RULE_TOO_MANY, "an emitter has at most %d bursts, got %zu",
+                       MAX_KEYS, n->count);
         return false;
     }
     em->bursts = pfx_arena_alloc(r->arena, (n->count + 1) * sizeof *em->bursts);
@@ -115,7 +116,8 @@ static bool read_bursts(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
                   pfx_check_above(r, v, "cycles", cycles, 1, false) &&
                   pfx_check_below(r, v, "cycles", cycles, MAX_CYCLES, false);
             if (cycles != floor(cycles)) {
-                pfx_read_error(r, v, "'cycles' must be a whole number, got %g", cycles);
+                pfx_read_error(r, v, PFX_RULE_NOT_INTEGER,
+                               "'cycles' must be a whole number, got %g", cycles);
                 ok = false;
             }
         }
@@ -124,7 +126,8 @@ static bool read_bursts(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
             ok &= pfx_read_number(r, v, "interval", &out->interval) &&
                   pfx_check_above(r, v, "interval", out->interval, 0, false);
         if (out->cycles > 1 && out->interval <= 0) {
-            pfx_read_error(r, b, "a burst with 'cycles' above 1 needs an 'interval' above 0");
+            pfx_read_error(r, b, PFX_RULE_INCONSISTENT_VALUES,
+                           "a burst with 'cycles' above 1 needs an 'interval' above 0");
             ok = false;
         }
         if ((v = pfx_node_get(b, "probability")))
@@ -132,7 +135,7 @@ static bool read_bursts(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
                   pfx_check_above(r, v, "probability", out->probability, 0, false) &&
                   pfx_check_below(r, v, "probability", out->probability, 1, false);
         if (i > 0 && out->time < em->bursts[i - 1].time) {
-            pfx_read_error(r, b, "bursts must be listed in order of 'time'");
+            pfx_read_error(r, b, PFX_RULE_OUT_OF_ORDER, "bursts must be listed in order of 'time'");
             ok = false;
         }
     }
@@ -147,7 +150,8 @@ bool pfx_compile_emission(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
     const pfx_node *rate = pfx_node_get(n, "rate"), *interval = pfx_node_get(n, "interval"),
                    *bursts = pfx_node_get(n, "bursts"), *v;
     if (rate && interval) {
-        pfx_read_error(r, interval, "an emitter takes either 'rate' or 'interval', not both");
+        pfx_read_error(r, interval, PFX_RULE_CONFLICTING_KEYS,
+                       "an emitter takes either 'rate' or 'interval', not both");
     } else if (interval) {
         em->rate_kind = PFX_RATE_INTERVAL;
         if (pfx_read_value(r, interval, "interval", &em->interval))
@@ -166,19 +170,21 @@ bool pfx_compile_emission(pfx_reader *r, const pfx_node *n, pfx_emitter *em) {
         pfx_check_above(r, v, "duration", em->duration, 0, true);
     if ((v = pfx_node_get(n, "loop"))) {
         if (v->kind != PFX_NODE_SCALAR || (strcmp(v->text, "true") && strcmp(v->text, "false")))
-            pfx_read_error(r, v, "'loop' must be true or false");
+            pfx_read_error(r, v, PFX_RULE_WRONG_TYPE, "'loop' must be true or false");
         else
             em->loop = !strcmp(v->text, "true");
         if (em->loop && !isfinite(em->duration))
-            pfx_read_error(r, v, "a looping emitter needs a 'duration' (its period)");
+            pfx_read_error(r, v, PFX_RULE_MISSING_KEY,
+                           "a looping emitter needs a 'duration' (its period)");
         else if (em->loop && em->duration < 1e-3)
-            pfx_read_error(r, v,
+            pfx_read_error(r, v, PFX_RULE_OUT_OF_RANGE,
                            "a looping emitter's 'duration' (its period) must be at least "
                            "0.001 s, got %g",
                            em->duration);
     }
     if (em->rate_kind == PFX_RATE_RAMP && em->ramp_delta > 0 && !isfinite(em->duration) && rate)
-        pfx_read_error(r, rate, "a rate that grows without end needs the emitter's 'duration'");
+        pfx_read_error(r, rate, PFX_RULE_MISSING_KEY,
+                       "a rate that grows without end needs the emitter's 'duration'");
     return r->d->errors == errors;
 }
 

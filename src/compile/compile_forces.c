@@ -25,7 +25,7 @@ static void read_axis(pfx_reader *r, const pfx_node *map, const pfx_node *n, voi
         return;
     double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     if (len == 0) {
-        pfx_read_error(r, n, "'axis' must not be the zero vector");
+        pfx_read_error(r, n, PFX_RULE_ZERO_VECTOR, "'axis' must not be the zero vector");
         return;
     }
     for (int i = 0; i < 3; i++)
@@ -38,7 +38,7 @@ static void read_anchor(pfx_reader *r, const pfx_node *map, const pfx_node *n, v
     if (n->kind == PFX_NODE_SCALAR && !strcmp(n->text, "birth"))
         m->use_birth = true;
     else if (n->kind != PFX_NODE_SEQ)
-        pfx_read_error(r, n, "'anchor' must be a point [x, y, z] or 'birth'");
+        pfx_read_error(r, n, PFX_RULE_WRONG_TYPE, "'anchor' must be a point [x, y, z] or 'birth'");
     else if (pfx_read_vec3_within(r, map, "anchor", m->center, 1e6))
         m->use_birth = false;
 }
@@ -90,7 +90,8 @@ static void read_region_size(pfx_reader *r, const pfx_node *map, const pfx_node 
         return;
     for (int i = 0; i < 3; i++) {
         if (size[i] < 0)
-            pfx_read_error(r, sz->items[i], "region 'size' must be at least 0, got %g", size[i]);
+            pfx_read_error(r, sz->items[i], PFX_RULE_OUT_OF_RANGE,
+                           "region 'size' must be at least 0, got %g", size[i]);
         g->half[i] = size[i] / 2;
     }
 }
@@ -321,7 +322,8 @@ bool pfx_compile_force(pfx_reader *r, const pfx_node *key, const pfx_node *f, ui
         m->use_birth = true; /* the default anchor */
     pfx_keys_read(r, f, t, m);
     if (m->kind == PFX_MOTION_FORCE_OVER_LIFE && !pfx_node_get(f, "accel"))
-        pfx_read_error(r, f, "force '%s' needs 'accel' (a vector or keys over life)", key->text);
+        pfx_read_error(r, f, PFX_RULE_MISSING_KEY,
+                       "force '%s' needs 'accel' (a vector or keys over life)", key->text);
     if (m->kind == PFX_MOTION_TURBULENCE)
         /* The noise is seeded by the effect's seed and the force's name, so
          * --seed changes it and renaming another force does not. */

@@ -38,7 +38,7 @@ static void box(pfx_reader *r, const pfx_node *key, const pfx_node *n, const cha
     const pfx_node *sz = pfx_node_get(n, "size");
     double size[3];
     if (!sz) {
-        pfx_read_error(r, key, "a box needs a 'size' [x, y, z]");
+        pfx_read_error(r, key, PFX_RULE_MISSING_KEY, "a box needs a 'size' [x, y, z]");
         return;
     }
     if (!pfx_read_numbers(r, sz, "size", size, 3))
@@ -46,8 +46,8 @@ static void box(pfx_reader *r, const pfx_node *key, const pfx_node *n, const cha
     for (int i = 0; i < 3; i++) {
         const pfx_node *item = sz->items[i];
         if (wrap && !(size[i] > 0)) {
-            pfx_read_error(r, item, "a wrapping box's 'size' must be greater than 0, got %g",
-                           size[i]);
+            pfx_read_error(r, item, PFX_RULE_OUT_OF_RANGE,
+                           "a wrapping box's 'size' must be greater than 0, got %g", size[i]);
             continue;
         }
         if (!pfx_check_above(r, item, "size", size[i], 0, false) ||
@@ -55,7 +55,7 @@ static void box(pfx_reader *r, const pfx_node *key, const pfx_node *n, const cha
             continue;
         half[i] = size[i] / 2;
         if (wrap && !((float)(center[i] - half[i]) < (float)(center[i] + half[i])))
-            pfx_read_error(r, item,
+            pfx_read_error(r, item, PFX_RULE_OUT_OF_RANGE,
                            "a wrapping box's 'size' %g is below the float resolution at its "
                            "centre %g",
                            size[i], center[i]);
@@ -68,11 +68,12 @@ static void region(pfx_reader *r, const pfx_node *rule_key, const pfx_node *n, p
     if (!pfx_read_map(r, n, what))
         return;
     if (n->count == 0) {
-        pfx_read_error(r, n, "'%s' needs a region: box, sphere or half_space", what);
+        pfx_read_error(r, n, PFX_RULE_MISSING_KEY, "'%s' needs a region: box, sphere or half_space",
+                       what);
         return;
     }
     for (size_t i = 1; i < n->count; i++)
-        pfx_read_error(r, n->pairs[i].key,
+        pfx_read_error(r, n->pairs[i].key, PFX_RULE_CONFLICTING_KEYS,
                        "'%s' takes one region; put '%s' in a kill rule of its own", what,
                        n->pairs[i].key->text);
     const pfx_node *key = n->pairs[0].key, *v = n->pairs[0].value;
@@ -92,7 +93,7 @@ static void region(pfx_reader *r, const pfx_node *rule_key, const pfx_node *n, p
         vec3(r, v, "center", out->center);
         const pfx_node *rad = pfx_node_get(v, "radius");
         if (!rad)
-            pfx_read_error(r, key, "a sphere needs a 'radius'");
+            pfx_read_error(r, key, PFX_RULE_MISSING_KEY, "a sphere needs a 'radius'");
         else
             length(r, rad, "radius", true, &out->radius);
         return;
@@ -103,14 +104,14 @@ static void region(pfx_reader *r, const pfx_node *rule_key, const pfx_node *n, p
     const pfx_node *nn = pfx_node_get(v, "normal");
     double nv[3];
     if (!nn) {
-        pfx_read_error(r, key, "a half_space needs a 'normal' [x, y, z]");
+        pfx_read_error(r, key, PFX_RULE_MISSING_KEY, "a half_space needs a 'normal' [x, y, z]");
         return;
     }
     if (!pfx_read_numbers(r, nn, "normal", nv, 3))
         return;
     double len = sqrt(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]);
     if (len == 0) {
-        pfx_read_error(r, nn, "'normal' must not be the zero vector");
+        pfx_read_error(r, nn, PFX_RULE_ZERO_VECTOR, "'normal' must not be the zero vector");
         return;
     }
     for (int i = 0; i < 3; i++)
@@ -120,13 +121,13 @@ static void region(pfx_reader *r, const pfx_node *rule_key, const pfx_node *n, p
 /* One list item: a mapping with exactly one key, the rule. */
 static void rule(pfx_reader *r, const pfx_node *item, pfx_kill_rule *out) {
     if (item->kind != PFX_NODE_MAP || item->count == 0) {
-        pfx_read_error(r, item,
+        pfx_read_error(r, item, PFX_RULE_WRONG_TYPE,
                        "a kill rule must be a mapping with one key: inside, outside, "
                        "alpha_below or distance_from_emitter");
         return;
     }
     for (size_t i = 1; i < item->count; i++)
-        pfx_read_error(r, item->pairs[i].key,
+        pfx_read_error(r, item->pairs[i].key, PFX_RULE_CONFLICTING_KEYS,
                        "a kill rule has one key; put '%s' in a list item of its own",
                        item->pairs[i].key->text);
     const pfx_node *key = item->pairs[0].key, *v = item->pairs[0].value;
@@ -142,7 +143,8 @@ static void rule(pfx_reader *r, const pfx_node *item, pfx_kill_rule *out) {
     case PFX_KILL_ALPHA_BELOW:
         if (pfx_read_number(r, v, "alpha_below", &out->threshold) &&
             (out->threshold < 0 || out->threshold > 1))
-            pfx_read_error(r, v, "'alpha_below' must be in 0..1, got %g", out->threshold);
+            pfx_read_error(r, v, PFX_RULE_OUT_OF_RANGE, "'alpha_below' must be in 0..1, got %g",
+                           out->threshold);
         break;
     case PFX_KILL_DISTANCE:
         length(r, v, "distance_from_emitter", true, &out->threshold);
@@ -165,7 +167,8 @@ static void bounds(pfx_reader *r, const pfx_node *n, pfx_kill_rules *out) {
     }
     const pfx_node *b = pfx_node_get(n, "box");
     if (!b) {
-        pfx_read_error(r, n, "'bounds' needs a 'box' {center: [x, y, z], size: [x, y, z]}");
+        pfx_read_error(r, n, PFX_RULE_MISSING_KEY,
+                       "'bounds' needs a 'box' {center: [x, y, z], size: [x, y, z]}");
         return;
     }
     const pfx_node *key = NULL;
@@ -184,10 +187,10 @@ bool pfx_compile_kill(pfx_reader *r, const pfx_node *kill_node, const pfx_node *
         bounds(r, bounds_node, out);
     if (kill_node) {
         if (kill_node->kind != PFX_NODE_SEQ) {
-            pfx_read_error(r, kill_node, "'kill' must be a list of rules, got %s",
-                           pfx_node_kind_name(kill_node));
+            pfx_read_error(r, kill_node, PFX_RULE_WRONG_TYPE,
+                           "'kill' must be a list of rules, got %s", pfx_node_kind_name(kill_node));
         } else if (kill_node->count > PFX_KILL_MAX_RULES) {
-            pfx_read_error(r, kill_node->items[PFX_KILL_MAX_RULES],
+            pfx_read_error(r, kill_node->items[PFX_KILL_MAX_RULES], PFX_RULE_TOO_MANY,
                            "an emitter has at most %d kill rules, got %zu", PFX_KILL_MAX_RULES,
                            kill_node->count);
         } else {

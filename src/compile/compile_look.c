@@ -28,7 +28,7 @@ static void read_grid(pfx_reader *r, const pfx_node *map, const pfx_node *v, voi
         return;
     for (int i = 0; i < 2; i++)
         if (g[i] != floor(g[i]) || g[i] < 1 || g[i] > 256) {
-            pfx_read_error(r, v->items[i],
+            pfx_read_error(r, v->items[i], PFX_RULE_OUT_OF_RANGE,
                            "'grid' takes whole numbers of cells from 1 to 256, got %g", g[i]);
             return;
         }
@@ -40,7 +40,8 @@ static void read_over(pfx_reader *r, const pfx_node *map, const pfx_node *v, voi
     static const char *const overs[] = {"life", NULL};
     pfx_flipbook *b = dest;
     if (pfx_node_get(map, "fps")) {
-        pfx_read_error(r, v, "a flipbook plays at 'fps' or 'over: life', not both");
+        pfx_read_error(r, v, PFX_RULE_CONFLICTING_KEYS,
+                       "a flipbook plays at 'fps' or 'over: life', not both");
         return;
     }
     if (pfx_read_enum(r, v, "over", "flipbook timing", overs) == 0)
@@ -101,7 +102,7 @@ static void read_light_direction(pfx_reader *r, const pfx_node *map, const pfx_n
         return;
     double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (!(len > 0)) {
-        pfx_read_error(r, v, "'direction' must not be the zero vector");
+        pfx_read_error(r, v, PFX_RULE_ZERO_VECTOR, "'direction' must not be the zero vector");
         return;
     }
     for (int i = 0; i < 3; i++)
@@ -204,18 +205,20 @@ static void check_flipbook(pfx_reader *r, const pfx_node *v, pfx_look *look) {
         b->frames = b->cols * b->rows;
     const pfx_image *t = look->texture;
     if (!t) {
-        pfx_read_error(r, v, "a flipbook needs a 'texture' to cut into cells");
+        pfx_read_error(r, v, PFX_RULE_MISSING_KEY,
+                       "a flipbook needs a 'texture' to cut into cells");
         b->frames = 0;
         return;
     }
     if (t->width % b->cols || t->height % b->rows) {
-        pfx_read_error(r, pfx_node_get(v, "grid"),
+        pfx_read_error(r, pfx_node_get(v, "grid"), PFX_RULE_INCONSISTENT_VALUES,
                        "a %dx%d grid does not divide the %dx%d texture '%s' into equal cells",
                        b->cols, b->rows, t->width, t->height, t->path);
         b->frames = 0;
     } else if (b->frames > b->cols * b->rows) {
-        pfx_read_error(r, pfx_node_get(v, "frames"), "'frames' is %d but a %dx%d grid has %d cells",
-                       b->frames, b->cols, b->rows, b->cols * b->rows);
+        pfx_read_error(r, pfx_node_get(v, "frames"), PFX_RULE_INCONSISTENT_VALUES,
+                       "'frames' is %d but a %dx%d grid has %d cells", b->frames, b->cols, b->rows,
+                       b->cols * b->rows);
         b->frames = 0;
     }
 }
@@ -227,7 +230,8 @@ static void read_align_vector(pfx_reader *r, const pfx_node *n, pfx_look *look) 
     const char *key = axis ? "axis" : "normal", *other = axis ? "normal" : "axis";
     const pfx_node *wrong = pfx_node_get(n, other), *v = pfx_node_get(n, key);
     if (wrong)
-        pfx_read_error(r, wrong, "'%s' belongs to align: %s", other, axis ? "world" : "axis");
+        pfx_read_error(r, wrong, PFX_RULE_INAPPLICABLE_KEY, "'%s' belongs to align: %s", other,
+                       axis ? "world" : "axis");
     look->axis[0] = look->axis[2] = 0;
     look->axis[1] = 1;
     double d[3];
@@ -235,7 +239,7 @@ static void read_align_vector(pfx_reader *r, const pfx_node *n, pfx_look *look) 
         return;
     double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (!(len > 0)) {
-        pfx_read_error(r, v, "'%s' must not be the zero vector", key);
+        pfx_read_error(r, v, PFX_RULE_ZERO_VECTOR, "'%s' must not be the zero vector", key);
         return;
     }
     for (int i = 0; i < 3; i++)
@@ -266,10 +270,11 @@ static void check_ribbon(pfx_reader *r, const pfx_node *n, const pfx_look *look)
     const pfx_node *v;
     for (size_t i = 0; i < sizeof sprite_only / sizeof *sprite_only; i++)
         if ((v = pfx_node_get(n, sprite_only[i])))
-            pfx_read_error(r, v, "'%s' does not apply to draw: ribbon (a strip, not sprites)",
+            pfx_read_error(r, v, PFX_RULE_INAPPLICABLE_KEY,
+                           "'%s' does not apply to draw: ribbon (a strip, not sprites)",
                            sprite_only[i]);
     if (look->sprite != PFX_SPRITE_ROUND && look->sprite != PFX_SPRITE_SQUARE)
-        pfx_read_error(r, pfx_node_get(n, "sprite"),
+        pfx_read_error(r, pfx_node_get(n, "sprite"), PFX_RULE_UNKNOWN_CHOICE,
                        "a ribbon's cross-section is 'round' (soft) or 'square' (flat), got '%s'",
                        pfx_kind_name(pfx_sprite_names, (int)look->sprite));
 }
@@ -292,14 +297,14 @@ void pfx_compile_look(pfx_reader *r, const pfx_node *n, pfx_emitter *em, const c
     if (look->align == PFX_ALIGN_AXIS || look->align == PFX_ALIGN_WORLD)
         read_align_vector(r, n, look);
     else if ((v = pfx_node_get(n, "axis")))
-        pfx_read_error(r, v, "'axis' needs align: axis");
+        pfx_read_error(r, v, PFX_RULE_INAPPLICABLE_KEY, "'axis' needs align: axis");
     else if ((v = pfx_node_get(n, "normal")))
-        pfx_read_error(r, v, "'normal' needs align: world");
+        pfx_read_error(r, v, PFX_RULE_INAPPLICABLE_KEY, "'normal' needs align: world");
     if ((v = pfx_node_get(n, "stretch")) && look->align != PFX_ALIGN_VELOCITY)
-        pfx_read_error(r, v, "'stretch' needs align: velocity");
+        pfx_read_error(r, v, PFX_RULE_INAPPLICABLE_KEY, "'stretch' needs align: velocity");
     if ((v = pfx_node_get(n, "intensity")))
         read_intensity(r, v, look);
     if (look->normal_map && !look->lit)
-        pfx_read_warning(r, pfx_node_get(n, "normal_map"),
+        pfx_read_warning(r, pfx_node_get(n, "normal_map"), PFX_RULE_INEFFECTIVE_SETTING,
                          "emitter '%s' has a normal map but is not lit: add lit: true", em->name);
 }

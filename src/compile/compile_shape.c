@@ -189,7 +189,8 @@ static bool need_length(pfx_reader *r, const pfx_node *n, const pfx_node *type, 
                         double *out) {
     const pfx_node *v = pfx_node_get(n, key);
     if (!v) {
-        pfx_read_error(r, type, "%s %s shape needs a '%s'", article(type->text), type->text, key);
+        pfx_read_error(r, type, PFX_RULE_MISSING_KEY, "%s %s shape needs a '%s'",
+                       article(type->text), type->text, key);
         return false;
     }
     return pfx_read_number(r, v, key, out) && pfx_check_above(r, v, key, *out, 0, false);
@@ -201,7 +202,8 @@ static bool need_numbers(pfx_reader *r, const pfx_node *n, const pfx_node *type,
                          const char *needed, double *out, int count, bool any_sign) {
     const pfx_node *v = pfx_node_get(n, key);
     if (!v) {
-        pfx_read_error(r, type, "%s %s shape needs %s", article(type->text), type->text, needed);
+        pfx_read_error(r, type, PFX_RULE_MISSING_KEY, "%s %s shape needs %s", article(type->text),
+                       type->text, needed);
         return false;
     }
     if (!pfx_read_numbers(r, v, key, out, count))
@@ -219,13 +221,14 @@ static void read_inner(pfx_reader *r, const pfx_node *n, pfx_shape *s, bool radi
     if (!v || !pfx_read_number(r, v, "inner", &s->inner))
         return;
     if (s->from != PFX_EMIT_VOLUME) {
-        pfx_read_error(r, v, "'inner' applies only to emit_from: volume (the %s is at 'radius')",
+        pfx_read_error(r, v, PFX_RULE_INAPPLICABLE_KEY,
+                       "'inner' applies only to emit_from: volume (the %s is at 'radius')",
                        s->from == PFX_EMIT_EDGE ? "edge" : "surface");
         return;
     }
     if (pfx_check_above(r, v, "inner", s->inner, 0, false) && radius_ok && !(s->inner < s->radius))
-        pfx_read_error(r, v, "'inner' must be less than 'radius' (%g), got %g", s->radius,
-                       s->inner);
+        pfx_read_error(r, v, PFX_RULE_INCONSISTENT_VALUES,
+                       "'inner' must be less than 'radius' (%g), got %g", s->radius, s->inner);
 }
 
 /* The rim's cumulative arc length by the trapezoid rule, which the sampler
@@ -257,7 +260,8 @@ static void read_mesh(pfx_reader *r, const pfx_node *n, const pfx_node *type, pf
     bool scale_ok = !sc || (pfx_read_number(r, sc, "scale", &scale) &&
                             pfx_check_above(r, sc, "scale", scale, 0, true));
     if (!v) {
-        pfx_read_error(r, type, "a mesh shape needs a 'file' (a Wavefront OBJ path)");
+        pfx_read_error(r, type, PFX_RULE_MISSING_KEY,
+                       "a mesh shape needs a 'file' (a Wavefront OBJ path)");
         return;
     }
     char path[4096];
@@ -301,7 +305,8 @@ bool pfx_compile_shape(pfx_reader *r, const pfx_node *n, pfx_shape *s, const cha
                 if (modes & (1u << i))
                     snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
                              list[0] ? " or " : "", pfx_emit_from_names[i]);
-            pfx_read_error(r, v, "%s %s shape cannot emit from '%s'; 'emit_from' must be %s",
+            pfx_read_error(r, v, PFX_RULE_UNKNOWN_CHOICE,
+                           "%s %s shape cannot emit from '%s'; 'emit_from' must be %s",
                            article(type->text), type->text, pfx_emit_from_names[m], list);
         } else if (m >= 0) {
             s->from = (pfx_emit_from)m;
@@ -327,7 +332,7 @@ bool pfx_compile_shape(pfx_reader *r, const pfx_node *n, pfx_shape *s, const cha
     case PFX_SHAPE_ELLIPSE:
         if (need_numbers(r, n, type, "radii", "'radii' [a, b]", s->radii, 2, false) &&
             s->from == PFX_EMIT_EDGE && !ellipse_table(r, s))
-            pfx_read_error(r, n, "out of memory");
+            pfx_read_error(r, n, PFX_RULE_OUT_OF_MEMORY, "out of memory");
         break;
     case PFX_SHAPE_DISC:
     case PFX_SHAPE_SPHERE:

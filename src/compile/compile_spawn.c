@@ -38,7 +38,7 @@ static bool read_spawn(pfx_reader *r, const pfx_node *n, pfx_spawn_event event,
     const pfx_node *v = pfx_node_get(n, "emit");
     const char *name;
     if (!v) {
-        pfx_read_error(r, n, "a %s needs 'emit: <emitter name>'", key);
+        pfx_read_error(r, n, PFX_RULE_MISSING_KEY, "a %s needs 'emit: <emitter name>'", key);
         return false;
     }
     if (!pfx_read_string(r, v, "emit", &name))
@@ -52,9 +52,10 @@ static bool read_spawn(pfx_reader *r, const pfx_node *n, pfx_spawn_event event,
         names[count] = NULL;
         const char *sug = pfx_suggest(name, names);
         if (sug)
-            pfx_read_error(r, v, "'emit' names no emitter '%s'; did you mean '%s'?", name, sug);
+            pfx_read_error(r, v, PFX_RULE_UNKNOWN_NAME,
+                           "'emit' names no emitter '%s'; did you mean '%s'?", name, sug);
         else
-            pfx_read_error(r, v, "'emit' names no emitter '%s'", name);
+            pfx_read_error(r, v, PFX_RULE_UNKNOWN_NAME, "'emit' names no emitter '%s'", name);
         return false;
     }
     out->target = (uint32_t)t;
@@ -76,7 +77,8 @@ static bool read_spawn(pfx_reader *r, const pfx_node *n, pfx_spawn_event event,
         if (pfx_read_number(r, v, "depth", &d) && pfx_check_above(r, v, "depth", d, 1, false) &&
             pfx_check_below(r, v, "depth", d, MAX_DEPTH, false)) {
             if (d != floor(d))
-                pfx_read_error(r, v, "'depth' must be a whole number, got %g", d);
+                pfx_read_error(r, v, PFX_RULE_NOT_INTEGER, "'depth' must be a whole number, got %g",
+                               d);
             out->depth = (uint32_t)d;
         } else {
             ok = false;
@@ -84,7 +86,8 @@ static bool read_spawn(pfx_reader *r, const pfx_node *n, pfx_spawn_event event,
     }
     if ((v = pfx_node_get(n, "inherit"))) {
         if (v->kind != PFX_NODE_SEQ) {
-            pfx_read_error(r, v, "'inherit' must be a list of: velocity, color, size");
+            pfx_read_error(r, v, PFX_RULE_WRONG_TYPE,
+                           "'inherit' must be a list of: velocity, color, size");
             return false;
         }
         for (size_t i = 0; i < v->count; i++) {
@@ -112,7 +115,8 @@ bool pfx_compile_spawns(pfx_reader *r, const pfx_node *n, const pfx_node *emitte
         for (size_t i = 0; i < items; i++) {
             const pfx_node *item = v->kind == PFX_NODE_SEQ ? v->items[i] : v;
             if (count == MAX_SPAWNS) {
-                pfx_read_error(r, item, "an emitter has at most %d sub-emitters", MAX_SPAWNS);
+                pfx_read_error(r, item, PFX_RULE_TOO_MANY, "an emitter has at most %d sub-emitters",
+                               MAX_SPAWNS);
                 break;
             }
             if (read_spawn(r, item, (pfx_spawn_event)k, emitters, &spawns[count]))
@@ -185,6 +189,7 @@ bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) 
                 if (!em->spawns[k].depth)
                     s = &em->spawns[k];
             pfx_read_error(r, s ? spawn_node(emitters, i, s) : emitters->pairs[i].key,
+                           PFX_RULE_REFERENCE_CYCLE,
                            "sub-emitters of '%s' lead back to it; give 'depth' (generations) "
                            "to bound the cycle",
                            em->name);
@@ -284,15 +289,15 @@ bool pfx_check_ribbons(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) {
                 const pfx_node *at = spawn_node(emitters, i, s);
                 fed = true;
                 if (s->event != PFX_SPAWN_TRAIL)
-                    pfx_read_error(r, at,
+                    pfx_read_error(r, at, PFX_RULE_INVALID_REFERENCE,
                                    "'%s' cannot feed ribbon emitter '%s': a ribbon's points "
                                    "come from one emitter's 'trail'",
                                    pfx_spawn_event_names[s->event], rib->name);
                 else if (i == t)
-                    pfx_read_error(r, at, "ribbon emitter '%s' cannot lay its own trail",
-                                   rib->name);
+                    pfx_read_error(r, at, PFX_RULE_REFERENCE_CYCLE,
+                                   "ribbon emitter '%s' cannot lay its own trail", rib->name);
                 else if (feeder >= 0 && (size_t)feeder != i)
-                    pfx_read_error(r, at,
+                    pfx_read_error(r, at, PFX_RULE_INVALID_REFERENCE,
                                    "ribbon emitter '%s' is fed by the trails of '%s' and '%s'; "
                                    "give each its own ribbon emitter",
                                    rib->name, e->emitters[feeder].name, e->emitters[i].name);
@@ -302,14 +307,14 @@ bool pfx_check_ribbons(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) {
         if (feeder >= 0)
             rib->ribbon_parent = (uint32_t)feeder;
         else if (!fed)
-            pfx_read_error(r, pfx_node_get(n, "draw"),
+            pfx_read_error(r, pfx_node_get(n, "draw"), PFX_RULE_INVALID_REFERENCE,
                            "emitter '%s' draws ribbons but no 'trail' emits into it: add "
                            "trail: { emit: %s, rate: R } to the emitter it follows",
                            rib->name, rib->name);
         for (size_t k = 0; k < sizeof own / sizeof *own; k++) {
             const pfx_node *v = pfx_node_get(n, own[k]);
             if (v)
-                pfx_read_error(r, v,
+                pfx_read_error(r, v, PFX_RULE_INAPPLICABLE_KEY,
                                "ribbon emitter '%s' gets its points from a trail only; remove "
                                "'%s'",
                                rib->name, own[k]);

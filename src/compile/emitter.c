@@ -323,7 +323,8 @@ static void emitter_deflectors(compiler *c, const pfx_node *n, pfx_emitter *em) 
     for (size_t i = 0; i < e->deflector_count; i++)
         use[i] = !v;
     if (v && v->kind != PFX_NODE_SEQ) {
-        pfx_read_error(&c->r, v, "'deflectors' must be a list of deflector names, got %s",
+        pfx_read_error(&c->r, v, PFX_RULE_WRONG_TYPE,
+                       "'deflectors' must be a list of deflector names, got %s",
                        pfx_node_kind_name(v));
     } else if (v) {
         const char *names[PFX_MAX_DEFLECTORS + 1];
@@ -343,11 +344,11 @@ static void emitter_deflectors(compiler *c, const pfx_node *n, pfx_emitter *em) 
             }
             const char *sug = pfx_suggest(name, names);
             if (sug)
-                pfx_read_error(&c->r, v->items[i],
+                pfx_read_error(&c->r, v->items[i], PFX_RULE_UNKNOWN_NAME,
                                "unknown deflector '%s' in emitter '%s'; did you mean '%s'?", name,
                                em->name, sug);
             else
-                pfx_read_error(&c->r, v->items[i],
+                pfx_read_error(&c->r, v->items[i], PFX_RULE_UNKNOWN_NAME,
                                "unknown deflector '%s' in emitter '%s'; define it under "
                                "'deflectors'",
                                name, em->name);
@@ -398,7 +399,7 @@ static void compile_kill(compiler *c, const pfx_node *n, pfx_emitter *em) {
         for (size_t i = 0; i < em->kill->count; i++)
             if (em->kill->rules[i].kind == PFX_KILL_ALPHA_BELOW &&
                 em->alpha_at_age[0] < em->kill->rules[i].threshold)
-                pfx_read_warning(&c->r, kill_node,
+                pfx_read_warning(&c->r, kill_node, PFX_RULE_DIES_AT_BIRTH,
                                  "emitter '%s' is born with alpha %g, below its 'alpha_below' "
                                  "%g: every particle dies in its first step",
                                  em->name, em->alpha_at_age[0], em->kill->rules[i].threshold);
@@ -445,7 +446,8 @@ static void compile_lod(compiler *c, const pfx_node *v, const pfx_node *n, pfx_e
     if (!pfx_read_map(&c->r, v, "lod") || !pfx_read_check_keys(&c->r, v, lod_keys, "'lod'"))
         return;
     if (pfx_node_get(n, "rate") || pfx_node_get(n, "interval")) {
-        pfx_read_error(&c->r, v, "'lod' sets the rate from the screen area; drop 'rate'");
+        pfx_read_error(&c->r, v, PFX_RULE_CONFLICTING_KEYS,
+                       "'lod' sets the rate from the screen area; drop 'rate'");
         return;
     }
     double per_pixel = 1, var = 0;
@@ -486,7 +488,8 @@ static void compile_direction(compiler *c, const pfx_node *n, pfx_emitter *em) {
                 em->direction_mode = (pfx_direction_mode)(m + 1);
         } else if (pfx_read_numbers(&c->r, v, "direction", dir, 3) && dir[0] == 0 && dir[1] == 0 &&
                    dir[2] == 0) {
-            pfx_read_error(&c->r, v, "'direction' must not be the zero vector");
+            pfx_read_error(&c->r, v, PFX_RULE_ZERO_VECTOR,
+                           "'direction' must not be the zero vector");
             dir[1] = 1;
         }
     }
@@ -595,10 +598,11 @@ static void build_motion(compiler *c, pfx_emitter *em, pfx_integrator integrator
     pfx_stability_warning w[8];
     size_t n = pfx_motion_check_stability(m, w, 8);
     for (size_t i = 0; i < n && i < 8; i++)
-        pfx_read_warning(&c->r, at, "emitter '%s': %s", em->name, w[i].message);
+        pfx_read_warning(&c->r, at, PFX_RULE_UNSTABLE_INTEGRATOR, "emitter '%s': %s", em->name,
+                         w[i].message);
     const double tol = m->tolerance > 0 ? m->tolerance : 1e-3;
     if (integrator == PFX_INTEGRATOR_AUTO && m->substeps == 0 && m->choice.error_rate > tol)
-        pfx_read_warning(&c->r, at,
+        pfx_read_warning(&c->r, at, PFX_RULE_UNSTABLE_INTEGRATOR,
                          "emitter '%s': auto cannot keep the tolerance of %g m/s: even %d "
                          "substeps leave an expected error of %.2g m/s; raise sim.rate",
                          em->name, tol, m->choice.steps, m->choice.error_rate);
@@ -640,8 +644,8 @@ static void emitter_forces(compiler *c, const pfx_node *v, const pfx_node *key, 
     const pfx_effect *e = c->e;
     em->force_mask = 0;
     if (v->kind != PFX_NODE_SEQ) {
-        pfx_read_error(&c->r, v, "'forces' must be a list of force names, got %s",
-                       pfx_node_kind_name(v));
+        pfx_read_error(&c->r, v, PFX_RULE_WRONG_TYPE,
+                       "'forces' must be a list of force names, got %s", pfx_node_kind_name(v));
         return;
     }
     const char *names[PFX_MAX_FORCES + 1];
@@ -659,11 +663,11 @@ static void emitter_forces(compiler *c, const pfx_node *v, const pfx_node *key, 
         }
         const char *sug = pfx_suggest(name, names);
         if (sug)
-            pfx_read_error(&c->r, v->items[i],
+            pfx_read_error(&c->r, v->items[i], PFX_RULE_UNKNOWN_NAME,
                            "unknown force '%s' in emitter '%s'; did you mean '%s'?", name,
                            key->text, sug);
         else
-            pfx_read_error(&c->r, v->items[i],
+            pfx_read_error(&c->r, v->items[i], PFX_RULE_UNKNOWN_NAME,
                            "unknown force '%s' in emitter '%s'; define it under 'forces'", name,
                            key->text);
     }

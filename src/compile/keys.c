@@ -85,7 +85,7 @@ static bool read_ranged(pfx_reader *r, const pfx_node *v, const pfx_key *k, doub
 /* `true` or `false`. */
 static bool read_bool(pfx_reader *r, const pfx_node *v, const char *key, bool *out) {
     if (v->kind != PFX_NODE_SCALAR || (strcmp(v->text, "true") && strcmp(v->text, "false"))) {
-        pfx_read_error(r, v, "'%s' must be true or false", key);
+        pfx_read_error(r, v, PFX_RULE_WRONG_TYPE, "'%s' must be true or false", key);
         return false;
     }
     *out = !strcmp(v->text, "true");
@@ -107,7 +107,8 @@ static void read_row(pfx_reader *r, const pfx_node *map, const pfx_node *v, cons
     case PFX_KEY_WHOLE:
         if (read_ranged(r, v, k, &x)) {
             if (x != floor(x))
-                pfx_read_error(r, v, "'%s' must be a whole number, got %g", k->name, x);
+                pfx_read_error(r, v, PFX_RULE_NOT_INTEGER, "'%s' must be a whole number, got %g",
+                               k->name, x);
             int i = (int)x;
             memcpy(at, &i, sizeof i);
         }
@@ -142,7 +143,8 @@ static void read_row(pfx_reader *r, const pfx_node *map, const pfx_node *v, cons
         if (!pfx_read_value(r, v, k->name, &val))
             break;
         if (val.dist == PFX_DIST_NORMAL) {
-            pfx_read_error(r, v, "'%s' takes a number or a range [min, max]", k->name);
+            pfx_read_error(r, v, PFX_RULE_WRONG_TYPE, "'%s' takes a number or a range [min, max]",
+                           k->name);
             break;
         }
         out[0] = pfx_value_min(&val);
@@ -190,7 +192,7 @@ int pfx_keys_kind(pfx_reader *r, const pfx_node *map, const pfx_node *blame, con
     const pfx_node *t = pfx_node_get(map, "type");
     if (!t) {
         pfx_kind_list(kinds, true, list, sizeof list);
-        pfx_read_error(r, blame, "%s needs a 'type' (%s)", subject, list);
+        pfx_read_error(r, blame, PFX_RULE_MISSING_KEY, "%s needs a 'type' (%s)", subject, list);
         return -1;
     }
     const char *name;
@@ -202,9 +204,10 @@ int pfx_keys_kind(pfx_reader *r, const pfx_node *map, const pfx_node *blame, con
     const char *s = pfx_suggest(name, kinds);
     pfx_kind_list(kinds, !one_of, list, sizeof list);
     if (s)
-        pfx_read_error(r, t, "unknown %s '%s'; did you mean '%s'?", what, name, s);
+        pfx_read_error(r, t, PFX_RULE_UNKNOWN_CHOICE, "unknown %s '%s'; did you mean '%s'?", what,
+                       name, s);
     else
-        pfx_read_error(r, t, "unknown %s '%s'; expected %s%s", what, name, one_of ? "one of: " : "",
-                       list);
+        pfx_read_error(r, t, PFX_RULE_UNKNOWN_CHOICE, "unknown %s '%s'; expected %s%s", what, name,
+                       one_of ? "one of: " : "", list);
     return -1;
 }

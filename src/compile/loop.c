@@ -16,7 +16,7 @@ void pfx_compile_loop(compiler *c, const pfx_node *root, const pfx_node *loop,
     const double period = e->duration;
     double frames = period * e->fps;
     if (fabs(frames - round(frames)) > 1e-9 * frames) {
-        pfx_read_error(&c->r, loop,
+        pfx_read_error(&c->r, loop, PFX_RULE_INCONSISTENT_VALUES,
                        "a looping effect needs duration x fps to be whole frames, got %g", frames);
         return;
     }
@@ -33,7 +33,7 @@ void pfx_compile_loop(compiler *c, const pfx_node *root, const pfx_node *loop,
             em->loop = true;
             em->duration = period;
         } else if (fabs(period / em->duration - round(period / em->duration)) > 1e-9) {
-            pfx_read_warning(&c->r, pfx_node_get(n, "duration"),
+            pfx_read_warning(&c->r, pfx_node_get(n, "duration"), PFX_RULE_LOOP_SEAM,
                              "emitter '%s' repeats every %g s, which does not divide the loop's "
                              "%g s: the loop will show a seam",
                              em->name, em->duration, period);
@@ -43,29 +43,29 @@ void pfx_compile_loop(compiler *c, const pfx_node *root, const pfx_node *loop,
         for (int k = 0; k < 2; k++)
             if (kf[k]->count > 1 &&
                 memcmp(kf[k]->v[0], kf[k]->v[kf[k]->count - 1], sizeof(double[3])))
-                pfx_read_warning(&c->r, pfx_node_get(n, keys[k]),
+                pfx_read_warning(&c->r, pfx_node_get(n, keys[k]), PFX_RULE_LOOP_SEAM,
                                  "'%s' keyframes end elsewhere than they start: the loop will "
                                  "jump at the seam",
                                  keys[k]);
         if (em->rate_kind == PFX_RATE_CURVE &&
             em->rate_curve.v[0] != em->rate_curve.v[em->rate_curve.count - 1])
-            pfx_read_warning(&c->r, pfx_node_get(n, "rate"),
+            pfx_read_warning(&c->r, pfx_node_get(n, "rate"), PFX_RULE_LOOP_SEAM,
                              "the rate curve ends at another value than it starts: the loop will "
                              "change rate at the seam");
         for (size_t b = 0; b < em->burst_count; b++)
             if (em->bursts[b].cycles == 1 && (v = pfx_node_get(n, "bursts")))
-                pfx_read_warning(&c->r, v->items[b],
+                pfx_read_warning(&c->r, v->items[b], PFX_RULE_LOOP_SEAM,
                                  "a one-shot burst repeats every %g s when the effect loops",
                                  period);
         if (em->spawn_count)
-            pfx_read_warning(&c->r, emitters->pairs[i].key,
+            pfx_read_warning(&c->r, emitters->pairs[i].key, PFX_RULE_LOOP_SEAM,
                              "emitter '%s' has sub-emitters: their random counts do not repeat "
                              "every period, so the loop is not exact",
                              em->name);
         for (size_t d = 0; d < em->deflector_count; d++) {
             const pfx_deflector *df = &em->deflectors[d];
             if (df->resilience[0] != df->resilience[1] || df->friction[0] != df->friction[1])
-                pfx_read_warning(&c->r, emitters->pairs[i].key,
+                pfx_read_warning(&c->r, emitters->pairs[i].key, PFX_RULE_LOOP_SEAM,
                                  "deflector '%s' draws a random response per hit: the loop is "
                                  "not exact",
                                  df->name);
@@ -75,7 +75,7 @@ void pfx_compile_loop(compiler *c, const pfx_node *root, const pfx_node *loop,
         if (e->forces[f].spec.kind == PFX_MOTION_TURBULENCE && e->forces[f].spec.speed != 0) {
             const pfx_node *fn = pfx_node_get(pfx_node_get(root, "forces"), e->forces[f].name);
             const pfx_node *at = pfx_node_get(fn, "speed");
-            pfx_read_warning(&c->r, at ? at : root,
+            pfx_read_warning(&c->r, at ? at : root, PFX_RULE_LOOP_SEAM,
                              "turbulence '%s' drifts with 'speed': the loop will show a seam",
                              e->forces[f].name);
         }

@@ -36,11 +36,13 @@ static bool grow_push(grow *g, const void *item) {
     return true;
 }
 
-static bool fail(const pfx_diag_at *at, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static bool fail(const pfx_diag_at *at, const char *fmt, ...) {
+static bool fail(const pfx_diag_at *at, pfx_rule rule, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static bool fail(const pfx_diag_at *at, pfx_rule rule, const char *fmt, ...) {
     va_list ap;
     va_start(ap, fmt);
-    pfx_diag_vadd(at->d, PFX_SEV_ERROR, at->line, at->col, at->span > 0 ? at->span : 1, fmt, ap);
+    pfx_diag_vadd(at->d, PFX_SEV_ERROR, at->line, at->col, at->span > 0 ? at->span : 1, rule, fmt,
+                  ap);
     va_end(ap);
     return false;
 }
@@ -118,18 +120,19 @@ static bool parse_vertex(parser *p, const char *c, const char *end, double scale
         size_t len;
         char q[32];
         if (!next_token(&c, end, &tok, &len))
-            return fail(p->at, "'%s' line %ld: a vertex needs 3 coordinates", p->name, p->line);
+            return fail(p->at, PFX_RULE_INVALID_FILE, "'%s' line %ld: a vertex needs 3 coordinates",
+                        p->name, p->line);
         if (!parse_double(tok, len, &v[k]))
-            return fail(p->at, "'%s' line %ld: '%s' is not a number", p->name, p->line,
-                        quoted(tok, len, q));
+            return fail(p->at, PFX_RULE_INVALID_FILE, "'%s' line %ld: '%s' is not a number",
+                        p->name, p->line, quoted(tok, len, q));
         v[k] *= scale;
     }
     if (p->verts.count / 3 >= PFX_MESH_MAX_VERTICES)
-        return fail(p->at, "'%s' line %ld: more than %u vertices", p->name, p->line,
-                    PFX_MESH_MAX_VERTICES);
+        return fail(p->at, PFX_RULE_TOO_LARGE, "'%s' line %ld: more than %u vertices", p->name,
+                    p->line, PFX_MESH_MAX_VERTICES);
     for (int k = 0; k < 3; k++)
         if (!grow_push(&p->verts, &v[k]))
-            return fail(p->at, "out of memory reading '%s'", p->name);
+            return fail(p->at, PFX_RULE_OUT_OF_MEMORY, "out of memory reading '%s'", p->name);
     return true;
 }
 
@@ -143,29 +146,32 @@ static bool parse_face(parser *p, const char *c, const char *end) {
         long long i;
         char q[32];
         if (!parse_index(tok, len, &i))
-            return fail(p->at, "'%s' line %ld: '%s' is not a face index", p->name, p->line,
-                        quoted(tok, len, q));
+            return fail(p->at, PFX_RULE_INVALID_FILE, "'%s' line %ld: '%s' is not a face index",
+                        p->name, p->line, quoted(tok, len, q));
         long long idx = i > 0 ? i - 1 : (long long)nv + i;
         if (i == 0 || idx < 0 || idx >= (long long)nv)
-            return fail(p->at, "'%s' line %ld: face index %lld is out of range (%u vertices)",
-                        p->name, p->line, i, nv);
+            return fail(p->at, PFX_RULE_INVALID_FILE,
+                        "'%s' line %ld: face index %lld is out of range (%u vertices)", p->name,
+                        p->line, i, nv);
         uint32_t cur = (uint32_t)idx;
         if (corners == 0) {
             first = cur;
         } else if (corners >= 2) {
             if (p->tris.count / 3 >= PFX_MESH_MAX_TRIANGLES)
-                return fail(p->at, "'%s' line %ld: more than %u triangles", p->name, p->line,
-                            PFX_MESH_MAX_TRIANGLES);
+                return fail(p->at, PFX_RULE_TOO_LARGE, "'%s' line %ld: more than %u triangles",
+                            p->name, p->line, PFX_MESH_MAX_TRIANGLES);
             uint32_t t[3] = {first, prev, cur};
             for (int k = 0; k < 3; k++)
                 if (!grow_push(&p->tris, &t[k]))
-                    return fail(p->at, "out of memory reading '%s'", p->name);
+                    return fail(p->at, PFX_RULE_OUT_OF_MEMORY, "out of memory reading '%s'",
+                                p->name);
         }
         prev = cur;
         corners++;
     }
     if (corners < 3)
-        return fail(p->at, "'%s' line %ld: a face needs at least 3 vertices", p->name, p->line);
+        return fail(p->at, PFX_RULE_INVALID_FILE, "'%s' line %ld: a face needs at least 3 vertices",
+                    p->name, p->line);
     return true;
 }
 
@@ -173,12 +179,12 @@ static bool parse_face(parser *p, const char *c, const char *end) {
 static bool finish(parser *p, pfx_arena *a, pfx_mesh *m) {
     size_t nt = p->tris.count / 3, nv = p->verts.count / 3;
     if (nt == 0)
-        return fail(p->at, "'%s' has no faces", p->name);
+        return fail(p->at, PFX_RULE_INVALID_FILE, "'%s' has no faces", p->name);
     double *verts = pfx_arena_alloc(a, nv * 3 * sizeof *verts);
     uint32_t *tris = pfx_arena_alloc(a, nt * 3 * sizeof *tris);
     double *cum = pfx_arena_alloc(a, nt * sizeof *cum);
     if (!verts || !tris || !cum)
-        return fail(p->at, "out of memory reading '%s'", p->name);
+        return fail(p->at, PFX_RULE_OUT_OF_MEMORY, "out of memory reading '%s'", p->name);
     memcpy(verts, p->verts.p, nv * 3 * sizeof *verts);
     memcpy(tris, p->tris.p, nt * 3 * sizeof *tris);
     double total = 0;
@@ -193,10 +199,12 @@ static bool finish(parser *p, pfx_arena *a, pfx_mesh *m) {
         cum[t] = total;
     }
     if (!isfinite(total))
-        return fail(p->at, "the faces of '%s' have an infinite total area (coordinates too large)",
+        return fail(p->at, PFX_RULE_INVALID_FILE,
+                    "the faces of '%s' have an infinite total area (coordinates too large)",
                     p->name);
     if (total <= 0)
-        return fail(p->at, "the faces of '%s' have zero total area", p->name);
+        return fail(p->at, PFX_RULE_INVALID_FILE, "the faces of '%s' have zero total area",
+                    p->name);
     m->verts = verts;
     m->tris = tris;
     m->cum = cum;
@@ -249,20 +257,20 @@ bool pfx_mesh_load(const char *path, const char *name, double scale, pfx_arena *
      * /dev/zero, or a directory). */
     int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
     if (fd < 0)
-        return fail(at, "cannot open '%s': %s", name, strerror(errno));
+        return fail(at, PFX_RULE_MISSING_FILE, "cannot open '%s': %s", name, strerror(errno));
     struct stat st;
     int errnum = fstat(fd, &st) != 0 ? errno : 0;
     if (errnum || !S_ISREG(st.st_mode)) {
         close(fd);
         if (errnum)
-            return fail(at, "cannot open '%s': %s", name, strerror(errnum));
-        return fail(at, "cannot open '%s': not a regular file", name);
+            return fail(at, PFX_RULE_MISSING_FILE, "cannot open '%s': %s", name, strerror(errnum));
+        return fail(at, PFX_RULE_INVALID_FILE, "cannot open '%s': not a regular file", name);
     }
     FILE *f = fcntl(fd, F_SETFL, 0) == 0 ? fdopen(fd, "rb") : NULL;
     if (!f) {
         errnum = errno;
         close(fd);
-        return fail(at, "cannot open '%s': %s", name, strerror(errnum));
+        return fail(at, PFX_RULE_MISSING_FILE, "cannot open '%s': %s", name, strerror(errnum));
     }
     char *buf = NULL;
     size_t len = 0, cap = 0;
@@ -271,7 +279,8 @@ bool pfx_mesh_load(const char *path, const char *name, double scale, pfx_arena *
     for (;;) {
         if (len == cap) {
             if (len > PFX_MESH_MAX_BYTES) {
-                ok = fail(at, "'%s' is larger than %u MiB", name, PFX_MESH_MAX_BYTES >> 20);
+                ok = fail(at, PFX_RULE_TOO_LARGE, "'%s' is larger than %u MiB", name,
+                          PFX_MESH_MAX_BYTES >> 20);
                 break;
             }
             cap = cap ? 2 * cap : 1 << 16;
@@ -279,7 +288,7 @@ bool pfx_mesh_load(const char *path, const char *name, double scale, pfx_arena *
                 cap = (size_t)PFX_MESH_MAX_BYTES + 1;
             char *p = realloc(buf, cap);
             if (!p) {
-                ok = fail(at, "out of memory reading '%s'", name);
+                ok = fail(at, PFX_RULE_OUT_OF_MEMORY, "out of memory reading '%s'", name);
                 break;
             }
             buf = p;
@@ -288,7 +297,7 @@ bool pfx_mesh_load(const char *path, const char *name, double scale, pfx_arena *
         len += got;
         if (got == 0) {
             if (ferror(f))
-                ok = fail(at, "cannot read '%s': %s", name, strerror(errno));
+                ok = fail(at, PFX_RULE_READ_FAILED, "cannot read '%s': %s", name, strerror(errno));
             break;
         }
     }

@@ -46,7 +46,7 @@ void pfx_size_pools(compiler *c, const pfx_node *emitters) {
             const pfx_node *at = pfx_node_get(emitters->pairs[i].value, "rate");
             if (!at)
                 at = emitters->pairs[i].key;
-            pfx_read_warning(&c->r, at,
+            pfx_read_warning(&c->r, at, PFX_RULE_POOL_SATURATED,
                              "emitter '%s' needs up to %.0f live particles (%g births/s x max "
                              "lifetime %g s, plus bursts and sub-emitters) but gets %.0f of the "
                              "%.0f budget; it will saturate (raise --max-particles or lower "

@@ -10,27 +10,27 @@
 #include <stdlib.h>
 #include <string.h>
 
-static void report(pfx_reader *r, pfx_severity sev, const pfx_node *n, const char *fmt,
-                   va_list ap) {
+static void report(pfx_reader *r, pfx_severity sev, const pfx_node *n, pfx_rule rule,
+                   const char *fmt, va_list ap) {
     int span = n->kind == PFX_NODE_SCALAR ? n->span : 1;
-    pfx_diag_vadd(r->d, sev, n->line, n->col, span, fmt, ap);
+    pfx_diag_vadd(r->d, sev, n->line, n->col, span, rule, fmt, ap);
 }
 
 pfx_diag_at pfx_read_at(pfx_reader *r, const pfx_node *n) {
     return (pfx_diag_at){r->d, n->line, n->col, n->kind == PFX_NODE_SCALAR ? n->span : 1};
 }
 
-void pfx_read_error(pfx_reader *r, const pfx_node *n, const char *fmt, ...) {
+void pfx_read_error(pfx_reader *r, const pfx_node *n, pfx_rule rule, const char *fmt, ...) {
     va_list ap;
     va_start(ap, fmt);
-    report(r, PFX_SEV_ERROR, n, fmt, ap);
+    report(r, PFX_SEV_ERROR, n, rule, fmt, ap);
     va_end(ap);
 }
 
-void pfx_read_warning(pfx_reader *r, const pfx_node *n, const char *fmt, ...) {
+void pfx_read_warning(pfx_reader *r, const pfx_node *n, pfx_rule rule, const char *fmt, ...) {
     va_list ap;
     va_start(ap, fmt);
-    report(r, PFX_SEV_WARNING, n, fmt, ap);
+    report(r, PFX_SEV_WARNING, n, rule, fmt, ap);
     va_end(ap);
 }
 
@@ -149,12 +149,14 @@ bool pfx_read_check_keys(pfx_reader *r, const pfx_node *map, const char *const *
         /* Past the cap the message is only counted: no suggestion to find. */
         const char *s = ek || r->d->count >= PFX_DIAG_MAX ? NULL : pfx_suggest(k->text, allowed);
         if (ek)
-            pfx_read_error(r, k, "unknown key '%s' in %s; %s's '%s' is pfx's '%s'", shown, where,
+            pfx_read_error(r, k, PFX_RULE_UNKNOWN_KEY,
+                           "unknown key '%s' in %s; %s's '%s' is pfx's '%s'", shown, where,
                            ek->engine, ek->name, ek->pfx);
         else if (s)
-            pfx_read_error(r, k, "unknown key '%s' in %s; did you mean '%s'?", shown, where, s);
+            pfx_read_error(r, k, PFX_RULE_UNKNOWN_KEY, "unknown key '%s' in %s; did you mean '%s'?",
+                           shown, where, s);
         else
-            pfx_read_error(r, k, "unknown key '%s' in %s", shown, where);
+            pfx_read_error(r, k, PFX_RULE_UNKNOWN_KEY, "unknown key '%s' in %s", shown, where);
         ok = false;
     }
     return ok;
@@ -163,7 +165,8 @@ bool pfx_read_check_keys(pfx_reader *r, const pfx_node *map, const char *const *
 bool pfx_read_map(pfx_reader *r, const pfx_node *n, const char *what) {
     if (n->kind == PFX_NODE_MAP)
         return true;
-    pfx_read_error(r, n, "'%s' must be a mapping, got %s", what, pfx_node_kind_name(n));
+    pfx_read_error(r, n, PFX_RULE_WRONG_TYPE, "'%s' must be a mapping, got %s", what,
+                   pfx_node_kind_name(n));
     return false;
 }
 
@@ -216,17 +219,18 @@ static bool parse_number(const char *s, double *out, bool *finite) {
 
 bool pfx_read_number(pfx_reader *r, const pfx_node *n, const char *what, double *out) {
     if (n->kind != PFX_NODE_SCALAR || !n->plain) {
-        pfx_read_error(r, n, "'%s' must be a number, got %s", what,
+        pfx_read_error(r, n, PFX_RULE_WRONG_TYPE, "'%s' must be a number, got %s", what,
                        n->kind == PFX_NODE_SCALAR ? "a quoted string" : pfx_node_kind_name(n));
         return false;
     }
     bool finite;
     if (!parse_number(n->text, out, &finite)) {
-        pfx_read_error(r, n, "'%s' must be a number, got '%s'", what, n->text);
+        pfx_read_error(r, n, PFX_RULE_WRONG_TYPE, "'%s' must be a number, got '%s'", what, n->text);
         return false;
     }
     if (!finite) {
-        pfx_read_error(r, n, "'%s' must be a finite number, got '%s'", what, n->text);
+        pfx_read_error(r, n, PFX_RULE_OUT_OF_RANGE, "'%s' must be a finite number, got '%s'", what,
+                       n->text);
         return false;
     }
     return true;
@@ -249,7 +253,8 @@ bool pfx_read_uint(pfx_reader *r, const pfx_node *n, const char *what, uint64_t 
             return true;
         }
     }
-    pfx_read_error(r, n, "'%s' must be a whole number from 0 to 2^64 - 1, got %s%s%s", what,
+    pfx_read_error(r, n, PFX_RULE_NOT_INTEGER,
+                   "'%s' must be a whole number from 0 to 2^64 - 1, got %s%s%s", what,
                    n->kind == PFX_NODE_SCALAR ? "'" : "",
                    n->kind == PFX_NODE_SCALAR ? n->text : pfx_node_kind_name(n),
                    n->kind == PFX_NODE_SCALAR ? "'" : "");
@@ -258,7 +263,7 @@ bool pfx_read_uint(pfx_reader *r, const pfx_node *n, const char *what, uint64_t 
 
 bool pfx_read_numbers(pfx_reader *r, const pfx_node *n, const char *what, double *out, int count) {
     if (n->kind != PFX_NODE_SEQ || n->count != (size_t)count) {
-        pfx_read_error(r, n, "'%s' must be a list of %d numbers", what, count);
+        pfx_read_error(r, n, PFX_RULE_WRONG_TYPE, "'%s' must be a list of %d numbers", what, count);
         return false;
     }
     bool ok = true;
@@ -269,11 +274,13 @@ bool pfx_read_numbers(pfx_reader *r, const pfx_node *n, const char *what, double
 
 bool pfx_read_string(pfx_reader *r, const pfx_node *n, const char *what, const char **out) {
     if (n->kind != PFX_NODE_SCALAR) {
-        pfx_read_error(r, n, "'%s' must be a name, got %s", what, pfx_node_kind_name(n));
+        pfx_read_error(r, n, PFX_RULE_WRONG_TYPE, "'%s' must be a name, got %s", what,
+                       pfx_node_kind_name(n));
         return false;
     }
     if (strlen(n->text) != n->len) {
-        pfx_read_error(r, n, "'%s' must not contain a NUL character", what);
+        pfx_read_error(r, n, PFX_RULE_MALFORMED_VALUE, "'%s' must not contain a NUL character",
+                       what);
         return false;
     }
     *out = n->text;
@@ -290,7 +297,7 @@ bool pfx_read_path(pfx_reader *r, const pfx_node *n, const char *what, const cha
         dir = slash ? (size_t)(slash - effect_path) + 1 : 0;
     }
     if (dir + strlen(*name) + 1 > size) {
-        pfx_read_error(r, n, "the path of '%s' is too long", *name);
+        pfx_read_error(r, n, PFX_RULE_TOO_LARGE, "the path of '%s' is too long", *name);
         return false;
     }
     memcpy(path, effect_path, dir);
@@ -309,13 +316,14 @@ bool pfx_read_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_valu
     if (n->kind == PFX_NODE_SEQ) {
         double mm[2];
         if (n->count != 2) {
-            pfx_read_error(r, n, "'%s' as a list must be [min, max]", what);
+            pfx_read_error(r, n, PFX_RULE_WRONG_TYPE, "'%s' as a list must be [min, max]", what);
             return false;
         }
         if (!pfx_read_numbers(r, n, what, mm, 2))
             return false;
         if (mm[0] > mm[1]) {
-            pfx_read_error(r, n, "'%s' range [%g, %g] has min above max", what, mm[0], mm[1]);
+            pfx_read_error(r, n, PFX_RULE_INVERTED_RANGE, "'%s' range [%g, %g] has min above max",
+                           what, mm[0], mm[1]);
             return false;
         }
         *out = (pfx_value){PFX_DIST_UNIFORM, mm[0], mm[1], 0, 0, PFX_FORM_RANGE};
@@ -332,7 +340,8 @@ bool pfx_read_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_valu
         if (!pfx_read_number(r, mean, what, &m) || (var && !pfx_read_number(r, var, what, &v)))
             return false;
         if (v < 0) {
-            pfx_read_error(r, var, "'var' of '%s' must be at least 0, got %g", what, v);
+            pfx_read_error(r, var, PFX_RULE_OUT_OF_RANGE,
+                           "'var' of '%s' must be at least 0, got %g", what, v);
             return false;
         }
         *out = (pfx_value){PFX_DIST_UNIFORM, m - v, m + v, 0, 0, PFX_FORM_MEAN_VAR};
@@ -343,8 +352,8 @@ bool pfx_read_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_valu
         if (!pfx_read_numbers(r, normal, what, ms, 2))
             return false;
         if (ms[1] < 0) {
-            pfx_read_error(r, normal, "standard deviation of '%s' must be at least 0, got %g", what,
-                           ms[1]);
+            pfx_read_error(r, normal, PFX_RULE_OUT_OF_RANGE,
+                           "standard deviation of '%s' must be at least 0, got %g", what, ms[1]);
             return false;
         }
         /* Without a clamp the tails are cut at three standard deviations, so
@@ -354,7 +363,8 @@ bool pfx_read_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_valu
         if (clamp && !pfx_read_numbers(r, clamp, what, lohi, 2))
             return false;
         if (lohi[0] > lohi[1]) {
-            pfx_read_error(r, clamp, "'clamp' of '%s' has min above max", what);
+            pfx_read_error(r, clamp, PFX_RULE_INVERTED_RANGE, "'clamp' of '%s' has min above max",
+                           what);
             return false;
         }
         *out =
@@ -362,7 +372,7 @@ bool pfx_read_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_valu
                         lohi[0],         lohi[1], clamp ? PFX_FORM_NORMAL : PFX_FORM_NORMAL_CUT3};
         return true;
     }
-    pfx_read_error(r, n,
+    pfx_read_error(r, n, PFX_RULE_WRONG_TYPE,
                    "'%s' must be a number, [min, max], {mean: m, var: v} or "
                    "{normal: [mean, sd], clamp: [lo, hi]}",
                    what);
@@ -451,10 +461,10 @@ static bool comment_after(pfx_reader *r, const pfx_node *n, const char *what) {
     int len = 1;
     while (hash + len < eol && !isspace((unsigned char)hash[len]))
         len++;
-    pfx_diag_add(r->d, PFX_SEV_ERROR, n->line, col, len,
+    pfx_diag_add(r->d, PFX_SEV_ERROR, n->line, col, len, PFX_RULE_MALFORMED_VALUE,
                  "'#' starts a YAML comment, so '%s' is empty; quote the colour: %s: \"%.*s\"",
                  what, what, len, hash);
-    pfx_diag_add(r->d, PFX_SEV_NOTE, n->line, col, len, COLOUR_FORMS);
+    pfx_diag_note(r->d, n->line, col, len, COLOUR_FORMS);
     return true;
 }
 
@@ -469,8 +479,9 @@ bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, double r
             return true;
         if (n->plain && n->len == 0 && comment_after(r, n, what))
             return false;
-        pfx_read_error(r, n, "malformed colour '%s' in '%s'", n->text, what);
-        pfx_diag_add(r->d, PFX_SEV_NOTE, n->line, n->col, 1, COLOUR_FORMS);
+        pfx_read_error(r, n, PFX_RULE_MALFORMED_VALUE, "malformed colour '%s' in '%s'", n->text,
+                       what);
+        pfx_diag_note(r->d, n->line, n->col, 1, COLOUR_FORMS);
         return false;
     }
     if (is_scalar_list(n) && (n->count == 3 || n->count == 4)) {
@@ -480,7 +491,8 @@ bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, double r
             ok &= pfx_read_number(r, n->items[i], what, &c[i]);
             double hi = i == 3 ? 1 : rgb_max; /* HDR colour, never alpha */
             if (ok && (c[i] < 0 || c[i] > hi)) {
-                pfx_read_error(r, n->items[i], "%s of '%s' must be in 0..%g, got %g",
+                pfx_read_error(r, n->items[i], PFX_RULE_OUT_OF_RANGE,
+                               "%s of '%s' must be in 0..%g, got %g",
                                i == 3 ? "the alpha" : "colour components", what, hi, c[i]);
                 ok = false;
             }
@@ -489,8 +501,8 @@ bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, double r
             out[i] = (float)c[i];
         return ok;
     }
-    pfx_read_error(r, n, "malformed colour in '%s'", what);
-    pfx_diag_add(r->d, PFX_SEV_NOTE, n->line, n->col, 1, COLOUR_FORMS);
+    pfx_read_error(r, n, PFX_RULE_MALFORMED_VALUE, "malformed colour in '%s'", what);
+    pfx_diag_note(r->d, n->line, n->col, 1, COLOUR_FORMS);
     return false;
 }
 
@@ -536,19 +548,20 @@ bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, doubl
         count = 1;
     } else if (n->kind == PFX_NODE_SEQ) {
         if (n->count == 0) {
-            pfx_read_error(r, n, "gradient '%s' needs at least one colour", what);
+            pfx_read_error(r, n, PFX_RULE_MALFORMED_VALUE,
+                           "gradient '%s' needs at least one colour", what);
             return false;
         }
         if (n->count > MAX_STOPS) {
-            pfx_read_error(r, n, "gradient '%s' has %zu stops; the most is %d", what, n->count,
-                           MAX_STOPS);
+            pfx_read_error(r, n, PFX_RULE_TOO_MANY, "gradient '%s' has %zu stops; the most is %d",
+                           what, n->count, MAX_STOPS);
             return false;
         }
         bool stops = n->items[0]->kind == PFX_NODE_MAP;
         for (size_t i = 0; i < n->count; i++) {
             const pfx_node *item = n->items[i];
             if (stops != (item->kind == PFX_NODE_MAP)) {
-                pfx_read_error(r, item,
+                pfx_read_error(r, item, PFX_RULE_MALFORMED_VALUE,
                                "a gradient cannot mix plain colours and {at: t, color: c} stops");
                 ok = false;
                 continue;
@@ -561,7 +574,8 @@ bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, doubl
             ok &= pfx_read_check_keys(r, item, stop_keys, "a gradient stop");
             const pfx_node *t = pfx_node_get(item, "at"), *c = pfx_node_get(item, "color");
             if (!t || !c) {
-                pfx_read_error(r, item, "a gradient stop needs both 'at' and 'color'");
+                pfx_read_error(r, item, PFX_RULE_MISSING_KEY,
+                               "a gradient stop needs both 'at' and 'color'");
                 ok = false;
                 continue;
             }
@@ -571,16 +585,18 @@ bool pfx_read_gradient(pfx_reader *r, const pfx_node *n, const char *what, doubl
                 continue;
             }
             if (at[i] < 0 || at[i] > 1) {
-                pfx_read_error(r, t, "'at' must be in 0..1, got %g", at[i]);
+                pfx_read_error(r, t, PFX_RULE_OUT_OF_RANGE, "'at' must be in 0..1, got %g", at[i]);
                 ok = false;
             } else if (i > 0 && at[i] < at[i - 1]) {
-                pfx_read_error(r, t, "gradient stops must be in increasing 'at' order");
+                pfx_read_error(r, t, PFX_RULE_OUT_OF_ORDER,
+                               "gradient stops must be in increasing 'at' order");
                 ok = false;
             }
         }
         count = n->count;
     } else {
-        pfx_read_error(r, n, "'%s' must be a colour or a list of colours", what);
+        pfx_read_error(r, n, PFX_RULE_WRONG_TYPE, "'%s' must be a colour or a list of colours",
+                       what);
         return false;
     }
     if (!ok)
@@ -593,8 +609,8 @@ bool pfx_check_above(pfx_reader *r, const pfx_node *n, const char *what, double 
                      bool strict) {
     if (strict ? got > bound : got >= bound)
         return true;
-    pfx_read_error(r, n, "'%s' must be %s %g, got %g", what, strict ? "greater than" : "at least",
-                   bound, got);
+    pfx_read_error(r, n, PFX_RULE_OUT_OF_RANGE, "'%s' must be %s %g, got %g", what,
+                   strict ? "greater than" : "at least", bound, got);
     return false;
 }
 
@@ -602,8 +618,8 @@ bool pfx_check_below(pfx_reader *r, const pfx_node *n, const char *what, double 
                      bool strict) {
     if (strict ? got < bound : got <= bound)
         return true;
-    pfx_read_error(r, n, "'%s' must be %s %g, got %g", what, strict ? "less than" : "at most",
-                   bound, got);
+    pfx_read_error(r, n, PFX_RULE_OUT_OF_RANGE, "'%s' must be %s %g, got %g", what,
+                   strict ? "less than" : "at most", bound, got);
     return false;
 }
 
@@ -623,9 +639,11 @@ int pfx_read_enum(pfx_reader *r, const pfx_node *n, const char *key, const char 
         strncat(list, names[i], sizeof list - strlen(list) - 1);
     }
     if (sug)
-        pfx_read_error(r, n, "unknown %s '%s'; did you mean '%s'?", what, s, sug);
+        pfx_read_error(r, n, PFX_RULE_UNKNOWN_CHOICE, "unknown %s '%s'; did you mean '%s'?", what,
+                       s, sug);
     else
-        pfx_read_error(r, n, "unknown %s '%s'; expected one of: %s", what, s, list);
+        pfx_read_error(r, n, PFX_RULE_UNKNOWN_CHOICE, "unknown %s '%s'; expected one of: %s", what,
+                       s, list);
     return -1;
 }
 
@@ -634,13 +652,14 @@ int pfx_read_enum(pfx_reader *r, const pfx_node *n, const char *key, const char 
 static bool value_bound_error(pfx_reader *r, const pfx_node *n, const char *what,
                               const pfx_value *v, bool low, double got, const char *rule) {
     if (v->form == PFX_FORM_MEAN_VAR)
-        pfx_read_error(r, n, "'%s' must be %s, but mean %s var is %g", what, rule, low ? "-" : "+",
-                       got);
+        pfx_read_error(r, n, PFX_RULE_OUT_OF_RANGE, "'%s' must be %s, but mean %s var is %g", what,
+                       rule, low ? "-" : "+", got);
     else if (v->form == PFX_FORM_NORMAL_CUT3)
-        pfx_read_error(r, n, "'%s' must be %s, but mean %s 3 sd is %g; add a 'clamp'", what, rule,
+        pfx_read_error(r, n, PFX_RULE_OUT_OF_RANGE,
+                       "'%s' must be %s, but mean %s 3 sd is %g; add a 'clamp'", what, rule,
                        low ? "-" : "+", got);
     else
-        pfx_read_error(r, n, "'%s' must be %s, got %g", what, rule, got);
+        pfx_read_error(r, n, PFX_RULE_OUT_OF_RANGE, "'%s' must be %s, got %g", what, rule, got);
     return false;
 }
 
@@ -671,8 +690,8 @@ bool pfx_read_vec3_within(pfx_reader *r, const pfx_node *map, const char *key, d
         return false;
     for (int i = 0; i < 3; i++)
         if (fabs(v[i]) > limit) {
-            pfx_read_error(r, n->items[i], "'%s' components must be within +-%g, got %g", key,
-                           limit, v[i]);
+            pfx_read_error(r, n->items[i], PFX_RULE_OUT_OF_RANGE,
+                           "'%s' components must be within +-%g, got %g", key, limit, v[i]);
             return false;
         }
     memcpy(out, v, sizeof v);
@@ -683,8 +702,10 @@ bool pfx_read_key_list(pfx_reader *r, const pfx_node *n, const pfx_key_list_spec
                        double *v) {
     const char *const key_names[] = {spec->time_key, "value", NULL};
     if (n->kind != PFX_NODE_SEQ || n->count == 0 || n->count > spec->max) {
-        pfx_read_error(r, n, "'%s' needs 1 to %zu keys {%s, value}", spec->what, spec->max,
-                       spec->time_key);
+        pfx_read_error(
+            r, n,
+            n->kind != PFX_NODE_SEQ || n->count == 0 ? PFX_RULE_WRONG_TYPE : PFX_RULE_TOO_MANY,
+            "'%s' needs 1 to %zu keys {%s, value}", spec->what, spec->max, spec->time_key);
         return false;
     }
     bool ok = true;
@@ -697,8 +718,8 @@ bool pfx_read_key_list(pfx_reader *r, const pfx_node *n, const pfx_key_list_spec
         ok &= pfx_read_check_keys(r, k, key_names, "a key");
         const pfx_node *tn = pfx_node_get(k, spec->time_key), *vn = pfx_node_get(k, "value");
         if (!tn || !vn) {
-            pfx_read_error(r, k, "a key of '%s' needs both '%s' and 'value'", spec->what,
-                           spec->time_key);
+            pfx_read_error(r, k, PFX_RULE_MISSING_KEY, "a key of '%s' needs both '%s' and 'value'",
+                           spec->what, spec->time_key);
             ok = false;
             continue;
         }
@@ -711,12 +732,13 @@ bool pfx_read_key_list(pfx_reader *r, const pfx_node *n, const pfx_key_list_spec
             continue;
         }
         if (t[i] < spec->t_lo || t[i] > spec->t_hi) {
-            pfx_read_error(r, tn, "'%s' must be in %g..%g, got %g", spec->time_key, spec->t_lo,
-                           spec->t_hi, t[i]);
+            pfx_read_error(r, tn, PFX_RULE_OUT_OF_RANGE, "'%s' must be in %g..%g, got %g",
+                           spec->time_key, spec->t_lo, spec->t_hi, t[i]);
             ok = false;
         } else if (i > 0 && (spec->strict ? t[i] <= t[i - 1] : t[i] < t[i - 1])) {
-            pfx_read_error(r, tn, "keys of '%s' must have increasing '%s', got %g after %g",
-                           spec->what, spec->time_key, t[i], t[i - 1]);
+            pfx_read_error(r, tn, PFX_RULE_OUT_OF_ORDER,
+                           "keys of '%s' must have increasing '%s', got %g after %g", spec->what,
+                           spec->time_key, t[i], t[i - 1]);
             ok = false;
         }
         for (int d = 0; d < spec->dims && spec->v_lo < spec->v_hi; d++)

@@ -14,14 +14,14 @@ typedef struct pfx_reader {
     pfx_arena *arena;
 } pfx_reader;
 
-/* Reports an error at node n (underlining it). */
 /* Where to blame a problem found while reading what node n names (the
  * file a key points to). */
 pfx_diag_at pfx_read_at(pfx_reader *r, const pfx_node *n);
-void pfx_read_error(pfx_reader *r, const pfx_node *n, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
-void pfx_read_warning(pfx_reader *r, const pfx_node *n, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
+/* Reports an error (a warning) of kind `rule` at node n, underlining it. */
+void pfx_read_error(pfx_reader *r, const pfx_node *n, pfx_rule rule, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+void pfx_read_warning(pfx_reader *r, const pfx_node *n, pfx_rule rule, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
 
 /* Checks that every key of map is in the NULL-terminated list `allowed`;
  * reports the others, suggesting the nearest allowed key. `where` names the

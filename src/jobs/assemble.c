@@ -56,7 +56,7 @@ static char *slice_stem(const char *name) {
 static bool scan_dir(const char *dir, parts *p, pfx_diags *d) {
     DIR *dh = opendir(dir);
     if (!dh) {
-        pfx_diag_error(d, "cannot read '%s': %s", dir, strerror(errno));
+        pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read '%s': %s", dir, strerror(errno));
         return false;
     }
     bool ok = true;
@@ -70,7 +70,7 @@ static bool scan_dir(const char *dir, parts *p, pfx_diags *d) {
             part *items = realloc(p->items, cap * sizeof *items);
             if (!items) {
                 free(stem);
-                pfx_diag_error(d, "out of memory");
+                pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
                 ok = false;
                 break;
             }
@@ -82,14 +82,14 @@ static bool scan_dir(const char *dir, parts *p, pfx_diags *d) {
         size_t n = strlen(dir) + strlen(ent->d_name) + 2;
         it->path = malloc(n);
         if (!it->dir || !it->path) {
-            pfx_diag_error(d, "out of memory");
+            pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
             ok = false;
             break;
         }
         snprintf(it->path, n, "%s/%s", dir, ent->d_name);
         it->m = pfx_manifest_read(it->path);
         if (!it->m) {
-            pfx_diag_error(d, "'%s' is not a pfx manifest", it->path);
+            pfx_diag_error(d, PFX_RULE_INVALID_FILE, "'%s' is not a pfx manifest", it->path);
             ok = false;
         }
     }
@@ -107,7 +107,7 @@ static int by_stem_then_path(const void *a, const void *b) {
 static bool copy_file(const char *src, const char *dst, pfx_diags *d) {
     FILE *in = fopen(src, "rb");
     if (!in) {
-        pfx_diag_error(d, "cannot read '%s': %s", src, strerror(errno));
+        pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read '%s': %s", src, strerror(errno));
         return false;
     }
     pfx_atomic_file *a = pfx_atomic_open(dst, d);
@@ -125,7 +125,8 @@ static bool copy_file(const char *src, const char *dst, pfx_diags *d) {
             ok = false;
         }
     if (ok && ferror(in)) {
-        pfx_diag_error(d, "cannot read '%s': %s", src, strerror(errno ? errno : EIO));
+        pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read '%s': %s", src,
+                       strerror(errno ? errno : EIO));
         fclose(in);
         pfx_atomic_abort(a);
         return false;
@@ -141,11 +142,12 @@ static bool gather(const char *dir, const char *name, const char *sha256, const 
     snprintf(src, sizeof src, "%s/%s", dir, name);
     snprintf(dst, sizeof dst, "%s/%s", out, name);
     if (!pfx_sha256_file(src, hex)) {
-        pfx_diag_error(d, "cannot read '%s': %s", src, strerror(errno));
+        pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read '%s': %s", src, strerror(errno));
         return false;
     }
     if (strcmp(hex, sha256)) {
-        pfx_diag_error(d, "'%s' does not match the hash its slice's manifest records", src);
+        pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                       "'%s' does not match the hash its slice's manifest records", src);
         return false;
     }
     if (pfx_sha256_file(dst, hex) && !strcmp(hex, sha256)) {
@@ -182,8 +184,9 @@ static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_
     /* Every frame of the range exactly once, and nothing else. */
     size_t expected = (size_t)(last - first + 1);
     if (pfx_manifest_output_count(all) != expected) {
-        pfx_diag_error(d, "the slices of '%s' hold %zu files for the %zu frames %ld to %ld",
-                       p[0].stem, pfx_manifest_output_count(all), expected, first, last);
+        pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                       "the slices of '%s' hold %zu files for the %zu frames %ld to %ld", p[0].stem,
+                       pfx_manifest_output_count(all), expected, first, last);
         ok = false;
     }
     for (long f = first; ok && f <= last; f++) {
@@ -191,7 +194,8 @@ static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_
         snprintf(want, sizeof want, "%s_%04ld.png", p[0].stem, f);
         const char *got = pfx_manifest_output(all, (size_t)(f - first), NULL);
         if (!got || strcmp(got, want)) {
-            pfx_diag_error(d, "frame %ld of '%s' is in no slice", f, p[0].stem);
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES, "frame %ld of '%s' is in no slice", f,
+                           p[0].stem);
             ok = false;
         }
     }
@@ -239,14 +243,16 @@ bool pfx_assemble(const char *const *dirs, size_t n, const char *out,
     for (size_t i = 0; i < n && ok; i++)
         ok = scan_dir(dirs[i], &p, d);
     if (ok && p.count == 0) {
-        pfx_diag_error(d, "no slice manifests (NAME.slice-I-of-N.manifest.json) in the "
-                          "directories given");
+        pfx_diag_error(d, PFX_RULE_MISSING_FILE,
+                       "no slice manifests (NAME.slice-I-of-N.manifest.json) in the "
+                       "directories given");
         ok = false;
     }
     if (ok) {
         qsort(p.items, p.count, sizeof *p.items, by_stem_then_path);
         if (opt->preview && strcmp(p.items[0].stem, p.items[p.count - 1].stem)) {
-            pfx_diag_error(d, "--preview names one file, and the slices are of '%s' and '%s'",
+            pfx_diag_error(d, PFX_RULE_IMPOSSIBLE_REQUEST,
+                           "--preview names one file, and the slices are of '%s' and '%s'",
                            p.items[0].stem, p.items[p.count - 1].stem);
             ok = false;
         }

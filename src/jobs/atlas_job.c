@@ -25,13 +25,13 @@ bool pfx_atlas_job_run(const char *dir, const char *stem, long first, long last,
     uint8_t *sheet = NULL;
     bool ok = frames && names;
     if (!ok)
-        pfx_diag_error(d, "out of memory");
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
     char path[4400], png[4400], json[4400];
     for (long k = 0; ok && k < n; k++) {
         int w, h;
         names[k] = malloc(300);
         if (!names[k]) {
-            pfx_diag_error(d, "out of memory");
+            pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
             ok = false;
             break;
         }
@@ -39,20 +39,22 @@ bool pfx_atlas_job_run(const char *dir, const char *stem, long first, long last,
         snprintf(path, sizeof path, "%s/%s", dir, names[k]);
         frames[k] = pfx_png_read(path, &w, &h);
         if (!frames[k]) {
-            pfx_diag_error(d, "cannot read the frame '%s' for the atlas", path);
+            pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read the frame '%s' for the atlas",
+                           path);
             ok = false;
         } else if (k == 0) {
             l->frame_w = w;
             l->frame_h = h;
             if ((long long)w * h * 4 * n > PFX_ATLAS_MAX_BYTES) {
-                pfx_diag_error(d,
+                pfx_diag_error(d, PFX_RULE_MEMORY_BOUND,
                                "an atlas of %ld frames of %dx%d would hold %lld MiB of frames, "
                                "over the %lld MiB bound",
                                n, w, h, (long long)w * h * 4 * n >> 20, PFX_ATLAS_MAX_BYTES >> 20);
                 ok = false;
             }
         } else if (w != l->frame_w || h != l->frame_h) {
-            pfx_diag_error(d, "'%s' is %dx%d, not %dx%d like the frames before it", path, w, h,
+            pfx_diag_error(d, PFX_RULE_INVALID_FILE,
+                           "'%s' is %dx%d, not %dx%d like the frames before it", path, w, h,
                            l->frame_w, l->frame_h);
             ok = false;
         }
@@ -63,7 +65,8 @@ bool pfx_atlas_job_run(const char *dir, const char *stem, long first, long last,
         pfx_atlas_find_crop(l, frames, (int)n);
     ok = ok && pfx_atlas_layout_resolve(l, d);
     if (ok && !(sheet = pfx_atlas_compose(l, frames))) {
-        pfx_diag_error(d, "out of memory for an atlas of %dx%d", l->width, l->height);
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for an atlas of %dx%d", l->width,
+                       l->height);
         ok = false;
     }
     char image[300];

@@ -15,7 +15,7 @@
 bool pfx_delivery_begin(pfx_delivery *dl, const char *command, pfx_diags *d) {
     dl->now = pfx_manifest_create(command);
     if (!dl->now) {
-        pfx_diag_error(d, "out of memory");
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
         return false;
     }
     dl->prev = dl->manifest_path ? pfx_manifest_read(dl->manifest_path) : NULL;

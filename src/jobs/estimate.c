@@ -193,6 +193,7 @@ void pfx_estimate_warn(pfx_loaded *l, const pfx_estimate *est, uint64_t bound) {
     if (est->particle_steps > PFX_WORK_WARN_PARTICLE_STEPS) {
         const pfx_node *n = work_node(l);
         pfx_diag_add(&l->diags, PFX_SEV_WARNING, n ? n->line : 0, n ? n->col : 0, n ? n->span : 0,
+                     PFX_RULE_HEAVY_SIMULATION,
                      "the effect needs up to %.3g particle-steps to its last frame (%.3g steps of "
                      "up to %.3g particles), over %.0e: hours or more of simulation (lower "
                      "'duration', 'prewarm', 'sim.rate' or the particle budget)",
@@ -202,7 +203,7 @@ void pfx_estimate_warn(pfx_loaded *l, const pfx_estimate *est, uint64_t bound) {
     }
     if (bound && est->total_bytes > (double)bound) {
         char need[32], have[32], part[32];
-        pfx_diag_add(&l->diags, PFX_SEV_WARNING, 0, 0, 0,
+        pfx_diag_add(&l->diags, PFX_SEV_WARNING, 0, 0, 0, PFX_RULE_MEMORY_BOUND,
                      "rendering needs up to %s of memory, over the bound of %s (--max-memory); "
                      "the most goes to the %s: %s",
                      pfx_memory_format(est->total_bytes, need, sizeof need),

@@ -14,8 +14,8 @@ pfx_effect *pfx_load(pfx_loaded *l, const char *path, const pfx_compile_options 
     pfx_diags_init(&l->diags, path, NULL, 0);
     FILE *f = fopen(path, "rb");
     if (!f) {
-        pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0, "cannot open '%s': %s", path,
-                     strerror(errno));
+        pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0, PFX_RULE_MISSING_FILE,
+                     "cannot open '%s': %s", path, strerror(errno));
         return NULL;
     }
     /* Read at most one byte past the limit, so a huge file costs bounded
@@ -44,11 +44,11 @@ pfx_effect *pfx_load(pfx_loaded *l, const char *path, const pfx_compile_options 
     fclose(f);
     if (!buf || read_errno) {
         if (read_errno)
-            pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0, "cannot read '%s': %s", path,
-                         strerror(read_errno));
+            pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0, PFX_RULE_READ_FAILED,
+                         "cannot read '%s': %s", path, strerror(read_errno));
         else
-            pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0, "cannot read '%s': out of memory",
-                         path);
+            pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0, PFX_RULE_OUT_OF_MEMORY,
+                         "cannot read '%s': out of memory", path);
         free(buf);
         return NULL;
     }
@@ -61,7 +61,8 @@ pfx_effect *pfx_load_bytes(pfx_loaded *l, const char *path, const void *bytes, s
     pfx_diags_init(&l->diags, path, NULL, 0);
     char *buf = malloc(len + 1);
     if (!buf) {
-        pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0, "cannot read '%s': out of memory", path);
+        pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0, PFX_RULE_OUT_OF_MEMORY,
+                     "cannot read '%s': out of memory", path);
         return NULL;
     }
     if (len)
@@ -79,7 +80,7 @@ static pfx_effect *load_source(pfx_loaded *l, const char *path, char *buf, size_
     l->diags.source = buf;
     l->diags.source_len = len;
     if (len > PFX_MAX_FILE_BYTES) {
-        pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0,
+        pfx_diag_add(&l->diags, PFX_SEV_ERROR, 0, 0, 0, PFX_RULE_TOO_LARGE,
                      "the file is larger than %u MiB; an effect file is a few kilobytes",
                      PFX_MAX_FILE_BYTES >> 20);
         return NULL;
@@ -93,7 +94,7 @@ static pfx_effect *load_source(pfx_loaded *l, const char *path, char *buf, size_
             else if (((unsigned char)*p & 0xc0) != 0x80)
                 col++;
         }
-        pfx_diag_add(&l->diags, PFX_SEV_ERROR, line, col, 1,
+        pfx_diag_add(&l->diags, PFX_SEV_ERROR, line, col, 1, PFX_RULE_NOT_UTF8,
                      "the file contains NUL bytes; an effect file is UTF-8 text");
         return NULL;
     }

@@ -82,7 +82,8 @@ bool pfx_manifest_add_input(pfx_manifest *m, const char *path, pfx_diags *d) {
         return true;
     char hex[PFX_SHA256_HEX];
     if (!pfx_sha256_file(path, hex)) {
-        pfx_diag_error(d, "cannot read input '%s': %s", path, strerror(errno));
+        pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read input '%s': %s", path,
+                       strerror(errno));
         return false;
     }
     json_array_append_new(inputs, json_pack("{s:s, s:s}", "path", path, "sha256", hex));
@@ -123,11 +124,12 @@ bool pfx_manifest_add_output(pfx_manifest *m, const char *dir, const char *name,
     char path[4096], hex[PFX_SHA256_HEX];
     int n = snprintf(path, sizeof path, "%s/%s", dir, name);
     if (n < 0 || (size_t)n >= sizeof path) {
-        pfx_diag_error(d, "output path '%s/%s' is too long", dir, name);
+        pfx_diag_error(d, PFX_RULE_TOO_LARGE, "output path '%s/%s' is too long", dir, name);
         return false;
     }
     if (!pfx_sha256_file(path, hex)) {
-        pfx_diag_error(d, "cannot read output '%s': %s", path, strerror(errno));
+        pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read output '%s': %s", path,
+                       strerror(errno));
         return false;
     }
     json_t *outputs = member(m, "outputs"), *old = find_path(outputs, name);
@@ -221,14 +223,14 @@ size_t pfx_manifest_remove_stale(const pfx_manifest *prev, const pfx_manifest *n
         if (n < 0 || (size_t)n >= sizeof path || access(path, F_OK) != 0)
             continue;
         if (!file_has(dir, name, sha)) {
-            pfx_diag_add(d, PFX_SEV_NOTE, 0, 0, 1, "kept stale '%s': it changed since pfx wrote it",
-                         path);
+            pfx_diag_note(d, 0, 0, 1, "kept stale '%s': it changed since pfx wrote it", path);
             continue;
         }
         if (unlink(path) == 0)
             removed++;
         else
-            pfx_diag_error(d, "cannot remove stale '%s': %s", path, strerror(errno));
+            pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot remove stale '%s': %s", path,
+                           strerror(errno));
     }
     return removed;
 }
@@ -277,7 +279,8 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
     int errors = d->errors;
     for (size_t k = 0; k < n; k++) {
         if (!slice_of(parts[k], &index, &count, &f0, &f1) || !is_render(parts[k])) {
-            pfx_diag_error(d, "'%s' is not the manifest of a render slice", names[k]);
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                           "'%s' is not the manifest of a render slice", names[k]);
             continue;
         }
         json_t *s = settings_but_frames(parts[k]);
@@ -287,7 +290,7 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
             seen = calloc((size_t)count, sizeof *seen);
             out = pfx_manifest_create("render");
             if (!seen || !out) {
-                pfx_diag_error(d, "out of memory");
+                pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
                 break;
             }
             json_object_set_new(out->root, "settings",
@@ -298,7 +301,7 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
                         json_equal(member(parts[k], "inputs"), member(out, "inputs"));
             json_decref(s);
             if (!same) {
-                pfx_diag_error(d,
+                pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
                                "'%s' is a slice of another render than '%s' (other inputs, "
                                "settings or slice count)",
                                names[k], names[0]);
@@ -306,7 +309,8 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
             }
         }
         if (seen[index]) {
-            pfx_diag_error(d, "slice %lld of %lld is in both '%s' and '%s'", (long long)index,
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                           "slice %lld of %lld is in both '%s' and '%s'", (long long)index,
                            (long long)count, seen[index], names[k]);
             continue;
         }
@@ -315,7 +319,8 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
     }
     for (json_int_t i = 0; seen && i < c0; i++)
         if (!seen[i])
-            pfx_diag_error(d, "slice %lld of %lld is missing", (long long)i, (long long)c0);
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES, "slice %lld of %lld is missing",
+                           (long long)i, (long long)c0);
     free(seen);
     json_decref(ref);
     if (!out || d->errors > errors) {
@@ -328,7 +333,7 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
     json_t **items = malloc((count_out + 1) * sizeof *items);
     if (!items) {
         pfx_manifest_destroy(out);
-        pfx_diag_error(d, "out of memory");
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
         return NULL;
     }
     for (size_t i = 0; i < count_out; i++)
@@ -355,7 +360,7 @@ static bool merge_outputs(pfx_manifest *dst, const pfx_manifest *src, pfx_diags 
         json_t *old = find_path(outputs, name);
         const char *old_sha = old ? json_string_value(json_object_get(old, "sha256")) : NULL;
         if (old) {
-            pfx_diag_error(d, "'%s' is in two slices%s", name,
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES, "'%s' is in two slices%s", name,
                            old_sha && strcmp(old_sha, sha) ? ", with different contents" : "");
             return false;
         }

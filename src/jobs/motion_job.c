@@ -28,7 +28,8 @@ bool pfx_mv_sequence_max(const pfx_effect *e, double *max_px, pfx_diags *d) {
     pfx_sprite *sprites = malloc((pfx_sprites_capacity(e) + 1) * sizeof *sprites);
     bool ok = sim && view && sprites;
     if (!ok)
-        pfx_diag_error(d, "out of memory for %zu particles", pfx_sprites_capacity(e));
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for %zu particles",
+                       pfx_sprites_capacity(e));
     const double dt = 1.0 / e->fps;
     double most = 0;
     const long frames = pfx_effect_frame_count(e);
@@ -65,7 +66,8 @@ bool pfx_mv_frame_init(pfx_mv_frame *b, const pfx_effect *e, pfx_diags *d) {
     b->mv = malloc(n * 3 * sizeof *b->mv);
     b->samples = malloc(n * 4 * sizeof *b->samples);
     if (!b->mv || !b->samples) {
-        pfx_diag_error(d, "out of memory for motion vectors at %dx%d", e->width, e->height);
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for motion vectors at %dx%d",
+                       e->width, e->height);
         return false;
     }
     return true;
@@ -110,23 +112,26 @@ bool pfx_mv_atlas_write(const char *dir, const char *stem, long first, long last
     uint16_t *sheet = NULL;
     bool ok = frames != NULL;
     if (!ok)
-        pfx_diag_error(d, "out of memory");
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
     char path[4400];
     for (long k = 0; ok && k < n; k++) {
         int w, h;
         pfx_mv_frame_path(dir, stem, first + k, path, sizeof path);
         frames[k] = pfx_png_read16(path, &w, &h);
         if (!frames[k]) {
-            pfx_diag_error(d, "cannot read the motion vectors '%s' for the atlas", path);
+            pfx_diag_error(d, PFX_RULE_READ_FAILED,
+                           "cannot read the motion vectors '%s' for the atlas", path);
             ok = false;
         } else if (w != l->frame_w || h != l->frame_h) {
-            pfx_diag_error(d, "'%s' is %dx%d, not %dx%d like the colour frames", path, w, h,
+            pfx_diag_error(d, PFX_RULE_INVALID_FILE,
+                           "'%s' is %dx%d, not %dx%d like the colour frames", path, w, h,
                            l->frame_w, l->frame_h);
             ok = false;
         }
     }
     if (ok && !(sheet = pfx_mv_atlas_compose(l, frames))) {
-        pfx_diag_error(d, "out of memory for an atlas of %dx%d", l->width, l->height);
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for an atlas of %dx%d", l->width,
+                       l->height);
         ok = false;
     }
     snprintf(image, image_size, "%s_mv_atlas.png", stem);

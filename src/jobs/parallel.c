@@ -41,7 +41,7 @@ bool pfx_render_job_run_parallel(pfx_render_job *job, pfx_renderer_kind kind, in
         free(cs);
         free(ts);
         free(started);
-        pfx_diag_error(d, "out of memory");
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
         return false;
     }
     /* The PNG encoders (render_job.h's threads): the cores shared among the

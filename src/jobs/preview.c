@@ -19,7 +19,8 @@ bool pfx_preview_run(const char *dir, const char *stem, long first, long last, d
         snprintf(frame, sizeof frame, "%s/%s_%04ld.png", dir, stem, f);
         uint8_t *rgba = pfx_png_read(frame, &fw, &fh);
         if (!rgba) {
-            pfx_diag_error(d, "cannot read the frame '%s' for the preview", frame);
+            pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read the frame '%s' for the preview",
+                           frame);
             ok = false;
             break;
         }
@@ -27,7 +28,8 @@ bool pfx_preview_run(const char *dir, const char *stem, long first, long last, d
             width = fw, height = fh;
             ok = (w = pfx_webp_create(width, height, fps, 100, d)) != NULL;
         } else if (fw != width || fh != height) {
-            pfx_diag_error(d, "'%s' is %dx%d, not %dx%d like the frames before it", frame, fw, fh,
+            pfx_diag_error(d, PFX_RULE_INVALID_FILE,
+                           "'%s' is %dx%d, not %dx%d like the frames before it", frame, fw, fh,
                            width, height);
             ok = false;
         }

@@ -34,7 +34,8 @@ static long draw_frame(pfx_render_job *job, long f, const pfx_render_settings *s
      * pass sorts them or motion blur replaces them with later ones. */
     char path[4600];
     if (job->motion && !pfx_mv_frame_path(job->dir, job->stem, f, path, sizeof path)) {
-        pfx_diag_error(d, "output path '%s/%s_mv_%04ld.png' is too long", job->dir, job->stem, f);
+        pfx_diag_error(d, PFX_RULE_TOO_LARGE, "output path '%s/%s_mv_%04ld.png' is too long",
+                       job->dir, job->stem, f);
         return -1;
     }
     if (job->motion &&
@@ -82,18 +83,20 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
     job->sprites = malloc((pfx_sprites_capacity(e) + 1) * sizeof *job->sprites);
     job->ribbons = pfx_ribbons_create(e);
     if (!job->sim || !job->view || !job->sprites || !job->ribbons) {
-        pfx_diag_error(d, "out of memory for %zu particles", pfx_sprites_capacity(e));
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for %zu particles",
+                       pfx_sprites_capacity(e));
         return false;
     }
     const int encoders = pfx_png_encoder_count(job->threads > 0 ? job->threads : e->threads);
     pfx_png_queue *q = pfx_png_queue_create(e->width, e->height, encoders);
     if (!q) {
-        pfx_diag_error(d, "cannot start the PNG writer");
+        pfx_diag_error(d, PFX_RULE_ENCODE_FAILED, "cannot start the PNG writer");
         return false;
     }
     pfx_material *materials = malloc((e->emitter_count + 1) * sizeof *materials);
     if (!materials) {
-        pfx_diag_error(d, "out of memory for %zu materials", e->emitter_count);
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for %zu materials",
+                       e->emitter_count);
         pfx_png_queue_finish(q, NULL);
         return false;
     }
@@ -111,7 +114,8 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
         failed = drawn < 0;
         size_t n = failed ? 0 : (size_t)drawn;
         if (!failed && !frame_path(job, f, name, sizeof name)) {
-            pfx_diag_error(d, "output path '%s/%s_%04ld.png' is too long", job->dir, job->stem, f);
+            pfx_diag_error(d, PFX_RULE_TOO_LARGE, "output path '%s/%s_%04ld.png' is too long",
+                           job->dir, job->stem, f);
             failed = true;
         }
         if (failed)

@@ -22,7 +22,7 @@
 
 bool pfx_atlas_layout_resolve(pfx_atlas_layout *l, pfx_diags *d) {
     if (l->frames < 1) {
-        pfx_diag_error(d, "an atlas needs at least one frame");
+        pfx_diag_error(d, PFX_RULE_IMPOSSIBLE_REQUEST, "an atlas needs at least one frame");
         return false;
     }
     if (!l->columns && !l->rows) {
@@ -34,7 +34,8 @@ bool pfx_atlas_layout_resolve(pfx_atlas_layout *l, pfx_diags *d) {
         l->columns = (l->frames + l->rows - 1) / l->rows;
     }
     if ((long long)l->columns * l->rows < l->frames) {
-        pfx_diag_error(d, "an atlas of %dx%d cells cannot hold %d frames", l->columns, l->rows,
+        pfx_diag_error(d, PFX_RULE_IMPOSSIBLE_REQUEST,
+                       "an atlas of %dx%d cells cannot hold %d frames", l->columns, l->rows,
                        l->frames);
         return false;
     }
@@ -47,7 +48,7 @@ bool pfx_atlas_layout_resolve(pfx_atlas_layout *l, pfx_diags *d) {
     l->cell_h = l->crop_h + 2 * l->padding;
     long long w = (long long)l->cell_w * l->columns, h = (long long)l->cell_h * l->rows;
     if (w > PFX_ATLAS_MAX_SIDE || h > PFX_ATLAS_MAX_SIDE) {
-        pfx_diag_error(d,
+        pfx_diag_error(d, PFX_RULE_TOO_LARGE,
                        "an atlas of %dx%d cells of %dx%d pixels is %lldx%lld, over the %d "
                        "limit; use fewer frames, a smaller --size or --crop",
                        l->columns, l->rows, l->cell_w, l->cell_h, w, h, PFX_ATLAS_MAX_SIDE);
@@ -198,7 +199,7 @@ bool pfx_atlas_write_json(const char *path, const pfx_atlas_layout *l, const cha
     if (root && l->motion)
         json_object_set_new(root, "motion_vectors", pfx_mv_json(l->motion, l, l->motion_image));
     if (!root) {
-        pfx_diag_error(d, "cannot write '%s': out of memory", path);
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "cannot write '%s': out of memory", path);
         return false;
     }
     pfx_atomic_file *a = pfx_atomic_open(path, d);

@@ -47,7 +47,8 @@ static const char *errno_text(int errnum, char *buf, size_t size) {
 
 static void report(pfx_diags *d, const char *path, int errnum) {
     char why[128];
-    pfx_diag_error(d, "cannot write '%s': %s", path, errno_text(errnum, why, sizeof why));
+    pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot write '%s': %s", path,
+                   errno_text(errnum, why, sizeof why));
 }
 
 /* The longest file name the directory of path allows (its NAME_MAX). */
@@ -247,7 +248,7 @@ bool pfx_atomic_sync_dir(const char *path, pfx_diags *d) {
         errnum = 0;
     if (errnum) {
         char why[128];
-        pfx_diag_error(d, "cannot sync the directory '%s': %s", dir,
+        pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot sync the directory '%s': %s", dir,
                        errno_text(errnum, why, sizeof why));
     }
     return errnum == 0;

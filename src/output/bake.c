@@ -61,7 +61,7 @@ pfx_bake *pfx_bake_open(const char *path, pfx_bake_format format, const pfx_effe
                         pfx_diags *d) {
     pfx_bake *b = calloc(1, sizeof *b);
     if (!b) {
-        pfx_diag_error(d, "out of memory");
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
         return NULL;
     }
     b->format = format;
@@ -79,7 +79,8 @@ pfx_bake *pfx_bake_open(const char *path, pfx_bake_format format, const pfx_effe
         if (!pfx_bake_csv_header(b->out))
             write_failed(b, errno);
     } else if (!(b->body = tmpfile())) {
-        pfx_diag_error(d, "cannot write '%s': no scratch file: %s", path, strerror(errno));
+        pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot write '%s': no scratch file: %s", path,
+                       strerror(errno));
         pfx_bake_close(b, false, NULL);
         return NULL;
     }
@@ -165,7 +166,8 @@ bool pfx_bake_close(pfx_bake *b, bool commit, pfx_diags *d) {
         if (commit && !b->error && (fflush(stdout) != 0 || ferror(stdout)))
             write_failed(b, errno);
         if (b->error && d)
-            pfx_diag_error(d, "cannot write 'standard output': %s", strerror(b->error));
+            pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot write 'standard output': %s",
+                           strerror(b->error));
         ok = !b->error;
     } else if (commit || b->error) {
         if (b->error)

@@ -89,7 +89,7 @@ bool pfx_mv_write_sidecar(const char *path, const pfx_mv_meta *m, const char *pa
                        (json_int_t)first, "last", (json_int_t)last, "motion_vectors", mv)
            : NULL;
     if (!root) {
-        pfx_diag_error(d, "cannot write '%s': out of memory", path);
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "cannot write '%s': out of memory", path);
         return false;
     }
     pfx_atomic_file *a = pfx_atomic_open(path, d);

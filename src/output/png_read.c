@@ -53,21 +53,22 @@ static void premultiply16(uint16_t *p, size_t texels) {
 static FILE *open_texture(const char *path, const char *name, const pfx_diag_at *at) {
     struct stat st;
     if (stat(path, &st) != 0) {
-        pfx_diag_error_at(at, "cannot open '%s': %s", name, strerror(errno));
+        pfx_diag_error_at(at, PFX_RULE_MISSING_FILE, "cannot open '%s': %s", name, strerror(errno));
         return NULL;
     }
     if (!S_ISREG(st.st_mode)) {
-        pfx_diag_error_at(at, "texture '%s' is not a regular file", name);
+        pfx_diag_error_at(at, PFX_RULE_INVALID_FILE, "texture '%s' is not a regular file", name);
         return NULL;
     }
     if ((unsigned long long)st.st_size > PFX_TEXTURE_MAX_FILE_BYTES) {
-        pfx_diag_error_at(at, "texture '%s' is %.1f MiB; at most %u MiB is read", name,
+        pfx_diag_error_at(at, PFX_RULE_TOO_LARGE,
+                          "texture '%s' is %.1f MiB; at most %u MiB is read", name,
                           (double)st.st_size / (1 << 20), PFX_TEXTURE_MAX_FILE_BYTES >> 20);
         return NULL;
     }
     FILE *f = fopen(path, "rb");
     if (!f)
-        pfx_diag_error_at(at, "cannot open '%s': %s", name, strerror(errno));
+        pfx_diag_error_at(at, PFX_RULE_MISSING_FILE, "cannot open '%s': %s", name, strerror(errno));
     return f;
 }
 
@@ -110,20 +111,21 @@ bool pfx_png_read_texture(const char *path, const char *name, bool premultiply, 
     volatile bool ok = false;
     uint8_t sig[8];
     if (!info) {
-        pfx_diag_error_at(at, "out of memory reading '%s'", name);
+        pfx_diag_error_at(at, PFX_RULE_OUT_OF_MEMORY, "out of memory reading '%s'", name);
         goto done;
     }
     if (fread(sig, 1, 8, f) != 8 || png_sig_cmp(sig, 0, 8)) {
-        pfx_diag_error_at(at, "texture '%s' is not a PNG file", name);
+        pfx_diag_error_at(at, PFX_RULE_INVALID_FILE, "texture '%s' is not a PNG file", name);
         goto done;
     }
     if (setjmp(png_jmpbuf(png))) {
         /* libpng's stdio reader says "Read Error" when fread comes up short */
         if (!strcmp(ctx.message, "Read Error"))
-            pfx_diag_error_at(at, "texture '%s' is truncated: the file ends inside its image data",
+            pfx_diag_error_at(at, PFX_RULE_INVALID_FILE,
+                              "texture '%s' is truncated: the file ends inside its image data",
                               name);
         else
-            pfx_diag_error_at(at, "texture '%s' is corrupt: %s", name,
+            pfx_diag_error_at(at, PFX_RULE_INVALID_FILE, "texture '%s' is corrupt: %s", name,
                               ctx.message[0] ? ctx.message : "libpng failed");
         goto done;
     }
@@ -135,14 +137,16 @@ bool pfx_png_read_texture(const char *path, const char *name, bool premultiply, 
     png_read_info(png, info);
     png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
     if (w > PFX_TEXTURE_MAX_SIDE || h > PFX_TEXTURE_MAX_SIDE) {
-        pfx_diag_error_at(at, "texture '%s' is %ux%u; at most %dx%d is read", name, (unsigned)w,
-                          (unsigned)h, PFX_TEXTURE_MAX_SIDE, PFX_TEXTURE_MAX_SIDE);
+        pfx_diag_error_at(at, PFX_RULE_TOO_LARGE, "texture '%s' is %ux%u; at most %dx%d is read",
+                          name, (unsigned)w, (unsigned)h, PFX_TEXTURE_MAX_SIDE,
+                          PFX_TEXTURE_MAX_SIDE);
         goto done;
     }
     int bits = set_transforms(png, info);
     size_t row_bytes = (size_t)w * 4 * (size_t)(bits / 8);
     if (row_bytes * h > PFX_TEXTURE_MAX_BYTES) {
-        pfx_diag_error_at(at, "texture '%s' (%ux%u, %d-bit) takes %.0f MiB decoded; at most %d MiB",
+        pfx_diag_error_at(at, PFX_RULE_TOO_LARGE,
+                          "texture '%s' (%ux%u, %d-bit) takes %.0f MiB decoded; at most %d MiB",
                           name, (unsigned)w, (unsigned)h, bits, (double)(row_bytes * h) / 1048576.0,
                           (int)(PFX_TEXTURE_MAX_BYTES >> 20));
         goto done;
@@ -150,7 +154,8 @@ bool pfx_png_read_texture(const char *path, const char *name, bool premultiply, 
     uint8_t *pixels = pfx_arena_alloc(a, row_bytes * h);
     rows = malloc(h * sizeof *rows);
     if (!pixels || !rows || png_get_rowbytes(png, info) != row_bytes) {
-        pfx_diag_error_at(at, "out of memory reading '%s' (%ux%u)", name, (unsigned)w, (unsigned)h);
+        pfx_diag_error_at(at, PFX_RULE_OUT_OF_MEMORY, "out of memory reading '%s' (%ux%u)", name,
+                          (unsigned)w, (unsigned)h);
         goto done;
     }
     for (png_uint_32 y = 0; y < h; y++)

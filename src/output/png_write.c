@@ -113,12 +113,14 @@ static bool pfx_png_encode(pfx_png_ctx *ctx, const uint8_t *rgba, int width, int
 static bool png_write(const char *path, const uint8_t *rgba, int width, int height, bool sync_dir,
                       pfx_diags *d) {
     if (path == NULL || path[0] == '\0' || path[strlen(path) - 1] == '/') {
-        pfx_diag_error(d, "cannot write '%s': not a file name", path ? path : "");
+        pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot write '%s': not a file name",
+                       path ? path : "");
         return false;
     }
     /* PNG allows up to 2^31-1 but libpng's default limit is 1000000. */
     if (rgba == NULL || width <= 0 || height <= 0 || width > 1000000 || height > 1000000) {
-        pfx_diag_error(d, "cannot write '%s': invalid image size %dx%d", path, width, height);
+        pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot write '%s': invalid image size %dx%d",
+                       path, width, height);
         return false;
     }
     pfx_atomic_file *a = pfx_atomic_open(path, d);
@@ -130,7 +132,7 @@ static bool png_write(const char *path, const uint8_t *rgba, int width, int heig
             pfx_atomic_failed(a, ctx.write_errno);
             return pfx_atomic_commit(a, false, d); /* reports the errno, removes the temporary */
         }
-        pfx_diag_error(d, "cannot encode '%s': %s", path, ctx.message);
+        pfx_diag_error(d, PFX_RULE_ENCODE_FAILED, "cannot encode '%s': %s", path, ctx.message);
         pfx_atomic_abort(a);
         return false;
     }
@@ -250,7 +252,8 @@ static bool png_encode16(pfx_png_ctx *ctx, const uint16_t *rgba, int width, int 
 bool pfx_png_write16(const char *path, const uint16_t *rgba, int width, int height, bool sync_dir,
                      pfx_diags *d) {
     if (rgba == NULL || width <= 0 || height <= 0 || width > 1000000 || height > 1000000) {
-        pfx_diag_error(d, "cannot write '%s': invalid image size %dx%d", path, width, height);
+        pfx_diag_error(d, PFX_RULE_ENCODE_FAILED, "cannot write '%s': invalid image size %dx%d",
+                       path, width, height);
         return false;
     }
     pfx_atomic_file *a = pfx_atomic_open(path, d);
@@ -262,7 +265,7 @@ bool pfx_png_write16(const char *path, const uint16_t *rgba, int width, int heig
             pfx_atomic_failed(a, ctx.write_errno);
             return pfx_atomic_commit(a, false, d);
         }
-        pfx_diag_error(d, "cannot encode '%s': %s", path, ctx.message);
+        pfx_diag_error(d, PFX_RULE_ENCODE_FAILED, "cannot encode '%s': %s", path, ctx.message);
         pfx_atomic_abort(a);
         return false;
     }
@@ -504,8 +507,8 @@ void pfx_png_queue_submit(pfx_png_queue *q, const char *path) {
         /* Contract broken by the caller: nothing was rendered to submit. */
         if (!q->failed) {
             q->failed = true;
-            pfx_diag_error(&q->failure, "cannot write '%s': frame submitted without a buffer",
-                           path);
+            pfx_diag_error(&q->failure, PFX_RULE_WRITE_FAILED,
+                           "cannot write '%s': frame submitted without a buffer", path);
         }
         pthread_mutex_unlock(&q->lock);
         free(copy);
@@ -513,7 +516,8 @@ void pfx_png_queue_submit(pfx_png_queue *q, const char *path) {
     }
     if (copy == NULL && !q->failed) {
         q->failed = true;
-        pfx_diag_error(&q->failure, "cannot write '%s': out of memory", path);
+        pfx_diag_error(&q->failure, PFX_RULE_OUT_OF_MEMORY, "cannot write '%s': out of memory",
+                       path);
     }
     sl->path = copy;
     sl->seq = q->submitted++;

@@ -27,7 +27,7 @@ pfx_webp *pfx_webp_create(int width, int height, double fps, int quality, pfx_di
     pfx_webp *w = calloc(1, sizeof *w);
     WebPAnimEncoderOptions options;
     if (!w || !WebPAnimEncoderOptionsInit(&options) || !WebPConfigInit(&w->config)) {
-        pfx_diag_error(d, "cannot start the WebP encoder");
+        pfx_diag_error(d, PFX_RULE_ENCODE_FAILED, "cannot start the WebP encoder");
         free(w);
         return NULL;
     }
@@ -41,7 +41,8 @@ pfx_webp *pfx_webp_create(int width, int height, double fps, int quality, pfx_di
     w->fps = fps;
     w->enc = WebPValidateConfig(&w->config) ? WebPAnimEncoderNew(width, height, &options) : NULL;
     if (!w->enc) {
-        pfx_diag_error(d, "cannot start the WebP encoder for %dx%d frames", width, height);
+        pfx_diag_error(d, PFX_RULE_ENCODE_FAILED, "cannot start the WebP encoder for %dx%d frames",
+                       width, height);
         free(w);
         return NULL;
     }
@@ -51,7 +52,7 @@ pfx_webp *pfx_webp_create(int width, int height, double fps, int quality, pfx_di
 bool pfx_webp_add(pfx_webp *w, const uint8_t *rgba, long k, pfx_diags *d) {
     WebPPicture pic;
     if (!WebPPictureInit(&pic)) {
-        pfx_diag_error(d, "cannot encode a WebP frame");
+        pfx_diag_error(d, PFX_RULE_ENCODE_FAILED, "cannot encode a WebP frame");
         return false;
     }
     pic.use_argb = 1;
@@ -60,7 +61,8 @@ bool pfx_webp_add(pfx_webp *w, const uint8_t *rgba, long k, pfx_diags *d) {
     bool ok = WebPPictureImportRGBA(&pic, rgba, w->width * 4) &&
               WebPAnimEncoderAdd(w->enc, &pic, timestamp_ms(w, k), &w->config);
     if (!ok)
-        pfx_diag_error(d, "cannot encode WebP frame %ld: %s", k, WebPAnimEncoderGetError(w->enc));
+        pfx_diag_error(d, PFX_RULE_ENCODE_FAILED, "cannot encode WebP frame %ld: %s", k,
+                       WebPAnimEncoderGetError(w->enc));
     WebPPictureFree(&pic);
     return ok;
 }
@@ -71,7 +73,8 @@ bool pfx_webp_finish(pfx_webp *w, const char *path, long frames, bool commit, pf
     WebPDataInit(&data);
     if (ok && (!WebPAnimEncoderAdd(w->enc, NULL, timestamp_ms(w, frames), NULL) ||
                !WebPAnimEncoderAssemble(w->enc, &data))) {
-        pfx_diag_error(d, "cannot assemble '%s': %s", path, WebPAnimEncoderGetError(w->enc));
+        pfx_diag_error(d, PFX_RULE_ENCODE_FAILED, "cannot assemble '%s': %s", path,
+                       WebPAnimEncoderGetError(w->enc));
         ok = false;
     }
     if (ok) {

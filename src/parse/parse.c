@@ -124,7 +124,7 @@ static bool close_container(parser_state *s, const yaml_char_t *anchor_name) {
         for (size_t i = 0; n->pairs && i < pairs; i++) {
             pfx_node *k = o->kids[2 * i], *v = o->kids[2 * i + 1];
             if (k->kind != PFX_NODE_SCALAR) {
-                pfx_diag_add(s->d, PFX_SEV_ERROR, k->line, k->col, 1,
+                pfx_diag_add(s->d, PFX_SEV_ERROR, k->line, k->col, 1, PFX_RULE_COMPLEX_KEY,
                              "mapping keys must be plain names, not %s", pfx_node_kind_name(k));
                 ok = false;
                 continue;
@@ -139,9 +139,9 @@ static bool close_container(parser_state *s, const yaml_char_t *anchor_name) {
             if (dup) {
                 const pfx_node *prev = n->pairs[*first].key;
                 pfx_diag_add(s->d, PFX_SEV_ERROR, k->line, k->col, (int)k->len,
-                             "duplicate key '%s'", k->text);
-                pfx_diag_add(s->d, PFX_SEV_NOTE, prev->line, prev->col, (int)prev->len,
-                             "'%s' first defined here", prev->text);
+                             PFX_RULE_DUPLICATE_KEY, "duplicate key '%s'", k->text);
+                pfx_diag_note(s->d, prev->line, prev->col, (int)prev->len,
+                              "'%s' first defined here", prev->text);
                 ok = false;
                 continue;
             }
@@ -168,13 +168,15 @@ static void report_yaml_error(parser_state *s, const yaml_parser_t *p) {
     /* libyaml's message for a tab in indentation does not name the tab. */
     if (s->text && mark.index < s->text_len && s->text[mark.index] == '\t') {
         pfx_diag_add(s->d, PFX_SEV_ERROR, (int)mark.line + 1, (int)mark.column + 1, 1,
+                     PFX_RULE_YAML_SYNTAX,
                      "found a tab where indentation is expected; YAML indents with spaces");
         return;
     }
-    pfx_diag_add(s->d, PFX_SEV_ERROR, (int)mark.line + 1, (int)mark.column + 1, 1, "%s", problem);
+    pfx_diag_add(s->d, PFX_SEV_ERROR, (int)mark.line + 1, (int)mark.column + 1, 1,
+                 PFX_RULE_YAML_SYNTAX, "%s", problem);
     if (p->context)
-        pfx_diag_add(s->d, PFX_SEV_NOTE, (int)p->context_mark.line + 1,
-                     (int)p->context_mark.column + 1, 1, "%s that started here", p->context);
+        pfx_diag_note(s->d, (int)p->context_mark.line + 1, (int)p->context_mark.column + 1, 1,
+                      "%s that started here", p->context);
 }
 
 /* Byte offset -> 1-based line and column, for reader errors that carry only
@@ -215,8 +217,8 @@ static bool handle_event(parser_state *s, const yaml_event_t *ev) {
         if (!n)
             return false;
         if (s->depth >= PFX_MAX_DEPTH) {
-            pfx_diag_add(s->d, PFX_SEV_ERROR, n->line, n->col, 1, "nesting deeper than %d levels",
-                         PFX_MAX_DEPTH);
+            pfx_diag_add(s->d, PFX_SEV_ERROR, n->line, n->col, 1, PFX_RULE_TOO_LARGE,
+                         "nesting deeper than %d levels", PFX_MAX_DEPTH);
             s->failed = true;
             return false;
         }
@@ -240,13 +242,13 @@ static bool handle_event(parser_state *s, const yaml_event_t *ev) {
         if (!a) {
             pfx_diag_add(s->d, PFX_SEV_ERROR, (int)ev->start_mark.line + 1,
                          (int)ev->start_mark.column + 1, (int)strlen(name) + 1,
-                         "unknown anchor '%s'", name);
+                         PFX_RULE_UNKNOWN_ANCHOR, "unknown anchor '%s'", name);
             s->failed = true;
             return true;
         }
         if (s->total_weight + a->weight > PFX_MAX_EXPANDED_NODES) {
             pfx_diag_add(s->d, PFX_SEV_ERROR, (int)ev->start_mark.line + 1,
-                         (int)ev->start_mark.column + 1, (int)strlen(name) + 1,
+                         (int)ev->start_mark.column + 1, (int)strlen(name) + 1, PFX_RULE_TOO_LARGE,
                          "aliases expand to more than %d nodes", PFX_MAX_EXPANDED_NODES);
             s->failed = true;
             return false;
@@ -274,7 +276,8 @@ bool pfx_parse(const char *text, size_t len, pfx_doc *doc, pfx_diags *d) {
             if (p.error == YAML_READER_ERROR) {
                 int line, col;
                 offset_to_position(text, len, p.problem_offset, &line, &col);
-                pfx_diag_add(d, PFX_SEV_ERROR, line, col, 1, "%s (the file must be UTF-8 text)",
+                pfx_diag_add(d, PFX_SEV_ERROR, line, col, 1, PFX_RULE_NOT_UTF8,
+                             "%s (the file must be UTF-8 text)",
                              p.problem ? p.problem : "unreadable input");
             } else {
                 report_yaml_error(&s, &p);
@@ -284,7 +287,7 @@ bool pfx_parse(const char *text, size_t len, pfx_doc *doc, pfx_diags *d) {
         }
         if (ev.type == YAML_DOCUMENT_START_EVENT && ++documents > 1) {
             pfx_diag_add(d, PFX_SEV_ERROR, (int)ev.start_mark.line + 1,
-                         (int)ev.start_mark.column + 1, 3,
+                         (int)ev.start_mark.column + 1, 3, PFX_RULE_MULTIPLE_DOCUMENTS,
                          "an effect file holds one YAML document, found a second");
             ok = false;
             yaml_event_delete(&ev);

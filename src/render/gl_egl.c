@@ -79,7 +79,8 @@ static EGLDisplay open_display(bool gpu, const char *name, display_source *sourc
     PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display =
         (PFNEGLGETPLATFORMDISPLAYEXTPROC)eglGetProcAddress("eglGetPlatformDisplayEXT");
     if (!has_ext(client, "EGL_EXT_platform_base") || !get_platform_display) {
-        pfx_diag_error(d, "renderer '%s': libEGL lacks EGL_EXT_platform_base", name);
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED,
+                       "renderer '%s': libEGL lacks EGL_EXT_platform_base", name);
         return EGL_NO_DISPLAY;
     }
     PFNEGLQUERYDEVICESEXTPROC query_devices =
@@ -94,7 +95,8 @@ static EGLDisplay open_display(bool gpu, const char *name, display_source *sourc
     if (listing && query_devices(0, NULL, &count) && count > 0) {
         EGLDeviceEXT *devices = malloc((size_t)count * sizeof *devices);
         if (!devices) {
-            pfx_diag_error(d, "renderer '%s': out of memory listing EGL devices", name);
+            pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY,
+                           "renderer '%s': out of memory listing EGL devices", name);
             return EGL_NO_DISPLAY;
         }
         EGLDisplay display = EGL_NO_DISPLAY;
@@ -112,12 +114,12 @@ static EGLDisplay open_display(bool gpu, const char *name, display_source *sourc
     }
     if (gpu) {
         if (listing)
-            pfx_diag_error(d,
+            pfx_diag_error(d, PFX_RULE_RENDERER_FAILED,
                            "renderer '%s': no GPU EGL device (eglQueryDevicesEXT lists %d, none of "
                            "them hardware)",
                            name, (int)count);
         else
-            pfx_diag_error(d,
+            pfx_diag_error(d, PFX_RULE_RENDERER_FAILED,
                            "renderer '%s': libEGL cannot list devices (needs EGL_EXT_device_base "
                            "and EGL_EXT_platform_device)",
                            name);
@@ -125,7 +127,7 @@ static EGLDisplay open_display(bool gpu, const char *name, display_source *sourc
     }
     if (!has_ext(client, "EGL_MESA_platform_surfaceless")) {
         pfx_diag_error(
-            d,
+            d, PFX_RULE_RENDERER_FAILED,
             "renderer '%s': no Mesa software EGL device (EGL_MESA_device_software) and no "
             "EGL_MESA_platform_surfaceless",
             name);
@@ -135,7 +137,8 @@ static EGLDisplay open_display(bool gpu, const char *name, display_source *sourc
     EGLDisplay display =
         get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
     if (display == EGL_NO_DISPLAY)
-        pfx_diag_error(d, "renderer '%s': no surfaceless EGL display (EGL error 0x%04x)", name,
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED,
+                       "renderer '%s': no surfaceless EGL display (EGL error 0x%04x)", name,
                        (unsigned)eglGetError());
     return display;
 }
@@ -156,7 +159,8 @@ static bool make_context(egl_context *e, pfx_diags *d) {
     const char *name = e->base.name;
     EGLint major = 0, minor = 0;
     if (!eglInitialize(e->display, &major, &minor)) {
-        pfx_diag_error(d, "renderer '%s': eglInitialize failed (EGL error 0x%04x)", name,
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED,
+                       "renderer '%s': eglInitialize failed (EGL error 0x%04x)", name,
                        (unsigned)eglGetError());
         return false;
     }
@@ -164,11 +168,13 @@ static bool make_context(egl_context *e, pfx_diags *d) {
     static const char *const needed[] = {"EGL_KHR_create_context", "EGL_KHR_surfaceless_context"};
     for (size_t i = 0; i < sizeof needed / sizeof *needed; i++)
         if (!has_ext(ext, needed[i])) {
-            pfx_diag_error(d, "renderer '%s': the EGL display lacks %s", name, needed[i]);
+            pfx_diag_error(d, PFX_RULE_RENDERER_FAILED, "renderer '%s': the EGL display lacks %s",
+                           name, needed[i]);
             return false;
         }
     if (!eglBindAPI(EGL_OPENGL_API)) {
-        pfx_diag_error(d, "renderer '%s': the EGL display has no desktop OpenGL", name);
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED,
+                       "renderer '%s': the EGL display has no desktop OpenGL", name);
         return false;
     }
     /* Without EGL_KHR_no_config_context, any config that renders OpenGL:
@@ -180,7 +186,7 @@ static bool make_context(egl_context *e, pfx_diags *d) {
         EGLint n = 0;
         if (!eglChooseConfig(e->display, want, &config, 1, &n) || n < 1) {
             pfx_diag_error(
-                d,
+                d, PFX_RULE_RENDERER_FAILED,
                 "renderer '%s': the EGL display lacks EGL_KHR_no_config_context and has no "
                 "OpenGL config",
                 name);
@@ -196,14 +202,14 @@ static bool make_context(egl_context *e, pfx_diags *d) {
                               EGL_NONE};
     e->ctx = eglCreateContext(e->display, config, EGL_NO_CONTEXT, attribs);
     if (e->ctx == EGL_NO_CONTEXT) {
-        pfx_diag_error(d,
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED,
                        "renderer '%s': cannot create an OpenGL 3.3 core profile context (EGL error "
                        "0x%04x)",
                        name, (unsigned)eglGetError());
         return false;
     }
     if (!eglMakeCurrent(e->display, EGL_NO_SURFACE, EGL_NO_SURFACE, e->ctx)) {
-        pfx_diag_error(d,
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED,
                        "renderer '%s': cannot make the EGL context current (EGL error "
                        "0x%04x)",
                        name, (unsigned)eglGetError());
@@ -215,7 +221,7 @@ static bool make_context(egl_context *e, pfx_diags *d) {
 pfx_gl_context *pfx_gl_egl_create(bool gpu, pfx_diags *d) {
     egl_context *e = calloc(1, sizeof *e);
     if (!e) {
-        pfx_diag_error(d, "out of memory for an EGL context");
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for an EGL context");
         return NULL;
     }
     e->base = (pfx_gl_context){.name = gpu ? "egl-gpu" : "egl-cpu",
@@ -231,7 +237,7 @@ pfx_gl_context *pfx_gl_egl_create(bool gpu, pfx_diags *d) {
     }
     char renderer[256];
     if (source == FROM_SURFACELESS && !renders_in_software(renderer, sizeof renderer)) {
-        pfx_diag_error(d,
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED,
                        "renderer '%s': no Mesa software EGL device, and the surfaceless display "
                        "renders on '%s'",
                        e->base.name, renderer);

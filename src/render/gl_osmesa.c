@@ -46,7 +46,7 @@ static void osmesa_destroy(pfx_gl_context *c) {
 pfx_gl_context *pfx_gl_osmesa_create(pfx_diags *d) {
     osmesa_context *o = calloc(1, sizeof *o);
     if (!o) {
-        pfx_diag_error(d, "out of memory for an OSMesa context");
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for an OSMesa context");
         return NULL;
     }
     o->base = (pfx_gl_context){.name = "osmesa",
@@ -71,12 +71,14 @@ pfx_gl_context *pfx_gl_osmesa_create(pfx_diags *d) {
     o->ctx = OSMesaCreateContextAttribs(attribs, NULL);
     if (!o->ctx) {
         pfx_diag_error(
-            d, "renderer 'osmesa': cannot create an OSMesa OpenGL 3.3 core profile context");
+            d, PFX_RULE_RENDERER_FAILED,
+            "renderer 'osmesa': cannot create an OSMesa OpenGL 3.3 core profile context");
         osmesa_destroy(&o->base);
         return NULL;
     }
     if (!osmesa_make_current(&o->base)) {
-        pfx_diag_error(d, "renderer 'osmesa': cannot make the OSMesa context current");
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED,
+                       "renderer 'osmesa': cannot make the OSMesa context current");
         osmesa_destroy(&o->base);
         return NULL;
     }

@@ -14,7 +14,8 @@ static bool build_target(pfx_renderer *r, pfx_diags *d) {
         return true;
     r->mv_pixels = malloc((size_t)r->width * (size_t)r->height * 4 * sizeof(float));
     if (!r->mv_pixels) {
-        pfx_diag_error(d, "out of memory for motion vectors at %dx%d", r->width, r->height);
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for motion vectors at %dx%d",
+                       r->width, r->height);
         return false;
     }
     r->gl.GenRenderbuffers(1, &r->mv_rb);
@@ -25,7 +26,8 @@ static bool build_target(pfx_renderer *r, pfx_diags *d) {
     r->gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, r->mv_rb);
     GLenum status = r->gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE) {
-        pfx_diag_error(d, "motion-vector framebuffer %dx%d is incomplete (status 0x%04x)", r->width,
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED,
+                       "motion-vector framebuffer %dx%d is incomplete (status 0x%04x)", r->width,
                        r->height, (unsigned)status);
         return false;
     }
@@ -71,7 +73,7 @@ bool pfx_renderer_motion_vectors(pfx_renderer *r, const pfx_camera *cam,
                                  const pfx_render_settings *s, const pfx_sprite *sprites,
                                  size_t count, double dt, float *mv, pfx_diags *d) {
     if (count > (size_t)INT32_MAX) {
-        pfx_diag_error(d, "too many sprites to draw: %zu", count);
+        pfx_diag_error(d, PFX_RULE_TOO_MANY, "too many sprites to draw: %zu", count);
         return false;
     }
     pfx_view v;
@@ -85,7 +87,8 @@ bool pfx_renderer_motion_vectors(pfx_renderer *r, const pfx_camera *cam,
     if (!drawn)
         return false;
     if (e != GL_NO_ERROR) {
-        pfx_diag_error(d, "OpenGL error 0x%04x while drawing motion vectors of %zu sprites",
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED,
+                       "OpenGL error 0x%04x while drawing motion vectors of %zu sprites",
                        (unsigned)e, count);
         return false;
     }

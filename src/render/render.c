@@ -23,7 +23,8 @@ static bool load_gl(pfx_gl *gl, pfx_gl_context *ctx, pfx_diags *d) {
 #define PFX_GL_LOAD(type, fn)                                                                      \
     gl->fn = (type)ctx->get_proc_address("gl" #fn);                                                \
     if (!gl->fn) {                                                                                 \
-        pfx_diag_error(d, "renderer '%s' does not provide 'gl%s'", ctx->name, #fn);                \
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED, "renderer '%s' does not provide 'gl%s'",       \
+                       ctx->name, #fn);                                                            \
         return false;                                                                              \
     }
     PFX_GL_FUNCS(PFX_GL_LOAD)
@@ -44,8 +45,9 @@ static bool build_framebuffer(pfx_renderer *r, pfx_diags *d) {
                                   r->colour_rb);
     GLenum status = r->gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE) {
-        pfx_diag_error(d, "float framebuffer %dx%d is incomplete (status 0x%04x)", r->width,
-                       r->height, (unsigned)status);
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED,
+                       "float framebuffer %dx%d is incomplete (status 0x%04x)", r->width, r->height,
+                       (unsigned)status);
         return false;
     }
     return true;
@@ -147,7 +149,8 @@ static pfx_gl_context *create_context(pfx_renderer_kind kind, pfx_diags *d) {
         return pfx_gl_egl_create(kind == PFX_RENDERER_EGL_GPU, d);
 #endif
     default:
-        pfx_diag_error(d, "renderer '%s' is not built into this pfx (it has:%s)",
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED,
+                       "renderer '%s' is not built into this pfx (it has:%s)",
                        pfx_renderer_kind_name(kind), built_with);
         return NULL;
     }
@@ -161,7 +164,7 @@ static bool default_materials(pfx_renderer *r, pfx_diags *d) {
     size_t n = pfx_kind_count(pfx_sprite_names);
     r->materials = calloc(n, sizeof *r->materials);
     if (!r->materials) {
-        pfx_diag_error(d, "out of memory for the sprite materials");
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for the sprite materials");
         return false;
     }
     r->material_count = n;
@@ -209,12 +212,13 @@ static void drop_textures(pfx_renderer *r) {
 bool pfx_renderer_set_materials(pfx_renderer *r, const pfx_material *m, size_t count,
                                 pfx_diags *d) {
     if (!r->ctx->make_current(r->ctx)) {
-        pfx_diag_error(d, "cannot make the '%s' context current", r->ctx->name);
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED, "cannot make the '%s' context current",
+                       r->ctx->name);
         return false;
     }
     pfx_gpu_material *g = calloc(count ? count : 1, sizeof *g);
     if (!g) {
-        pfx_diag_error(d, "out of memory for %zu materials", count);
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for %zu materials", count);
         return false;
     }
     drop_textures(r);
@@ -232,7 +236,8 @@ bool pfx_renderer_set_materials(pfx_renderer *r, const pfx_material *m, size_t c
     }
     GLenum e = r->gl.GetError();
     if (e != GL_NO_ERROR) {
-        pfx_diag_error(d, "OpenGL error 0x%04x while uploading textures", (unsigned)e);
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED, "OpenGL error 0x%04x while uploading textures",
+                       (unsigned)e);
         return false;
     }
     return true;
@@ -240,7 +245,7 @@ bool pfx_renderer_set_materials(pfx_renderer *r, const pfx_material *m, size_t c
 
 pfx_renderer *pfx_renderer_create(pfx_renderer_kind kind, int width, int height, pfx_diags *d) {
     if (width <= 0 || height <= 0) {
-        pfx_diag_error(d, "invalid image size %dx%d", width, height);
+        pfx_diag_error(d, PFX_RULE_OUT_OF_RANGE, "invalid image size %dx%d", width, height);
         return NULL;
     }
     pfx_renderer *r = calloc(1, sizeof *r);
@@ -248,7 +253,8 @@ pfx_renderer *pfx_renderer_create(pfx_renderer_kind kind, int width, int height,
     if (!r || !pixels) {
         free(r);
         free(pixels);
-        pfx_diag_error(d, "out of memory for a %dx%d renderer", width, height);
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for a %dx%d renderer", width,
+                       height);
         return NULL;
     }
     r->width = width;
@@ -263,8 +269,8 @@ pfx_renderer *pfx_renderer_create(pfx_renderer_kind kind, int width, int height,
     GLint max_rb = 0;
     r->gl.GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_rb);
     if (width > max_rb || height > max_rb) {
-        pfx_diag_error(d, "image size %dx%d exceeds the renderer limit of %d", width, height,
-                       (int)max_rb);
+        pfx_diag_error(d, PFX_RULE_TOO_LARGE, "image size %dx%d exceeds the renderer limit of %d",
+                       width, height, (int)max_rb);
         goto fail;
     }
     if (!build_framebuffer(r, d) || !pfx_shader_build_ribbon(r, d) || !default_materials(r, d))
@@ -280,7 +286,8 @@ pfx_renderer *pfx_renderer_create(pfx_renderer_kind kind, int width, int height,
     r->gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
     GLenum e = r->gl.GetError();
     if (e != GL_NO_ERROR) {
-        pfx_diag_error(d, "OpenGL error 0x%04x while setting up the renderer", (unsigned)e);
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED,
+                       "OpenGL error 0x%04x while setting up the renderer", (unsigned)e);
         goto fail;
     }
     return r;
@@ -311,10 +318,12 @@ static bool camera_matrices(const pfx_camera *cam, int width, int height, pfx_vi
     double s[3], u[3], f[3];
     switch (pfx_camera_frame(cam, s, u, f)) {
     case PFX_CAMERA_SAME_POINT:
-        pfx_diag_error(d, "camera 'position' and 'target' are the same point");
+        pfx_diag_error(d, PFX_RULE_INCONSISTENT_VALUES,
+                       "camera 'position' and 'target' are the same point");
         return false;
     case PFX_CAMERA_UP_PARALLEL:
-        pfx_diag_error(d, "camera 'up' is parallel to the view direction");
+        pfx_diag_error(d, PFX_RULE_INCONSISTENT_VALUES,
+                       "camera 'up' is parallel to the view direction");
         return false;
     case PFX_CAMERA_OK:
         break;
@@ -359,7 +368,8 @@ static bool camera_matrices(const pfx_camera *cam, int width, int height, pfx_vi
 /* Another renderer in this thread may have made its own context current. */
 static bool make_current(pfx_renderer *r, pfx_diags *d) {
     if (!r->ctx->make_current(r->ctx)) {
-        pfx_diag_error(d, "cannot make the '%s' context current", r->ctx->name);
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED, "cannot make the '%s' context current",
+                       r->ctx->name);
         return false;
     }
     return true;
@@ -504,7 +514,7 @@ static bool render_float(pfx_renderer *r, const pfx_camera *cam, const pfx_rende
                          pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
                          pixel_box *box, pfx_diags *d) {
     if (count > (size_t)INT32_MAX || ribbons.count > (size_t)INT32_MAX) {
-        pfx_diag_error(d, "too many sprites to draw: %zu", count);
+        pfx_diag_error(d, PFX_RULE_TOO_MANY, "too many sprites to draw: %zu", count);
         return false;
     }
     pfx_view v;
@@ -526,7 +536,8 @@ static bool render_float(pfx_renderer *r, const pfx_camera *cam, const pfx_rende
     }
     GLenum e = r->gl.GetError();
     if (e != GL_NO_ERROR) {
-        pfx_diag_error(d, "OpenGL error 0x%04x while drawing %zu sprites", (unsigned)e, count);
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED, "OpenGL error 0x%04x while drawing %zu sprites",
+                       (unsigned)e, count);
         return false;
     }
     return true;
@@ -554,7 +565,8 @@ bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4]
 bool pfx_renderer_blur_begin(pfx_renderer *r, pfx_diags *d) {
     const size_t n = (size_t)r->width * (size_t)r->height * 4;
     if (!r->blur && !(r->blur = malloc(n * sizeof *r->blur))) {
-        pfx_diag_error(d, "out of memory for motion blur at %dx%d", r->width, r->height);
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for motion blur at %dx%d",
+                       r->width, r->height);
         return false;
     }
     memset(r->blur, 0, n * sizeof *r->blur);

@@ -237,7 +237,7 @@ static GLuint compile_shader(pfx_renderer *r, GLenum type, const char *defines, 
     if (!ok) {
         char log[512] = "";
         r->gl.GetShaderInfoLog(s, sizeof log, NULL, log);
-        pfx_diag_error(d, "cannot compile %s shader: %s",
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED, "cannot compile %s shader: %s",
                        type == GL_VERTEX_SHADER ? "vertex" : "fragment", log);
         r->gl.DeleteShader(s);
         return 0;
@@ -289,7 +289,7 @@ static GLuint build_program(pfx_renderer *r, const char *defines, const char *vs
     if (!ok) {
         char log[512] = "";
         r->gl.GetProgramInfoLog(p, sizeof log, NULL, log);
-        pfx_diag_error(d, "cannot link %s shader: %s", what, log);
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED, "cannot link %s shader: %s", what, log);
         r->gl.DeleteProgram(p);
         return 0;
     }
@@ -337,7 +337,8 @@ static bool find_program(pfx_renderer *r, unsigned key, size_t *index, pfx_diags
             return true;
         }
     if (r->program_count == PFX_MAX_PROGRAMS) {
-        pfx_diag_error(d, "more than %d different sprite programs", PFX_MAX_PROGRAMS);
+        pfx_diag_error(d, PFX_RULE_TOO_MANY, "more than %d different sprite programs",
+                       PFX_MAX_PROGRAMS);
         return false;
     }
     pfx_program *prog = &r->programs[r->program_count];

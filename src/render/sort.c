@@ -21,7 +21,7 @@ static bool grow_scratch(pfx_renderer *r, size_t count, pfx_diags *d) {
     if (sorted)
         r->sorted = sorted;
     if (!keys || !index || !sorted) {
-        pfx_diag_error(d, "out of memory sorting %zu sprites", count);
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory sorting %zu sprites", count);
         return false;
     }
     r->scratch_cap = cap;
@@ -46,7 +46,7 @@ bool pfx_sort_back_to_front(pfx_renderer *r, const pfx_view *v, pfx_sprite *spri
     if (count < 2)
         return true;
     if (count > UINT32_MAX) {
-        pfx_diag_error(d, "too many sprites to sort: %zu", count);
+        pfx_diag_error(d, PFX_RULE_TOO_MANY, "too many sprites to sort: %zu", count);
         return false;
     }
     if (!grow_scratch(r, count, d))

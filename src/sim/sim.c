@@ -245,8 +245,8 @@ const pfx_sim *pfx_sim_frame(pfx_sim *s, pfx_sim *view, long frame) {
 void pfx_sim_note_dropped(const pfx_sim *s, pfx_diags *d) {
     for (size_t i = 0; i < s->effect->emitter_count; i++)
         if (s->emitters[i].dropped)
-            pfx_diag_add(d, PFX_SEV_NOTE, 0, 0, 0,
-                         "emitter '%s' dropped %llu births: its pool of %u particles was full",
-                         s->effect->emitters[i].name, (unsigned long long)s->emitters[i].dropped,
-                         s->effect->emitters[i].capacity);
+            pfx_diag_note(d, 0, 0, 0,
+                          "emitter '%s' dropped %llu births: its pool of %u particles was full",
+                          s->effect->emitters[i].name, (unsigned long long)s->emitters[i].dropped,
+                          s->effect->emitters[i].capacity);
 }

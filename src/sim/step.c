@@ -116,7 +116,7 @@ void pfx_step_check_state(pfx_sim *s, size_t i, uint32_t first, double t) {
     else
         snprintf(cause, sizeof cause, "the emitter's speeds, gravity and lifetimes are too large");
     s->failed = true;
-    pfx_diag_error(s->diags,
+    pfx_diag_error(s->diags, PFX_RULE_SIMULATION_DIVERGED,
                    "%s: emitter '%s': particle %u became %s at t = %.4g s; likely cause: %s",
                    s->effect->path, em->name, p->id[first + bad],
                    why == PFX_BAD_NONFINITE ? "non-finite"

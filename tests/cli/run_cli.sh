@@ -349,7 +349,7 @@ usage_error "--seed abc" "--seed takes a whole number, got 'abc'" render "$FIRE"
 usage_error "--seed -1" "--seed takes a whole number, got '-1'" render "$FIRE" -o "$work/u" --seed -1
 usage_error "--max-particles 0" "--max-particles takes a number" validate --max-particles 0 "$FIRE"
 usage_error "--every 0" "--every takes a whole number" bake "$FIRE" -o "$work/u.csv" --every 0
-usage_error "--format xml" "--format takes 'text' or 'json', got 'xml'" validate --format xml "$FIRE"
+usage_error "--format xml" "--format takes 'text', 'json' or 'sarif', got 'xml'" validate --format xml "$FIRE"
 usage_error "unknown benchmark" "unknown benchmark 'frobnicate'" bench frobnicate
 usage_error "--renderer frobnicate" \
     "--renderer takes 'auto', 'osmesa', 'egl-cpu' or 'egl-gpu', got 'frobnicate'" \

@@ -1,0 +1,192 @@
+/* Builds a SARIF 2.1.0 log with jansson. Positions keep pfx's meaning:
+ * 1-based lines, and columns counted in Unicode characters (libyaml's
+ * count), which the run declares with columnKind "unicodeCodePoints"; a
+ * region ends at the column after the underlined span, as SARIF's
+ * endColumn does. It does not write files: the caller picks the stream. */
+#include "output/sarif.h"
+
+#include <jansson.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SARIF_SCHEMA                                                                               \
+    "https://docs.oasis-open.org/sarif/sarif/v2.1.0/errata01/os/schemas/sarif-schema-2.1.0.json"
+
+struct pfx_sarif {
+    json_t *log;
+    json_t *results; /* borrowed from log */
+};
+
+/* A JSON string of s. jansson refuses bytes that are not UTF-8 (a file
+ * name from a Latin-1 system); those become '?', so the log stays valid
+ * rather than losing the diagnostic. */
+static json_t *text(const char *s) {
+    json_t *j = json_string(s);
+    if (j)
+        return j;
+    char *copy = strdup(s);
+    if (!copy)
+        return NULL;
+    for (char *p = copy; *p; p++)
+        if ((unsigned char)*p >= 0x80)
+            *p = '?';
+    j = json_string(copy);
+    free(copy);
+    return j;
+}
+
+/* The artifact's URI: the path as given, relative stays relative (code
+ * scanning resolves it against the repository), an absolute path becomes
+ * a file: URI. Bytes outside RFC 3986's unreserved set and '/' are
+ * percent-encoded. */
+static json_t *artifact_uri(const char *path) {
+    size_t n = strlen(path);
+    char *uri = malloc(3 * n + 8);
+    if (!uri)
+        return NULL;
+    char *o = uri;
+    if (path[0] == '/')
+        o += sprintf(o, "file://");
+    for (const unsigned char *p = (const unsigned char *)path; *p; p++) {
+        if ((*p >= 'A' && *p <= 'Z') || (*p >= 'a' && *p <= 'z') || (*p >= '0' && *p <= '9') ||
+            strchr("-._~/", *p))
+            *o++ = (char)*p;
+        else
+            o += sprintf(o, "%%%02X", *p);
+    }
+    *o = 0;
+    json_t *j = json_string(uri);
+    free(uri);
+    return j;
+}
+
+static const char *level(pfx_severity s) {
+    return s == PFX_SEV_ERROR ? "error" : s == PFX_SEV_WARNING ? "warning" : "note";
+}
+
+/* A location object: the file and, when the diagnostic has one, the
+ * region; NULL for a runtime failure, which has no file. */
+static json_t *location(const pfx_diags *d, const pfx_diag *g) {
+    if (!d->file)
+        return NULL;
+    json_t *phys = json_pack("{s:{s:o}}", "artifactLocation", "uri", artifact_uri(d->file));
+    if (phys && g->line > 0)
+        json_object_set_new(phys, "region",
+                            json_pack("{s:i, s:i, s:i}", "startLine", g->line, "startColumn",
+                                      g->col > 0 ? g->col : 1, "endColumn",
+                                      (g->col > 0 ? g->col : 1) + (g->span > 0 ? g->span : 1)));
+    return phys ? json_pack("{s:o}", "physicalLocation", phys) : NULL;
+}
+
+static json_t *rule_index(pfx_rule rule) {
+    const pfx_rule_info *info = pfx_rule_find(rule);
+    return info ? json_integer(info - pfx_rules) : NULL;
+}
+
+/* One result for the error or warning g (or a note with no head). */
+static json_t *result(const pfx_diags *d, const pfx_diag *g) {
+    json_t *r = json_object();
+    if (!r)
+        return NULL;
+    json_t *index = rule_index(g->rule);
+    if (index) {
+        char id[16];
+        json_object_set_new(r, "ruleId", json_string(pfx_rule_id(g->rule, id, sizeof id)));
+        json_object_set_new(r, "ruleIndex", index);
+    }
+    if (json_object_set_new(r, "level", json_string(level(g->severity))) ||
+        json_object_set_new(r, "message", json_pack("{s:o}", "text", text(g->message)))) {
+        json_decref(r);
+        return NULL;
+    }
+    json_t *loc = location(d, g);
+    if (loc)
+        json_object_set_new(r, "locations", json_pack("[o]", loc));
+    return r;
+}
+
+/* A note of result r: a related location with the note's message, and the
+ * note's position when it has one. */
+static bool add_note(json_t *r, const pfx_diags *d, const pfx_diag *g) {
+    json_t *related = json_object_get(r, "relatedLocations");
+    if (!related) {
+        related = json_array();
+        if (json_object_set_new(r, "relatedLocations", related))
+            return false;
+    }
+    json_t *loc = location(d, g);
+    if (!loc)
+        loc = json_object();
+    if (!loc)
+        return false;
+    if (json_object_set_new(loc, "id", json_integer((json_int_t)json_array_size(related))) ||
+        json_object_set_new(loc, "message", json_pack("{s:o}", "text", text(g->message)))) {
+        json_decref(loc);
+        return false;
+    }
+    return json_array_append_new(related, loc) == 0;
+}
+
+static json_t *rules_array(void) {
+    json_t *rules = json_array();
+    for (size_t i = 0; rules && i < pfx_rule_count; i++) {
+        const pfx_rule_info *info = &pfx_rules[i];
+        char id[16];
+        json_t *row = json_pack("{s:s, s:s, s:{s:s}, s:{s:s}, s:{s:s}}", "id",
+                                pfx_rule_id(info->rule, id, sizeof id), "name", info->name,
+                                "shortDescription", "text", info->help, "fullDescription", "text",
+                                info->help, "defaultConfiguration", "level", level(info->severity));
+        if (json_array_append_new(rules, row)) {
+            json_decref(rules);
+            return NULL;
+        }
+    }
+    return rules;
+}
+
+pfx_sarif *pfx_sarif_create(void) {
+    pfx_sarif *s = calloc(1, sizeof *s);
+    if (!s)
+        return NULL;
+    s->log = json_pack("{s:s, s:s, s:[{s:{s:{s:s, s:s, s:o}}, s:s, s:[]}]}", "$schema",
+                       SARIF_SCHEMA, "version", "2.1.0", "runs", "tool", "driver", "name", "pfx",
+                       "version", PFX_VERSION, "rules", rules_array(), "columnKind",
+                       "unicodeCodePoints", "results");
+    if (!s->log) {
+        free(s);
+        return NULL;
+    }
+    s->results = json_object_get(json_array_get(json_object_get(s->log, "runs"), 0), "results");
+    return s;
+}
+
+void pfx_sarif_destroy(pfx_sarif *s) {
+    if (!s)
+        return;
+    json_decref(s->log);
+    free(s);
+}
+
+bool pfx_sarif_add(pfx_sarif *s, const pfx_diags *d) {
+    size_t *order = pfx_diags_order(d);
+    if (!order && d->count)
+        return false;
+    bool ok = true;
+    json_t *last = NULL; /* the result a note belongs to */
+    for (size_t k = 0; ok && k < d->count; k++) {
+        const pfx_diag *g = &d->items[order[k]];
+        if (g->severity == PFX_SEV_NOTE && last) {
+            ok = add_note(last, d, g);
+            continue;
+        }
+        last = result(d, g);
+        ok = last && json_array_append_new(s->results, last) == 0;
+    }
+    free(order);
+    return ok;
+}
+
+bool pfx_sarif_write(const pfx_sarif *s, FILE *out) {
+    return json_dumpf(s->log, out, JSON_INDENT(2) | JSON_PRESERVE_ORDER) == 0 &&
+           fputc('\n', out) != EOF && fflush(out) == 0;
+}
