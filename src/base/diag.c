@@ -3,6 +3,8 @@
  * tildes under the offending span. It does not decide what is an error. */
 #include "base/diag.h"
 
+#include <jansson.h>
+
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -196,24 +198,6 @@ static const char *source_line(const pfx_diags *d, int line, size_t *len) {
     return p;
 }
 
-static void print_json_string(FILE *out, const char *s) {
-    fputc('"', out);
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            fprintf(out, "\\%c", c);
-        else if (c == '\n')
-            fputs("\\n", out);
-        else if (c == '\t')
-            fputs("\\t", out);
-        else if (c < 0x20)
-            fprintf(out, "\\u%04x", c);
-        else
-            fputc(c, out);
-    }
-    fputc('"', out);
-}
-
 /* The length of the well-formed UTF-8 character at s (at most n bytes), or
  * 0 when the bytes there are not one (RFC 3629: no overlong forms, no
  * surrogates, nothing above U+10FFFF). */
@@ -340,22 +324,23 @@ size_t *pfx_diags_order(const pfx_diags *d) {
     return order;
 }
 
+/* One JSON line through jansson, keys in this order. Strings are taken
+ * as they are (json_string_nocheck): a file that is not UTF-8 is refused
+ * before any message quotes it, and a path is printed as the user gave it. */
 static void print_json(const pfx_diags *d, const pfx_diag *g, FILE *out) {
-    fputs("{\"file\":", out);
-    if (d->file)
-        print_json_string(out, d->file);
-    else
-        fputs("null", out);
     char id[16];
-    fprintf(out, ",\"line\":%d,\"column\":%d,\"severity\":\"%s\",\"rule\":", g->line, g->col,
-            severity_name(g->severity));
-    if (g->rule != PFX_RULE_NONE)
-        fprintf(out, "\"%s\"", pfx_rule_id(g->rule, id, sizeof id));
-    else
-        fputs("null", out);
-    fputs(",\"message\":", out);
-    print_json_string(out, g->message);
-    fputs("}\n", out);
+    json_t *o = json_object();
+    json_object_set_new(o, "file", d->file ? json_string_nocheck(d->file) : json_null());
+    json_object_set_new(o, "line", json_integer(g->line));
+    json_object_set_new(o, "column", json_integer(g->col));
+    json_object_set_new(o, "severity", json_string(severity_name(g->severity)));
+    json_object_set_new(o, "rule",
+                        g->rule != PFX_RULE_NONE ? json_string(pfx_rule_id(g->rule, id, sizeof id))
+                                                 : json_null());
+    json_object_set_new(o, "message", json_string_nocheck(g->message));
+    if (json_dumpf(o, out, JSON_COMPACT | JSON_PRESERVE_ORDER) == 0)
+        fputc('\n', out);
+    json_decref(o);
 }
 
 void pfx_diags_print(const pfx_diags *d, FILE *out, bool json) {
