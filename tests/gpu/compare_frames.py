@@ -1,6 +1,7 @@
 """Compares two folders of PNG frames of the same names within a tolerance:
-every channel of every pixel within MAX_DIFF (out of 255), and at most
-MAX_FRACTION of all channel values different at all.
+every channel of every pixel, colour taken premultiplied by its alpha,
+within MAX_DIFF (out of 255), and at most MAX_FRACTION of all channel
+values different at all.
 
 usage: compare_frames.py BASE_DIR OTHER_DIR MAX_DIFF MAX_FRACTION
 Prints one line per frame and a summary; exits 0 within the tolerance, 1
@@ -10,6 +11,19 @@ import sys
 import zlib
 
 from png_rgba import decode
+
+
+def premultiplied_difference(a, b, i):
+    """The difference at channel value i as a viewer sees it: colour
+    channels times their pixel's alpha (what the pixel adds over any
+    background), rounded to bytes, and alpha as it is. In straight alpha a
+    faint pixel's colour is its light divided by a tiny alpha, so two
+    rasterisers that differ by 1e-6 in that light can differ by 255 in the
+    colour byte of a pixel that is, in both, fully transparent."""
+    if i % 4 == 3:
+        return abs(a[i] - b[i])
+    alpha = i - i % 4 + 3
+    return abs(round(a[i] * a[alpha] / 255) - round(b[i] * b[alpha] / 255))
 
 
 def main():
@@ -30,9 +44,13 @@ def main():
         if (w, h) != (w2, h2):
             print(f"{name}: {w}x{h} against {w2}x{h2}")
             return 1
-        diffs = [abs(x - y) for x, y in zip(a, b)]
+        diffs = [premultiplied_difference(a, b, i) for i in range(len(a))]
         frame_worst, frame_differing = max(diffs), sum(d > 0 for d in diffs)
-        print(f"{name}: largest difference {frame_worst}/255, {frame_differing} of {len(a)} values differ")
+        at = diffs.index(frame_worst)
+        px = at // 4
+        print(f"{name}: largest difference {frame_worst}/255 at ({px % w}, {px // w}) "
+              f"{tuple(a[4 * px:4 * px + 4])} against {tuple(b[4 * px:4 * px + 4])}, "
+              f"{frame_differing} of {len(a)} values differ")
         worst = max(worst, frame_worst)
         differing += frame_differing
         total += len(a)

@@ -5,6 +5,12 @@
 # of all channel values different at all. The sprites' falloff reaches 0
 # with zero slope at the rim, so a pixel that one rasteriser covers and the
 # other does not changes by almost nothing; what is left is float rounding.
+# Colour is compared premultiplied by alpha (compare_frames.py says why).
+# Frames are 512x512, the effects' own size: at 96x96 the flipbook sprites
+# are minified many times over, and the GL specification lets each
+# implementation approximate the mipmap level it samples (measured on an
+# H100 against llvmpipe: up to 26/255 apart at 96x96 in campfire, 2/255
+# at 512x512).
 #
 # Where there is no GPU EGL device (pfx says so in one line) it prints SKIP
 # and passes, after checking the comparison itself on egl-cpu frames: the
@@ -18,9 +24,9 @@ src=${2:?usage: run_egl_gpu.sh PATH-TO-PFX SOURCE-DIR}
 python=/usr/bin/python3
 max_diff=3        # out of 255, per channel
 max_fraction=0.01 # of all channel values
-cases=(fire:0:3 smoke:0:3 explosion:8:11 campfire:30:33 rain:10:13 shockwave:8:11
-    sword_swipe:4:7)
-small=(--size 96x96 -q)
+cases=(fire:0:1 smoke:0:1 explosion:8:9 campfire:30:31 rain:10:11 shockwave:8:9
+    sword_swipe:4:5)
+small=(--size 512x512 -q)
 
 source "$src/tests/harness.sh" egl-gpu "$@"
 
