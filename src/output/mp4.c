@@ -77,15 +77,22 @@ bool pfx_mp4_find_ffmpeg(const char *path, char *exe, size_t exe_size, pfx_diags
 }
 
 /* Starts exe with the pipe's read end as stdin, /dev/null as stdout, the
- * log as stderr and the temporary as fd 3. Returns 0 or an errno. */
+ * log as stderr and the temporary as fd 3. Each goes through a copy above
+ * 9 first: a source that is itself 0 to 3 (pfx started with a standard
+ * stream closed) would be overwritten by an earlier dup2, or keep
+ * close-on-exec when dup2'd onto itself. Returns 0 or an errno. */
 static int spawn(pfx_mp4 *m, const char *exe, int pipe_read, int file_fd, char *const argv[]) {
+    int high[3] = {fcntl(pipe_read, F_DUPFD_CLOEXEC, 10),
+                   fcntl(fileno(m->log), F_DUPFD_CLOEXEC, 10), fcntl(file_fd, F_DUPFD_CLOEXEC, 10)};
+    int err = high[0] < 0 || high[1] < 0 || high[2] < 0 ? errno : 0;
     posix_spawn_file_actions_t fa;
     posix_spawnattr_t attr;
-    int err = posix_spawn_file_actions_init(&fa);
-    if (err)
-        return err;
-    if ((err = posix_spawnattr_init(&attr))) {
+    if (!err && !(err = posix_spawn_file_actions_init(&fa)) && (err = posix_spawnattr_init(&attr)))
         posix_spawn_file_actions_destroy(&fa);
+    if (err) {
+        for (int i = 0; i < 3; i++)
+            if (high[i] >= 0)
+                close(high[i]);
         return err;
     }
     /* ffmpeg takes Ctrl-C with pfx: no signal blocked (pfx blocks the fatal
@@ -94,16 +101,18 @@ static int spawn(pfx_mp4 *m, const char *exe, int pipe_read, int file_fd, char *
     sigemptyset(&none);
     sigemptyset(&pipe_only);
     sigaddset(&pipe_only, SIGPIPE);
-    if (!(err = posix_spawn_file_actions_adddup2(&fa, pipe_read, 0)) &&
+    if (!(err = posix_spawn_file_actions_adddup2(&fa, high[0], 0)) &&
         !(err = posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0)) &&
-        !(err = posix_spawn_file_actions_adddup2(&fa, fileno(m->log), 2)) &&
-        !(err = posix_spawn_file_actions_adddup2(&fa, file_fd, 3)) &&
+        !(err = posix_spawn_file_actions_adddup2(&fa, high[1], 2)) &&
+        !(err = posix_spawn_file_actions_adddup2(&fa, high[2], 3)) &&
         !(err = posix_spawnattr_setsigmask(&attr, &none)) &&
         !(err = posix_spawnattr_setsigdefault(&attr, &pipe_only)) &&
         !(err = posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF)))
         err = posix_spawn(&m->pid, exe, &fa, &attr, argv, environ);
     posix_spawnattr_destroy(&attr);
     posix_spawn_file_actions_destroy(&fa);
+    for (int i = 0; i < 3; i++)
+        close(high[i]);
     return err;
 }
 
@@ -164,12 +173,7 @@ pfx_mp4 *pfx_mp4_create(int width, int height, double fps, const char *path, pfx
     if (!err) {
         fcntl(fds[0], F_SETFD, FD_CLOEXEC);
         fcntl(fds[1], F_SETFD, FD_CLOEXEC);
-        /* A copy above 3, so that fd 3 in the child is always a fresh dup2
-         * (a dup2 onto itself would keep close-on-exec). */
-        int file_fd = fcntl(fileno(pfx_atomic_stream(m->file)), F_DUPFD_CLOEXEC, 10);
-        err = file_fd < 0 ? errno : start_ffmpeg(m, exe, fps, fds[0], file_fd);
-        if (file_fd >= 0)
-            close(file_fd);
+        err = start_ffmpeg(m, exe, fps, fds[0], fileno(pfx_atomic_stream(m->file)));
         close(fds[0]);
         if (err)
             close(fds[1]);
