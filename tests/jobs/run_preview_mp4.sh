@@ -5,8 +5,10 @@
 # colours must show within the lossy codec's tolerance: the effect's
 # background in a corner, the white sprite at the centre, and black where
 # the background is transparent (pfx composites over black). Then the
-# failures: no ffmpeg on the PATH (refused before rendering), and a fake
-# ffmpeg that fails (its status and last words reported, no file left).
+# failures: no ffmpeg on the PATH (refused before rendering), fake
+# ffmpegs that fail or die (status and last words reported, no file left)
+# or hang while pfx gets SIGTERM (no temporary left), and pfx started with
+# its standard streams closed.
 #
 #   bash run_preview_mp4.sh PATH-TO-PFX SOURCE-DIR
 set -u
@@ -159,6 +161,47 @@ PATH=$work/fake:$PATH pfx_run render dot.yaml -o k --preview k/dot.mp4
 finished && want_status 1
 stderr_has "pfx: cannot write 'k/dot.mp4': ffmpeg was killed by signal 9"
 [ -e k/dot.mp4 ] && flunk "k/dot.mp4 was left"
+end
+
+# One that writes a little to the file pfx gave it and then hangs: pfx
+# blocks on the full pipe, and SIGTERM must still remove the temporary
+# (ffmpeg writes only through the descriptor, so nothing comes back).
+cat >fake/ffmpeg <<EOF
+#!/bin/sh
+echo \$\$ >"$work/fake.pid"
+echo partial >&3
+exec sleep 20
+EOF
+begin "SIGTERM while ffmpeg writes: exit 143, no temporary"
+got=$(PATH=$work/fake:$PATH "$py" - "$pfx" <<'PY'
+import os, signal, subprocess, sys, time
+p = subprocess.Popen([sys.argv[1], "render", "dot.yaml", "-o", "t", "--preview", "t/dot.mp4", "-q"])
+def partial():
+    return os.path.isdir("t") and any(".tmp-" in f and f.startswith(".dot.mp4") and
+                                      os.path.getsize("t/" + f) > 0 for f in os.listdir("t"))
+end = time.time() + 60
+while time.time() < end and p.poll() is None and not partial():
+    time.sleep(0.01)
+p.send_signal(signal.SIGTERM)
+try:
+    print(p.wait(10))
+except subprocess.TimeoutExpired:
+    p.kill()
+    print("hung")
+PY
+)
+[ "$got" = -15 ] || flunk "ended with '$got', not by SIGTERM"
+ls -a t | grep -q '\.tmp-' && flunk "a temporary is left: $(ls -a t)"
+[ -e t/dot.mp4 ] && flunk "t/dot.mp4 was left"
+end
+[ -s fake.pid ] && kill "$(cat fake.pid)" 2>/dev/null
+
+begin "standard streams closed: ffmpeg still gets its pipe, log and file"
+"$pfx" render dot.yaml -o z --preview z/dot.mp4 <&- >&- 2>/dev/null
+status=$?
+want_status 0
+got=$(probe z/dot.mp4 2>&1 | "$py" -c 'import json,sys; print(json.load(sys.stdin)["streams"][0]["nb_read_frames"])')
+[ "$got" = 10 ] || flunk "$got frames"
 end
 
 begin "--preview refuses other extensions"
