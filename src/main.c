@@ -27,6 +27,7 @@
 #include "jobs/slice.h"
 #include "output/atomic_file.h"
 #include "output/bake.h"
+#include "output/mp4.h"
 #include "output/sarif.h"
 #include "render/render.h"
 #include "render/sprites.h"
@@ -45,7 +46,7 @@ static const char usage_text[] =
     "                  [--renderer R] [--alpha MODE] [--threads N] [--force]\n"
     "                  [--depfile FILE] [--progress json]\n"
     "                  [--atlas[=CxR]] [--padding N] [--extrude N] [--crop]\n"
-    "                  [--preview OUT.webp] [-q]\n"
+    "                  [--preview OUT.webp|OUT.mp4] [-q]\n"
     "                  [--motion-vectors [--mv-max PIXELS] [--mv-flip-y]]\n"
     "                  [--slice I/N | --slice-env VAR --slice-count N]\n"
     "       pfx bake FILE -o OUT [--format csv|ply|pcache] [--every N] [--frames A:B]\n"
@@ -54,7 +55,7 @@ static const char usage_text[] =
     "       pfx info FILE [--seed N] [--max-particles N] [--max-memory SIZE]\n"
     "       pfx bench [--json] [--renderer R]\n"
     "       pfx bench accuracy -o DIR\n"
-    "       pfx assemble DIR... -o OUT [--atlas[=CxR]] [--preview OUT.webp]\n"
+    "       pfx assemble DIR... -o OUT [--atlas[=CxR]] [--preview OUT.webp|OUT.mp4]\n"
     "       pfx schema\n"
     "\n"
     "commands:\n"
@@ -90,6 +91,7 @@ static const char usage_text[] =
     "      --extrude N         atlas: of those, how many repeat the frame's edge (default 1)\n"
     "      --crop              atlas: cut every frame to one box around all visible pixels\n"
     "      --preview OUT.webp  also write the frames as a looping animated WebP (lossless)\n"
+    "      --preview OUT.mp4   or as an H.264 MP4, through the ffmpeg on the PATH\n"
     "      --motion-vectors    also write <name>_mv_NNNN.png: 16-bit motion to the next\n"
     "                          frame, R right, G up, 0.5 none (with --atlas: a sheet)\n"
     "      --mv-max PIXELS     the displacement that encodes as 0 or 1 (default: the\n"
@@ -140,7 +142,7 @@ typedef struct options {
     bool werror;                   /* --werror: an effect with a warning fails */
     bool atlas;                    /* --atlas[=COLSxROWS] */
     pfx_atlas_layout atlas_layout; /* its grid, --padding, --extrude, --crop */
-    const char *preview;           /* --preview out.webp */
+    const char *preview;           /* --preview out.webp or out.mp4 */
     bool motion_vectors;           /* --motion-vectors */
     double mv_max;                 /* --mv-max PIXELS; 0: the sequence's largest */
     bool mv_flip_y;                /* --mv-flip-y */
@@ -364,9 +366,9 @@ static int parse_options(int argc, char **argv, options *o) {
             break;
         case OPT_PREVIEW: {
             size_t n = strlen(optarg);
-            if (n < 6 || strcmp(optarg + n - 5, ".webp"))
-                return usage_error("--preview writes an animated WebP: give a path ending in "
-                                   "'.webp', got '%s'",
+            if ((n < 6 || strcmp(optarg + n - 5, ".webp")) && !pfx_mp4_path(optarg))
+                return usage_error("--preview writes an animated WebP or an MP4: give a path "
+                                   "ending in '.webp' or '.mp4', got '%s'",
                                    optarg);
             o->preview = optarg;
             break;
@@ -537,6 +539,17 @@ static int parse_options(int argc, char **argv, options *o) {
             files += argv[i][0] != '-';
         if (files > 1)
             return usage_error("%s", "--preview names one file: give one FILE");
+    }
+    /* An MP4 preview needs an ffmpeg: say so before anything is rendered. */
+    if (o->preview && pfx_mp4_path(o->preview)) {
+        char ffmpeg[4096];
+        pfx_diags run;
+        pfx_diags_init_runtime(&run);
+        bool found = pfx_mp4_find_ffmpeg(o->preview, ffmpeg, sizeof ffmpeg, &run);
+        pfx_diags_print(&run, stderr, false);
+        pfx_diags_free(&run);
+        if (!found)
+            return EXIT_INVALID;
     }
     if (o->atlas && o->slices)
         return usage_error("%s", "--atlas needs every frame: give it to 'pfx assemble' instead "

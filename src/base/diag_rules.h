@@ -105,8 +105,11 @@
       "A particle became non-finite or ran away during the simulation.")                           \
     X(9006, INCONSISTENT_SLICES, "inconsistent-slices", ERROR,                                     \
       "Slice manifests or frames do not fit together (a slice missing, a hash mismatch).")         \
-    X(9007, ENCODE_FAILED, "encode-failed", ERROR, "An image encoder (PNG, WebP) failed.")         \
+    X(9007, ENCODE_FAILED, "encode-failed", ERROR,                                                 \
+      "An image or video encoder (PNG, WebP, EXR, ffmpeg) failed.")                                \
     X(9008, IMPOSSIBLE_REQUEST, "impossible-request", ERROR,                                       \
-      "The command asks for what cannot be made (an atlas grid too small for its frames).")
+      "The command asks for what cannot be made (an atlas grid too small for its frames).")        \
+    X(9009, MISSING_TOOL, "missing-tool", ERROR,                                                   \
+      "An external program pfx runs (ffmpeg for an MP4 preview) is not on the PATH.")
 
 #endif

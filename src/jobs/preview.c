@@ -1,16 +1,43 @@
-/* jobs/preview.h: frames from disk -> output/webp.c, one frame in memory at
- * a time. */
+/* jobs/preview.h: frames from disk -> output/webp.c or output/mp4.c (the
+ * path's extension chooses), one frame in memory at a time. */
 #include "jobs/preview.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "output/mp4.h"
 #include "output/png_write.h"
 #include "output/webp.h"
 
+/* One of the two writers, behind the three calls both have. */
+typedef struct {
+    pfx_webp *webp;
+    pfx_mp4 *mp4;
+} writer;
+
+static bool writer_create(writer *w, int width, int height, double fps, const char *path,
+                          pfx_diags *d) {
+    if (pfx_mp4_path(path))
+        return (w->mp4 = pfx_mp4_create(width, height, fps, path, d)) != NULL;
+    return (w->webp = pfx_webp_create(width, height, fps, 100, d)) != NULL;
+}
+
+static bool writer_add(writer *w, const uint8_t *rgba, long k, pfx_diags *d) {
+    return w->mp4 ? pfx_mp4_add(w->mp4, rgba, d) : pfx_webp_add(w->webp, rgba, k, d);
+}
+
+/* Writes (commit) or drops the file; false when anything failed. */
+static bool writer_finish(writer *w, const char *path, long frames, bool commit, pfx_diags *d) {
+    if (w->mp4)
+        return pfx_mp4_finish(w->mp4, commit, d) && commit;
+    if (w->webp)
+        return pfx_webp_finish(w->webp, path, frames, commit, d) && commit;
+    return false;
+}
+
 bool pfx_preview_run(const char *dir, const char *stem, long first, long last, double fps,
                      const char *path, pfx_diags *d) {
-    pfx_webp *w = NULL;
+    writer w = {0};
     int width = 0, height = 0;
     bool ok = true;
     for (long f = first; ok && f <= last; f++) {
@@ -24,17 +51,17 @@ bool pfx_preview_run(const char *dir, const char *stem, long first, long last, d
             ok = false;
             break;
         }
-        if (!w) {
+        if (f == first) {
             width = fw, height = fh;
-            ok = (w = pfx_webp_create(width, height, fps, 100, d)) != NULL;
+            ok = writer_create(&w, width, height, fps, path, d);
         } else if (fw != width || fh != height) {
             pfx_diag_error(d, PFX_RULE_INVALID_FILE,
                            "'%s' is %dx%d, not %dx%d like the frames before it", frame, fw, fh,
                            width, height);
             ok = false;
         }
-        ok = ok && pfx_webp_add(w, rgba, f - first, d);
+        ok = ok && writer_add(&w, rgba, f - first, d);
         free(rgba);
     }
-    return w ? pfx_webp_finish(w, path, last - first + 1, ok, d) && ok : false;
+    return writer_finish(&w, path, last - first + 1, ok, d);
 }

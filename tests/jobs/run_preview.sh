@@ -50,10 +50,10 @@ PY
 )
 tally "$out"
 
-begin "--preview needs a .webp path"
+begin "--preview needs a .webp or .mp4 path"
 pfx_run render "$FIRE" -o g --preview g/fire.gif
 want_status 2
-stderr_has "--preview writes an animated WebP: give a path ending in '.webp', got 'g/fire.gif'"
+stderr_has "--preview writes an animated WebP or an MP4: give a path ending in '.webp' or '.mp4', got 'g/fire.gif'"
 end
 
 begin "a deleted preview is made again though the frames are up to date"
