@@ -300,6 +300,8 @@ void pfx_renderer_destroy(pfx_renderer *r) {
     free(r->keys);
     free(r->index);
     free(r->sorted);
+    free(r->hist);
+    pfx_workers_destroy(r->workers);
     free(r);
 }
 
@@ -610,4 +612,25 @@ double pfx_renderer_bench_raw(pfx_renderer *r, const pfx_camera *cam, const pfx_
         return -1.0;
     double t = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
     return t > 0 ? frames / t : -1.0;
+}
+
+bool pfx_renderer_set_threads(pfx_renderer *r, int threads, pfx_diags *d) {
+    if (threads <= 0)
+        threads = pfx_workers_cores();
+    if (pfx_workers_count(r->workers) == threads)
+        return true;
+    pfx_workers_destroy(r->workers);
+    r->workers = NULL;
+    if (threads > 1 && !(r->workers = pfx_workers_create(threads))) {
+        pfx_diag_error(d, "cannot start %d threads for the depth sort", threads);
+        return false;
+    }
+    return true;
+}
+
+bool pfx_renderer_sort(pfx_renderer *r, const pfx_camera *cam, pfx_sprite *sprites, size_t count,
+                       pfx_diags *d) {
+    pfx_view v;
+    return camera_matrices(cam, r->width, r->height, &v, d) &&
+           pfx_sort_back_to_front(r, &v, sprites, count, d);
 }

@@ -162,6 +162,23 @@ bool pfx_renderer_blur_add(pfx_renderer *r, const pfx_camera *cam, const pfx_ren
                            float weight, pfx_diags *d);
 void pfx_renderer_blur_resolve(pfx_renderer *r, const pfx_render_settings *s, uint8_t *rgba);
 
+/* The threads the depth sort of alpha-blended sprites runs on (0: one per
+ * online core; a new renderer sorts on the caller's thread alone). The
+ * order does not depend on the count. False (with an error in d) when
+ * the threads cannot start; the renderer then sorts on one. */
+bool pfx_renderer_set_threads(pfx_renderer *r, int threads, pfx_diags *d);
+
+/* Sorts the sprites back to front as pfx_renderer_draw_frame does with
+ * sort true, and draws nothing (pfx bench times it). False with an error
+ * in d when the sort scratch cannot grow. */
+bool pfx_renderer_sort(pfx_renderer *r, const pfx_camera *cam, pfx_sprite *sprites, size_t count,
+                       pfx_diags *d);
+
+/* Bytes of sort scratch a renderer holds once it has sorted `count`
+ * sprites (keys, indices, the sorted copy, histograms): the memory
+ * estimate's share for the sort. */
+size_t pfx_renderer_sort_bytes(size_t count);
+
 /* The reference the pfx bench measures full rendering against: `frames`
  * times clears, uploads the sprites, makes the one instanced draw, glFinish
  * and reads the float framebuffer back; no sort and no 8-bit conversion.
