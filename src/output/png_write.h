@@ -16,6 +16,11 @@
  * in d and leaves no file at `path` or at the temporary name. */
 bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height, pfx_diags *d);
 
+/* Bytes each encoding thread keeps for frames of width x height (the
+ * filtered rows, room for their deflated stream, the compressor), from its
+ * first frame until it ends: for the memory estimate. */
+size_t pfx_png_encoder_scratch_bytes(int width, int height);
+
 /* Reads an 8-bit RGBA PNG (for tests). Returns a malloc'd buffer the caller
  * frees, or NULL. */
 uint8_t *pfx_png_read(const char *path, int *width, int *height);
