@@ -164,8 +164,9 @@ void pfx_renderer_blur_resolve(pfx_renderer *r, const pfx_render_settings *s, ui
 
 /* The threads the depth sort of alpha-blended sprites runs on (0: one per
  * online core; a new renderer sorts on the caller's thread alone). The
- * order does not depend on the count. False (with an error in d) when
- * the threads cannot start; the renderer then sorts on one. */
+ * order does not depend on the count. False (with an error in d, which
+ * may be NULL) when the threads cannot start; the renderer then sorts on
+ * the caller's thread, with the same result. */
 bool pfx_renderer_set_threads(pfx_renderer *r, int threads, pfx_diags *d);
 
 /* Sorts the sprites back to front as pfx_renderer_draw_frame does with
