@@ -4,6 +4,7 @@
  * only file that knows every stage, and the only one that exits. */
 #include <errno.h>
 #include <getopt.h>
+#include <jansson.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -52,7 +53,8 @@ static const char usage_text[] =
     "       pfx bake FILE -o OUT [--format csv|ply|pcache] [--every N] [--frames A:B]\n"
     "                  [--fps N] [--seed N] [--max-particles N] [--max-memory SIZE]\n"
     "                  [--threads N] [--force] [--depfile FILE]\n"
-    "       pfx info FILE [--seed N] [--max-particles N] [--max-memory SIZE]\n"
+    "       pfx info FILE [--format text|json] [--seed N] [--max-particles N]\n"
+    "                  [--max-memory SIZE] [--threads N]\n"
     "       pfx bench [--json] [--renderer R]\n"
     "       pfx bench accuracy -o DIR\n"
     "       pfx assemble DIR... -o OUT [--atlas[=CxR]] [--preview OUT.webp|OUT.mp4]\n"
@@ -1079,6 +1081,50 @@ static void print_estimate(const pfx_effect *e) {
             printf("    %s: %s%s\n", pfx_memory_part_names[p],
                    pfx_memory_format(est.bytes[p], b, sizeof b),
                    p == (int)est.biggest ? " (the most)" : "");
+    char c[32];
+    printf("  2 x pools + %d threads x %s = %s: %s\n", est.threads,
+           pfx_memory_format(est.per_thread_bytes, b, sizeof b),
+           pfx_memory_format(est.bound_bytes, c, sizeof c),
+           est.total_bytes <= est.bound_bytes
+               ? "the estimate is within it"
+               : "the estimate is over it (parts that grow with the sprites or the image)");
+}
+
+/* pfx info --format json: the figures of the text form that scripts use
+ * (sizes, pools, the estimate) as one JSON object on standard output. */
+static int print_info_json(const pfx_effect *e, const options *o) {
+    json_t *emitters = json_array();
+    double bytes = 0;
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        const pfx_emitter *em = &e->emitters[i];
+        const size_t bpp = pfx_sim_bytes_per_particle(e, i);
+        bytes += (double)em->capacity * (double)bpp;
+        json_array_append_new(emitters, json_pack("{s:s, s:I, s:I}", "name", em->name, "capacity",
+                                                  (json_int_t)em->capacity, "bytes_per_particle",
+                                                  (json_int_t)bpp));
+    }
+    pfx_estimate est;
+    pfx_estimate_run(e, 0, pfx_effect_frame_count(e) - 1, true, &est);
+    json_t *root = json_pack("{s:s, s:I, s:i, s:i, s:o, s:f, s:b}", "effect", e->path, "frames",
+                             (json_int_t)pfx_effect_frame_count(e), "width", e->width, "height",
+                             e->height, "emitters", emitters, "pool_bytes", bytes, "depth_sort",
+                             pfx_sprites_need_sort(e));
+    json_t *estimate = pfx_estimate_json(&est);
+    if (root && estimate) {
+        json_object_update(root, estimate);
+        if (o->max_memory)
+            json_object_set_new(root, "max_memory_bytes", json_real((double)o->max_memory));
+    }
+    json_decref(estimate);
+    char *text = root ? json_dumps(root, JSON_INDENT(2) | JSON_PRESERVE_ORDER) : NULL;
+    json_decref(root);
+    if (!text) {
+        fprintf(stderr, "pfx: out of memory\n");
+        return EXIT_INVALID;
+    }
+    printf("%s\n", text);
+    free(text);
+    return 0;
 }
 
 static int cmd_info(int argc, char **argv, const options *o) {
@@ -1089,6 +1135,11 @@ static int cmd_info(int argc, char **argv, const options *o) {
     if (!e) {
         pfx_loaded_free(&l);
         return EXIT_INVALID;
+    }
+    if (o->json) {
+        int status = print_info_json(e, o);
+        pfx_loaded_free(&l);
+        return status;
     }
     double steps_per_frame = e->sim_rate / e->fps;
     printf("effect %s\n", e->path);

@@ -6,6 +6,7 @@
 #include "bench/speed.h"
 
 #include "bench/looks.h"
+#include "bench/sort_speed.h"
 
 #include <errno.h>
 #include <jansson.h>
@@ -378,7 +379,8 @@ bool pfx_bench_speed(FILE *out, const char *fire_path, pfx_renderer_kind rendere
                 cores, bandwidth);
     bench_sim(&rep, cores, bandwidth);
     bench_forces(&rep);
-    bool ok = true;
+    json_t *sort = json_array();
+    bool ok = pfx_bench_sort(json ? NULL : out, r[0], cores, sort, d);
     for (int k = 0; k < 2 && ok; k++)
         ok = bench_render(&rep, fire_path, r[k], sizes[k][0], sizes[k][1], d);
     /* The sprite looks' table is text only (not part of --json). */
@@ -387,6 +389,7 @@ bool pfx_bench_speed(FILE *out, const char *fire_path, pfx_renderer_kind rendere
     json_object_set(rep.root, "sim", rep.sim);
     json_object_set(rep.root, "forces", rep.forces);
     json_object_set(rep.root, "render", rep.render);
+    json_object_set_new(rep.root, "sort", sort);
     if (json && ok) {
         char *text =
             json_dumps(rep.root, JSON_INDENT(2) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(6));

@@ -19,9 +19,15 @@
 #include "sim/spawn.h"
 
 const char *const pfx_memory_part_names[PFX_MEMORY_PART_COUNT] = {
-#define PFX_PART_NAME(id, name) name,
+#define PFX_PART_NAME(id, key, name) name,
     PFX_MEMORY_PARTS(PFX_PART_NAME)
 #undef PFX_PART_NAME
+};
+
+const char *const pfx_memory_part_keys[PFX_MEMORY_PART_COUNT] = {
+#define PFX_PART_KEY(id, key, name) key,
+    PFX_MEMORY_PARTS(PFX_PART_KEY)
+#undef PFX_PART_KEY
 };
 
 /* The largest side of emitter em's sprites in pixels, at the emitter's own
@@ -85,19 +91,27 @@ void pfx_estimate_run(const pfx_effect *e, long first, long last, bool render, p
         const double sprites = (double)pfx_sprites_capacity(e) + 1;
         /* The array main.c fills, and the GL buffer it is uploaded to. */
         out->bytes[PFX_MEMORY_SPRITES] = 2 * sprites * sizeof(pfx_sprite);
-        /* render.c sorts through keys and an index (two words each, double
-         * buffered) and a sorted copy, grown by doubling from 1024. */
-        if (pfx_sprites_need_sort(e)) {
-            double cap = 1024;
-            while (cap < sprites)
-                cap *= 2;
-            out->bytes[PFX_MEMORY_SORT] = cap * (4 * sizeof(uint32_t) + sizeof(pfx_sprite));
-        }
+        /* render/sort.c: keys and indices (double buffered), a sorted
+         * copy and the radix blocks' histograms, grown by doubling. */
+        if (pfx_sprites_need_sort(e))
+            out->bytes[PFX_MEMORY_SORT] = (double)pfx_renderer_sort_bytes((size_t)sprites);
+        out->bytes[PFX_MEMORY_RIBBONS] = (double)pfx_ribbons_bytes(e);
+        /* What Mesa keeps of a frame's draw: see PFX_RENDER_DRIVER_BYTES_PER_SPRITE. */
+        const double drawn = sprites + 0.5 * (double)pfx_ribbons_triangles(e);
+        out->bytes[PFX_MEMORY_DRIVER] =
+            fmin(drawn * PFX_RENDER_DRIVER_FIRST_BYTES_PER_SPRITE, PFX_RENDER_DRIVER_FIRST_CAP) +
+            drawn * PFX_RENDER_DRIVER_BYTES_PER_SPRITE;
         /* RGBA32F in GL and its float read-back, and motion blur's float
-         * sum; two RGBA8 frames per PNG encoder thread. */
+         * sum; per PNG encoder thread two RGBA8 frames and the deflate
+         * scratch it keeps (output/png_write.c). */
         out->bytes[PFX_MEMORY_FRAMEBUFFER] = (e->blur_samples > 1 ? 3 : 2) * image * 16;
-        const double encoders = pfx_png_encoder_count(e->threads);
-        out->bytes[PFX_MEMORY_ENCODER] = 2 * encoders * image * 4;
+        out->threads = pfx_png_encoder_count(e->threads);
+        out->per_thread_bytes =
+            2 * image * 4 + (double)pfx_png_encoder_scratch_bytes(e->width, e->height);
+        out->bytes[PFX_MEMORY_ENCODER] = out->threads * out->per_thread_bytes;
+        for (size_t i = 0; i < e->emitter_count; i++)
+            if (e->emitters[i].look.texture || e->emitters[i].look.normal_map)
+                out->bytes[PFX_MEMORY_DRIVER] += PFX_RENDER_DRIVER_BYTES_PER_TEXTURED;
         /* Textures: the decoded pixels, and their copy in GL with mipmaps
          * (4/3 of the base level). */
         for (size_t i = 0; i < e->emitter_count; i++) {
@@ -109,12 +123,25 @@ void pfx_estimate_run(const pfx_effect *e, long first, long last, bool render, p
                         (1 + 4.0 / 3) * maps[k]->width * maps[k]->height * 4 * (maps[k]->bits / 8);
         }
     }
+    out->bound_bytes = 2 * pool_bytes + out->threads * out->per_thread_bytes;
     out->biggest = PFX_MEMORY_POOLS;
     for (int p = 0; p < PFX_MEMORY_PART_COUNT; p++) {
         out->total_bytes += out->bytes[p];
         if (out->bytes[p] > out->bytes[out->biggest])
             out->biggest = (pfx_memory_part)p;
     }
+}
+
+json_t *pfx_estimate_json(const pfx_estimate *est) {
+    json_t *parts = json_object();
+    for (int p = 0; p < PFX_MEMORY_PART_COUNT; p++)
+        json_object_set_new(parts, pfx_memory_part_keys[p], json_real(est->bytes[p]));
+    json_t *memory = json_pack("{s:f, s:o, s:i, s:f, s:f}", "total_bytes", est->total_bytes,
+                               "parts", parts, "threads", est->threads, "per_thread_bytes",
+                               est->per_thread_bytes, "bound_bytes", est->bound_bytes);
+    return json_pack("{s:{s:f, s:f, s:f, s:f}, s:o}", "work", "steps", est->steps, "particle_steps",
+                     est->particle_steps, "sprites", est->sprites, "sprite_pixels",
+                     est->sprite_pixels, "memory", memory);
 }
 
 uint64_t pfx_memory_default_bound(void) {

@@ -7,29 +7,35 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include <jansson.h>
+
 #include "jobs/load.h"
 
-/* Where a run's memory goes, one row each: the enum and the name that
- * `pfx info` and the --max-memory error print. */
+/* Where a run's memory goes, one row each: the enum, the key of `pfx info
+ * --format json` and the name that `pfx info` and the --max-memory error
+ * print. */
 #define PFX_MEMORY_PARTS(X)                                                                        \
-    X(POOLS, "particle pools")                                                                     \
-    X(VIEW, "frame view (a second copy of the pools)")                                             \
-    X(LOOP, "loop start (a third copy of the pools)")                                              \
-    X(QUEUES, "spawn queues")                                                                      \
-    X(SPRITES, "sprites (array and GL vertex buffer)")                                             \
-    X(SORT, "depth-sort scratch")                                                                  \
-    X(FRAMEBUFFER, "float framebuffer, read-back, blur sum")                                       \
-    X(ENCODER, "PNG encoder buffers")                                                              \
-    X(TEXTURES, "textures")
+    X(POOLS, "pools", "particle pools")                                                            \
+    X(VIEW, "view", "frame view (a second copy of the pools)")                                     \
+    X(LOOP, "loop", "loop start (a third copy of the pools)")                                      \
+    X(QUEUES, "queues", "spawn queues")                                                            \
+    X(SPRITES, "sprites", "sprites (array and GL vertex buffer)")                                  \
+    X(SORT, "sort", "depth-sort scratch")                                                          \
+    X(RIBBONS, "ribbons", "ribbon triangles (array, scratch and GL vertex buffer)")                \
+    X(DRIVER, "driver", "GL driver's binned triangles (llvmpipe)")                                 \
+    X(FRAMEBUFFER, "framebuffer", "float framebuffer, read-back, blur sum")                        \
+    X(ENCODER, "encoders", "PNG encoder buffers and deflate scratch")                              \
+    X(TEXTURES, "textures", "textures")
 
 typedef enum {
-#define PFX_PART_ENUM(id, name) PFX_MEMORY_##id,
+#define PFX_PART_ENUM(id, key, name) PFX_MEMORY_##id,
     PFX_MEMORY_PARTS(PFX_PART_ENUM)
 #undef PFX_PART_ENUM
         PFX_MEMORY_PART_COUNT
 } pfx_memory_part;
 
 extern const char *const pfx_memory_part_names[PFX_MEMORY_PART_COUNT];
+extern const char *const pfx_memory_part_keys[PFX_MEMORY_PART_COUNT];
 
 /* Above this many particle-steps `validate` warns: hours at the speeds
  * `pfx bench` measures (about 1e7 to 1e8 particle-steps a second). */
@@ -45,12 +51,26 @@ typedef struct pfx_estimate {
     double bytes[PFX_MEMORY_PART_COUNT];
     double total_bytes; /* peak: every part at once */
     pfx_memory_part biggest;
+    /* Issue 11's bound on a render: 2 x the pools plus a fixed amount per
+     * thread. per_thread_bytes is what each encoder thread holds (its two
+     * frames and its deflate scratch); bound_bytes = 2 x pools + threads x
+     * per_thread_bytes. Parts that grow with the sprites (sprites, sort,
+     * ribbons, driver) or the image (framebuffer) fall outside it. */
+    int threads;
+    double per_thread_bytes;
+    double bound_bytes;
 } pfx_estimate;
 
 /* Estimates a run of e to output frame `last` (frames from `first`):
  * drawing them when `render` is true, baking them otherwise. Pure: reads
  * the effect only. */
 void pfx_estimate_run(const pfx_effect *e, long first, long last, bool render, pfx_estimate *out);
+
+/* The estimate as JSON (jansson; the caller owns the reference): work
+ * {steps, particle_steps, sprites, sprite_pixels} and memory {total_bytes,
+ * one key per part (pfx_memory_part_keys), threads, per_thread_bytes,
+ * bound_bytes}. NULL when out of memory. */
+json_t *pfx_estimate_json(const pfx_estimate *est);
 
 /* Half of physical memory: --max-memory's default (0 where unknown). */
 uint64_t pfx_memory_default_bound(void);

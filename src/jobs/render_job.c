@@ -107,6 +107,11 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
     if (!failed && job->motion)
         failed = !pfx_mv_frame_init(&mv, e, d);
     const bool sort = pfx_sprites_need_sort(e);
+    /* The depth sort runs on the effect's threads (--threads); its order
+     * does not depend on how many, so where they cannot start it sorts on
+     * this one and the frames are the same. */
+    if (sort)
+        pfx_renderer_set_threads(job->renderer, e->threads, NULL);
     const pfx_render_settings settings = pfx_sprites_settings(e);
     char name[4600];
     for (long f = job->first; !failed && f <= job->last && !pfx_png_queue_failed(q); f++) {

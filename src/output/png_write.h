@@ -25,6 +25,10 @@ bool pfx_png_write16(const char *path, const uint16_t *rgba, int width, int heig
 /* Reads any PNG as 16-bit RGBA samples in host byte order (8-bit images
  * widened by x 257). Returns a malloc'd buffer the caller frees, or NULL. */
 uint16_t *pfx_png_read16(const char *path, int *width, int *height);
+/* Bytes each encoding thread keeps for frames of width x height (the
+ * filtered rows, room for their deflated stream, the compressor), from its
+ * first frame until it ends: for the memory estimate. */
+size_t pfx_png_encoder_scratch_bytes(int width, int height);
 
 /* Reads an 8-bit RGBA PNG (for tests). Returns a malloc'd buffer the caller
  * frees, or NULL. */

@@ -308,6 +308,8 @@ void pfx_renderer_destroy(pfx_renderer *r) {
     free(r->index);
     free(r->sorted);
     free(r->mv_pixels);
+    free(r->hist);
+    pfx_workers_destroy(r->workers);
     free(r);
 }
 
@@ -638,3 +640,24 @@ const pfx_gpu_material *pfx_render_material_of(const pfx_renderer *r, const pfx_
 }
 
 void pfx_render_point_instances(pfx_renderer *r, size_t first) { point_instances(r, first); }
+bool pfx_renderer_set_threads(pfx_renderer *r, int threads, pfx_diags *d) {
+    if (threads <= 0)
+        threads = pfx_workers_cores();
+    if (pfx_workers_count(r->workers) == threads)
+        return true;
+    pfx_workers_destroy(r->workers);
+    r->workers = NULL;
+    if (threads > 1 && !(r->workers = pfx_workers_create(threads))) {
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED, "cannot start %d threads for the depth sort",
+                       threads);
+        return false;
+    }
+    return true;
+}
+
+bool pfx_renderer_sort(pfx_renderer *r, const pfx_camera *cam, pfx_sprite *sprites, size_t count,
+                       pfx_diags *d) {
+    pfx_view v;
+    return camera_matrices(cam, r->width, r->height, &v, d) &&
+           pfx_sort_back_to_front(r, &v, sprites, count, d);
+}

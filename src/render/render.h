@@ -178,6 +178,43 @@ void pfx_renderer_blur_resolve(pfx_renderer *r, const pfx_render_settings *s, ui
 bool pfx_renderer_motion_vectors(pfx_renderer *r, const pfx_camera *cam,
                                  const pfx_render_settings *s, const pfx_sprite *sprites,
                                  size_t count, double dt, float *mv, pfx_diags *d);
+/* The threads the depth sort of alpha-blended sprites runs on (0: one per
+ * online core; a new renderer sorts on the caller's thread alone). The
+ * order does not depend on the count. False (with an error in d, which
+ * may be NULL) when the threads cannot start; the renderer then sorts on
+ * the caller's thread, with the same result. */
+bool pfx_renderer_set_threads(pfx_renderer *r, int threads, pfx_diags *d);
+
+/* Sorts the sprites back to front as pfx_renderer_draw_frame does with
+ * sort true, and draws nothing (pfx bench times it). False with an error
+ * in d when the sort scratch cannot grow. */
+bool pfx_renderer_sort(pfx_renderer *r, const pfx_camera *cam, pfx_sprite *sprites, size_t count,
+                       pfx_diags *d);
+
+/* Memory the GL driver holds for a frame's triangles beyond their vertex
+ * buffer: Mesa's llvmpipe bins every triangle into screen tiles before
+ * rasterising, in scenes it keeps in flight while its threads work. The
+ * peak RSS of renders of 5e4 to 3.2e6 alpha-blended sprites (128x128, 2
+ * cores), less the libraries' own and the parts counted elsewhere, was
+ * 34 MB at 5e4, 74 to 108 MB at 2e5 (it varies from run to run), 66 to
+ * 116 MB at 8e5 and 246 MB at 3.2e6: quick growth to about 100 MB, then
+ * under 100 bytes a sprite. Counted as up to 1 KiB a sprite for the first
+ * 96 MiB plus 128 bytes a sprite, which bounds every figure measured; a
+ * ribbon triangle counts half a sprite. tests/jobs/run_memory.sh checks
+ * it against real renders. */
+#define PFX_RENDER_DRIVER_BYTES_PER_SPRITE 128.0
+#define PFX_RENDER_DRIVER_FIRST_BYTES_PER_SPRITE 1024.0
+#define PFX_RENDER_DRIVER_FIRST_CAP (96.0 * 1024 * 1024)
+/* LLVM's memory while llvmpipe compiles the shaders of a material that
+ * samples a texture or normal map: 16 MB more peak RSS for one such
+ * emitter than for untextured ones, whose programs cost next to nothing
+ * beyond the first (measured with four emitters of different looks). */
+#define PFX_RENDER_DRIVER_BYTES_PER_TEXTURED (16.0 * 1024 * 1024)
+
+/* Bytes of sort scratch a renderer holds once it has sorted `count`
+ * sprites (keys, indices, the sorted copy, histograms): the memory
+ * estimate's share for the sort. */
+size_t pfx_renderer_sort_bytes(size_t count);
 
 /* The reference the pfx bench measures full rendering against: `frames`
  * times clears, uploads the sprites, makes the one instanced draw, glFinish

@@ -7,6 +7,8 @@
 #include "render/gl_context.h"
 #include "render/render.h"
 
+#include "base/workers.h"
+
 /* Types, enums and PFNGL...PROC typedefs only: without GL_GLEXT_PROTOTYPES
  * it declares no function, so every call goes through the table below. */
 #include <GL/glcorearb.h>
@@ -124,7 +126,8 @@ struct pfx_renderer {
     float *pixels; /* width * height * 4 floats read back from the FBO */
     float *blur;   /* motion blur: the weighted sum of full float images */
     /* Sort scratch, grown to the largest count seen: two key and two index
-     * arrays for the radix ping-pong, and a sprite copy for the permutation. */
+     * arrays for the radix ping-pong, a sprite copy for the permutation and
+     * the radix blocks' histograms (render/sort.c). */
     size_t scratch_cap;
     uint32_t *keys;
     uint32_t *index;
@@ -134,6 +137,8 @@ struct pfx_renderer {
      * nothing. */
     GLuint mv_fbo, mv_rb;
     float *mv_pixels;
+    uint32_t *hist;
+    pfx_workers *workers; /* the sort's threads; NULL: the caller's alone */
 };
 
 /* Camera matrices, column-major (m[col * 4 + row]) as GL expects. The view
@@ -177,7 +182,8 @@ void pfx_render_point_instances(pfx_renderer *r, size_t first);
 bool pfx_shader_build_ribbon(pfx_renderer *r, pfx_diags *d);
 
 /* render/sort.c: back-to-front by view depth, stable (LSD radix on float
- * keys); false with an error when the scratch cannot grow. */
+ * keys, over r->workers); false with an error when the scratch cannot
+ * grow. */
 bool pfx_sort_back_to_front(pfx_renderer *r, const pfx_view *v, pfx_sprite *sprites, size_t count,
                             pfx_diags *d);
 

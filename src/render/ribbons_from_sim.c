@@ -237,3 +237,34 @@ pfx_ribbons pfx_ribbons_build(pfx_ribbon_buffer *b, const pfx_sim *s) {
     }
     return (pfx_ribbons){b->v, n};
 }
+
+/* The sizes pfx_ribbons_create asks for: points (the ribbon pools), the
+ * largest ribbon pool, the largest feeding pool. */
+static void ribbon_sizes(const pfx_effect *e, size_t *total, size_t *largest, size_t *parents) {
+    *total = *largest = *parents = 0;
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        const pfx_emitter *em = &e->emitters[i];
+        if (em->look.draw != PFX_DRAW_RIBBON)
+            continue;
+        *total += em->capacity;
+        *largest = em->capacity > *largest ? em->capacity : *largest;
+        size_t cap = e->emitters[em->ribbon_parent].capacity;
+        *parents = cap > *parents ? cap : *parents;
+    }
+}
+
+size_t pfx_ribbons_bytes(const pfx_effect *e) {
+    size_t total, largest, parents;
+    ribbon_sizes(e, &total, &largest, &parents);
+    if (total == 0)
+        return 0; /* a few bytes of empty buffers */
+    /* The vertices twice: the array and the GL buffer they are uploaded to. */
+    return 2 * (6 * total + 1) * sizeof(pfx_ribbon_vertex) + (largest + 1) * sizeof(point_key) +
+           (parents + 1) * sizeof(point_key) + (largest + 1) * sizeof(strip_point);
+}
+
+size_t pfx_ribbons_triangles(const pfx_effect *e) {
+    size_t total, largest, parents;
+    ribbon_sizes(e, &total, &largest, &parents);
+    return 2 * total;
+}

@@ -1,9 +1,12 @@
 /* The depth sort of alpha-blended sprites: back to front by view depth,
- * stable and exactly reproducible. */
+ * stable and exactly reproducible, spread over the renderer's threads in
+ * fixed blocks (base/radix.h), so the order is the same for any count. */
 #include "render/render_internal.h"
 
 #include <stdlib.h>
 #include <string.h>
+
+#include "base/radix.h"
 
 static bool grow_scratch(pfx_renderer *r, size_t count, pfx_diags *d) {
     if (count <= r->scratch_cap)
@@ -20,12 +23,23 @@ static bool grow_scratch(pfx_renderer *r, size_t count, pfx_diags *d) {
     pfx_sprite *sorted = realloc(r->sorted, cap * sizeof *sorted);
     if (sorted)
         r->sorted = sorted;
-    if (!keys || !index || !sorted) {
+    uint32_t *hist = realloc(r->hist, pfx_radix_hist_words(cap) * sizeof *hist);
+    if (hist)
+        r->hist = hist;
+    if (!keys || !index || !sorted || !hist) {
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory sorting %zu sprites", count);
         return false;
     }
     r->scratch_cap = cap;
     return true;
+}
+
+size_t pfx_renderer_sort_bytes(size_t count) {
+    size_t cap = 1024;
+    while (cap < count)
+        cap *= 2;
+    return cap * (4 * sizeof(uint32_t) + sizeof(pfx_sprite)) +
+           pfx_radix_hist_words(cap) * sizeof(uint32_t);
 }
 
 /* Maps a float to a uint32 whose unsigned order is the float's order
@@ -36,11 +50,54 @@ static uint32_t float_order_key(float x) {
     return (b & 0x80000000u) ? ~b : (b | 0x80000000u);
 }
 
+/* The block jobs around the radix sort: make the keys, gather the sprites
+ * in sorted order, copy them back. Each writes only its block's range. */
+typedef struct sort_job {
+    pfx_renderer *r;
+    pfx_sprite *sprites;
+    const uint32_t *order;
+    size_t count;
+    double f[3], e[3];
+} sort_job;
+
+static void block_range(const sort_job *j, size_t b, size_t *lo, size_t *hi) {
+    *lo = b * PFX_RADIX_BLOCK;
+    *hi = *lo + PFX_RADIX_BLOCK < j->count ? *lo + PFX_RADIX_BLOCK : j->count;
+}
+
+/* Keys are inverted so that ascending key = descending depth. */
+static void make_keys(void *ctx, size_t b) {
+    const sort_job *j = ctx;
+    size_t lo, hi;
+    block_range(j, b, &lo, &hi);
+    const pfx_sprite *s = j->sprites;
+    uint32_t *key = j->r->keys, *idx = j->r->index;
+    for (size_t i = lo; i < hi; i++) {
+        double depth = (s[i].x - j->e[0]) * j->f[0] + (s[i].y - j->e[1]) * j->f[1] +
+                       (s[i].z - j->e[2]) * j->f[2];
+        key[i] = ~float_order_key((float)depth);
+        idx[i] = (uint32_t)i;
+    }
+}
+
+static void gather(void *ctx, size_t b) {
+    const sort_job *j = ctx;
+    size_t lo, hi;
+    block_range(j, b, &lo, &hi);
+    for (size_t i = lo; i < hi; i++)
+        j->r->sorted[i] = j->sprites[j->order[i]];
+}
+
+static void copy_back(void *ctx, size_t b) {
+    const sort_job *j = ctx;
+    size_t lo, hi;
+    block_range(j, b, &lo, &hi);
+    memcpy(j->sprites + lo, j->r->sorted + lo, (hi - lo) * sizeof *j->sprites);
+}
+
 /* Back-to-front sort by view depth (distance along the camera's forward
- * axis), farthest first. LSD radix sort on 32-bit keys, 8 bits per pass:
- * O(n), stable by construction (equal depths keep input order), and exactly
- * reproducible. Keys are inverted so that ascending key = descending depth.
- * Passes where every key has the same digit are skipped. */
+ * axis), farthest first: LSD radix on the depths' order-preserving bits,
+ * O(n), stable by construction (equal depths keep input order). */
 bool pfx_sort_back_to_front(pfx_renderer *r, const pfx_view *v, pfx_sprite *sprites, size_t count,
                             pfx_diags *d) {
     if (count < 2)
@@ -51,42 +108,16 @@ bool pfx_sort_back_to_front(pfx_renderer *r, const pfx_view *v, pfx_sprite *spri
     }
     if (!grow_scratch(r, count, d))
         return false;
-    uint32_t *key = r->keys, *key_tmp = r->keys + r->scratch_cap;
-    uint32_t *idx = r->index, *idx_tmp = r->index + r->scratch_cap;
-    const double fx = v->forward[0], fy = v->forward[1], fz = v->forward[2];
-    const double ex = v->eye[0], ey = v->eye[1], ez = v->eye[2];
-    for (size_t i = 0; i < count; i++) {
-        double depth =
-            (sprites[i].x - ex) * fx + (sprites[i].y - ey) * fy + (sprites[i].z - ez) * fz;
-        key[i] = ~float_order_key((float)depth);
-        idx[i] = (uint32_t)i;
-    }
-    for (int shift = 0; shift < 32; shift += 8) {
-        size_t hist[256] = {0};
-        for (size_t i = 0; i < count; i++)
-            hist[(key[i] >> shift) & 0xff]++;
-        if (hist[(key[0] >> shift) & 0xff] == count)
-            continue; /* all keys share this digit: the pass would not move anything */
-        size_t sum = 0;
-        for (int d = 0; d < 256; d++) {
-            size_t c = hist[d];
-            hist[d] = sum;
-            sum += c;
-        }
-        for (size_t i = 0; i < count; i++) {
-            size_t dst = hist[(key[i] >> shift) & 0xff]++;
-            key_tmp[dst] = key[i];
-            idx_tmp[dst] = idx[i];
-        }
-        uint32_t *t = key;
-        key = key_tmp;
-        key_tmp = t;
-        t = idx;
-        idx = idx_tmp;
-        idx_tmp = t;
-    }
-    for (size_t i = 0; i < count; i++)
-        r->sorted[i] = sprites[idx[i]];
-    memcpy(sprites, r->sorted, count * sizeof *sprites);
+    sort_job j = {r, sprites, NULL, count, {0}, {0}};
+    memcpy(j.f, v->forward, sizeof j.f);
+    memcpy(j.e, v->eye, sizeof j.e);
+    /* The same small-count rule as the radix passes: one thread below it. */
+    pfx_workers *w = count >= PFX_RADIX_PARALLEL_MIN ? r->workers : NULL;
+    const size_t blocks = (count + PFX_RADIX_BLOCK - 1) / PFX_RADIX_BLOCK;
+    pfx_workers_run(w, blocks, make_keys, &j);
+    j.order = pfx_radix_sort(w, r->keys, r->index, r->keys + r->scratch_cap,
+                             r->index + r->scratch_cap, r->hist, count);
+    pfx_workers_run(w, blocks, gather, &j);
+    pfx_workers_run(w, blocks, copy_back, &j);
     return true;
 }

@@ -34,6 +34,11 @@ typedef struct pfx_ribbon_buffer pfx_ribbon_buffer;
 /* NULL when out of memory; the caller frees it with pfx_ribbons_destroy. */
 pfx_ribbon_buffer *pfx_ribbons_create(const pfx_effect *e);
 void pfx_ribbons_destroy(pfx_ribbon_buffer *b);
+/* The bytes pfx_ribbons_create allocates for e, with the GL buffer its
+ * vertices are uploaded to, and the most triangles a frame's ribbons have:
+ * for the memory estimate. */
+size_t pfx_ribbons_bytes(const pfx_effect *e);
+size_t pfx_ribbons_triangles(const pfx_effect *e);
 /* The ribbons of state s as triangles, facing s->effect's camera: for each
  * `draw: ribbon` emitter in order, one strip per parent (by parent id),
  * through its trail points in birth order. The result points into b and

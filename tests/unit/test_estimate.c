@@ -65,10 +65,21 @@ static void test_render_parts(void) {
     double particles = 0;
     for (size_t i = 0; i < e->emitter_count; i++)
         particles += e->emitters[i].capacity;
-    /* 512 x 512: RGBA32F twice; RGBA8 twice per encoder, one per core. */
+    /* 512 x 512: RGBA32F twice; per encoder (one per core) RGBA8 twice,
+     * the filtered rows (512 x 4 + 1 bytes each), libdeflate's bound for
+     * their stream (the rows, + 1/1000, + 1 KiB) and its 700 KiB
+     * compressor. */
     const double encoders = pfx_png_encoder_count(e->threads);
+    const double rows = (512 * 4 + 1) * 512;
+    const double per_thread = 2.0 * 512 * 512 * 4 + 2 * rows + 1049 + 1024 + 700 * 1024;
     CHECK_NEAR(est.bytes[PFX_MEMORY_FRAMEBUFFER], 2.0 * 512 * 512 * 16, 0);
-    CHECK_NEAR(est.bytes[PFX_MEMORY_ENCODER], 2.0 * encoders * 512 * 512 * 4, 0);
+    CHECK_NEAR(est.bytes[PFX_MEMORY_ENCODER], encoders * per_thread, 0);
+    CHECK_NEAR(est.per_thread_bytes, per_thread, 0);
+    CHECK_NEAR(est.bound_bytes, 2 * est.bytes[PFX_MEMORY_POOLS] + encoders * per_thread, 0);
+    /* Untextured: the driver's part is 1 KiB a sprite up to 96 MiB, and
+     * 128 bytes a sprite. */
+    CHECK_NEAR(est.bytes[PFX_MEMORY_DRIVER],
+               fmin(1024 * (particles + 1), 96 << 20) + 128 * (particles + 1), 0);
     CHECK_NEAR(est.bytes[PFX_MEMORY_SPRITES], 2 * (particles + 1) * sizeof(pfx_sprite), 0);
     CHECK(est.bytes[PFX_MEMORY_SORT] >= (particles + 1) * (16 + sizeof(pfx_sprite)));
     CHECK_NEAR(est.sprites, 3 * particles, 0);

@@ -186,6 +186,62 @@ static void test_round_trip_edges(void) {
     unlink(path);
 }
 
+/* Chunk types of a PNG file in order, as 4-letter words, into types[]
+ * (at most `most`); the count, or -1 when the file cannot be read. */
+static int chunk_types(const char *path, char types[][5], int most) {
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return -1;
+    uint8_t head[8];
+    int n = 0;
+    if (fread(head, 1, 8, f) != 8) { /* the signature */
+        fclose(f);
+        return -1;
+    }
+    while (n < most && fread(head, 1, 8, f) == 8) {
+        long len = (long)head[0] << 24 | head[1] << 16 | head[2] << 8 | head[3];
+        memcpy(types[n], head + 4, 4);
+        types[n++][4] = '\0';
+        if (fseek(f, len + 4, SEEK_CUR) != 0) /* data and CRC */
+            break;
+    }
+    fclose(f);
+    return n;
+}
+
+/* Noise does not compress: a 2.1 MB image needs an IDAT stream longer than
+ * one chunk holds (1 MiB), so it is split, and libpng reads it back whole. */
+static void test_round_trip_split_idat(void) {
+    char path[512], err[512] = "";
+    path_in(path, sizeof path, "noise.png");
+    int w = 733, h = 719;
+    size_t n = (size_t)w * (size_t)h * 4;
+    uint8_t *rgba = malloc(n);
+    CHECK(rgba != NULL);
+    if (!rgba)
+        return;
+    uint32_t x = 12345;
+    for (size_t i = 0; i < n; i++) {
+        x ^= x << 13, x ^= x >> 17, x ^= x << 5; /* xorshift32 */
+        rgba[i] = (uint8_t)(x >> 24);
+    }
+    CHECK(write_png(path, rgba, w, h, err));
+    char types[16][5];
+    int chunks = chunk_types(path, types, 16);
+    CHECK(chunks == 5); /* IHDR IDAT IDAT IDAT IEND: 2.1 MB in 1 MiB pieces */
+    if (chunks == 5)
+        CHECK(!strcmp(types[0], "IHDR") && !strcmp(types[1], "IDAT") && !strcmp(types[3], "IDAT") &&
+              !strcmp(types[4], "IEND"));
+    int rw = 0, rh = 0;
+    uint8_t *back = pfx_png_read(path, &rw, &rh);
+    CHECK(back != NULL && rw == w && rh == h);
+    if (back != NULL && rw == w && rh == h)
+        CHECK(memcmp(back, rgba, n) == 0);
+    free(back);
+    free(rgba);
+    unlink(path);
+}
+
 static void test_deterministic_bytes(void) {
     char a[512], b[512];
     path_in(a, sizeof a, "same_a.png");
@@ -506,6 +562,7 @@ int main(void) {
     }
     RUN(test_round_trip);
     RUN(test_round_trip_edges);
+    RUN(test_round_trip_split_idat);
     RUN(test_deterministic_bytes);
     RUN(test_missing_directory);
     RUN(test_read_only_directory);

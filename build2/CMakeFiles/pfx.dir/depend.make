@@ -1,0 +1,2 @@
+# Empty dependencies file for pfx.
+# This may be replaced when dependencies are built.

@@ -1,0 +1,2 @@
+# Empty dependencies file for pfxcore.
+# This may be replaced when dependencies are built.

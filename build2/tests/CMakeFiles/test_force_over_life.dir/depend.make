@@ -1,0 +1,2 @@
+# Empty dependencies file for test_force_over_life.
+# This may be replaced when dependencies are built.

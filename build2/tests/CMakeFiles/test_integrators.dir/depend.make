@@ -1,0 +1,2 @@
+# Empty dependencies file for test_integrators.
+# This may be replaced when dependencies are built.
