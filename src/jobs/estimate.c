@@ -1,6 +1,6 @@
 /* Work and memory of a run from the compiled effect, before any allocation:
  * the same sizes the stages will ask for (pools and queues from sim/, sprites
- * and sort scratch from render/, the PNG queue from output/), added up as if
+ * and sort scratch from render/, the frame queue from output/), added up as if
  * all were held at once. Upper bounds, not a profile: nothing is simulated
  * here, and the time is stated as particle-steps. */
 #include "jobs/estimate.h"
@@ -11,7 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "output/png_write.h"
+#include "output/frame_queue.h"
 #include "render/render.h"
 #include "render/sprites.h"
 #include "sim/pool.h"
@@ -94,10 +94,13 @@ void pfx_estimate_run(const pfx_effect *e, long first, long last, bool render, p
             out->bytes[PFX_MEMORY_SORT] = cap * (4 * sizeof(uint32_t) + sizeof(pfx_sprite));
         }
         /* RGBA32F in GL and its float read-back, and motion blur's float
-         * sum; two RGBA8 frames per PNG encoder thread. */
+         * sum. The frame queue: two float frames per encoder thread (the
+         * encoders convert them, so each costs 16 bytes a pixel, four times
+         * the RGBA8 frame it becomes), and each encoder's own buffer; the
+         * format is not known here, so the larger, EXR's. */
         out->bytes[PFX_MEMORY_FRAMEBUFFER] = (e->blur_samples > 1 ? 3 : 2) * image * 16;
-        const double encoders = pfx_png_encoder_count(e->threads);
-        out->bytes[PFX_MEMORY_ENCODER] = 2 * encoders * image * 4;
+        out->bytes[PFX_MEMORY_ENCODER] =
+            pfx_frame_queue_bytes(e->width, e->height, e->threads, PFX_FRAME_EXR);
         /* Textures: the decoded pixels, and their copy in GL with mipmaps
          * (4/3 of the base level). */
         for (size_t i = 0; i < e->emitter_count; i++) {

@@ -19,7 +19,7 @@
     X(SPRITES, "sprites (array and GL vertex buffer)")                                             \
     X(SORT, "depth-sort scratch")                                                                  \
     X(FRAMEBUFFER, "float framebuffer, read-back, blur sum")                                       \
-    X(ENCODER, "PNG encoder buffers")                                                              \
+    X(ENCODER, "frame encoder buffers")                                                            \
     X(TEXTURES, "textures")
 
 typedef enum {

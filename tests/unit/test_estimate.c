@@ -3,7 +3,7 @@
  * size parser; and the spawn queues' bound by their target pools. */
 
 #include "jobs/estimate.h"
-#include "output/png_write.h"
+#include "output/frame_queue.h"
 #include "render/render.h"
 #include "sim/sim.h"
 #include "sim/spawn.h"
@@ -65,10 +65,11 @@ static void test_render_parts(void) {
     double particles = 0;
     for (size_t i = 0; i < e->emitter_count; i++)
         particles += e->emitters[i].capacity;
-    /* 512 x 512: RGBA32F twice; RGBA8 twice per encoder, one per core. */
-    const double encoders = pfx_png_encoder_count(e->threads);
+    /* 512 x 512: RGBA32F twice; per encoder (one per core) two float
+     * frames of 16 bytes a pixel and an EXR file of at most 8. */
+    const double encoders = pfx_frame_encoder_count(e->threads);
     CHECK_NEAR(est.bytes[PFX_MEMORY_FRAMEBUFFER], 2.0 * 512 * 512 * 16, 0);
-    CHECK_NEAR(est.bytes[PFX_MEMORY_ENCODER], 2.0 * encoders * 512 * 512 * 4, 0);
+    CHECK_NEAR(est.bytes[PFX_MEMORY_ENCODER], encoders * 512 * 512 * (2.0 * 16 + 8), 0);
     CHECK_NEAR(est.bytes[PFX_MEMORY_SPRITES], 2 * (particles + 1) * sizeof(pfx_sprite), 0);
     CHECK(est.bytes[PFX_MEMORY_SORT] >= (particles + 1) * (16 + sizeof(pfx_sprite)));
     CHECK_NEAR(est.sprites, 3 * particles, 0);
