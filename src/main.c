@@ -28,6 +28,7 @@
 #include "jobs/slice.h"
 #include "output/atomic_file.h"
 #include "output/bake.h"
+#include "output/frame_queue.h"
 #include "output/mp4.h"
 #include "output/sarif.h"
 #include "render/render.h"
@@ -47,7 +48,7 @@ static const char usage_text[] =
     "                  [--renderer R] [--alpha MODE] [--threads N] [--force]\n"
     "                  [--depfile FILE] [--progress json]\n"
     "                  [--atlas[=CxR]] [--padding N] [--extrude N] [--crop]\n"
-    "                  [--preview OUT.webp|OUT.mp4] [-q]\n"
+    "                  [--preview OUT.webp|OUT.mp4] [--format png|exr] [-q]\n"
     "                  [--motion-vectors [--mv-max PIXELS] [--mv-flip-y]]\n"
     "                  [--slice I/N | --slice-env VAR --slice-count N]\n"
     "       pfx bake FILE -o OUT [--format csv|ply|pcache] [--every N] [--frames A:B]\n"
@@ -82,7 +83,9 @@ static const char usage_text[] =
     "      --every N           bake every Nth frame (default 1)\n"
     "      --format FMT        diagnostics as 'text' (default) or 'json' lines, or for\n"
     "                          validate one SARIF 2.1.0 log on stdout ('sarif'); for bake,\n"
-    "                          the cache: csv, ply or pcache (default: from the extension)\n"
+    "                          the cache: csv, ply or pcache (default: from the extension);\n"
+    "                          for render also the frames: png (default) or exr (linear\n"
+    "                          half-float RGBA, premultiplied, exposure but no tone curve)\n"
     "      --list-rules        validate: print every diagnostic's rule id, severity, name\n"
     "                          and meaning\n"
     "  -j, --jobs N            render with N threads, each a contiguous part of the frames\n"
@@ -148,6 +151,7 @@ typedef struct options {
     bool motion_vectors;           /* --motion-vectors */
     double mv_max;                 /* --mv-max PIXELS; 0: the sequence's largest */
     bool mv_flip_y;                /* --mv-flip-y */
+    pfx_frame_format frames_as;    /* render --format png|exr */
     pfx_compile_options compile;
 } options;
 
@@ -454,7 +458,10 @@ static int parse_options(int argc, char **argv, options *o) {
         case OPT_FORMAT:
             /* Each command reads its own words (validate: text, json, sarif; bake:
              * csv, ply, pcache); see format_of. */
-            o->format = optarg;
+            if (!pfx_frame_format_parse(optarg, &o->frames_as))
+                o->format = optarg;
+            else if (strcmp(argv[1], "render"))
+                return usage_error("--format %s is for render's frames", optarg);
             break;
         case OPT_RENDERER:
             if (!parse_renderer("--renderer", optarg, &o->renderer))
@@ -563,6 +570,16 @@ static int parse_options(int argc, char **argv, options *o) {
     if (o->motion_vectors && o->slices)
         return usage_error("%s", "--motion-vectors does not work with --slice yet: render the "
                                  "frames with --frames A:B instead");
+    if (o->frames_as == PFX_FRAME_EXR) {
+        /* EXR keeps the float image; what needs 8-bit frames cannot follow. */
+        if (o->atlas || o->preview)
+            return usage_error("%s cannot go with --format exr: it is built from 8-bit PNG "
+                               "frames; render PNG frames for it",
+                               o->atlas ? "--atlas" : "--preview");
+        if (o->compile.has_alpha && o->compile.alpha == PFX_ALPHA_STRAIGHT)
+            return usage_error("%s", "--alpha straight cannot go with --format exr: EXR alpha "
+                                     "is premultiplied by definition");
+    }
     if (o->slices && strcmp(argv[1], "render"))
         return usage_error("%s", "--slice and --slice-env are for render");
     /* --format: the diagnostics' form for every command but bake, whose
@@ -572,7 +589,10 @@ static int parse_options(int argc, char **argv, options *o) {
         o->sarif = validate && !strcmp(o->format, "sarif");
         if (strcmp(o->format, "text") && strcmp(o->format, "json") && !o->sarif)
             return usage_error(validate ? "--format takes 'text', 'json' or 'sarif', got '%s'"
-                                        : "--format takes 'text' or 'json', got '%s'",
+                               : strcmp(argv[1], "render")
+                                   ? "--format takes 'text' or 'json', got '%s'"
+                                   : "--format takes 'text' or 'json' (diagnostics), or 'png' or "
+                                     "'exr' (frames), got '%s'",
                                o->format);
         o->json = !strcmp(o->format, "json");
     }
@@ -781,6 +801,7 @@ static int render_one(const char *path, const char *dir, pfx_renderer_kind kind,
     pfx_render_job job = {.effect = e,
                           .dir = dir,
                           .stem = stem,
+                          .format = o->frames_as,
                           .progress = !o->quiet && !o->progress_json && isatty(2)};
     pfx_progress progress;
     bool reporting = false;
@@ -820,6 +841,8 @@ static int render_one(const char *path, const char *dir, pfx_renderer_kind kind,
         !describe_run(&dl, e, job.first, job.last, &run))
         goto done;
     pfx_manifest_set_string(dl.now, "renderer", pfx_renderer_name(job.renderer));
+    if (o->frames_as != PFX_FRAME_PNG) /* PNG, the default, keeps the keys it had */
+        pfx_manifest_set_string(dl.now, "format", pfx_frame_format_name(o->frames_as));
     if (o->slices)
         pfx_manifest_set_slice(dl.now, o->slice, o->slices, all_first, all_last);
     pfx_atlas_layout atlas = o->atlas_layout;
@@ -860,7 +883,7 @@ static int render_one(const char *path, const char *dir, pfx_renderer_kind kind,
         goto done;
     for (long f = job.first; f <= job.last; f++) {
         char name[300];
-        snprintf(name, sizeof name, "%s_%04ld.png", stem, f);
+        snprintf(name, sizeof name, "%s_%04ld.%s", stem, f, pfx_frame_format_name(o->frames_as));
         if (!pfx_manifest_add_output(dl.now, dir, name, &run))
             goto done;
     }

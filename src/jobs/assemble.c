@@ -189,9 +189,20 @@ static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_
                        pfx_manifest_output_count(all), expected, first, last);
         ok = false;
     }
+    /* The slices' frame format, from their first frame's name (render
+     * --format): every frame must then have it. */
+    const char *first_name = ok ? pfx_manifest_output(all, 0, NULL) : NULL;
+    const size_t len = first_name ? strlen(first_name) : 0;
+    const char *ext = len > 4 && !strcmp(first_name + len - 4, ".exr") ? "exr" : "png";
+    if (ok && !strcmp(ext, "exr") && (opt->atlas || opt->preview)) {
+        pfx_diag_error(d, PFX_RULE_IMPOSSIBLE_REQUEST,
+                       "the slices of '%s' are EXR frames; %s is built from PNG frames", p[0].stem,
+                       opt->atlas ? "--atlas" : "--preview");
+        ok = false;
+    }
     for (long f = first; ok && f <= last; f++) {
         char want[300];
-        snprintf(want, sizeof want, "%s_%04ld.png", p[0].stem, f);
+        snprintf(want, sizeof want, "%s_%04ld.%s", p[0].stem, f, ext);
         const char *got = pfx_manifest_output(all, (size_t)(f - first), NULL);
         if (!got || strcmp(got, want)) {
             pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES, "frame %ld of '%s' is in no slice", f,

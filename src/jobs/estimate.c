@@ -1,6 +1,6 @@
 /* Work and memory of a run from the compiled effect, before any allocation:
  * the same sizes the stages will ask for (pools and queues from sim/, sprites
- * and sort scratch from render/, the PNG queue from output/), added up as if
+ * and sort scratch from render/, the frame queue from output/), added up as if
  * all were held at once. Upper bounds, not a profile: nothing is simulated
  * here, and the time is stated as particle-steps. */
 #include "jobs/estimate.h"
@@ -11,6 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "output/frame_queue.h"
 #include "output/png_write.h"
 #include "render/render.h"
 #include "render/sprites.h"
@@ -102,12 +103,15 @@ void pfx_estimate_run(const pfx_effect *e, long first, long last, bool render, p
             fmin(drawn * PFX_RENDER_DRIVER_FIRST_BYTES_PER_SPRITE, PFX_RENDER_DRIVER_FIRST_CAP) +
             drawn * PFX_RENDER_DRIVER_BYTES_PER_SPRITE;
         /* RGBA32F in GL and its float read-back, and motion blur's float
-         * sum; per PNG encoder thread two RGBA8 frames and the deflate
-         * scratch it keeps (output/png_write.c). */
+         * sum. The frame queue: per encoder thread two float frames (the
+         * encoders convert them, so each costs 16 bytes a pixel, four times
+         * the RGBA8 frame it becomes), its own buffer (the format is not
+         * known here, so the larger, EXR's) and the deflate scratch it keeps
+         * (output/png_write.c). */
         out->bytes[PFX_MEMORY_FRAMEBUFFER] = (e->blur_samples > 1 ? 3 : 2) * image * 16;
-        out->threads = pfx_png_encoder_count(e->threads);
-        out->per_thread_bytes =
-            2 * image * 4 + (double)pfx_png_encoder_scratch_bytes(e->width, e->height);
+        out->threads = pfx_frame_encoder_count(e->threads);
+        out->per_thread_bytes = pfx_frame_queue_bytes(e->width, e->height, 1, PFX_FRAME_EXR) +
+                                (double)pfx_png_encoder_scratch_bytes(e->width, e->height);
         out->bytes[PFX_MEMORY_ENCODER] = out->threads * out->per_thread_bytes;
         for (size_t i = 0; i < e->emitter_count; i++)
             if (e->emitters[i].look.texture || e->emitters[i].look.normal_map)

@@ -24,7 +24,7 @@
     X(RIBBONS, "ribbons", "ribbon triangles (array, scratch and GL vertex buffer)")                \
     X(DRIVER, "driver", "GL driver's binned triangles (llvmpipe)")                                 \
     X(FRAMEBUFFER, "framebuffer", "float framebuffer, read-back, blur sum")                        \
-    X(ENCODER, "encoders", "PNG encoder buffers and deflate scratch")                              \
+    X(ENCODER, "encoders", "frame encoder buffers and deflate scratch")                            \
     X(TEXTURES, "textures", "textures")
 
 typedef enum {

@@ -1,35 +1,37 @@
 /* The frame loop of `pfx render` and `pfx bench`: sim -> sprites -> draw ->
- * PNG queue, one frame at a time. */
+ * frame queue (whose encoders convert and write PNG or EXR), one frame at a
+ * time. */
 #include "jobs/render_job.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 
 #include "jobs/motion_job.h"
-#include "output/png_write.h"
+#include "output/frame_queue.h"
 #include "render/sprites.h"
 
 /* Frame NNNN of the job, or false when the name does not fit. */
 static bool frame_path(const pfx_render_job *job, long frame, char *out, size_t size) {
-    int n = snprintf(out, size, "%s/%s_%04ld.png", job->dir, job->stem, frame);
+    int n = snprintf(out, size, "%s/%s_%04ld.%s", job->dir, job->stem, frame,
+                     pfx_frame_format_name(job->format));
     return n > 0 && (size_t)n < size;
 }
 
-/* One frame's pixels. Without motion blur: the state at the frame's time,
- * drawn. With it: `samples` states at fixed times t_k = t + k / (samples -
- * 1) x shutter / fps (k = 0 .. samples - 1; the shutter opens at the
- * frame's time), each drawn with weight 1 / samples and summed in that
- * order, so a moving particle leaves a streak |v| shutter / fps long and
- * its summed brightness is kept. The times depend only on the frame, so
- * slices and reruns give the same bytes. Returns the sprites drawn at the
- * frame's own time, or -1 on failure (reported into d). */
+/* One frame's float image, into img (a frame of the queue). Without motion blur: the state at the
+ * frame's time, drawn. With it: `samples` states at fixed times t_k = t + k / (samples - 1) x
+ * shutter / fps (k = 0 .. samples - 1; the shutter opens at the frame's time), each drawn with
+ * weight 1 / samples and summed in that order, so a moving particle leaves a streak |v| shutter /
+ * fps long and its summed brightness is kept. The times depend only on the frame, so slices and
+ * reruns give the same bytes. Returns the sprites drawn at the frame's own time, or -1 on failure
+ * (reported into d). */
 static long draw_frame(pfx_render_job *job, long f, const pfx_render_settings *s, bool sort,
-                       uint8_t *pixels, pfx_mv_frame *mv, pfx_diags *d) {
+                       pfx_float_image *img, pfx_mv_frame *mv, pfx_diags *d) {
     const pfx_effect *e = job->effect;
     const pfx_sim *state = pfx_sim_frame(job->sim, job->view, f);
     if (job->sim->failed || job->view->failed)
         return -1; /* the sims reported into d */
     size_t n = pfx_sprites_build(state, job->sprites);
+    pfx_ribbons ribbons = pfx_ribbons_build(job->ribbons, state);
     /* Motion vectors first: the frame's own sprites, before the colour
      * pass sorts them or motion blur replaces them with later ones. */
     char path[4600];
@@ -41,10 +43,9 @@ static long draw_frame(pfx_render_job *job, long f, const pfx_render_settings *s
     if (job->motion &&
         !pfx_mv_frame_write(mv, job->renderer, e, s, job->sprites, n, job->motion, path, d))
         return -1;
-    pfx_ribbons ribbons = pfx_ribbons_build(job->ribbons, state);
     if (e->blur_samples <= 1)
-        return pfx_renderer_draw_frame(job->renderer, &e->camera, s, job->sprites, n, sort, ribbons,
-                                       pixels, d)
+        return pfx_renderer_draw_float(job->renderer, &e->camera, s, job->sprites, n, sort, ribbons,
+                                       img, d)
                    ? (long)n
                    : -1;
     const int samples = e->blur_samples;
@@ -69,7 +70,7 @@ static long draw_frame(pfx_render_job *job, long f, const pfx_render_settings *s
             return -1;
         }
     }
-    pfx_renderer_blur_resolve(job->renderer, s, pixels);
+    pfx_renderer_blur_resolve_float(job->renderer, s, img);
     return (long)n;
 }
 
@@ -87,45 +88,47 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
                        pfx_sprites_capacity(e));
         return false;
     }
-    const int encoders = pfx_png_encoder_count(job->threads > 0 ? job->threads : e->threads);
-    pfx_png_queue *q = pfx_png_queue_create(e->width, e->height, encoders);
+    const int encoders = pfx_frame_encoder_count(job->threads > 0 ? job->threads : e->threads);
+    const pfx_render_settings settings = pfx_sprites_settings(e);
+    const pfx_tone tone = pfx_render_tone(&settings);
+    pfx_frame_queue *q = pfx_frame_queue_create(e->width, e->height, encoders, job->format, &tone);
     if (!q) {
-        pfx_diag_error(d, PFX_RULE_ENCODE_FAILED, "cannot start the PNG writer");
+        pfx_diag_error(d, PFX_RULE_ENCODE_FAILED, "cannot start the %s writer for %dx%d frames",
+                       pfx_frame_format_name(job->format), e->width, e->height);
         return false;
     }
     pfx_material *materials = malloc((e->emitter_count + 1) * sizeof *materials);
     if (!materials) {
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for %zu materials",
                        e->emitter_count);
-        pfx_png_queue_finish(q, NULL);
+        pfx_frame_queue_finish(q, NULL);
         return false;
     }
     pfx_sprites_materials(e, materials);
     bool failed = !pfx_renderer_set_materials(job->renderer, materials, e->emitter_count, d);
     free(materials);
+    const bool sort = pfx_sprites_need_sort(e);
     pfx_mv_frame mv = {NULL, NULL};
     if (!failed && job->motion)
         failed = !pfx_mv_frame_init(&mv, e, d);
-    const bool sort = pfx_sprites_need_sort(e);
     /* The depth sort runs on the effect's threads (--threads); its order
      * does not depend on how many, so where they cannot start it sorts on
      * this one and the frames are the same. */
     if (sort)
         pfx_renderer_set_threads(job->renderer, e->threads, NULL);
-    const pfx_render_settings settings = pfx_sprites_settings(e);
     char name[4600];
-    for (long f = job->first; !failed && f <= job->last && !pfx_png_queue_failed(q); f++) {
-        long drawn = draw_frame(job, f, &settings, sort, pfx_png_queue_buffer(q), &mv, d);
+    for (long f = job->first; !failed && f <= job->last && !pfx_frame_queue_failed(q); f++) {
+        long drawn = draw_frame(job, f, &settings, sort, pfx_frame_queue_buffer(q), &mv, d);
         failed = drawn < 0;
         size_t n = failed ? 0 : (size_t)drawn;
         if (!failed && !frame_path(job, f, name, sizeof name)) {
-            pfx_diag_error(d, PFX_RULE_TOO_LARGE, "output path '%s/%s_%04ld.png' is too long",
-                           job->dir, job->stem, f);
+            pfx_diag_error(d, PFX_RULE_TOO_LARGE, "output path '%s/%s_%04ld.%s' is too long",
+                           job->dir, job->stem, f, pfx_frame_format_name(job->format));
             failed = true;
         }
         if (failed)
             break;
-        pfx_png_queue_submit(q, name);
+        pfx_frame_queue_submit(q, name);
         job->frames_done++;
         job->sprites_drawn += n;
         job->sprite_count = n;
@@ -135,12 +138,12 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
             fprintf(stderr, "\rpfx: frame %ld of %ld-%ld (%zu particles)   ", f, job->first,
                     job->last, n);
     }
-    pfx_mv_frame_free(&mv);
     if (job->progress)
         fputc('\n', stderr);
     /* The writer's own failure (a full disk, a vanished directory) is
      * reported when it is what stopped the loop. */
-    bool written = pfx_png_queue_finish(q, failed ? NULL : d);
+    bool written = pfx_frame_queue_finish(q, failed ? NULL : d);
+    pfx_mv_frame_free(&mv);
     return !failed && written;
 }
 

@@ -1,4 +1,4 @@
-/* Rendering a frame range to a PNG sequence: the one frame loop that
+/* Rendering a frame range to a PNG or EXR sequence: the one frame loop that
  * `pfx render` runs and `pfx bench` times. */
 #ifndef PFX_JOBS_RENDER_JOB_H
 #define PFX_JOBS_RENDER_JOB_H
@@ -8,25 +8,28 @@
 
 #include "base/diag.h"
 #include "model/effect.h"
+#include "output/frame_queue.h"
 #include "render/render.h"
 #include "sim/sim.h"
 
 typedef struct pfx_render_job {
     /* In: what to draw and where. Frames first..last (inclusive) go to
-     * dir/stem_NNNN.png; dir must exist. */
+     * dir/stem_NNNN.png (or .exr, as format says; zero is PNG); dir must
+     * exist. */
     const pfx_effect *effect;
     pfx_renderer *renderer; /* the caller's; a renderer that started */
     const char *dir, *stem;
     long first, last;
+    pfx_frame_format format;
     bool progress; /* a "\rpfx: frame ..." line on stderr as frames go */
-    /* Called after each frame is drawn and handed to the PNG writer, from
+    /* Called after each frame is drawn and handed to the frame writer, from
      * the thread running the job (see jobs/progress.h), or NULL. */
     void (*on_frame)(void *ctx, long frame, size_t particles);
     void *on_frame_ctx;
     /* --motion-vectors: also dir/stem_mv_NNNN.png, encoded by this (NULL:
      * none, and no motion pass is drawn). */
     const struct pfx_mv_meta *motion;
-    int threads; /* PNG encoder threads; 0: the effect's threads (--threads), else one
+    int threads; /* encoder threads; 0: the effect's threads (--threads), else one
                     per online core */
 
     /* Out, valid after pfx_render_job_run until pfx_render_job_free. */
@@ -39,7 +42,7 @@ typedef struct pfx_render_job {
     struct pfx_ribbon_buffer *ribbons; /* the frame's ribbon triangles */
 } pfx_render_job;
 
-/* Simulates, draws and writes every frame of the job, a pool of PNG
+/* Simulates, draws and writes every frame of the job, a pool of
  * encoders overlapping the next frames' work. Each file is whole or absent. Returns
  * false with the failure in d (which emitter, particle and time when the
  * simulation blew up; the path and errno when a file cannot be written);

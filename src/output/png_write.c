@@ -1,15 +1,13 @@
 /* PNG files through libpng: atomic 8-bit RGBA writes (temporary file in the
- * same directory, renamed into place) whose IDAT libdeflate compresses, a
- * reader for tests, and a queue of encoder threads that encode frames while
- * the caller renders the next.
- * It does not colour-manage: pixels are written and read as they are. */
+ * same directory, renamed into place) whose IDAT libdeflate compresses,
+ * and a reader for tests; the encoder threads of output/frame_queue.c call
+ * the writer. It does not colour-manage: pixels are written and read as
+ * they are. */
 #ifndef _POSIX_C_SOURCE
 #define _POSIX_C_SOURCE 200809L
 #endif
 
 #include "output/png_write.h"
-
-#include "base/workers.h"
 
 #include "base/diag.h"
 #include "output/atomic_file.h"
@@ -239,6 +237,11 @@ bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height,
     return png_write(path, rgba, width, height, true, d);
 }
 
+bool pfx_png_write_nosync(const char *path, const uint8_t *rgba, int width, int height,
+                          pfx_diags *d) {
+    return png_write(path, rgba, width, height, false, d);
+}
+
 /* Applies the transforms that turn any PNG into 8-bit RGBA rows. */
 static void pfx_png_want_rgba(png_structp png, png_infop info) {
     int color = png_get_color_type(png, info);
@@ -428,225 +431,4 @@ uint16_t *pfx_png_read16(const char *path, int *width, int *height) {
     if (height != NULL)
         *height = (int)h;
     return result;
-}
-
-/* A pool of encoder threads over a ring of 2 x threads slots. The caller
- * fills slot `tail` (free whenever slot[tail].state is FREE) and submits it;
- * each encoder takes the oldest READY slot, encodes and writes it without
- * the lock, and frees it. The caller cannot get a slot back until its
- * encoder has set it FREE under the lock, so pixels are never shared. Each
- * frame is its own file, so frames may finish in any order and the bytes
- * of every file are the same for any number of encoders. */
-enum slot_state { SLOT_FREE, SLOT_FILLING, SLOT_READY, SLOT_ENCODING };
-
-typedef struct png_slot {
-    uint8_t *pixels;
-    char *path;
-    long seq; /* submission number: encoders take the lowest READY */
-    enum slot_state state;
-} png_slot;
-
-struct pfx_png_queue {
-    int width, height;
-    int threads, slot_count;
-    png_slot *slots;
-    pthread_mutex_t lock;
-    pthread_cond_t work_ready; /* encoders wait: a READY slot or stop */
-    pthread_cond_t slot_free;  /* the caller waits: slot tail FREE; finish: all FREE */
-    int tail;                  /* the next slot the caller fills */
-    long submitted;
-    bool stop;
-    bool failed;
-    char *written;     /* a frame written (under the lock), whose
-                          directory finish syncs once */
-    pfx_diags failure; /* the first failure, under the lock; handed over by finish */
-    pthread_t *thread;
-    int started;
-};
-
-/* The oldest READY slot, or -1. Called under the lock. */
-static int oldest_ready(const pfx_png_queue *q) {
-    int best = -1;
-    for (int i = 0; i < q->slot_count; i++)
-        if (q->slots[i].state == SLOT_READY && (best < 0 || q->slots[i].seq < q->slots[best].seq))
-            best = i;
-    return best;
-}
-
-static void *pfx_png_queue_main(void *arg) {
-    pfx_png_queue *q = arg;
-    pfx_diags error;
-    pfx_diags_init_runtime(&error);
-    pthread_mutex_lock(&q->lock);
-    for (;;) {
-        int slot;
-        while ((slot = oldest_ready(q)) < 0 && !q->stop)
-            pthread_cond_wait(&q->work_ready, &q->lock);
-        if (slot < 0)
-            break; /* stop, and everything submitted is taken */
-        png_slot *sl = &q->slots[slot];
-        sl->state = SLOT_ENCODING;
-        char *path = sl->path;
-        sl->path = NULL;
-        bool skip = q->failed || path == NULL;
-        pthread_mutex_unlock(&q->lock);
-
-        /* After the first error, later frames are dropped, not written. */
-        bool ok = skip || png_write(path, sl->pixels, q->width, q->height, false, &error);
-
-        pthread_mutex_lock(&q->lock);
-        if (ok && !skip) {
-            free(q->written);
-            q->written = path;
-        } else {
-            free(path);
-        }
-        if (!ok && !q->failed) {
-            q->failed = true;
-            pfx_diags_append(&q->failure, &error);
-        }
-        pfx_diags_free(&error);
-        sl->state = SLOT_FREE;
-        pthread_cond_broadcast(&q->slot_free);
-    }
-    pthread_mutex_unlock(&q->lock);
-    return NULL;
-}
-
-static void queue_free(pfx_png_queue *q) {
-    for (int i = 0; q->slots && i < q->slot_count; i++) {
-        free(q->slots[i].pixels);
-        free(q->slots[i].path);
-    }
-    free(q->slots);
-    free(q->thread);
-    free(q->written);
-    free(q);
-}
-
-/* Stops and joins the encoders started so far. */
-static void stop_encoders(pfx_png_queue *q) {
-    pthread_mutex_lock(&q->lock);
-    q->stop = true;
-    pthread_cond_broadcast(&q->work_ready);
-    pthread_mutex_unlock(&q->lock);
-    for (int i = 0; i < q->started; i++)
-        pthread_join(q->thread[i], NULL);
-    q->started = 0;
-}
-
-int pfx_png_encoder_count(int wanted) {
-    int n = wanted > 0 ? wanted : pfx_workers_cores();
-    return n < 1 ? 1 : n > PFX_PNG_MAX_ENCODERS ? PFX_PNG_MAX_ENCODERS : n;
-}
-
-pfx_png_queue *pfx_png_queue_create(int width, int height, int threads) {
-    if (width <= 0 || height <= 0 || width > 1000000 || height > 1000000 ||
-        (size_t)width > SIZE_MAX / 4 / (size_t)height)
-        return NULL;
-    threads = pfx_png_encoder_count(threads < 1 ? 1 : threads);
-    pfx_png_queue *q = calloc(1, sizeof *q);
-    if (q == NULL)
-        return NULL;
-    q->width = width;
-    q->height = height;
-    q->threads = threads;
-    q->slot_count = 2 * threads;
-    q->slots = calloc((size_t)q->slot_count, sizeof *q->slots);
-    q->thread = calloc((size_t)threads, sizeof *q->thread);
-    bool ok = q->slots && q->thread;
-    size_t size = (size_t)width * (size_t)height * 4;
-    for (int i = 0; ok && i < q->slot_count; i++)
-        ok = (q->slots[i].pixels = malloc(size)) != NULL;
-    if (!ok || pthread_mutex_init(&q->lock, NULL) != 0) {
-        queue_free(q);
-        return NULL;
-    }
-    pfx_diags_init_runtime(&q->failure);
-    if (pthread_cond_init(&q->work_ready, NULL) != 0)
-        goto fail_lock;
-    if (pthread_cond_init(&q->slot_free, NULL) != 0)
-        goto fail_work_ready;
-    for (; q->started < threads; q->started++)
-        if (pthread_create(&q->thread[q->started], NULL, pfx_png_queue_main, q) != 0)
-            break;
-    if (q->started == 0)
-        goto fail_slot_free;
-    return q; /* fewer encoders than asked for when threads ran out */
-
-fail_slot_free:
-    pthread_cond_destroy(&q->slot_free);
-fail_work_ready:
-    pthread_cond_destroy(&q->work_ready);
-fail_lock:
-    pthread_mutex_destroy(&q->lock);
-    pfx_diags_free(&q->failure);
-    queue_free(q);
-    return NULL;
-}
-
-uint8_t *pfx_png_queue_buffer(pfx_png_queue *q) {
-    pthread_mutex_lock(&q->lock);
-    png_slot *sl = &q->slots[q->tail];
-    while (sl->state != SLOT_FREE && sl->state != SLOT_FILLING)
-        pthread_cond_wait(&q->slot_free, &q->lock);
-    sl->state = SLOT_FILLING;
-    pthread_mutex_unlock(&q->lock);
-    return sl->pixels;
-}
-
-void pfx_png_queue_submit(pfx_png_queue *q, const char *path) {
-    /* Copied outside the lock; a failed copy becomes the queue's error. */
-    char *copy = strdup(path);
-    pthread_mutex_lock(&q->lock);
-    png_slot *sl = &q->slots[q->tail];
-    if (sl->state != SLOT_FILLING) {
-        /* Contract broken by the caller: nothing was rendered to submit. */
-        if (!q->failed) {
-            q->failed = true;
-            pfx_diag_error(&q->failure, PFX_RULE_WRITE_FAILED,
-                           "cannot write '%s': frame submitted without a buffer", path);
-        }
-        pthread_mutex_unlock(&q->lock);
-        free(copy);
-        return;
-    }
-    if (copy == NULL && !q->failed) {
-        q->failed = true;
-        pfx_diag_error(&q->failure, PFX_RULE_OUT_OF_MEMORY, "cannot write '%s': out of memory",
-                       path);
-    }
-    sl->path = copy;
-    sl->seq = q->submitted++;
-    sl->state = SLOT_READY;
-    q->tail = (q->tail + 1) % q->slot_count;
-    pthread_cond_signal(&q->work_ready);
-    pthread_mutex_unlock(&q->lock);
-}
-
-bool pfx_png_queue_failed(pfx_png_queue *q) {
-    pthread_mutex_lock(&q->lock);
-    bool failed = q->failed;
-    pthread_mutex_unlock(&q->lock);
-    return failed;
-}
-
-bool pfx_png_queue_finish(pfx_png_queue *q, pfx_diags *d) {
-    if (q == NULL)
-        return true;
-    stop_encoders(q); /* encoders drain every READY slot before they stop */
-
-    /* Each frame was synced before its rename; their names are synced
-     * here, once for the directory. */
-    if (!q->failed && q->written && !pfx_atomic_sync_dir(q->written, &q->failure))
-        q->failed = true;
-    bool ok = !q->failed;
-    if (d)
-        pfx_diags_append(d, &q->failure);
-    pfx_diags_free(&q->failure);
-    pthread_cond_destroy(&q->slot_free);
-    pthread_cond_destroy(&q->work_ready);
-    pthread_mutex_destroy(&q->lock);
-    queue_free(q);
-    return ok;
 }

@@ -511,10 +511,11 @@ static void clear_colour(const pfx_render_settings *s, float clear[4]) {
     clear[3] = bg[3];
 }
 
-/* Sorts, draws and reads back the box the sprites touch into r->pixels. */
+/* Sorts, draws and reads back the box the sprites touch into dst
+ * (r->pixels, or a caller's frame buffer of the same size). */
 static bool render_float(pfx_renderer *r, const pfx_camera *cam, const pfx_render_settings *s,
                          pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
-                         pixel_box *box, pfx_diags *d) {
+                         pixel_box *box, float *dst, pfx_diags *d) {
     if (count > (size_t)INT32_MAX || ribbons.count > (size_t)INT32_MAX) {
         pfx_diag_error(d, PFX_RULE_TOO_MANY, "too many sprites to draw: %zu", count);
         return false;
@@ -534,7 +535,7 @@ static bool render_float(pfx_renderer *r, const pfx_camera *cam, const pfx_rende
         submit_frame(r, &v, s, clear, sprites, count, ribbons);
         r->gl.Disable(GL_SCISSOR_TEST);
         r->gl.ReadPixels(box->x0, box->y0, box->x1 - box->x0, box->y1 - box->y0, GL_RGBA, GL_FLOAT,
-                         r->pixels);
+                         dst);
     }
     GLenum e = r->gl.GetError();
     if (e != GL_NO_ERROR) {
@@ -545,15 +546,40 @@ static bool render_float(pfx_renderer *r, const pfx_camera *cam, const pfx_rende
     return true;
 }
 
+/* The float image of a frame whose box was read back into pixels. */
+static pfx_float_image float_image(const pfx_renderer *r, const pfx_render_settings *s,
+                                   const pixel_box *box, float *pixels) {
+    pfx_float_image img = {.width = r->width,
+                           .height = r->height,
+                           .x0 = box->x0,
+                           .y0 = box->y0,
+                           .x1 = box->x1,
+                           .y1 = box->y1,
+                           .pixels = pixels};
+    clear_colour(s, img.clear);
+    return img;
+}
+
 bool pfx_renderer_draw_frame(pfx_renderer *r, const pfx_camera *cam, const pfx_render_settings *s,
                              pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
                              uint8_t *rgba, pfx_diags *d) {
     pixel_box box;
-    if (!render_float(r, cam, s, sprites, count, sort, ribbons, &box, d))
+    if (!render_float(r, cam, s, sprites, count, sort, ribbons, &box, r->pixels, d))
         return false;
-    float clear[4];
-    clear_colour(s, clear);
-    pfx_convert_box(r, &box, clear, s, rgba);
+    const pfx_float_image img = float_image(r, s, &box, r->pixels);
+    const pfx_tone tone = pfx_render_tone(s);
+    pfx_float_image_to_rgba8(&img, &tone, rgba);
+    return true;
+}
+
+bool pfx_renderer_draw_float(pfx_renderer *r, const pfx_camera *cam, const pfx_render_settings *s,
+                             pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
+                             pfx_float_image *img, pfx_diags *d) {
+    pixel_box box;
+    float *pixels = img->pixels;
+    if (!render_float(r, cam, s, sprites, count, sort, ribbons, &box, pixels, d))
+        return false;
+    *img = float_image(r, s, &box, pixels);
     return true;
 }
 
@@ -581,7 +607,7 @@ bool pfx_renderer_blur_add(pfx_renderer *r, const pfx_camera *cam, const pfx_ren
                            pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
                            float weight, pfx_diags *d) {
     pixel_box box;
-    if (!render_float(r, cam, s, sprites, count, sort, ribbons, &box, d))
+    if (!render_float(r, cam, s, sprites, count, sort, ribbons, &box, r->pixels, d))
         return false;
     float clear[4];
     clear_colour(s, clear);
@@ -600,9 +626,18 @@ bool pfx_renderer_blur_add(pfx_renderer *r, const pfx_camera *cam, const pfx_ren
 }
 
 void pfx_renderer_blur_resolve(pfx_renderer *r, const pfx_render_settings *s, uint8_t *rgba) {
-    float clear[4];
-    clear_colour(s, clear);
-    pfx_convert_full(r, r->blur, clear, s, rgba);
+    const pixel_box full = {0, 0, r->width, r->height};
+    const pfx_float_image img = float_image(r, s, &full, r->blur);
+    const pfx_tone tone = pfx_render_tone(s);
+    pfx_float_image_to_rgba8(&img, &tone, rgba);
+}
+
+void pfx_renderer_blur_resolve_float(pfx_renderer *r, const pfx_render_settings *s,
+                                     pfx_float_image *img) {
+    const pixel_box full = {0, 0, r->width, r->height};
+    float *pixels = img->pixels;
+    memcpy(pixels, r->blur, (size_t)r->width * (size_t)r->height * 4 * sizeof *pixels);
+    *img = float_image(r, s, &full, pixels);
 }
 
 double pfx_renderer_bench_raw(pfx_renderer *r, const pfx_camera *cam, const pfx_sprite *sprites,

@@ -11,6 +11,7 @@
 
 #include "base/diag.h"
 #include "model/effect.h"
+#include "render/image.h"
 
 /* One particle as drawn, 64 bytes, uploaded to GL as it is (four vec4s).
  * A quad of world-space width `size` centred at (x, y, z), facing as its
@@ -77,6 +78,8 @@ typedef struct pfx_render_settings {
     float light_color[3], ambient[3];
 } pfx_render_settings;
 pfx_render_settings pfx_render_settings_plain(const float bg[4]);
+/* The part of the settings that turns the float image into bytes. */
+pfx_tone pfx_render_tone(const pfx_render_settings *s);
 
 /* Built-in sprites (model/kinds.h), with (x, y) the quad's corner
  * coordinates in [-1, 1] and d^2 = x^2 + y^2: round (1 - d^2)^2; square
@@ -147,6 +150,14 @@ bool pfx_renderer_set_materials(pfx_renderer *r, const pfx_material *m, size_t c
 bool pfx_renderer_draw_frame(pfx_renderer *r, const pfx_camera *cam, const pfx_render_settings *s,
                              pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
                              uint8_t *rgba, pfx_diags *d);
+/* pfx_renderer_draw_frame without the conversion: the frame's float image
+ * into img, whose pixels the caller owns (room for width * height * 4
+ * floats); the renderer reads the drawn box back into them and sets the
+ * rest of img. The conversion (pfx_float_image_to_rgba8 with
+ * pfx_render_tone(s)) is then the caller's, on any thread. */
+bool pfx_renderer_draw_float(pfx_renderer *r, const pfx_camera *cam, const pfx_render_settings *s,
+                             pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
+                             pfx_float_image *img, pfx_diags *d);
 /* pfx_renderer_draw_frame with pfx_render_settings_plain(bg). */
 bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4],
                        pfx_sprite *sprites, size_t count, bool sort, uint8_t *rgba, pfx_diags *d);
@@ -161,6 +172,10 @@ bool pfx_renderer_blur_add(pfx_renderer *r, const pfx_camera *cam, const pfx_ren
                            pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
                            float weight, pfx_diags *d);
 void pfx_renderer_blur_resolve(pfx_renderer *r, const pfx_render_settings *s, uint8_t *rgba);
+/* The sum as a float image (the whole frame is its box) into img, whose
+ * pixels the caller owns (width * height * 4 floats), unconverted. */
+void pfx_renderer_blur_resolve_float(pfx_renderer *r, const pfx_render_settings *s,
+                                     pfx_float_image *img);
 
 /* Motion vectors: the sprites drawn as draw_frame draws them (the same
  * quads, falloff, flipbook alpha and minimum footprint, no ribbons), each

@@ -187,14 +187,4 @@ bool pfx_shader_build_ribbon(pfx_renderer *r, pfx_diags *d);
 bool pfx_sort_back_to_front(pfx_renderer *r, const pfx_view *v, pfx_sprite *sprites, size_t count,
                             pfx_diags *d);
 
-/* render/convert.c: the float image (premultiplied colour, coverage) to
- * 8-bit RGBA as the settings say. `box` is the read-back part in
- * r->pixels (packed rows of its width, bottom row first); the rest of the
- * image is the clear colour. */
-void pfx_convert_box(const pfx_renderer *r, const pixel_box *box, const float clear[4],
-                     const pfx_render_settings *s, uint8_t *rgba);
-/* The whole image of `src` (width * height * 4 floats, bottom row first). */
-void pfx_convert_full(const pfx_renderer *r, const float *src, const float clear[4],
-                      const pfx_render_settings *s, uint8_t *rgba);
-
 #endif

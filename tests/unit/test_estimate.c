@@ -3,7 +3,7 @@
  * size parser; and the spawn queues' bound by their target pools. */
 
 #include "jobs/estimate.h"
-#include "output/png_write.h"
+#include "output/frame_queue.h"
 #include "render/render.h"
 #include "sim/sim.h"
 #include "sim/spawn.h"
@@ -65,13 +65,13 @@ static void test_render_parts(void) {
     double particles = 0;
     for (size_t i = 0; i < e->emitter_count; i++)
         particles += e->emitters[i].capacity;
-    /* 512 x 512: RGBA32F twice; per encoder (one per core) RGBA8 twice,
-     * the filtered rows (512 x 4 + 1 bytes each), libdeflate's bound for
-     * their stream (the rows, + 1/1000, + 1 KiB) and its 700 KiB
-     * compressor. */
-    const double encoders = pfx_png_encoder_count(e->threads);
+    /* 512 x 512: RGBA32F twice; per encoder (one per core) two float
+     * frames of 16 bytes a pixel and an EXR file of at most 8, the
+     * filtered rows (512 x 4 + 1 bytes each), libdeflate's bound for their
+     * stream (the rows, + 1/1000, + 1 KiB) and its 700 KiB compressor. */
+    const double encoders = pfx_frame_encoder_count(e->threads);
     const double rows = (512 * 4 + 1) * 512;
-    const double per_thread = 2.0 * 512 * 512 * 4 + 2 * rows + 1049 + 1024 + 700 * 1024;
+    const double per_thread = 512.0 * 512 * (2 * 16 + 8) + 2 * rows + 1049 + 1024 + 700 * 1024;
     CHECK_NEAR(est.bytes[PFX_MEMORY_FRAMEBUFFER], 2.0 * 512 * 512 * 16, 0);
     CHECK_NEAR(est.bytes[PFX_MEMORY_ENCODER], encoders * per_thread, 0);
     CHECK_NEAR(est.per_thread_bytes, per_thread, 0);

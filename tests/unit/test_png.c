@@ -1,7 +1,9 @@
 /* Unit tests of src/output/png_write.c: exact round trips, byte-identical
  * output, no file (final or temporary) left behind by any failure, the
- * reader's conversions, and the queue's order and first-error reporting.
+ * reader's conversions, and the frame queue's order and first-error
+ * reporting (output/frame_queue.c, whose encoders convert float frames).
  * Everything happens in a fresh directory under $TMPDIR, removed at the end. */
+#include "output/frame_queue.h"
 #include "output/png_write.h"
 #include "test.h"
 
@@ -31,10 +33,10 @@ static bool write_png(const char *path, const uint8_t *rgba, int w, int h, char 
     return ok;
 }
 
-static bool finish_queue(pfx_png_queue *q, char *err) {
+static bool finish_queue(pfx_frame_queue *q, char *err) {
     pfx_diags d;
     pfx_diags_init_runtime(&d);
-    bool ok = pfx_png_queue_finish(q, &d);
+    bool ok = pfx_frame_queue_finish(q, &d);
     first_message(&d, err);
     return ok;
 }
@@ -470,11 +472,27 @@ static void test_read_converts(void) {
     unlink(path);
 }
 
+/* Premultiplied output with no exposure, curve or dither: the encoders'
+ * conversion gives back byte b from the float b / 255. */
+static const pfx_tone exact = {.alpha = PFX_ALPHA_PREMULTIPLIED};
+
+/* Fills a queue frame with the 8-bit image as floats over the whole frame
+ * (the box is the frame; rows bottom first, as GL reads them). */
+static void fill_frame(pfx_float_image *img, const uint8_t *rgba, int w, int h) {
+    img->x0 = img->y0 = 0;
+    img->x1 = w;
+    img->y1 = h;
+    memset(img->clear, 0, sizeof img->clear);
+    for (int y = 0; y < h; y++)
+        for (int i = 0; i < w * 4; i++)
+            img->pixels[(size_t)(h - 1 - y) * w * 4 + i] = rgba[(size_t)y * w * 4 + i] / 255.0f;
+}
+
 /* Every frame arrives whole at its own path, with one encoder or several
  * (frames then finish in any order; the files are the same). */
 static void queue_frames(int encoders) {
     enum { frames = 7, w = 48, h = 32 };
-    pfx_png_queue *q = pfx_png_queue_create(w, h, encoders);
+    pfx_frame_queue *q = pfx_frame_queue_create(w, h, encoders, PFX_FRAME_PNG, &exact);
     CHECK(q != NULL);
     if (q == NULL)
         return;
@@ -485,11 +503,10 @@ static void queue_frames(int encoders) {
         snprintf(name, sizeof name, "frame_%d.png", i);
         path_in(path[i], sizeof path[i], name);
         sent[i] = make_image(w, h, 100 + (uint32_t)i);
-        uint8_t *buffer = pfx_png_queue_buffer(q);
-        memcpy(buffer, sent[i], (size_t)w * h * 4);
-        pfx_png_queue_submit(q, path[i]);
+        fill_frame(pfx_frame_queue_buffer(q), sent[i], w, h);
+        pfx_frame_queue_submit(q, path[i]);
     }
-    CHECK(!pfx_png_queue_failed(q));
+    CHECK(!pfx_frame_queue_failed(q));
     char err[512] = "";
     CHECK(finish_queue(q, err));
     CHECK(err[0] == '\0');
@@ -521,13 +538,16 @@ static void test_queue_first_error(void) {
     path_in(bad2, sizeof bad2, "missing_dir/q_bad2.png");
     path_in(after, sizeof after, "q_after.png");
     const char *paths[4] = {good, bad1, bad2, after};
-    pfx_png_queue *q = pfx_png_queue_create(w, h, 1);
+    pfx_frame_queue *q = pfx_frame_queue_create(w, h, 1, PFX_FRAME_PNG, &exact);
     CHECK(q != NULL);
     if (q == NULL)
         return;
     for (int i = 0; i < 4; i++) {
-        memset(pfx_png_queue_buffer(q), i, (size_t)w * h * 4);
-        pfx_png_queue_submit(q, paths[i]);
+        pfx_float_image *img = pfx_frame_queue_buffer(q);
+        img->x0 = img->y0 = img->x1 = img->y1 = 0; /* background alone */
+        for (int c = 0; c < 4; c++)
+            img->clear[c] = i / 4.0f;
+        pfx_frame_queue_submit(q, paths[i]);
     }
     char err[512] = "";
     CHECK(!finish_queue(q, err));
@@ -543,14 +563,70 @@ static void test_queue_first_error(void) {
 /* Finishing with nothing submitted, or with a buffer taken but never
  * submitted, succeeds and frees everything. */
 static void test_queue_empty(void) {
-    pfx_png_queue *q = pfx_png_queue_create(4, 4, 2);
+    pfx_frame_queue *q = pfx_frame_queue_create(4, 4, 2, PFX_FRAME_PNG, &exact);
     CHECK(q != NULL);
-    CHECK(pfx_png_queue_finish(q, NULL));
-    q = pfx_png_queue_create(4, 4, 2);
+    CHECK(pfx_frame_queue_finish(q, NULL));
+    q = pfx_frame_queue_create(4, 4, 2, PFX_FRAME_EXR, &exact);
     CHECK(q != NULL);
-    CHECK(pfx_png_queue_buffer(q) != NULL);
-    CHECK(pfx_png_queue_finish(q, NULL));
-    CHECK(pfx_png_queue_create(0, 4, 1) == NULL);
+    CHECK(pfx_frame_queue_buffer(q) != NULL);
+    CHECK(pfx_frame_queue_finish(q, NULL));
+    CHECK(pfx_frame_queue_create(0, 4, 1, PFX_FRAME_PNG, &exact) == NULL);
+}
+
+/* The encoders convert as the renderer's own conversion does: a frame with
+ * a small drawn box over a coloured background, exposure, a tone curve and
+ * dither, written by three encoders, reads back as the bytes
+ * pfx_float_image_to_rgba8 gives on this thread. The background outside
+ * the box must come out as the background's bytes. */
+static void test_queue_converts(void) {
+    enum { w = 40, h = 24, frames = 5 };
+    const pfx_tone tone = {
+        .exposure = 0.5, .tonemap = PFX_TONEMAP_ACES, .alpha = PFX_ALPHA_STRAIGHT, .dither = true};
+    pfx_frame_queue *q = pfx_frame_queue_create(w, h, 3, PFX_FRAME_PNG, &tone);
+    CHECK(q != NULL);
+    if (q == NULL)
+        return;
+    float box[10 * 6 * 4];
+    uint8_t *want[frames];
+    char path[frames][512];
+    for (int i = 0; i < frames; i++) {
+        for (int k = 0; k < 10 * 6 * 4; k++)
+            box[k] = (float)((k * 7 + i * 13) % 40) / 16.0f; /* 0 to 2.4: over 1 too */
+        pfx_float_image img = {.width = w,
+                               .height = h,
+                               .x0 = 5 + i,
+                               .y0 = 3,
+                               .x1 = 15 + i,
+                               .y1 = 9,
+                               .pixels = box,
+                               .clear = {0.1f, 0.05f, 0.2f, 0.5f}};
+        want[i] = malloc((size_t)w * h * 4);
+        pfx_float_image_to_rgba8(&img, &tone, want[i]);
+        pfx_float_image *slot = pfx_frame_queue_buffer(q);
+        float *pixels = slot->pixels;
+        memcpy(pixels, box, sizeof box);
+        *slot = img;
+        slot->pixels = pixels;
+        char name[32];
+        snprintf(name, sizeof name, "conv_%d.png", i);
+        path_in(path[i], sizeof path[i], name);
+        pfx_frame_queue_submit(q, path[i]);
+    }
+    char err[512] = "";
+    CHECK(finish_queue(q, err));
+    for (int i = 0; i < frames; i++) {
+        int rw = 0, rh = 0;
+        uint8_t *back = pfx_png_read(path[i], &rw, &rh);
+        CHECK(back != NULL && rw == w && rh == h);
+        if (back != NULL && rw == w && rh == h) {
+            CHECK(memcmp(back, want[i], (size_t)w * h * 4) == 0);
+            CHECK(memcmp(back, want[i] + 4 * (w * h - 1), 4) == 0); /* a corner: background */
+        }
+        free(back);
+        free(want[i]);
+        unlink(path[i]);
+    }
+    check_entries(test_dir, 0);
 }
 
 int main(void) {
@@ -574,6 +650,7 @@ int main(void) {
     RUN(test_queue_order);
     RUN(test_queue_first_error);
     RUN(test_queue_empty);
+    RUN(test_queue_converts);
     remove_dir(test_dir);
     return TEST_EXIT();
 }
