@@ -117,6 +117,93 @@ static void broad_mark(const prep *p, const pfx_collide_pool *pool, uint32_t i0,
     }
 }
 
+/* The broad phase of the m particles from i0: mark[j] when particle i0 + j
+ * may touch a deflector this step. */
+static void broad_phase(const ctx *c, uint32_t i0, uint32_t m, float *reach, uint8_t *mark) {
+    broad_reach(c->pool, i0, m, (float)c->dt, reach);
+    memset(mark, 0, m);
+    for (size_t k = 0; k < c->nd; k++)
+        broad_mark(&c->pr[k], c->pool, i0, m, reach, mark);
+}
+
+/* Sets b's side of each deflector (0 for one whose chance says pass, see
+ * body) and says whether one that concerns it is within reach this step.
+ * The reach is how far the particle can get: along the parabola, and to the
+ * integrator's end point x1 (the fallback below). A deflector whose surface
+ * is farther than that from x0 cannot be touched; the constraint value is a
+ * lower bound on the distance to the surface for every shape, so this
+ * skips most particles exactly. */
+static bool within_reach(const ctx *c, body *b, const double x0[3], const double v0[3],
+                         const double x1[3]) {
+    const pfx_collide_pool *pool = c->pool;
+    const double dt = c->dt;
+    double speed = sqrt(dot(v0, v0)), accel = sqrt(dot(b->a, b->a));
+    double dx[3] = {x1[0] - x0[0], x1[1] - x0[1], x1[2] - x0[2]};
+    double reach = dmax(speed * dt + 0.5 * accel * dt * dt, sqrt(dot(dx, dx)));
+    reach += 1e-6 * (1 + fabs(x0[0]) + fabs(x0[1]) + fabs(x0[2]));
+    bool any = false;
+    uint32_t id = pool->id ? pool->id[b->i] : b->i;
+    for (size_t k = 0; k < c->nd; k++) {
+        b->side[k] = pfx_deflector_affects(&c->defl[k], id) ? start_side(&c->pr[k], b) : 0;
+        if (b->side[k]) {
+            double n[3];
+            any |= fabs(pfx_collide_constraint(&c->pr[k], 1, x0, n)) <= reach;
+        }
+    }
+    return any;
+}
+
+/* A particle the parabola took past every surface is untouched, unless the
+ * integrator's own end point x1 is behind a surface the parabola stayed in
+ * front of (a force that is not constant over the step): then it is
+ * re-solved on the parabola from (x0, v0) through x1,
+ * a = 2 (x1 - x0 - v0 dt) / dt^2, from the start sides side0. Returns
+ * whether it was. */
+static bool fallback(const ctx *c, body *b, const int8_t *side0, const double x0[3],
+                     const double v0[3], const double x1[3]) {
+    const double dt = c->dt;
+    bool behind = false;
+    for (size_t k = 0; k < c->nd && !behind; k++) {
+        double n[3];
+        behind = side0[k] && !c->pr[k].thin && pfx_collide_constraint(&c->pr[k], 1, x1, n) < 0;
+    }
+    if (!behind)
+        return false;
+    if (c->stats)
+        c->stats->fallbacks++;
+    memcpy(b->side, side0, c->nd);
+    for (int j = 0; j < 3; j++) {
+        b->x[j] = x0[j], b->v[j] = v0[j];
+        b->a[j] = 2 * (x1[j] - x0[j] - v0[j] * dt) / (dt * dt);
+    }
+    pfx_collide_resolve(c, b);
+    return true;
+}
+
+/* The exact pass of particle i, which the broad phase marked: its step
+ * resolved from the start state (x0, v0) with the step's effective
+ * acceleration, and stored; untouched when no surface is in reach or
+ * nothing is hit. b is the caller's scratch. */
+static void collide_one(const ctx *c, uint32_t i, body *b) {
+    const pfx_collide_pool *pool = c->pool;
+    const double x0[3] = {pool->px0[i], pool->py0[i], pool->pz0[i]};
+    const double v0[3] = {pool->vx0[i], pool->vy0[i], pool->vz0[i]};
+    const double x1[3] = {pool->px[i], pool->py[i], pool->pz[i]};
+    const double v1[3] = {pool->vx[i], pool->vy[i], pool->vz[i]};
+    b->i = i;
+    for (int j = 0; j < 3; j++) {
+        b->x[j] = x0[j], b->v[j] = v0[j];
+        b->a[j] = (v1[j] - v0[j]) / c->dt; /* the step's effective acceleration */
+    }
+    if (!within_reach(c, b, x0, v0, x1))
+        return;
+    int8_t side0[PFX_COLLIDE_MAX_DEFLECTORS];
+    memcpy(side0, b->side, c->nd);
+    if (pfx_collide_resolve(c, b) == 0 && !fallback(c, b, side0, x0, v0, x1))
+        return;
+    pfx_collide_store(c, b);
+}
+
 void pfx_collide(const pfx_deflector *defl, size_t n_defl, double dt, const pfx_collide_pool *pool,
                  pfx_rng *rng, pfx_hit_fn on_hit, void *user, pfx_collide_stats *stats) {
     assert(n_defl <= PFX_COLLIDE_MAX_DEFLECTORS);
@@ -134,71 +221,15 @@ void pfx_collide(const pfx_deflector *defl, size_t n_defl, double dt, const pfx_
         if (j == 0) { /* the next chunk's broad phase */
             const uint32_t m =
                 pool->count - i < BROAD_CHUNK ? pool->count - i : (uint32_t)BROAD_CHUNK;
-            broad_reach(pool, i, m, (float)dt, reach);
-            memset(mark, 0, m);
-            for (size_t k = 0; k < n_defl; k++)
-                broad_mark(&pr[k], pool, i, m, reach, mark);
+            broad_phase(&c, i, m, reach, mark);
         }
         if (!mark[j] && !(pool->stuck && pool->stuck[i]))
-            continue;                        /* far from every surface: untouched, as below */
+            continue; /* far from every surface: untouched, as in collide_one */
         if (pool->stuck && pool->stuck[i]) { /* held where it stuck, whatever the integrator did */
             pool->px[i] = pool->px0[i], pool->py[i] = pool->py0[i], pool->pz[i] = pool->pz0[i];
             pool->vx[i] = pool->vy[i] = pool->vz[i] = 0;
             continue;
         }
-        const double x0[3] = {pool->px0[i], pool->py0[i], pool->pz0[i]};
-        const double v0[3] = {pool->vx0[i], pool->vy0[i], pool->vz0[i]};
-        const double x1[3] = {pool->px[i], pool->py[i], pool->pz[i]};
-        const double v1[3] = {pool->vx[i], pool->vy[i], pool->vz[i]};
-        b.i = i;
-        for (int j = 0; j < 3; j++) {
-            b.x[j] = x0[j], b.v[j] = v0[j];
-            b.a[j] = (v1[j] - v0[j]) / dt; /* the step's effective acceleration */
-        }
-        /* How far the particle can get this step: along the parabola, and
-         * to the integrator's end point (the fallback below). A deflector
-         * whose surface is farther than that from x0 cannot be touched; the
-         * constraint value is a lower bound on the distance to the surface
-         * for every shape, so this skips most particles exactly. */
-        double speed = sqrt(dot(v0, v0)), accel = sqrt(dot(b.a, b.a));
-        double dx[3] = {x1[0] - x0[0], x1[1] - x0[1], x1[2] - x0[2]};
-        double reach = dmax(speed * dt + 0.5 * accel * dt * dt, sqrt(dot(dx, dx)));
-        reach += 1e-6 * (1 + fabs(x0[0]) + fabs(x0[1]) + fabs(x0[2]));
-        bool any = false;
-        uint32_t id = pool->id ? pool->id[i] : i;
-        for (size_t k = 0; k < n_defl; k++) {
-            b.side[k] = pfx_deflector_affects(&defl[k], id) ? start_side(&pr[k], &b) : 0;
-            if (b.side[k]) {
-                double n[3];
-                any |= fabs(pfx_collide_constraint(&pr[k], 1, x0, n)) <= reach;
-            }
-        }
-        if (!any)
-            continue;
-        int8_t side0[PFX_COLLIDE_MAX_DEFLECTORS];
-        memcpy(side0, b.side, n_defl);
-        int hits = pfx_collide_resolve(&c, &b);
-        if (hits == 0) {
-            /* Untouched, unless the integrator's own end point is behind a
-             * surface the parabola stayed in front of (a force that is not
-             * constant over the step): then re-solve on the parabola from
-             * (x0, v0) through x1, a = 2 (x1 - x0 - v0 dt) / dt^2. */
-            bool behind = false;
-            for (size_t k = 0; k < n_defl && !behind; k++) {
-                double n[3];
-                behind = side0[k] && !pr[k].thin && pfx_collide_constraint(&pr[k], 1, x1, n) < 0;
-            }
-            if (!behind)
-                continue;
-            if (stats)
-                stats->fallbacks++;
-            memcpy(b.side, side0, n_defl);
-            for (int j = 0; j < 3; j++) {
-                b.x[j] = x0[j], b.v[j] = v0[j];
-                b.a[j] = 2 * (x1[j] - x0[j] - v0[j] * dt) / (dt * dt);
-            }
-            pfx_collide_resolve(&c, &b);
-        }
-        pfx_collide_store(&c, &b);
+        collide_one(&c, i, &b);
     }
 }

@@ -140,76 +140,107 @@ static void hold(const ctx *c, body *b) {
     }
 }
 
+/* The acceleration ae of the next piece of path of b, with the Coulomb
+ * deceleration b->fric of the surfaces it rests on: while it slides,
+ * friction opposes the velocity (unit direction u) and the returned time is
+ * when the speed along u reaches 0 (INFINITY if it never does); at rest,
+ * friction cancels the push up to fric (static friction). */
+static double slide_accel(const body *b, double ae[3], double u[3]) {
+    double stop = INFINITY;
+    memcpy(ae, b->a, sizeof b->a);
+    const double fric = b->fric;
+    if (fric > 0) { /* sliding: friction opposes the velocity, or holds it */
+        double vm = sqrt(dot(b->v, b->v));
+        if (vm > 0) {
+            for (int j = 0; j < 3; j++) {
+                u[j] = b->v[j] / vm;
+                ae[j] -= fric * u[j];
+            }
+            double along = dot(ae, u);
+            if (along < 0)
+                stop = vm / -along; /* the speed along u reaches 0 */
+        } else {
+            double am = sqrt(dot(b->a, b->a));
+            for (int j = 0; j < 3; j++)
+                ae[j] = am <= fric ? 0 : b->a[j] - fric * b->a[j] / am;
+        }
+    }
+    return stop;
+}
+
+/* The earliest hit within `horizon` on the path of acceleration ae, over
+ * the deflectors that concern b (not the sphere it slides inside: see
+ * hold); best.s is INFINITY when there is none. */
+static hit earliest_hit(const ctx *c, const body *b, const double ae[3], double horizon) {
+    /* Within `touch` of a surface is on it: a stored float point sits up
+     * to a few ulps off the surface it rests on, and a free fall through
+     * that gap would escape the friction for part of every step. The
+     * snap then moves it onto the surface, never through it. */
+    double touch = TOUCH * (1 + dmax(fabs(b->x[0]), dmax(fabs(b->x[1]), fabs(b->x[2]))));
+    hit best = {.s = INFINITY}, h;
+    for (size_t k = 0; k < c->nd; k++) {
+        if (!b->side[k] || (long)k == b->slide)
+            continue;
+        memset(&h, 0, sizeof h);
+        if (pfx_collide_detect(&c->pr[k], b->side[k], b->x, b->v, ae, dmin(horizon, best.s), touch,
+                               &h) &&
+            h.s < best.s) {
+            best = h;
+            best.k = k;
+        }
+    }
+    return best;
+}
+
+/* Moves b s seconds along the path of acceleration ae (kept on the sphere
+ * it slides inside, if any). */
+static void advance(const ctx *c, body *b, const double ae[3], double s) {
+    pos_at(b->x, b->v, ae, s, b->x);
+    for (int j = 0; j < 3; j++)
+        b->v[j] += ae[j] * s;
+    hold(c, b);
+}
+
+/* A slide along u stopped: the velocity along u is exactly gone, and
+ * static friction holds the particle when it can (the push is at most
+ * b->fric), so it does not creep on by rounding. */
+static void stop_sliding(body *b, const double u[3]) {
+    double vu = dot(b->v, u);
+    for (int j = 0; j < 3; j++)
+        b->v[j] -= vu * u[j];
+    if (sqrt(dot(b->a, b->a)) <= b->fric)
+        memset(b->v, 0, sizeof b->v);
+}
+
 /* Runs the step from b's start state; returns the number of hits (with
- * TERMINAL or'ed in when the particle was killed or stuck). */
+ * TERMINAL or'ed in when the particle was killed or stuck). Each turn of the
+ * loop follows one piece of path: to the earliest hit, or else to the end
+ * of the step, or to where a slide stops (then friction may start it again
+ * along a new direction, a few times at most). */
 int pfx_collide_resolve(const ctx *c, body *b) {
     double t = 0;
     int hits = 0, stops = 0;
     b->contacts = 0, b->fric = 0, b->slide = -1;
     for (;;) {
-        double T = c->dt - t, ae[3], u[3] = {0, 0, 0}, stop = INFINITY;
+        double T = c->dt - t, ae[3], u[3] = {0, 0, 0};
         if (!(T > 0))
             break;
-        memcpy(ae, b->a, sizeof ae);
-        const double fric = b->fric;
-        if (fric > 0) { /* sliding: friction opposes the velocity, or holds it */
-            double vm = sqrt(dot(b->v, b->v));
-            if (vm > 0) {
-                for (int j = 0; j < 3; j++) {
-                    u[j] = b->v[j] / vm;
-                    ae[j] -= fric * u[j];
-                }
-                double along = dot(ae, u);
-                if (along < 0)
-                    stop = vm / -along; /* the speed along u reaches 0 */
-            } else {
-                double am = sqrt(dot(b->a, b->a));
-                for (int j = 0; j < 3; j++)
-                    ae[j] = am <= fric ? 0 : b->a[j] - fric * b->a[j] / am;
-            }
-        }
+        double stop = slide_accel(b, ae, u);
         update_sides(c, b);
-        /* Within `touch` of a surface is on it: a stored float point sits up
-         * to a few ulps off the surface it rests on, and a free fall through
-         * that gap would escape the friction for part of every step. The
-         * snap then moves it onto the surface, never through it. */
-        double touch = TOUCH * (1 + dmax(fabs(b->x[0]), dmax(fabs(b->x[1]), fabs(b->x[2]))));
-        hit best = {.s = INFINITY}, h;
         double horizon = dmin(T, stop);
-        for (size_t k = 0; k < c->nd; k++) {
-            if (!b->side[k] || (long)k == b->slide)
-                continue;
-            memset(&h, 0, sizeof h);
-            if (pfx_collide_detect(&c->pr[k], b->side[k], b->x, b->v, ae, dmin(horizon, best.s),
-                                   touch, &h) &&
-                h.s < best.s) {
-                best = h;
-                best.k = k;
-            }
-        }
+        hit best = earliest_hit(c, b, ae, horizon);
         if (!(best.s <= horizon)) {
-            double s = dmin(T, stop);
-            pos_at(b->x, b->v, ae, s, b->x);
-            for (int j = 0; j < 3; j++)
-                b->v[j] += ae[j] * s;
-            hold(c, b);
-            t += s;
-            if (stop <= T) { /* stopped: the velocity along u is exactly gone, */
-                double vu = dot(b->v, u);
-                for (int j = 0; j < 3; j++)
-                    b->v[j] -= vu * u[j];
-                if (sqrt(dot(b->a, b->a)) <= fric) /* and static friction holds it */
-                    memset(b->v, 0, sizeof b->v);
+            advance(c, b, ae, horizon);
+            t += horizon;
+            if (stop <= T) {
+                stop_sliding(b, u);
                 if (++stops < 4)
                     continue;
             }
             break;
         }
         double n[3];
-        pos_at(b->x, b->v, ae, best.s, b->x);
-        for (int j = 0; j < 3; j++)
-            b->v[j] += ae[j] * best.s;
-        hold(c, b);
+        advance(c, b, ae, best.s);
         pfx_collide_snap(&c->pr[best.k], &best, b->x, n);
         if (c->pr[best.k].thin)
             b->side[best.k] = (int8_t)best.side;

@@ -284,98 +284,124 @@ static bool in_bounds(const prep *p, const double x[3]) {
     return fabs(dot(q, p->u)) <= p->hu && fabs(dot(q, p->w)) <= p->hw;
 }
 
+/* The three time-of-impact tests below find the earliest hit of deflector
+ * p by the path x + v s + a s^2/2, s in [0, T], for one family of shapes
+ * each: a plane's or a box face's signed distance along the path is a
+ * quadratic (closed-form roots), a sphere's is a quartic (the cascade
+ * above). Each first culls what cannot be reached this segment. */
+
+/* Planes and discs: the crossings of the plane, then (thin shapes) the
+ * first one within the bounds. */
+static bool detect_plane(const prep *p, int side, const double x[3], const double v[3],
+                         const double a[3], double T, double touch, hit *h) {
+    double s[2], P[3];
+    int dir[2];
+    double q[3] = {x[0] - p->p[0], x[1] - p->p[1], x[2] - p->p[2]};
+    double c = side * dot(q, p->n), b = side * dot(v, p->n), A = 0.5 * side * dot(a, p->n);
+    if (fabs(c) > (fabs(b) + fabs(A) * T) * T + touch)
+        return false; /* cannot reach the plane this segment */
+    if (c <= touch) {
+        /* On it (resting): normal parts left by rounding after the
+         * normal was removed (1e-16 of the whole) are no motion; they
+         * would otherwise report the same contact again at s = 0. */
+        c = 0;
+        if (fabs(b) <= NOISE * sqrt(dot(v, v)))
+            b = 0;
+        if (fabs(A) <= NOISE * sqrt(dot(a, a)))
+            A = 0;
+    }
+    int m = crossings(A, b, c, T, s, dir);
+    for (int e = 0; e < m; e++) {
+        if (!p->thin) {
+            if (dir[e] > 0)
+                continue;
+            h->s = s[e], h->side = 1;
+            return true;
+        }
+        pos_at(x, v, a, s[e], P);
+        if (in_bounds(p, P)) {
+            h->s = s[e], h->side = dir[e] < 0 ? side : -side;
+            return true;
+        }
+    }
+    return false;
+}
+
+/* Spheres, from either side: the first entry of the quartic. */
+static bool detect_sphere(const prep *p, const double x[3], const double v[3], const double a[3],
+                          double T, double touch, hit *h) {
+    double q[3] = {x[0] - p->p[0], x[1] - p->p[1], x[2] - p->p[2]};
+    double lq = sqrt(dot(q, q));
+    double reach = sqrt(dot(v, v)) * T + 0.5 * sqrt(dot(a, a)) * T * T;
+    if (p->inside ? lq + reach + touch < p->r : lq - reach - touch > p->r)
+        return false; /* cannot reach the surface this segment */
+    double sg = p->inside ? -1 : 1, qv = dot(q, v), qa = dot(q, a);
+    double c[5] = {sg * (dot(q, q) - p->r * p->r), 0, 0, sg * dot(v, a), sg * 0.25 * dot(a, a)};
+    if (c[0] <= 2 * p->r * touch) { /* on it: as for planes */
+        c[0] = 0;
+        if (fabs(qv) <= NOISE * lq * sqrt(dot(v, v)))
+            qv = 0;
+        if (fabs(qa) <= NOISE * lq * sqrt(dot(a, a)))
+            qa = 0;
+    }
+    c[1] = sg * 2 * qv;
+    c[2] = sg * (dot(v, v) + qa);
+    return first_entry(c, 4, T, &h->s);
+}
+
+/* Boxes, from either side: the earliest downward crossing of a face plane
+ * that lands on the face; inside, no bounds test is needed, since the first
+ * face plane the path reaches is crossed on the box itself. */
+static bool detect_box(const prep *p, const double x[3], const double v[3], const double a[3],
+                       double T, double touch, hit *h) {
+    double s[2], P[3];
+    int dir[2];
+    /* cull: the largest excess beyond a slab bounds the distance from
+     * below outside, the smallest margin bounds it from above inside */
+    double reach = sqrt(dot(v, v)) * T + 0.5 * sqrt(dot(a, a)) * T * T, e = -INFINITY;
+    for (int j = 0; j < 3; j++)
+        e = dmax(e, dmax(x[j] - p->hi[j], p->lo[j] - x[j]));
+    if (p->inside ? -e > reach + touch : e > reach + touch)
+        return false;
+    bool found = false;
+    for (int f = 0; f < 6; f++) {
+        int j = f / 2;
+        double sg = f % 2 ? -1 : 1, F = f % 2 ? p->lo[j] : p->hi[j];
+        /* outside: the face's outer side is positive; inside: its inner side */
+        double o = p->inside ? -sg : sg;
+        double c = o * (x[j] - F), b = o * v[j], A = 0.5 * o * a[j];
+        if (p->inside ? c < touch : c >= 0 && c < touch)
+            c = 0; /* on the face (within `touch`) */
+        int m = crossings(A, b, c, found ? h->s : T, s, dir);
+        for (int e = 0; e < m; e++) {
+            if (dir[e] > 0)
+                continue;
+            if (!p->inside) {
+                pos_at(x, v, a, s[e], P);
+                int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+                if (P[j1] < p->lo[j1] - p->edge_tol || P[j1] > p->hi[j1] + p->edge_tol ||
+                    P[j2] < p->lo[j2] - p->edge_tol || P[j2] > p->hi[j2] + p->edge_tol)
+                    break; /* the only downward crossing of this face plane */
+            }
+            if (!found || s[e] < h->s)
+                h->s = s[e], h->face = f, found = true;
+            break;
+        }
+    }
+    return found;
+}
+
 /* Earliest hit of deflector p by the path x + v s + a s^2/2, s in [0, T]. */
 bool pfx_collide_detect(const prep *p, int side, const double x[3], const double v[3],
                         const double a[3], double T, double touch, hit *h) {
-    double s[2], P[3];
-    int dir[2];
     switch (p->shape) {
     case PFX_DEFLECTOR_PLANE:
-    case PFX_DEFLECTOR_DISC: {
-        double q[3] = {x[0] - p->p[0], x[1] - p->p[1], x[2] - p->p[2]};
-        double c = side * dot(q, p->n), b = side * dot(v, p->n), A = 0.5 * side * dot(a, p->n);
-        if (fabs(c) > (fabs(b) + fabs(A) * T) * T + touch)
-            return false; /* cannot reach the plane this segment */
-        if (c <= touch) {
-            /* On it (resting): normal parts left by rounding after the
-             * normal was removed (1e-16 of the whole) are no motion; they
-             * would otherwise report the same contact again at s = 0. */
-            c = 0;
-            if (fabs(b) <= NOISE * sqrt(dot(v, v)))
-                b = 0;
-            if (fabs(A) <= NOISE * sqrt(dot(a, a)))
-                A = 0;
-        }
-        int m = crossings(A, b, c, T, s, dir);
-        for (int e = 0; e < m; e++) {
-            if (!p->thin) {
-                if (dir[e] > 0)
-                    continue;
-                h->s = s[e], h->side = 1;
-                return true;
-            }
-            pos_at(x, v, a, s[e], P);
-            if (in_bounds(p, P)) {
-                h->s = s[e], h->side = dir[e] < 0 ? side : -side;
-                return true;
-            }
-        }
-        return false;
-    }
-    case PFX_DEFLECTOR_SPHERE: {
-        double q[3] = {x[0] - p->p[0], x[1] - p->p[1], x[2] - p->p[2]};
-        double lq = sqrt(dot(q, q));
-        double reach = sqrt(dot(v, v)) * T + 0.5 * sqrt(dot(a, a)) * T * T;
-        if (p->inside ? lq + reach + touch < p->r : lq - reach - touch > p->r)
-            return false; /* cannot reach the surface this segment */
-        double sg = p->inside ? -1 : 1, qv = dot(q, v), qa = dot(q, a);
-        double c[5] = {sg * (dot(q, q) - p->r * p->r), 0, 0, sg * dot(v, a), sg * 0.25 * dot(a, a)};
-        if (c[0] <= 2 * p->r * touch) { /* on it: as for planes */
-            c[0] = 0;
-            if (fabs(qv) <= NOISE * lq * sqrt(dot(v, v)))
-                qv = 0;
-            if (fabs(qa) <= NOISE * lq * sqrt(dot(a, a)))
-                qa = 0;
-        }
-        c[1] = sg * 2 * qv;
-        c[2] = sg * (dot(v, v) + qa);
-        return first_entry(c, 4, T, &h->s);
-    }
-    case PFX_DEFLECTOR_BOX: {
-        /* cull: the largest excess beyond a slab bounds the distance from
-         * below outside, the smallest margin bounds it from above inside */
-        double reach = sqrt(dot(v, v)) * T + 0.5 * sqrt(dot(a, a)) * T * T, e = -INFINITY;
-        for (int j = 0; j < 3; j++)
-            e = dmax(e, dmax(x[j] - p->hi[j], p->lo[j] - x[j]));
-        if (p->inside ? -e > reach + touch : e > reach + touch)
-            return false;
-        bool found = false;
-        for (int f = 0; f < 6; f++) {
-            int j = f / 2;
-            double sg = f % 2 ? -1 : 1, F = f % 2 ? p->lo[j] : p->hi[j];
-            /* outside: the face's outer side is positive; inside: its inner side */
-            double o = p->inside ? -sg : sg;
-            double c = o * (x[j] - F), b = o * v[j], A = 0.5 * o * a[j];
-            if (p->inside ? c < touch : c >= 0 && c < touch)
-                c = 0; /* on the face (within `touch`) */
-            int m = crossings(A, b, c, found ? h->s : T, s, dir);
-            for (int e = 0; e < m; e++) {
-                if (dir[e] > 0)
-                    continue;
-                if (!p->inside) {
-                    pos_at(x, v, a, s[e], P);
-                    int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-                    if (P[j1] < p->lo[j1] - p->edge_tol || P[j1] > p->hi[j1] + p->edge_tol ||
-                        P[j2] < p->lo[j2] - p->edge_tol || P[j2] > p->hi[j2] + p->edge_tol)
-                        break; /* the only downward crossing of this face plane */
-                }
-                if (!found || s[e] < h->s)
-                    h->s = s[e], h->face = f, found = true;
-                break;
-            }
-        }
-        return found;
-    }
+    case PFX_DEFLECTOR_DISC:
+        return detect_plane(p, side, x, v, a, T, touch, h);
+    case PFX_DEFLECTOR_SPHERE:
+        return detect_sphere(p, x, v, a, T, touch, h);
+    case PFX_DEFLECTOR_BOX:
+        return detect_box(p, x, v, a, T, touch, h);
     }
     return false;
 }
