@@ -165,14 +165,20 @@ static const char *run_name(int run) {
     return run == 0 ? "model (double, born on the grid)" : pfx_birth_mode_name(run - 1);
 }
 
-static int write_csv(const char *dir, result (*res)[NINT][NJ], FILE *log) {
+/* Opens DIR/NAME for writing, or says why not on log and returns NULL. */
+static FILE *open_output(const char *dir, const char *name, FILE *log) {
     char path[1024];
-    snprintf(path, sizeof path, "%s/work-precision.csv", dir);
+    snprintf(path, sizeof path, "%s/%s", dir, name);
     FILE *f = fopen(path, "w");
-    if (!f) {
+    if (!f)
         fprintf(log, "pfx: cannot open '%s': %s\n", path, strerror(errno));
+    return f;
+}
+
+static int write_csv(const char *dir, result (*res)[NINT][NJ], FILE *log) {
+    FILE *f = open_output(dir, "work-precision.csv", log);
+    if (!f)
         return 1;
-    }
     fprintf(f, "problem,integrator,run,dt,substeps,evals_per_s,error,max_error_per_s,"
                "ns_per_particle_step,unstable_rate_name,unstable_rate\n");
     for (size_t p = 0; p < NPROB; p++)
@@ -194,16 +200,64 @@ static int write_csv(const char *dir, result (*res)[NINT][NJ], FILE *log) {
     return 0;
 }
 
-/* The chart of one run kind: file `name`, errors err[run]. */
+/* The cost axis of problem p's panel: whole decades around every
+ * integrator's cost, so the panels share a look. */
+static void cost_range(size_t p, result (*res)[NINT][NJ], pfx_chart *c) {
+    c->x0 = INFINITY, c->x1 = 0;
+    for (size_t i = 0; i < NINT; i++)
+        for (int j = 0; j < NJ; j++)
+            if (pfx_acc_applies(&problems[p], integrators[i])) {
+                c->x0 = fmin(c->x0, res[p][i][j].cost);
+                c->x1 = fmax(c->x1, res[p][i][j].cost);
+            }
+    c->x0 = pow(10, floor(log10(c->x0)));
+    c->x1 = pow(10, ceil(log10(c->x1)));
+}
+
+/* Integrator i's line on problem p's panel: a dot per stable dt, a cross
+ * per unstable one, and one label, at the smallest unstable dt, with the
+ * rate that makes it unstable (or that no dt is stable). */
+static void plot_integrator(FILE *f, const pfx_chart *c, size_t p, size_t i, int run,
+                            result (*res)[NINT][NJ]) {
+    double x[NJ], y[NJ];
+    bool skip[NJ];
+    for (int j = 0; j < NJ; j++) {
+        x[j] = res[p][i][j].cost;
+        y[j] = fmax(fmin(res[p][i][j].err[run], 1e3), c->y0);
+        skip[j] = isnan(res[p][i][j].err[run]);
+    }
+    pfx_chart_line(f, c, NJ, x, y, skip, colors[i], integrators[i] == PFX_INTEGRATOR_AUTO);
+    int labelled = 0, unstable = 0;
+    for (int j = 0; j < NJ; j++)
+        unstable += res[p][i][j].rate > 0;
+    for (int j = NJ - 1; j >= 0; j--) { /* smallest unstable dt first */
+        const result *r = &res[p][i][j];
+        if (skip[j])
+            continue;
+        if (r->rate > 0) {
+            pfx_chart_mark(f, c, x[j], y[j], PFX_MARK_CROSS, colors[i]);
+            if (!labelled++) {
+                char lab[48];
+                if (r->always && unstable == NJ)
+                    snprintf(lab, sizeof lab, "unstable at every dt");
+                else
+                    snprintf(lab, sizeof lab, "%s=%.2g", r->rate_name, r->rate);
+                pfx_svg_text(f, pfx_chart_px(c, x[j]) + 6, pfx_chart_py(c, y[j]) + 12, 9, "start",
+                             colors[i], lab);
+            }
+        } else {
+            pfx_chart_mark(f, c, x[j], y[j], PFX_MARK_DOT, colors[i]);
+        }
+    }
+}
+
+/* The chart of one run kind: file `name`, errors err[run], one panel per
+ * problem in a grid of two columns. */
 static int write_work_precision(const char *dir, const char *name, int run, result (*res)[NINT][NJ],
                                 FILE *log) {
-    char path[1024];
-    FILE *f;
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    if (!(f = fopen(path, "w"))) {
-        fprintf(log, "pfx: cannot open '%s': %s\n", path, strerror(errno));
+    FILE *f = open_output(dir, name, log);
+    if (!f)
         return 1;
-    }
     const int cols = 2, pw = 400, ph = 260, mx = 80, my = 70;
     const int W = cols * (pw + mx) + 160, H = (int)((NPROB + cols - 1) / cols) * (ph + my) + 90;
     pfx_svg_begin(f, W, H);
@@ -229,51 +283,12 @@ static int write_work_precision(const char *dir, const char *name, int run, resu
                        .log_y = true,
                        .y0 = run ? 1e-9 : 1e-15,
                        .y1 = 1e3};
-        c.x0 = INFINITY, c.x1 = 0;
-        for (size_t i = 0; i < NINT; i++)
-            for (int j = 0; j < NJ; j++)
-                if (pfx_acc_applies(&problems[p], integrators[i])) {
-                    c.x0 = fmin(c.x0, res[p][i][j].cost);
-                    c.x1 = fmax(c.x1, res[p][i][j].cost);
-                }
-        c.x0 = pow(10, floor(log10(c.x0)));
-        c.x1 = pow(10, ceil(log10(c.x1)));
+        cost_range(p, res, &c);
         pfx_chart_axes(f, &c, problems[p].name, "force evaluations per simulated second",
                        "position error (m)");
-        for (size_t i = 0; i < NINT; i++) {
-            if (!pfx_acc_applies(&problems[p], integrators[i]))
-                continue;
-            double x[NJ], y[NJ];
-            bool skip[NJ];
-            for (int j = 0; j < NJ; j++) {
-                x[j] = res[p][i][j].cost;
-                y[j] = fmax(fmin(res[p][i][j].err[run], 1e3), c.y0);
-                skip[j] = isnan(res[p][i][j].err[run]);
-            }
-            pfx_chart_line(f, &c, NJ, x, y, skip, colors[i], integrators[i] == PFX_INTEGRATOR_AUTO);
-            int labelled = 0, unstable = 0;
-            for (int j = 0; j < NJ; j++)
-                unstable += res[p][i][j].rate > 0;
-            for (int j = NJ - 1; j >= 0; j--) { /* smallest unstable dt first */
-                const result *r = &res[p][i][j];
-                if (skip[j])
-                    continue;
-                if (r->rate > 0) {
-                    pfx_chart_mark(f, &c, x[j], y[j], PFX_MARK_CROSS, colors[i]);
-                    if (!labelled++) {
-                        char lab[48];
-                        if (r->always && unstable == NJ)
-                            snprintf(lab, sizeof lab, "unstable at every dt");
-                        else
-                            snprintf(lab, sizeof lab, "%s=%.2g", r->rate_name, r->rate);
-                        pfx_svg_text(f, pfx_chart_px(&c, x[j]) + 6, pfx_chart_py(&c, y[j]) + 12, 9,
-                                     "start", colors[i], lab);
-                    }
-                } else {
-                    pfx_chart_mark(f, &c, x[j], y[j], PFX_MARK_DOT, colors[i]);
-                }
-            }
-        }
+        for (size_t i = 0; i < NINT; i++)
+            if (pfx_acc_applies(&problems[p], integrators[i]))
+                plot_integrator(f, &c, p, i, run, res);
     }
     const char *labels[NINT];
     for (size_t i = 0; i < NINT; i++)
@@ -284,40 +299,59 @@ static int write_work_precision(const char *dir, const char *name, int run, resu
     return 0;
 }
 
-static int write_stability(const char *dir, FILE *log) {
-    static const pfx_integrator si[] = {PFX_INTEGRATOR_EULER,    PFX_INTEGRATOR_SYMPLECTIC,
-                                        PFX_INTEGRATOR_MIDPOINT, PFX_INTEGRATOR_RK4,
-                                        PFX_INTEGRATOR_VERLET,   PFX_INTEGRATOR_EXACT};
-    enum { NS = sizeof si / sizeof si[0] };
-    double meas[NS][2], theo[NS][2];
-    for (int i = 0; i < NS; i++)
-        for (int o = 0; o < 2; o++) {
-            meas[i][o] = pfx_bench_stability_limit(si[i], o);
-            pfx_scheme s = pfx_integrator_scheme(si[i]);
-            theo[i][o] = o ? pfx_stability_oscillator_limit(s) : pfx_stability_decay_limit(s);
-            fprintf(log, "  stability %-10s %s: measured %.5g, theory %.5g\n",
-                    pfx_integrator_name(si[i]), o ? "omega*dt" : "k*dt    ", meas[i][o],
-                    theo[i][o]);
-        }
-    char path[1024];
-    snprintf(path, sizeof path, "%s/stability.csv", dir);
-    FILE *f = fopen(path, "w");
-    if (!f) {
-        fprintf(log, "pfx: cannot open '%s': %s\n", path, strerror(errno));
+/* The integrators whose stability limits are charted; boris shares exact's
+ * row (the last one's label says so). */
+static const pfx_integrator stab_integrators[] = {
+    PFX_INTEGRATOR_EULER, PFX_INTEGRATOR_SYMPLECTIC, PFX_INTEGRATOR_MIDPOINT,
+    PFX_INTEGRATOR_RK4,   PFX_INTEGRATOR_VERLET,     PFX_INTEGRATOR_EXACT};
+enum { NS = sizeof stab_integrators / sizeof stab_integrators[0] };
+
+static int write_stability_csv(const char *dir, double meas[NS][2], double theo[NS][2], FILE *log) {
+    FILE *f = open_output(dir, "stability.csv", log);
+    if (!f)
         return 1;
-    }
     fprintf(f, "integrator,decay_kdt_measured,decay_kdt_theory,oscillator_wdt_measured,"
                "oscillator_wdt_theory\n");
     for (int i = 0; i < NS; i++)
-        fprintf(f, "%s,%.6g,%.6g,%.6g,%.6g\n", pfx_integrator_name(si[i]), meas[i][0], theo[i][0],
-                meas[i][1], theo[i][1]);
+        fprintf(f, "%s,%.6g,%.6g,%.6g,%.6g\n", pfx_integrator_name(stab_integrators[i]), meas[i][0],
+                theo[i][0], meas[i][1], theo[i][1]);
     fclose(f);
+    return 0;
+}
 
-    snprintf(path, sizeof path, "%s/stability.svg", dir);
-    if (!(f = fopen(path, "w"))) {
-        fprintf(log, "pfx: cannot open '%s': %s\n", path, strerror(errno));
-        return 1;
+/* Row i of a stability panel: the measured limit m as a bar (clipped at
+ * the axis end, its label then inside it), the theory t as a tick. */
+static void stability_row(FILE *f, const pfx_chart *c, int i, double m, double t) {
+    double yb = NS - i - 0.8, yt = NS - i - 0.2;
+    const char *col = colors[i];
+    pfx_chart_rect(f, c, 0, yb, fmin(m, 4), yt, col);
+    char lab[64];
+    if (isinf(m))
+        snprintf(lab, sizeof lab, "stable at any step");
+    else if (t == 0)
+        snprintf(lab, sizeof lab, "%.3g (theory 0: grows at any step)", m);
+    else
+        snprintf(lab, sizeof lab, "%.4g (theory %.4g)", m, t);
+    double lx = pfx_chart_px(c, fmin(m, 4)) + 4;
+    if (isinf(m) || m > 3)
+        lx = pfx_chart_px(c, 0) + 4;
+    pfx_svg_text(f, lx, pfx_chart_py(c, 0.5 * (yb + yt)) + 4, 10, "start",
+                 isinf(m) || m > 3 ? "#fff" : "#000", lab);
+    if (!isinf(t)) {
+        double x = pfx_chart_px(c, t);
+        fprintf(f,
+                "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#000\" "
+                "stroke-width=\"2.5\"/>\n",
+                x, pfx_chart_py(c, yb) + 3, x, pfx_chart_py(c, yt) - 3);
     }
+    pfx_svg_text(f, c->left - 6, pfx_chart_py(c, 0.5 * (yb + yt)) + 4, 11, "end", "#000",
+                 i == NS - 1 ? "exact/boris" : pfx_integrator_name(stab_integrators[i]));
+}
+
+static int write_stability_svg(const char *dir, double meas[NS][2], double theo[NS][2], FILE *log) {
+    FILE *f = open_output(dir, "stability.svg", log);
+    if (!f)
+        return 1;
     const int W = 900, H = 360;
     pfx_svg_begin(f, W, H);
     pfx_svg_text(f, W / 2.0, 24, 16, "middle", "#000",
@@ -338,36 +372,30 @@ static int write_stability(const char *dir, FILE *log) {
                        .y1 = NS,
                        .no_y_ticks = true};
         pfx_chart_axes(f, &c, titles[o], o ? "omega*dt" : "k*dt", NULL);
-        for (int i = 0; i < NS; i++) {
-            double yb = NS - i - 0.8, yt = NS - i - 0.2, m = meas[i][o], t = theo[i][o];
-            const char *col = colors[i];
-            pfx_chart_rect(f, &c, 0, yb, fmin(m, 4), yt, col);
-            char lab[64];
-            if (isinf(m))
-                snprintf(lab, sizeof lab, "stable at any step");
-            else if (t == 0)
-                snprintf(lab, sizeof lab, "%.3g (theory 0: grows at any step)", m);
-            else
-                snprintf(lab, sizeof lab, "%.4g (theory %.4g)", m, t);
-            double lx = pfx_chart_px(&c, fmin(m, 4)) + 4;
-            if (isinf(m) || m > 3)
-                lx = pfx_chart_px(&c, 0) + 4;
-            pfx_svg_text(f, lx, pfx_chart_py(&c, 0.5 * (yb + yt)) + 4, 10, "start",
-                         isinf(m) || m > 3 ? "#fff" : "#000", lab);
-            if (!isinf(t)) {
-                double x = pfx_chart_px(&c, t);
-                fprintf(f,
-                        "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#000\" "
-                        "stroke-width=\"2.5\"/>\n",
-                        x, pfx_chart_py(&c, yb) + 3, x, pfx_chart_py(&c, yt) - 3);
-            }
-            pfx_svg_text(f, c.left - 6, pfx_chart_py(&c, 0.5 * (yb + yt)) + 4, 11, "end", "#000",
-                         i == NS - 1 ? "exact/boris" : pfx_integrator_name(si[i]));
-        }
+        for (int i = 0; i < NS; i++)
+            stability_row(f, &c, i, meas[i][o], theo[i][o]);
     }
     pfx_svg_end(f);
     fclose(f);
     return 0;
+}
+
+/* The measured stability limits (decay k*dt, oscillator omega*dt) of each
+ * integrator beside their theory, logged and written as CSV and SVG. */
+static int write_stability(const char *dir, FILE *log) {
+    double meas[NS][2], theo[NS][2];
+    for (int i = 0; i < NS; i++)
+        for (int o = 0; o < 2; o++) {
+            const pfx_integrator integ = stab_integrators[i];
+            meas[i][o] = pfx_bench_stability_limit(integ, o);
+            pfx_scheme s = pfx_integrator_scheme(integ);
+            theo[i][o] = o ? pfx_stability_oscillator_limit(s) : pfx_stability_decay_limit(s);
+            fprintf(log, "  stability %-10s %s: measured %.5g, theory %.5g\n",
+                    pfx_integrator_name(integ), o ? "omega*dt" : "k*dt    ", meas[i][o],
+                    theo[i][o]);
+        }
+    int rc = write_stability_csv(dir, meas, theo, log);
+    return rc ? rc : write_stability_svg(dir, meas, theo, log);
 }
 
 int pfx_bench_accuracy(const char *out_dir, FILE *log) {

@@ -314,6 +314,121 @@ static void compile_deflectors(compiler *c, const pfx_node *defl) {
                               &c->e->deflectors[c->e->deflector_count++]);
 }
 
+/* The effect before its keys are read: the defaults of every row, then an
+ * image of 512 x 512, and the settings only the command line gives. */
+static void effect_defaults(pfx_effect *e, const char *path, const pfx_compile_options *opt) {
+    e->path = path;
+    pfx_keys_defaults(&pfx_schema_top, e);
+    pfx_keys_defaults(&pfx_sim_table, e);
+    pfx_keys_defaults(&pfx_camera_table, &e->camera);
+    pfx_keys_defaults(&pfx_image_table, e);
+    pfx_look_defaults(e);
+    e->width = e->height = 512;
+    e->max_particles = opt && opt->max_particles ? opt->max_particles : PFX_DEFAULT_MAX_PARTICLES;
+    e->threads = opt ? opt->threads : 0;
+}
+
+/* The command line's overrides of output keys (--fps, --alpha, --size).
+ * --seed is not here: it must reach the forces and deflectors, which take
+ * their seeds from the effect's as they compile. */
+static void apply_overrides(pfx_effect *e, const pfx_compile_options *opt) {
+    if (opt && opt->fps > 0)
+        e->fps = opt->fps;
+    if (opt && opt->has_alpha)
+        e->alpha_mode = opt->alpha;
+    if (opt && opt->width > 0) {
+        e->width = opt->width;
+        e->height = opt->height;
+    }
+}
+
+/* Bounds on the work the effect asks for, checked before any is done (and
+ * after the overrides, which change it): the frames, and the simulation
+ * steps every frame needs run up to it. */
+static void check_work(compiler *c, const pfx_node *root) {
+    const pfx_effect *e = c->e;
+    const pfx_node *at = pfx_node_get(root, "duration");
+    if (!at)
+        at = pfx_node_get(root, "fps");
+    if (e->duration * e->fps > MAX_FRAMES)
+        pfx_read_error(&c->r, at ? at : root, PFX_RULE_TOO_MUCH_WORK,
+                       "duration x fps gives %.0f frames; the most is %.0f", e->duration * e->fps,
+                       MAX_FRAMES);
+    double steps = (e->prewarm + e->duration) * e->sim_rate;
+    if (steps > MAX_STEPS) {
+        const pfx_node *sim = pfx_node_get(root, "sim");
+        const pfx_node *where = pfx_node_get(sim, "prewarm");
+        if (!where)
+            where = at ? at : pfx_node_get(sim, "rate");
+        pfx_read_error(&c->r, where ? where : root, PFX_RULE_TOO_MUCH_WORK,
+                       "'prewarm' + 'duration' at %g steps/s is %.0f simulation steps; the most is "
+                       "%.0f",
+                       e->sim_rate, steps, MAX_STEPS);
+    }
+}
+
+/* The passes over all the emitters, once each compiled without error and
+ * the spawn graph between them is resolved: what needs the whole effect
+ * (who is fed by whom, the loop's periods, the horizon, the pools). */
+static void finish_emitters(compiler *c, const pfx_node *root, const pfx_node *emitters) {
+    pfx_effect *e = c->e;
+    const pfx_node *loop = pfx_node_get(root, "loop");
+    /* An emitter fed by sub-emitters emits nothing on its own unless
+     * it says so. */
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        const pfx_node *n = emitters->pairs[i].value;
+        if (e->emitters[i].spawned_peak > 0 && !pfx_node_get(n, "rate") &&
+            !pfx_node_get(n, "interval") && !pfx_node_get(n, "bursts"))
+            e->emitters[i].rate = 0;
+    }
+    if (e->loop)
+        pfx_compile_loop(c, root, loop, emitters);
+    double end = (e->loop ? e->loop_start : e->prewarm) + e->duration;
+    for (size_t i = 0; i < e->emitter_count; i++)
+        e->emitters[i].horizon = end - e->emitters[i].start + 1;
+    /* Frame 0 of a loop comes after its warm-up: bound those steps too. */
+    if (e->loop && end * e->sim_rate > MAX_STEPS)
+        pfx_read_error(&c->r, loop, PFX_RULE_TOO_MUCH_WORK,
+                       "the loop shows frames from t = %g s (when every particle alive "
+                       "repeats), %.0f simulation steps; the most is %.0f: shorten the "
+                       "lifetimes or lower sim.rate",
+                       e->loop_start, end * e->sim_rate, MAX_STEPS);
+    pfx_size_pools(c, emitters);
+}
+
+/* The emitters in file order with their spawn events, then, when nothing
+ * so far had an error (errors_before is the count pfx_compile started
+ * with), the passes over them all. Returns false when out of memory. */
+static bool compile_emitters(compiler *c, const pfx_node *root, int errors_before) {
+    pfx_effect *e = c->e;
+    pfx_diags *d = c->r.d;
+    const pfx_node *emitters = pfx_node_get(root, "emitters");
+    if (!emitters) {
+        pfx_diag_add(d, PFX_SEV_WARNING, root->line, root->col, 1, PFX_RULE_EMPTY_EFFECT,
+                     "the effect has no 'emitters': every frame will be empty");
+    } else if (pfx_read_map(&c->r, emitters, "emitters") && emitters->count > PFX_MAX_EMITTERS) {
+        /* Before compiling any: the cap bounds the work, not only the
+         * result. */
+        pfx_read_error(&c->r, emitters, PFX_RULE_TOO_MANY,
+                       "an effect has at most %d emitters, got %zu", PFX_MAX_EMITTERS,
+                       emitters->count);
+    } else if (emitters->kind == PFX_NODE_MAP) {
+        e->emitters = pfx_arena_alloc(c->r.arena, (emitters->count + 1) * sizeof *e->emitters);
+        if (!e->emitters)
+            return false;
+        for (size_t i = 0; i < emitters->count; i++) {
+            pfx_compile_emitter(c, emitters->pairs[i].key, emitters->pairs[i].value,
+                                &e->emitters[e->emitter_count++]);
+            if (emitters->pairs[i].value->kind == PFX_NODE_MAP)
+                pfx_compile_spawns(&c->r, emitters->pairs[i].value, emitters, &e->emitters[i]);
+        }
+        if (d->errors == errors_before && pfx_resolve_spawns(&c->r, e, emitters) &&
+            pfx_check_ribbons(&c->r, e, emitters))
+            finish_emitters(c, root, emitters);
+    }
+    return true;
+}
+
 pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compile_options *opt,
                         pfx_arena *arena, pfx_diags *d) {
     compiler c = {.r = {d, arena}, .opt = opt};
@@ -333,16 +448,7 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
     if (!e)
         return NULL;
     c.e = e;
-    e->path = path;
-    /* The defaults of every row, then an image of 512 x 512. */
-    pfx_keys_defaults(&pfx_schema_top, e);
-    pfx_keys_defaults(&pfx_sim_table, e);
-    pfx_keys_defaults(&pfx_camera_table, &e->camera);
-    pfx_keys_defaults(&pfx_image_table, e);
-    pfx_look_defaults(e);
-    e->width = e->height = 512;
-    e->max_particles = opt && opt->max_particles ? opt->max_particles : PFX_DEFAULT_MAX_PARTICLES;
-    e->threads = opt ? opt->threads : 0;
+    effect_defaults(e, path, opt);
 
     pfx_keys_check(&c.r, root, &pfx_schema_top, "the effect");
     if (!pfx_node_get(root, "pfx"))
@@ -358,80 +464,9 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
         compile_forces(&c, v);
     if ((v = pfx_node_get(root, "deflectors")))
         compile_deflectors(&c, v);
-
-    if (opt && opt->fps > 0)
-        e->fps = opt->fps;
-    if (opt && opt->has_alpha)
-        e->alpha_mode = opt->alpha;
-    if (opt && opt->width > 0) {
-        e->width = opt->width;
-        e->height = opt->height;
-    }
-    const pfx_node *at = pfx_node_get(root, "duration");
-    if (!at)
-        at = pfx_node_get(root, "fps");
-    if (e->duration * e->fps > MAX_FRAMES)
-        pfx_read_error(&c.r, at ? at : root, PFX_RULE_TOO_MUCH_WORK,
-                       "duration x fps gives %.0f frames; the most is %.0f", e->duration * e->fps,
-                       MAX_FRAMES);
-    /* Every frame needs the simulation run up to it: bound the steps. */
-    double steps = (e->prewarm + e->duration) * e->sim_rate;
-    if (steps > MAX_STEPS) {
-        const pfx_node *sim = pfx_node_get(root, "sim");
-        const pfx_node *where = pfx_node_get(sim, "prewarm");
-        if (!where)
-            where = at ? at : pfx_node_get(sim, "rate");
-        pfx_read_error(&c.r, where ? where : root, PFX_RULE_TOO_MUCH_WORK,
-                       "'prewarm' + 'duration' at %g steps/s is %.0f simulation steps; the most is "
-                       "%.0f",
-                       e->sim_rate, steps, MAX_STEPS);
-    }
-
-    const pfx_node *loop = pfx_node_get(root, "loop");
-    const pfx_node *emitters = pfx_node_get(root, "emitters");
-    if (!emitters) {
-        pfx_diag_add(d, PFX_SEV_WARNING, root->line, root->col, 1, PFX_RULE_EMPTY_EFFECT,
-                     "the effect has no 'emitters': every frame will be empty");
-    } else if (pfx_read_map(&c.r, emitters, "emitters") && emitters->count > PFX_MAX_EMITTERS) {
-        /* Before compiling any: the cap bounds the work, not only the
-         * result. */
-        pfx_read_error(&c.r, emitters, PFX_RULE_TOO_MANY,
-                       "an effect has at most %d emitters, got %zu", PFX_MAX_EMITTERS,
-                       emitters->count);
-    } else if (emitters->kind == PFX_NODE_MAP) {
-        e->emitters = pfx_arena_alloc(arena, (emitters->count + 1) * sizeof *e->emitters);
-        if (!e->emitters)
-            return NULL;
-        for (size_t i = 0; i < emitters->count; i++) {
-            pfx_compile_emitter(&c, emitters->pairs[i].key, emitters->pairs[i].value,
-                                &e->emitters[e->emitter_count++]);
-            if (emitters->pairs[i].value->kind == PFX_NODE_MAP)
-                pfx_compile_spawns(&c.r, emitters->pairs[i].value, emitters, &e->emitters[i]);
-        }
-        if (d->errors == errors_before && pfx_resolve_spawns(&c.r, e, emitters) &&
-            pfx_check_ribbons(&c.r, e, emitters)) {
-            /* An emitter fed by sub-emitters emits nothing on its own unless
-             * it says so. */
-            for (size_t i = 0; i < e->emitter_count; i++) {
-                const pfx_node *n = emitters->pairs[i].value;
-                if (e->emitters[i].spawned_peak > 0 && !pfx_node_get(n, "rate") &&
-                    !pfx_node_get(n, "interval") && !pfx_node_get(n, "bursts"))
-                    e->emitters[i].rate = 0;
-            }
-            if (e->loop)
-                pfx_compile_loop(&c, root, loop, emitters);
-            double end = (e->loop ? e->loop_start : e->prewarm) + e->duration;
-            for (size_t i = 0; i < e->emitter_count; i++)
-                e->emitters[i].horizon = end - e->emitters[i].start + 1;
-            /* Frame 0 of a loop comes after its warm-up: bound those steps too. */
-            if (e->loop && end * e->sim_rate > MAX_STEPS)
-                pfx_read_error(&c.r, loop, PFX_RULE_TOO_MUCH_WORK,
-                               "the loop shows frames from t = %g s (when every particle alive "
-                               "repeats), %.0f simulation steps; the most is %.0f: shorten the "
-                               "lifetimes or lower sim.rate",
-                               e->loop_start, end * e->sim_rate, MAX_STEPS);
-            pfx_size_pools(&c, emitters);
-        }
-    }
+    apply_overrides(e, opt);
+    check_work(&c, root);
+    if (!compile_emitters(&c, root, errors_before))
+        return NULL;
     return d->errors == errors_before ? e : NULL;
 }

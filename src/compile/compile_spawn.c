@@ -174,13 +174,13 @@ static double spawn_factor(const pfx_emitter *parent, const pfx_spawn *s) {
     }
 }
 
-bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) {
+/* Reports every emitter whose sub-emitters lead back to it through spawns
+ * without a depth (such a cycle would never end), at the spawn that could
+ * take one. Returns whether there was none. */
+static bool report_cycles(pfx_reader *r, const pfx_effect *e, const pfx_node *emitters) {
     int errors = r->d->errors;
-    size_t n = e->emitter_count;
     bool seen[PFX_MAX_EMITTERS];
-    if (n > PFX_MAX_EMITTERS) /* pfx_compile checked before compiling them */
-        return false;
-    for (size_t i = 0; i < n; i++) {
+    for (size_t i = 0; i < e->emitter_count; i++) {
         memset(seen, 0, sizeof seen);
         if (undepthed_cycle(e, i, i, 0, seen)) {
             const pfx_emitter *em = &e->emitters[i];
@@ -195,11 +195,16 @@ bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) 
                            em->name);
         }
     }
-    if (r->d->errors != errors)
-        return false;
-    /* A depth counts generations along every spawn, so once any spawn has
-     * one, every emitter that spawns or is spawned keeps its generation
-     * (a cycle with depth on one edge only must still end). */
+    return r->d->errors == errors;
+}
+
+/* The columns the spawns' targets need. A depth counts generations along
+ * every spawn, so once any spawn has one, every emitter that spawns or is
+ * spawned keeps its generation (a cycle with depth on one edge only must
+ * still end); a target keeps the parent's colour or size when a spawn
+ * passes it on. */
+static void mark_kept_columns(pfx_effect *e) {
+    size_t n = e->emitter_count;
     bool depths = false;
     for (size_t i = 0; i < n; i++)
         for (size_t k = 0; k < e->emitters[i].spawn_count; k++)
@@ -213,14 +218,49 @@ bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) 
             t->keeps_parent_color |= s->inherit_color;
             t->keeps_size_scale |= s->inherit_size;
         }
-    /* Generation by generation, the births per second a spawn feeds its
-     * target (factor x the parent's rate) and the most it can feed within
-     * one lifetime of the target: events come in bursts (every parent alive
-     * may die in one step), so a window of the child's lifetime L holds at
-     * most the parent's births in L, plus one, plus every parent alive at
-     * its start, each making the largest count. Without depth the graph is
-     * acyclic, so n generations reach every emitter; with depth, MAX_DEPTH
-     * more bound the cycles. */
+}
+
+/* One generation g of spawning: adds to next_rate/next_peak[t] the births
+ * per second and the most births within one lifetime of t that the spawns
+ * still live at g (their depth not reached) feed target t, from their
+ * parents' rate and peak of generation g. Returns whether any spawn fed. */
+static bool feed_generation(const pfx_effect *e, size_t g, const double *rate, const double *peak,
+                            double *next_rate, double *next_peak) {
+    bool any = false;
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        if (!rate[i] && !peak[i])
+            continue;
+        const pfx_emitter *em = &e->emitters[i];
+        for (size_t k = 0; k < em->spawn_count; k++) {
+            const pfx_spawn *s = &em->spawns[k];
+            if (s->depth && g >= s->depth)
+                continue;
+            const pfx_emitter *t = &e->emitters[s->target];
+            double per_event = s->probability * floor(pfx_value_max(&s->count));
+            double events = rate[i] * t->max_lifetime + 1 + peak[i];
+            if (s->event == PFX_SPAWN_TRAIL)
+                events = peak[i] * (s->rate * t->max_lifetime + 1);
+            else if (s->event == PFX_SPAWN_HIT)
+                events *= HITS_PER_PARTICLE;
+            next_rate[s->target] += spawn_factor(em, s) * rate[i];
+            next_peak[s->target] += per_event * events;
+            any = true;
+        }
+    }
+    return any;
+}
+
+/* Generation by generation, the births per second a spawn feeds its
+ * target (factor x the parent's rate) and the most it can feed within one
+ * lifetime of the target: events come in bursts (every parent alive may
+ * die in one step), so a window of the child's lifetime L holds at most
+ * the parent's births in L, plus one, plus every parent alive at its
+ * start, each making the largest count. Without depth the graph is
+ * acyclic, so n generations reach every emitter; with depth, MAX_DEPTH
+ * more bound the cycles. The sums over generations bound each emitter's
+ * spawned rate and peak. */
+static void bound_spawned(pfx_effect *e) {
+    size_t n = e->emitter_count;
     double rate[PFX_MAX_EMITTERS], peak[PFX_MAX_EMITTERS], next_rate[PFX_MAX_EMITTERS],
         next_peak[PFX_MAX_EMITTERS], total_rate[PFX_MAX_EMITTERS], total_peak[PFX_MAX_EMITTERS];
     for (size_t i = 0; i < n; i++) {
@@ -231,27 +271,7 @@ bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) 
     for (size_t g = 0; g < n + MAX_DEPTH; g++) {
         memset(next_rate, 0, n * sizeof *next_rate);
         memset(next_peak, 0, n * sizeof *next_peak);
-        bool any = false;
-        for (size_t i = 0; i < n; i++) {
-            if (!rate[i] && !peak[i])
-                continue;
-            const pfx_emitter *em = &e->emitters[i];
-            for (size_t k = 0; k < em->spawn_count; k++) {
-                const pfx_spawn *s = &em->spawns[k];
-                if (s->depth && g >= s->depth)
-                    continue;
-                const pfx_emitter *t = &e->emitters[s->target];
-                double per_event = s->probability * floor(pfx_value_max(&s->count));
-                double events = rate[i] * t->max_lifetime + 1 + peak[i];
-                if (s->event == PFX_SPAWN_TRAIL)
-                    events = peak[i] * (s->rate * t->max_lifetime + 1);
-                else if (s->event == PFX_SPAWN_HIT)
-                    events *= HITS_PER_PARTICLE;
-                next_rate[s->target] += spawn_factor(em, s) * rate[i];
-                next_peak[s->target] += per_event * events;
-                any = true;
-            }
-        }
+        bool any = feed_generation(e, g, rate, peak, next_rate, next_peak);
         for (size_t i = 0; i < n; i++) {
             total_rate[i] += next_rate[i];
             total_peak[i] += next_peak[i];
@@ -265,6 +285,15 @@ bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) 
         e->emitters[i].spawned_rate = fmin(total_rate[i], 1e9);
         e->emitters[i].spawned_peak = fmin(ceil(total_peak[i]), 1e9);
     }
+}
+
+bool pfx_resolve_spawns(pfx_reader *r, pfx_effect *e, const pfx_node *emitters) {
+    if (e->emitter_count > PFX_MAX_EMITTERS) /* pfx_compile checked before compiling them */
+        return false;
+    if (!report_cycles(r, e, emitters))
+        return false;
+    mark_kept_columns(e);
+    bound_spawned(e);
     return true;
 }
 

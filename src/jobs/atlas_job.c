@@ -17,74 +17,85 @@ void pfx_atlas_job_describe(const pfx_atlas_layout *l, pfx_manifest *m) {
     pfx_manifest_set_number(m, "atlas_crop", l->crop);
 }
 
-bool pfx_atlas_job_run(const char *dir, const char *stem, long first, long last, double fps,
-                       bool loop, pfx_atlas_layout *l, pfx_manifest *m, pfx_diags *d) {
-    long n = last - first + 1;
-    uint8_t **frames = calloc((size_t)n, sizeof *frames);
-    char **names = calloc((size_t)n, sizeof *names);
-    uint8_t *sheet = NULL;
-    bool ok = frames && names;
-    if (!ok)
-        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
-    char path[4400], png[4400], json[4400];
-    for (long k = 0; ok && k < n; k++) {
+/* One atlas job: the frames STEM_FFFF.png for FFFF in [first, last], read
+ * from DIR, with their file names (for the JSON). */
+typedef struct atlas_job {
+    const char *dir, *stem;
+    long first, last, n;
+    uint8_t **frames;
+    char **names;
+    pfx_atlas_layout *l;
+    pfx_diags *d;
+} atlas_job;
+
+/* Reads every frame, all of one size, which sets l's frame size; stops at
+ * the first that cannot be read or does not match, or when the frames
+ * together would pass the memory bound (checked at the first, before the
+ * rest are read). */
+static bool read_frames(atlas_job *j) {
+    pfx_atlas_layout *l = j->l;
+    char path[4400];
+    for (long k = 0; k < j->n; k++) {
         int w, h;
-        names[k] = malloc(300);
-        if (!names[k]) {
-            pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
-            ok = false;
-            break;
+        j->names[k] = malloc(300);
+        if (!j->names[k]) {
+            pfx_diag_error(j->d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
+            return false;
         }
-        snprintf(names[k], 300, "%s_%04ld.png", stem, first + k);
-        snprintf(path, sizeof path, "%s/%s", dir, names[k]);
-        frames[k] = pfx_png_read(path, &w, &h);
-        if (!frames[k]) {
-            pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read the frame '%s' for the atlas",
+        snprintf(j->names[k], 300, "%s_%04ld.png", j->stem, j->first + k);
+        snprintf(path, sizeof path, "%s/%s", j->dir, j->names[k]);
+        j->frames[k] = pfx_png_read(path, &w, &h);
+        if (!j->frames[k]) {
+            pfx_diag_error(j->d, PFX_RULE_READ_FAILED, "cannot read the frame '%s' for the atlas",
                            path);
-            ok = false;
+            return false;
         } else if (k == 0) {
             l->frame_w = w;
             l->frame_h = h;
-            if ((long long)w * h * 4 * n > PFX_ATLAS_MAX_BYTES) {
-                pfx_diag_error(d, PFX_RULE_MEMORY_BOUND,
+            if ((long long)w * h * 4 * j->n > PFX_ATLAS_MAX_BYTES) {
+                pfx_diag_error(j->d, PFX_RULE_MEMORY_BOUND,
                                "an atlas of %ld frames of %dx%d would hold %lld MiB of frames, "
                                "over the %lld MiB bound",
-                               n, w, h, (long long)w * h * 4 * n >> 20, PFX_ATLAS_MAX_BYTES >> 20);
-                ok = false;
+                               j->n, w, h, (long long)w * h * 4 * j->n >> 20,
+                               PFX_ATLAS_MAX_BYTES >> 20);
+                return false;
             }
         } else if (w != l->frame_w || h != l->frame_h) {
-            pfx_diag_error(d, PFX_RULE_INVALID_FILE,
+            pfx_diag_error(j->d, PFX_RULE_INVALID_FILE,
                            "'%s' is %dx%d, not %dx%d like the frames before it", path, w, h,
                            l->frame_w, l->frame_h);
-            ok = false;
+            return false;
         }
     }
-    l->frames = (int)n;
-    l->crop_w = 0;
-    if (ok && l->crop)
-        pfx_atlas_find_crop(l, frames, (int)n);
-    ok = ok && pfx_atlas_layout_resolve(l, d);
-    if (ok && !(sheet = pfx_atlas_compose(l, frames))) {
-        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for an atlas of %dx%d", l->width,
-                       l->height);
-        ok = false;
-    }
+    return true;
+}
+
+/* Writes DIR/STEM_atlas.png, the motion-vector sheet when asked, then the
+ * JSON that names them (last, so a JSON never names a missing image), and
+ * adds them to the manifest m (when given). A failure leaves none of the
+ * images behind. */
+static bool write_outputs(const atlas_job *j, const uint8_t *sheet, double fps, bool loop,
+                          pfx_manifest *m) {
+    pfx_atlas_layout *l = j->l;
+    const char *dir = j->dir, *stem = j->stem;
+    char png[4400], json[4400];
     char image[300];
     snprintf(image, sizeof image, "%s_atlas.png", stem);
     snprintf(png, sizeof png, "%s/%s", dir, image);
     snprintf(json, sizeof json, "%s/%s_atlas.json", dir, stem);
-    ok = ok && pfx_png_write(png, sheet, l->width, l->height, d);
+    bool ok = pfx_png_write(png, sheet, l->width, l->height, j->d);
     /* --motion-vectors: their sheet in the same layout, before the JSON
      * that names it. */
     char mv_image[300] = "", mv_png[4400];
     snprintf(mv_png, sizeof mv_png, "%s/%s_mv_atlas.png", dir, stem);
     if (ok && l->motion &&
-        !pfx_mv_atlas_write(dir, stem, first, last, l, mv_image, sizeof mv_image, d)) {
+        !pfx_mv_atlas_write(dir, stem, j->first, j->last, l, mv_image, sizeof mv_image, j->d)) {
         remove(png);
         ok = false;
     }
     l->motion_image = mv_image;
-    if (ok && !pfx_atlas_write_json(json, l, image, (const char *const *)names, fps, loop, d)) {
+    if (ok &&
+        !pfx_atlas_write_json(json, l, image, (const char *const *)j->names, fps, loop, j->d)) {
         remove(png); /* both or neither */
         if (l->motion)
             remove(mv_png);
@@ -94,16 +105,41 @@ bool pfx_atlas_job_run(const char *dir, const char *stem, long first, long last,
     if (ok && m) {
         char name[320];
         snprintf(name, sizeof name, "%s_atlas.json", stem);
-        ok = pfx_manifest_add_output(m, dir, image, d) &&
-             pfx_manifest_add_output(m, dir, name, d) &&
-             (!l->motion || pfx_manifest_add_output(m, dir, mv_image, d));
+        ok = pfx_manifest_add_output(m, dir, image, j->d) &&
+             pfx_manifest_add_output(m, dir, name, j->d) &&
+             (!l->motion || pfx_manifest_add_output(m, dir, mv_image, j->d));
     }
-    for (long k = 0; frames && k < n; k++)
-        free(frames[k]);
-    for (long k = 0; names && k < n; k++)
-        free(names[k]);
-    free(frames);
-    free(names);
+    return ok;
+}
+
+bool pfx_atlas_job_run(const char *dir, const char *stem, long first, long last, double fps,
+                       bool loop, pfx_atlas_layout *l, pfx_manifest *m, pfx_diags *d) {
+    long n = last - first + 1;
+    atlas_job j = {.dir = dir, .stem = stem, .first = first, .last = last, .n = n, .l = l, .d = d};
+    j.frames = calloc((size_t)n, sizeof *j.frames);
+    j.names = calloc((size_t)n, sizeof *j.names);
+    uint8_t *sheet = NULL;
+    bool ok = j.frames && j.names;
+    if (!ok)
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
+    ok = ok && read_frames(&j);
+    l->frames = (int)n;
+    l->crop_w = 0;
+    if (ok && l->crop)
+        pfx_atlas_find_crop(l, j.frames, (int)n);
+    ok = ok && pfx_atlas_layout_resolve(l, d);
+    if (ok && !(sheet = pfx_atlas_compose(l, j.frames))) {
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for an atlas of %dx%d", l->width,
+                       l->height);
+        ok = false;
+    }
+    ok = ok && write_outputs(&j, sheet, fps, loop, m);
+    for (long k = 0; j.frames && k < n; k++)
+        free(j.frames[k]);
+    for (long k = 0; j.names && k < n; k++)
+        free(j.names[k]);
+    free(j.frames);
+    free(j.names);
     free(sheet);
     return ok;
 }

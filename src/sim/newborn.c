@@ -14,6 +14,77 @@
 #include "sim/spawn.h"
 #include "sim/step.h"
 
+/* Writes the newborn's drawn state into row j of pool p, column by
+ * column: only the columns the pool has (the emitter's features decide
+ * which); what a parent passes on (colour, size, generation, id) comes from
+ * `parent`, else the defaults. k is the particle's birth number, its id. */
+static void write_newborn(pfx_pool *p, uint32_t j, const birth_draws *b, uint64_t k, double tb,
+                          const pfx_parent *parent) {
+    p->px[j] = (float)b->pos[0], p->py[j] = (float)b->pos[1], p->pz[j] = (float)b->pos[2];
+    p->vx[j] = (float)b->vel[0], p->vy[j] = (float)b->vel[1], p->vz[j] = (float)b->vel[2];
+    p->birth[j] = tb;
+    p->lifetime[j] = (float)b->life;
+    p->id[j] = (uint32_t)k;
+    if (p->gravity_scale)
+        p->gravity_scale[j] = (float)b->gs;
+    if (p->size0)
+        p->size0[j] = (float)b->s0;
+    if (p->size1)
+        p->size1[j] = (float)b->s1;
+    if (p->charge)
+        p->charge[j] = (float)b->q;
+    if (p->mass)
+        p->mass[j] = (float)b->mass;
+    if (p->bx)
+        p->bx[j] = (float)b->pos[0], p->by[j] = (float)b->pos[1], p->bz[j] = (float)b->pos[2];
+    if (p->stuck)
+        p->stuck[j] = 0;
+    if (p->tint)
+        p->tint[j] = (float)b->tint;
+    if (p->angle0)
+        p->angle0[j] = (float)b->angle;
+    if (p->spin)
+        p->spin[j] = (float)b->spin;
+    if (p->generation)
+        p->generation[j] = parent ? parent->generation + 1 : 0;
+    if (p->pr) {
+        bool inherit = parent && parent->inherit_color;
+        p->pr[j] = inherit ? parent->color[0] : 1;
+        p->pg[j] = inherit ? parent->color[1] : 1;
+        p->pb[j] = inherit ? parent->color[2] : 1;
+    }
+    if (p->size_scale)
+        p->size_scale[j] = parent && parent->inherit_size ? parent->size : 1;
+    if (p->parent_id)
+        p->parent_id[j] = parent ? parent->id : UINT32_MAX;
+}
+
+/* The rest of the step after the birth, by the emitter's own method: the
+ * state stored at birth is stepped over `age` exactly as a particle started
+ * alone at tb would be (the same scheme, substeps no longer than the full
+ * step's, operators included). Gravity alone is the constant-acceleration
+ * closed form, in double. The start state is saved first for the collide
+ * pass, which sweeps this partial step like a full one. */
+static void advance_newborn(pfx_sim *s, size_t i, uint32_t j, double gs, double tb, double age) {
+    const pfx_emitter *em = &s->effect->emitters[i];
+    pfx_pool *p = &s->pools[i];
+    if (em->deflector_count) {
+        p->start_px[j] = p->px[j], p->start_py[j] = p->py[j], p->start_pz[j] = p->pz[j];
+        p->start_vx[j] = p->vx[j], p->start_vy[j] = p->vy[j], p->start_vz[j] = p->vz[j];
+    }
+    if (em->motion) {
+        pfx_motion_pool_f one = pfx_step_motion_view(p, j, 1);
+        pfx_motion_advance_f(&s->plans[i], &one, tb, age);
+    } else {
+        float *x[3] = {p->px, p->py, p->pz}, *v[3] = {p->vx, p->vy, p->vz};
+        for (int a = 0; a < 3; a++) {
+            double acc = em->accel[a] * gs, x0 = x[a][j], u0 = v[a][j];
+            x[a][j] = (float)(x0 + u0 * age + 0.5 * acc * age * age);
+            v[a][j] = (float)(u0 + acc * age);
+        }
+    }
+}
+
 bool pfx_sim_make_particle(pfx_sim *s, size_t i, double tb, double t1, const pfx_parent *parent) {
     const pfx_emitter *em = &s->effect->emitters[i];
     pfx_emitter_state *st = &s->emitters[i];
@@ -34,66 +105,10 @@ bool pfx_sim_make_particle(pfx_sim *s, size_t i, double tb, double t1, const pfx
     if (age >= b.life)
         return false; /* would already be dead: never created */
     uint32_t j = p->count++;
-    p->px[j] = (float)b.pos[0], p->py[j] = (float)b.pos[1], p->pz[j] = (float)b.pos[2];
-    p->vx[j] = (float)b.vel[0], p->vy[j] = (float)b.vel[1], p->vz[j] = (float)b.vel[2];
-    p->birth[j] = tb;
-    p->lifetime[j] = (float)b.life;
-    p->id[j] = (uint32_t)k;
-    if (p->gravity_scale)
-        p->gravity_scale[j] = (float)b.gs;
-    if (p->size0)
-        p->size0[j] = (float)b.s0;
-    if (p->size1)
-        p->size1[j] = (float)b.s1;
-    if (p->charge)
-        p->charge[j] = (float)b.q;
-    if (p->mass)
-        p->mass[j] = (float)b.mass;
-    if (p->bx)
-        p->bx[j] = (float)b.pos[0], p->by[j] = (float)b.pos[1], p->bz[j] = (float)b.pos[2];
-    if (p->stuck)
-        p->stuck[j] = 0;
-    if (p->tint)
-        p->tint[j] = (float)b.tint;
-    if (p->angle0)
-        p->angle0[j] = (float)b.angle;
-    if (p->spin)
-        p->spin[j] = (float)b.spin;
-    if (p->generation)
-        p->generation[j] = parent ? parent->generation + 1 : 0;
-    if (p->pr) {
-        bool inherit = parent && parent->inherit_color;
-        p->pr[j] = inherit ? parent->color[0] : 1;
-        p->pg[j] = inherit ? parent->color[1] : 1;
-        p->pb[j] = inherit ? parent->color[2] : 1;
-    }
-    if (p->size_scale)
-        p->size_scale[j] = parent && parent->inherit_size ? parent->size : 1;
-    if (p->parent_id)
-        p->parent_id[j] = parent ? parent->id : UINT32_MAX;
+    write_newborn(p, j, &b, k, tb, parent);
     const double v0[3] = {b.vel[0], b.vel[1], b.vel[2]};
-    if (age > 0) {
-        /* The rest of the step after the birth, by the emitter's own method:
-         * the state stored at birth is stepped over `age` exactly as a
-         * particle started alone at tb would be (the same scheme, substeps
-         * no longer than the full step's, operators included). Gravity
-         * alone is the constant-acceleration closed form, in double. */
-        if (em->deflector_count) {
-            p->start_px[j] = p->px[j], p->start_py[j] = p->py[j], p->start_pz[j] = p->pz[j];
-            p->start_vx[j] = p->vx[j], p->start_vy[j] = p->vy[j], p->start_vz[j] = p->vz[j];
-        }
-        if (em->motion) {
-            pfx_motion_pool_f one = pfx_step_motion_view(p, j, 1);
-            pfx_motion_advance_f(&s->plans[i], &one, tb, age);
-        } else {
-            float *x[3] = {p->px, p->py, p->pz}, *v[3] = {p->vx, p->vy, p->vz};
-            for (int a = 0; a < 3; a++) {
-                double acc = em->accel[a] * b.gs, x0 = x[a][j], u0 = v[a][j];
-                x[a][j] = (float)(x0 + u0 * age + 0.5 * acc * age * age);
-                v[a][j] = (float)(u0 + acc * age);
-            }
-        }
-    }
+    if (age > 0)
+        advance_newborn(s, i, j, b.gs, tb, age);
     if (!em->motion && !p->may_run_away) {
         const float x[3] = {p->px[j], p->py[j], p->pz[j]}, v[3] = {p->vx[j], p->vy[j], p->vz[j]};
         const double a[3] = {em->accel[0] * b.gs, em->accel[1] * b.gs, em->accel[2] * b.gs};

@@ -1,0 +1,98 @@
+/* What the files of the collide pass share; private to src/sim/collide*.c.
+ * collide.c runs the pass (broad phase, then each near particle),
+ * collide_shape.c holds the exact geometry of each deflector shape (time of
+ * impact, constraint, snap), collide_resolve.c the response and the walk
+ * through a step from hit to hit. All three are built with -fno-math-errno
+ * (CMakeLists.txt), as the one file they came from was. */
+#ifndef PFX_COLLIDE_INTERNAL_H
+#define PFX_COLLIDE_INTERNAL_H
+
+#include <math.h>
+
+#include "sim/collide.h"
+
+/* Or'ed into a hit count: the particle was killed or stuck. */
+enum { TERMINAL = 1 << 30 };
+
+/* Relative size of rounding noise in a component that was removed exactly
+ * in real arithmetic (a few ulps of the vector it came from). */
+#define NOISE 1e-12
+/* Distance, relative to the coordinates, within which a point is on a
+ * surface: 2^-21, four float ulps. */
+#define TOUCH 4.76837158203125e-7
+
+/* fmin/fmax are library calls on some targets; the hot loop has no NaNs */
+static inline double dmin(double a, double b) { return a < b ? a : b; }
+static inline double dmax(double a, double b) { return a > b ? a : b; }
+
+/* A deflector in the form the hit tests need, derived once per call. */
+typedef struct prep {
+    pfx_deflector_shape shape;
+    bool thin;           /* disc, bounded plane: either face, no wrong side */
+    bool inside;         /* sphere, box */
+    double p[3], n[3];   /* point or centre; unit normal */
+    double u[3], w[3];   /* bounded plane: in-plane unit axes */
+    double hu, hw;       /* bounded plane: half width and height */
+    double r;            /* disc, sphere */
+    double lo[3], hi[3]; /* box: face coordinates c -+ h, so a snapped face is exactly 0 */
+    double edge_tol;     /* box: slack of the face bounds, so an edge hit is never lost */
+    double mu_slide;     /* friction while sliding: the midpoint of the range */
+} prep;
+
+/* One particle's working state through the step. side[k]: 0 when deflector
+ * k does not concern it this step (its chance says pass, or it started on
+ * the solid side), +1 for an active one-sided shape, and for a thin shape
+ * the side of its plane the particle is on (+1 in front of the normal). */
+typedef struct body {
+    double x[3], v[3], a[3];
+    int8_t side[PFX_COLLIDE_MAX_DEFLECTORS];
+    uint32_t i;
+    int contacts; /* surfaces it rests on this step: 0, 1, 2 (a crease) or 3 (wedged) */
+    size_t ck;    /* the first one */
+    double cn[3]; /* and its normal */
+    double fric;  /* Coulomb deceleration: sum of mu |a_N| over them */
+    long slide;   /* an inside sphere it rests on (see hold), or -1 */
+} body;
+
+typedef struct ctx {
+    const pfx_deflector *defl;
+    const prep *pr;
+    size_t nd;
+    double dt;
+    const pfx_collide_pool *pool;
+    pfx_rng *rng;
+    pfx_hit_fn on_hit;
+    void *user;
+    pfx_collide_stats *stats;
+} ctx;
+
+typedef struct hit {
+    double s; /* time after the segment's start */
+    size_t k;
+    int face; /* box: 2 * axis + (0: high face, 1: low face) */
+    int side; /* thin shapes: the face hit (+1: front of the normal) */
+} hit;
+
+static inline double dot(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* The point at time s on the path x + v s + a s^2/2. */
+static inline void pos_at(const double x[3], const double v[3], const double a[3], double s,
+                          double out[3]) {
+    for (int j = 0; j < 3; j++)
+        out[j] = x[j] + (v[j] + 0.5 * a[j] * s) * s;
+}
+
+/* collide_shape.c: the geometry of one deflector. */
+void pfx_collide_prepare(const pfx_deflector *d, prep *p);
+double pfx_collide_constraint(const prep *p, int side, const double x[3], double n[3]);
+bool pfx_collide_detect(const prep *p, int side, const double x[3], const double v[3],
+                        const double a[3], double T, double touch, hit *h);
+void pfx_collide_snap(const prep *p, const hit *h, double x[3], double n[3]);
+
+/* collide_resolve.c: one particle through one step. */
+int pfx_collide_resolve(const ctx *c, body *b);
+void pfx_collide_store(const ctx *c, body *b);
+
+#endif
