@@ -1,0 +1,201 @@
+/* pfx render FILE... -o DIR: for each effect the frames (PNG or EXR),
+ * their manifest and depfile, and with the options an atlas, motion
+ * vectors and a preview; skipped when the manifest proves it up to date. */
+#include "commands/commands.h"
+
+#include <string.h>
+#include <unistd.h>
+
+#include "jobs/atlas_job.h"
+#include "jobs/motion_job.h"
+#include "jobs/parallel.h"
+#include "jobs/preview.h"
+#include "jobs/progress.h"
+#include "jobs/slice.h"
+
+/* Renders one effect file into dir: the whole of `pfx render` for one FILE.
+ * Returns the exit status. */
+static int render_one(const char *path, const char *dir, pfx_renderer_kind kind, const pfx_cli *o) {
+    pfx_loaded l;
+    pfx_effect *e = pfx_cli_load(&l, path, o);
+    int status = EXIT_INVALID;
+    pfx_diags run;
+    pfx_diags_init_runtime(&run);
+    char stem[256], manifest[4096 + 320];
+    pfx_cli_file_stem(path, stem, sizeof stem);
+    snprintf(manifest, sizeof manifest, "%s/%s.manifest.json", dir, stem);
+    pfx_render_job job = {.effect = e,
+                          .dir = dir,
+                          .stem = stem,
+                          .format = o->frames_as,
+                          .progress = !o->quiet && !o->progress_json && isatty(2)};
+    pfx_progress progress;
+    bool reporting = false;
+    pfx_delivery dl = {.dir = dir,
+                       .manifest_path = manifest,
+                       .depfile = o->depfile,
+                       .target = manifest,
+                       .force = o->force};
+    if (!e)
+        goto done;
+    if (!pfx_cli_frame_range(e, o, &job.first, &job.last)) {
+        status = EXIT_USAGE;
+        goto done;
+    }
+    /* A slice: its part of the range, and a manifest of its own, so that
+     * slices may share a directory. */
+    long all_first = job.first, all_last = job.last;
+    if (o->slices) {
+        pfx_slice_range(all_first, all_last, o->slice, o->slices, &job.first, &job.last);
+        snprintf(manifest, sizeof manifest, "%s/%s.slice-%04ld-of-%04ld.manifest.json", dir, stem,
+                 o->slice, o->slices);
+    }
+    if (o->progress_json) {
+        pfx_progress_init(&progress, stderr, path, job.last - job.first + 1);
+        job.on_frame = pfx_progress_frame;
+        job.on_frame_ctx = &progress;
+        reporting = true;
+    }
+    if (!pfx_cli_memory_fits(e, job.first, job.last, true, o, &run))
+        goto done;
+    /* The renderer before the directory: one that cannot start writes
+     * nothing. */
+    job.renderer = pfx_renderer_create(kind, e->width, e->height, &run);
+    if (!job.renderer || !pfx_cli_make_dirs(dir, &run))
+        goto done;
+    if (!pfx_delivery_begin(&dl, "render", &run) ||
+        !pfx_cli_describe_run(&dl, e, job.first, job.last, &run))
+        goto done;
+    pfx_manifest_set_string(dl.now, "renderer", pfx_renderer_name(job.renderer));
+    if (o->frames_as != PFX_FRAME_PNG) /* PNG, the default, keeps the keys it had */
+        pfx_manifest_set_string(dl.now, "format", pfx_frame_format_name(o->frames_as));
+    if (o->slices)
+        pfx_manifest_set_slice(dl.now, o->slice, o->slices, all_first, all_last);
+    pfx_atlas_layout atlas = o->atlas_layout;
+    if (o->atlas) {
+        /* The sheet's size is known now but for --crop, which only makes
+         * it smaller: one that cannot be made fails before any frame. */
+        pfx_atlas_layout check = atlas;
+        check.frame_w = e->width;
+        check.frame_h = e->height;
+        check.frames = (int)(job.last - job.first + 1);
+        if (!pfx_atlas_layout_resolve(&check, &run))
+            goto done;
+        pfx_atlas_job_describe(&atlas, dl.now);
+    }
+    if (o->preview)
+        pfx_manifest_set_string(dl.now, "preview", o->preview);
+    pfx_mv_meta mv = {
+        .max_px = o->mv_max, .max_given = o->mv_max > 0, .flip_y = o->mv_flip_y, .fps = e->fps};
+    if (o->motion_vectors)
+        pfx_mv_describe(&mv, dl.now);
+    if (pfx_delivery_up_to_date(&dl) && (!o->preview || access(o->preview, F_OK) == 0)) {
+        if (pfx_delivery_skip(&dl, &run)) {
+            pfx_cli_say_up_to_date(o, path, dir, &dl);
+            status = 0;
+        }
+        goto done;
+    }
+    /* --motion-vectors: one scale for the whole sequence, whatever the
+     * range, unless --mv-max gives it. */
+    if (o->motion_vectors) {
+        if (!mv.max_given && !pfx_mv_sequence_max(e, &mv.max_px, &run))
+            goto done;
+        job.motion = &mv;
+        atlas.motion = &mv;
+    }
+    if (!(o->jobs > 1 ? pfx_render_job_run_parallel(&job, kind, o->jobs, &run)
+                      : pfx_render_job_run(&job, &run)))
+        goto done;
+    for (long f = job.first; f <= job.last; f++) {
+        char name[300];
+        snprintf(name, sizeof name, "%s_%04ld.%s", stem, f, pfx_frame_format_name(o->frames_as));
+        if (!pfx_manifest_add_output(dl.now, dir, name, &run))
+            goto done;
+    }
+    if (o->motion_vectors &&
+        (!pfx_mv_add_outputs(dl.now, dir, stem, job.first, job.last, &run) ||
+         (!o->atlas && !pfx_mv_sidecar_run(dir, stem, job.first, job.last, &mv, dl.now, &run))))
+        goto done;
+    if (o->atlas &&
+        !pfx_atlas_job_run(dir, stem, job.first, job.last, e->fps, e->loop, &atlas, dl.now, &run))
+        goto done;
+    if (o->preview && !pfx_preview_run(dir, stem, job.first, job.last, e->fps, o->preview, &run))
+        goto done;
+    if (!pfx_delivery_finish(&dl, &run))
+        goto done;
+    if (!o->quiet) {
+        pfx_sim_note_dropped(job.sim, &run);
+        if (job.first > job.last)
+            fprintf(stderr, "pfx: slice %ld of %ld of '%s' has no frames (%ld frames in all)",
+                    o->slice, o->slices, path, all_last - all_first + 1);
+        else
+            fprintf(stderr, "pfx: rendered '%s': %ld frames (%ld to %ld) in '%s'", path,
+                    job.frames_done, job.first, job.last, dir);
+        if (o->slices && job.first <= job.last)
+            fprintf(stderr, ", slice %ld of %ld", o->slice, o->slices);
+        if (o->atlas)
+            fprintf(stderr, ", atlas %dx%d of %dx%d", atlas.columns, atlas.rows, atlas.width,
+                    atlas.height);
+        if (o->preview)
+            fprintf(stderr, ", preview '%s'", o->preview);
+        if (o->motion_vectors)
+            fprintf(stderr, ", motion vectors up to %g px", mv.max_px);
+        if (dl.stale_removed)
+            fprintf(stderr, ", %zu stale removed", dl.stale_removed);
+        fputc('\n', stderr);
+    }
+    status = 0;
+done:
+    pfx_diags_print(&run, stderr, false);
+    if (reporting)
+        pfx_progress_finish(&progress, status);
+    pfx_diags_free(&run);
+    pfx_delivery_free(&dl);
+    pfx_renderer_destroy(job.renderer);
+    pfx_render_job_free(&job);
+    pfx_loaded_free(&l);
+    return status;
+}
+
+/* pfx render FILE... -o DIR: one file into DIR, several each into
+ * DIR/<name>/, one after another (-j works inside each); the exit status is
+ * the worst, and the first failure stops the rest unless --keep-going. */
+int pfx_cmd_render(const char *const *operands, int count, const pfx_cli *o) {
+    if (count < 1)
+        return pfx_cli_usage_error("%s", "render needs a FILE and -o DIR");
+    if (!o->output)
+        return pfx_cli_usage_error("%s", "render needs -o DIR");
+    int files = count;
+    if (files > 1 && o->depfile)
+        return pfx_cli_usage_error("%s", "--depfile names one target: give one FILE");
+    for (int i = 0; i < count; i++)
+        for (int k = 0; k < i; k++) {
+            char a[256], b[256];
+            pfx_cli_file_stem(operands[i], a, sizeof a);
+            pfx_cli_file_stem(operands[k], b, sizeof b);
+            if (!strcmp(a, b))
+                return pfx_cli_usage_error("two effects would render into '%s': rename one", a);
+        }
+    pfx_renderer_kind kind;
+    if (!pfx_cli_renderer_kind(o, &kind))
+        return EXIT_USAGE;
+    int worst = 0;
+    for (int i = 0; i < count; i++) {
+        char dir[4096], stem[256];
+        pfx_cli_file_stem(operands[i], stem, sizeof stem);
+        snprintf(dir, sizeof dir, "%s/%s", o->output, stem);
+        int status = render_one(operands[i], files > 1 ? dir : o->output, kind, o);
+        if (status > worst)
+            worst = status;
+        if (status && !o->keep_going) {
+            if (i + 1 < count)
+                fprintf(stderr,
+                        "pfx: stopped after '%s' failed; %d file%s not rendered "
+                        "(--keep-going renders them)\n",
+                        operands[i], count - i - 1, count - i - 1 == 1 ? "" : "s");
+            break;
+        }
+    }
+    return worst;
+}

@@ -1,0 +1,67 @@
+/* pfx validate FILE... (text, JSON lines or one SARIF log) and pfx schema
+ * (the JSON Schema generated from the key tables). */
+#include "commands/commands.h"
+
+#include "compile/schema.h"
+#include "jobs/estimate.h"
+#include "output/sarif.h"
+
+int pfx_cmd_validate(const char *const *operands, int count, const pfx_cli *o) {
+    if (o->list_rules) {
+        pfx_rules_print(stdout);
+        return 0;
+    }
+    if (count < 1)
+        return pfx_cli_usage_error("%s", "validate needs at least one FILE");
+    int status = 0;
+    /* --format sarif: every file's diagnostics gather into one log, written
+     * to stdout at the end (stderr keeps the --werror lines and failures
+     * to build or write the log). */
+    pfx_diags run;
+    pfx_diags_init_runtime(&run);
+    pfx_sarif *sarif = o->sarif ? pfx_sarif_create() : NULL;
+    if (o->sarif && !sarif)
+        pfx_diag_error(&run, PFX_RULE_OUT_OF_MEMORY, "out of memory for the SARIF log");
+    for (int i = 0; i < count && !run.errors; i++) {
+        pfx_loaded l;
+        pfx_effect *e = pfx_load(&l, operands[i], &o->compile);
+        if (e) {
+            /* The whole render, every frame: what it would cost. */
+            pfx_estimate est;
+            pfx_estimate_run(e, 0, pfx_effect_frame_count(e) - 1, true, &est);
+            pfx_estimate_warn(&l, &est, o->max_memory);
+        }
+        if (sarif && !pfx_sarif_add(sarif, &l.diags))
+            pfx_diag_error(&run, PFX_RULE_OUT_OF_MEMORY, "out of memory for the SARIF log");
+        if (!sarif)
+            pfx_diags_print(&l.diags, stderr, o->json);
+        if (!e || pfx_cli_fails_on_warnings(&l, operands[i], o))
+            status = EXIT_INVALID;
+        pfx_loaded_free(&l);
+    }
+    if (sarif && !run.errors && !pfx_sarif_write(sarif, stdout))
+        pfx_diag_error(&run, PFX_RULE_WRITE_FAILED,
+                       "cannot write the SARIF log to standard output");
+    pfx_sarif_destroy(sarif);
+    pfx_diags_print(&run, stderr, false);
+    if (run.errors)
+        status = EXIT_INVALID;
+    pfx_diags_free(&run);
+    return status;
+}
+
+/* The JSON Schema of the effect format, from the key tables. */
+int pfx_cmd_schema(const char *const *operands, int count, const pfx_cli *o) {
+    if (count != 0)
+        return pfx_cli_usage_error("%s", "schema takes no FILE");
+    (void)operands;
+    (void)o;
+    char *text = pfx_schema_text();
+    if (!text) {
+        fputs("pfx: out of memory\n", stderr);
+        return EXIT_INVALID;
+    }
+    puts(text);
+    free(text);
+    return ferror(stdout) ? EXIT_INVALID : 0;
+}
