@@ -148,74 +148,78 @@ static const char *option_word(char **argv, int opt) {
     return argv[optind - 1];
 }
 
-/* Parses the options after the command; returns -1 on success or the exit
- * status to stop with. Positional arguments are left in argv[optind..]. */
-static int parse_options(int argc, char **argv, pfx_cli *o) {
-    enum {
-        OPT_FRAMES = 256,
-        OPT_SIZE,
-        OPT_FPS,
-        OPT_SEED,
-        OPT_MAX,
-        OPT_EVERY,
-        OPT_FORMAT,
-        OPT_RENDERER,
-        OPT_ALPHA,
-        OPT_MAX_MEMORY,
-        OPT_THREADS,
-        OPT_JSON,
-        OPT_FORCE,
-        OPT_DEPFILE,
-        OPT_SLICE,
-        OPT_SLICE_ENV,
-        OPT_SLICE_COUNT,
-        OPT_KEEP_GOING,
-        OPT_PROGRESS,
-        OPT_WERROR,
-        OPT_LIST_RULES,
-        OPT_ATLAS,
-        OPT_PADDING,
-        OPT_EXTRUDE,
-        OPT_CROP,
-        OPT_PREVIEW,
-        OPT_MOTION_VECTORS,
-        OPT_MV_MAX,
-        OPT_MV_FLIP_Y
-    };
-    static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
-                                             {"frames", required_argument, 0, OPT_FRAMES},
-                                             {"size", required_argument, 0, OPT_SIZE},
-                                             {"fps", required_argument, 0, OPT_FPS},
-                                             {"seed", required_argument, 0, OPT_SEED},
-                                             {"max-particles", required_argument, 0, OPT_MAX},
-                                             {"every", required_argument, 0, OPT_EVERY},
-                                             {"format", required_argument, 0, OPT_FORMAT},
-                                             {"renderer", required_argument, 0, OPT_RENDERER},
-                                             {"force", no_argument, 0, OPT_FORCE},
-                                             {"depfile", required_argument, 0, OPT_DEPFILE},
-                                             {"slice", required_argument, 0, OPT_SLICE},
-                                             {"slice-env", required_argument, 0, OPT_SLICE_ENV},
-                                             {"slice-count", required_argument, 0, OPT_SLICE_COUNT},
-                                             {"jobs", required_argument, 0, 'j'},
-                                             {"keep-going", no_argument, 0, OPT_KEEP_GOING},
-                                             {"progress", required_argument, 0, OPT_PROGRESS},
-                                             {"werror", no_argument, 0, OPT_WERROR},
-                                             {"list-rules", no_argument, 0, OPT_LIST_RULES},
-                                             {"atlas", optional_argument, 0, OPT_ATLAS},
-                                             {"padding", required_argument, 0, OPT_PADDING},
-                                             {"extrude", required_argument, 0, OPT_EXTRUDE},
-                                             {"crop", no_argument, 0, OPT_CROP},
-                                             {"preview", required_argument, 0, OPT_PREVIEW},
-                                             {"motion-vectors", no_argument, 0, OPT_MOTION_VECTORS},
-                                             {"mv-max", required_argument, 0, OPT_MV_MAX},
-                                             {"mv-flip-y", no_argument, 0, OPT_MV_FLIP_Y},
-                                             {"alpha", required_argument, 0, OPT_ALPHA},
-                                             {"max-memory", required_argument, 0, OPT_MAX_MEMORY},
-                                             {"threads", required_argument, 0, OPT_THREADS},
-                                             {"json", no_argument, 0, OPT_JSON},
-                                             {"quiet", no_argument, 0, 'q'},
-                                             {"help", no_argument, 0, 'h'},
-                                             {0, 0, 0, 0}};
+/* The long options, one row each; the values past 255 name the ones
+ * without a short form. */
+enum {
+    OPT_FRAMES = 256,
+    OPT_SIZE,
+    OPT_FPS,
+    OPT_SEED,
+    OPT_MAX,
+    OPT_EVERY,
+    OPT_FORMAT,
+    OPT_RENDERER,
+    OPT_ALPHA,
+    OPT_MAX_MEMORY,
+    OPT_THREADS,
+    OPT_JSON,
+    OPT_FORCE,
+    OPT_DEPFILE,
+    OPT_SLICE,
+    OPT_SLICE_ENV,
+    OPT_SLICE_COUNT,
+    OPT_KEEP_GOING,
+    OPT_PROGRESS,
+    OPT_WERROR,
+    OPT_LIST_RULES,
+    OPT_ATLAS,
+    OPT_PADDING,
+    OPT_EXTRUDE,
+    OPT_CROP,
+    OPT_PREVIEW,
+    OPT_MOTION_VECTORS,
+    OPT_MV_MAX,
+    OPT_MV_FLIP_Y
+};
+
+static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
+                                         {"frames", required_argument, 0, OPT_FRAMES},
+                                         {"size", required_argument, 0, OPT_SIZE},
+                                         {"fps", required_argument, 0, OPT_FPS},
+                                         {"seed", required_argument, 0, OPT_SEED},
+                                         {"max-particles", required_argument, 0, OPT_MAX},
+                                         {"every", required_argument, 0, OPT_EVERY},
+                                         {"format", required_argument, 0, OPT_FORMAT},
+                                         {"renderer", required_argument, 0, OPT_RENDERER},
+                                         {"force", no_argument, 0, OPT_FORCE},
+                                         {"depfile", required_argument, 0, OPT_DEPFILE},
+                                         {"slice", required_argument, 0, OPT_SLICE},
+                                         {"slice-env", required_argument, 0, OPT_SLICE_ENV},
+                                         {"slice-count", required_argument, 0, OPT_SLICE_COUNT},
+                                         {"jobs", required_argument, 0, 'j'},
+                                         {"keep-going", no_argument, 0, OPT_KEEP_GOING},
+                                         {"progress", required_argument, 0, OPT_PROGRESS},
+                                         {"werror", no_argument, 0, OPT_WERROR},
+                                         {"list-rules", no_argument, 0, OPT_LIST_RULES},
+                                         {"atlas", optional_argument, 0, OPT_ATLAS},
+                                         {"padding", required_argument, 0, OPT_PADDING},
+                                         {"extrude", required_argument, 0, OPT_EXTRUDE},
+                                         {"crop", no_argument, 0, OPT_CROP},
+                                         {"preview", required_argument, 0, OPT_PREVIEW},
+                                         {"motion-vectors", no_argument, 0, OPT_MOTION_VECTORS},
+                                         {"mv-max", required_argument, 0, OPT_MV_MAX},
+                                         {"mv-flip-y", no_argument, 0, OPT_MV_FLIP_Y},
+                                         {"alpha", required_argument, 0, OPT_ALPHA},
+                                         {"max-memory", required_argument, 0, OPT_MAX_MEMORY},
+                                         {"threads", required_argument, 0, OPT_THREADS},
+                                         {"json", no_argument, 0, OPT_JSON},
+                                         {"quiet", no_argument, 0, 'q'},
+                                         {"help", no_argument, 0, 'h'},
+                                         {0, 0, 0, 0}};
+
+/* The defaults a command line starts from; PFX_THREADS sets --threads'
+ * default. Returns -1, or the exit status of a usage error. */
+static int option_defaults(pfx_cli *o) {
     unsigned long long v;
     memset(o, 0, sizeof *o);
     /* PFX_THREADS, then --threads over it; neither: the machine's cores. */
@@ -231,214 +235,216 @@ static int parse_options(int argc, char **argv, pfx_cli *o) {
     o->atlas_layout.extrude = 1;
     o->every = 1;
     o->max_memory = pfx_memory_default_bound();
-    opterr = 0;
-    optind = 2; /* argv[1] is the command */
-    int c;
-    while ((c = getopt_long(argc, argv, ":o:j:qh", longopts, NULL)) != -1) {
-        switch (c) {
-        case 'o':
-            o->output = optarg;
-            break;
-        case 'q':
-            o->quiet = true;
-            break;
-        case 'j':
-            if (!parse_ulong(optarg, &v) || v < 1 || v > 256)
-                return pfx_cli_usage_error("-j takes a number of threads from 1 to 256, got '%s'",
-                                           optarg);
-            o->jobs = (int)v;
-            break;
-        case OPT_KEEP_GOING:
-            o->keep_going = true;
-            break;
-        case OPT_ATLAS: {
-            /* --atlas, --atlas=8x4 or --atlas 8x4: a grid word may follow. */
-            const char *grid = optarg;
-            unsigned c = 0, r = 0;
-            char extra;
-            if (!grid && optind < argc && parse_size(argv[optind], &c, &r, &extra))
-                grid = argv[optind++];
-            if (grid &&
-                (!parse_size(grid, &c, &r, &extra) || c < 1 || r < 1 || c > 16384 || r > 16384))
-                return pfx_cli_usage_error("--atlas takes COLSxROWS, such as 8x8, got '%s'", grid);
-            o->atlas = true;
-            o->atlas_layout.columns = (int)c;
-            o->atlas_layout.rows = (int)r;
-            break;
-        }
-        case OPT_PADDING:
-        case OPT_EXTRUDE:
-            if (!parse_ulong(optarg, &v) || v > 256)
-                return pfx_cli_usage_error(c == OPT_PADDING
-                                               ? "--padding takes pixels from 0 to 256, got '%s'"
-                                               : "--extrude takes pixels from 0 to 256, got '%s'",
-                                           optarg);
-            if (c == OPT_PADDING)
-                o->atlas_layout.padding = (int)v;
-            else
-                o->atlas_layout.extrude = (int)v;
-            break;
-        case OPT_PREVIEW: {
-            size_t n = strlen(optarg);
-            if ((n < 6 || strcmp(optarg + n - 5, ".webp")) && !pfx_mp4_path(optarg))
-                return pfx_cli_usage_error(
-                    "--preview writes an animated WebP or an MP4: give a path "
-                    "ending in '.webp' or '.mp4', got '%s'",
-                    optarg);
-            o->preview = optarg;
-            break;
-        }
-        case OPT_CROP:
-            o->atlas_layout.crop = true;
-            break;
-        case OPT_MOTION_VECTORS:
-            o->motion_vectors = true;
-            break;
-        case OPT_MV_MAX: {
-            char *end;
-            double px = strtod(optarg, &end);
-            if (*end || !(px > 0 && px <= 1e6))
-                return pfx_cli_usage_error("--mv-max takes pixels in (0, 1000000], got '%s'",
-                                           optarg);
-            o->mv_max = px;
-            break;
-        }
-        case OPT_MV_FLIP_Y:
-            o->mv_flip_y = true;
-            break;
-        case OPT_WERROR:
-            o->werror = true;
-            break;
-        case OPT_LIST_RULES:
-            o->list_rules = true;
-            break;
-        case OPT_PROGRESS:
-            if (strcmp(optarg, "json"))
-                return pfx_cli_usage_error("--progress takes 'json', got '%s'", optarg);
-            o->progress_json = true;
-            break;
-        case 'h':
-            fputs(usage_text, stdout);
-            return 0;
-        case OPT_FRAMES:
-            if (!parse_frames(optarg, o))
-                return pfx_cli_usage_error(
-                    "--frames takes N, A:B or A: (to the end) with 0 <= A <= B <= "
-                    "100000000, got '%s'",
-                    optarg);
-            break;
-        case OPT_SIZE: {
-            unsigned w, h;
-            char extra;
-            if (!parse_size(optarg, &w, &h, &extra) || w < 1 || h < 1 || w > 16384 || h > 16384)
-                return pfx_cli_usage_error(
-                    "--size takes WxH with each side from 1 to 16384, got '%s'", optarg);
-            if ((unsigned long long)w * h > PFX_MAX_IMAGE_PIXELS)
-                return pfx_cli_usage_error(
-                    "--size takes at most 134217728 pixels (the renderer's float "
-                    "framebuffer: 16 bytes a pixel, 2 GiB), got '%s'",
-                    optarg);
-            o->compile.width = (int)w;
-            o->compile.height = (int)h;
-            break;
-        }
-        case OPT_FPS: {
-            char *end;
-            double fps = strtod(optarg, &end);
-            if (*end || !(fps > 0 && fps <= 1000))
-                return pfx_cli_usage_error("--fps takes a number in (0, 1000], got '%s'", optarg);
-            o->compile.fps = fps;
-            break;
-        }
-        case OPT_SEED:
-            if (!parse_ulong(optarg, &v))
-                return pfx_cli_usage_error("--seed takes a whole number, got '%s'", optarg);
-            o->compile.seed = v;
-            o->compile.has_seed = true;
-            break;
-        case OPT_MAX:
-            if (!parse_ulong(optarg, &v) || v < 1 || v > 100000000)
-                return pfx_cli_usage_error(
-                    "--max-particles takes a number from 1 to 100000000, got '%s'", optarg);
-            o->compile.max_particles = v;
-            break;
-        case OPT_EVERY:
-            if (!parse_ulong(optarg, &v) || v < 1 || v > 1000000)
-                return pfx_cli_usage_error("--every takes a whole number from 1, got '%s'", optarg);
-            o->every = (long)v;
-            break;
-        case OPT_FORMAT:
-            /* Each command reads its own words (validate: text, json, sarif; bake:
-             * csv, ply, pcache); see format_of. */
-            if (!pfx_frame_format_parse(optarg, &o->frames_as))
-                o->format = optarg;
-            else if (strcmp(argv[1], "render"))
-                return pfx_cli_usage_error("--format %s is for render's frames", optarg);
-            break;
-        case OPT_RENDERER:
-            if (!pfx_cli_parse_renderer("--renderer", optarg, &o->renderer))
-                return EXIT_USAGE;
-            o->has_renderer = true;
-            break;
-        case OPT_ALPHA: {
-            int mode = pfx_kind_find(pfx_alpha_mode_names, optarg);
-            if (mode < 0)
-                return pfx_cli_usage_error("--alpha takes 'straight' or 'premultiplied', got '%s'",
-                                           optarg);
-            o->compile.alpha = (pfx_alpha_mode)mode;
-            o->compile.has_alpha = true;
-            break;
-        }
-        case OPT_MAX_MEMORY:
-            if (!pfx_memory_parse(optarg, &o->max_memory))
-                return pfx_cli_usage_error(
-                    "--max-memory takes a size in bytes, or with K, M, G or T "
-                    "after it, got '%s'",
-                    optarg);
-            break;
-        case OPT_THREADS:
-            if (!parse_ulong(optarg, &v) || v < 1 || v > 1024)
-                return pfx_cli_usage_error("--threads takes a number from 1 to 1024, got '%s'",
-                                           optarg);
-            o->compile.threads = (int)v;
-            break;
-        case OPT_JSON:
-            o->bench_json = true;
-            break;
-        case OPT_FORCE:
-            o->force = true;
-            break;
-        case OPT_DEPFILE:
-            o->depfile = optarg;
-            break;
-        case OPT_SLICE: {
-            long i, n;
-            char extra;
-            if (sscanf(optarg, "%ld/%ld%c", &i, &n, &extra) != 2 || n < 1 || n > 1000000 || i < 0 ||
-                i >= n)
-                return pfx_cli_usage_error("--slice takes I/N with 0 <= I < N <= 1000000, got '%s'",
-                                           optarg);
-            o->slice = i;
-            o->slices = n;
-            break;
-        }
-        case OPT_SLICE_ENV:
-            o->slice_env = optarg;
-            break;
-        case OPT_SLICE_COUNT:
-            if (!parse_ulong(optarg, &v) || v < 1 || v > 1000000)
-                return pfx_cli_usage_error(
-                    "--slice-count takes a number from 1 to 1000000, got '%s'", optarg);
-            o->slice_count = (long)v;
-            break;
-        case ':':
-            return pfx_cli_usage_error("option '%s' needs a value", option_word(argv, optopt));
-        default:
-            return pfx_cli_usage_error("unknown option '%s'", option_word(argv, optopt));
-        }
+    return -1;
+}
+
+/* One option getopt found (its value in optarg), into o. Returns -1, or
+ * the exit status of a usage error. A flat switch, one case an option. */
+static int parse_option(int c, int argc, char **argv, pfx_cli *o) {
+    unsigned long long v;
+    switch (c) {
+    case 'o':
+        o->output = optarg;
+        break;
+    case 'q':
+        o->quiet = true;
+        break;
+    case 'j':
+        if (!parse_ulong(optarg, &v) || v < 1 || v > 256)
+            return pfx_cli_usage_error("-j takes a number of threads from 1 to 256, got '%s'",
+                                       optarg);
+        o->jobs = (int)v;
+        break;
+    case OPT_KEEP_GOING:
+        o->keep_going = true;
+        break;
+    case OPT_ATLAS: {
+        /* --atlas, --atlas=8x4 or --atlas 8x4: a grid word may follow. */
+        const char *grid = optarg;
+        unsigned c = 0, r = 0;
+        char extra;
+        if (!grid && optind < argc && parse_size(argv[optind], &c, &r, &extra))
+            grid = argv[optind++];
+        if (grid && (!parse_size(grid, &c, &r, &extra) || c < 1 || r < 1 || c > 16384 || r > 16384))
+            return pfx_cli_usage_error("--atlas takes COLSxROWS, such as 8x8, got '%s'", grid);
+        o->atlas = true;
+        o->atlas_layout.columns = (int)c;
+        o->atlas_layout.rows = (int)r;
+        break;
     }
-    /* --slice-env VAR takes the index from the environment now, so that
-     * every later step sees one resolved slice. */
+    case OPT_PADDING:
+    case OPT_EXTRUDE:
+        if (!parse_ulong(optarg, &v) || v > 256)
+            return pfx_cli_usage_error(c == OPT_PADDING
+                                           ? "--padding takes pixels from 0 to 256, got '%s'"
+                                           : "--extrude takes pixels from 0 to 256, got '%s'",
+                                       optarg);
+        if (c == OPT_PADDING)
+            o->atlas_layout.padding = (int)v;
+        else
+            o->atlas_layout.extrude = (int)v;
+        break;
+    case OPT_PREVIEW: {
+        size_t n = strlen(optarg);
+        if ((n < 6 || strcmp(optarg + n - 5, ".webp")) && !pfx_mp4_path(optarg))
+            return pfx_cli_usage_error("--preview writes an animated WebP or an MP4: give a path "
+                                       "ending in '.webp' or '.mp4', got '%s'",
+                                       optarg);
+        o->preview = optarg;
+        break;
+    }
+    case OPT_CROP:
+        o->atlas_layout.crop = true;
+        break;
+    case OPT_MOTION_VECTORS:
+        o->motion_vectors = true;
+        break;
+    case OPT_MV_MAX: {
+        char *end;
+        double px = strtod(optarg, &end);
+        if (*end || !(px > 0 && px <= 1e6))
+            return pfx_cli_usage_error("--mv-max takes pixels in (0, 1000000], got '%s'", optarg);
+        o->mv_max = px;
+        break;
+    }
+    case OPT_MV_FLIP_Y:
+        o->mv_flip_y = true;
+        break;
+    case OPT_WERROR:
+        o->werror = true;
+        break;
+    case OPT_LIST_RULES:
+        o->list_rules = true;
+        break;
+    case OPT_PROGRESS:
+        if (strcmp(optarg, "json"))
+            return pfx_cli_usage_error("--progress takes 'json', got '%s'", optarg);
+        o->progress_json = true;
+        break;
+    case 'h':
+        fputs(usage_text, stdout);
+        return 0;
+    case OPT_FRAMES:
+        if (!parse_frames(optarg, o))
+            return pfx_cli_usage_error(
+                "--frames takes N, A:B or A: (to the end) with 0 <= A <= B <= "
+                "100000000, got '%s'",
+                optarg);
+        break;
+    case OPT_SIZE: {
+        unsigned w, h;
+        char extra;
+        if (!parse_size(optarg, &w, &h, &extra) || w < 1 || h < 1 || w > 16384 || h > 16384)
+            return pfx_cli_usage_error("--size takes WxH with each side from 1 to 16384, got '%s'",
+                                       optarg);
+        if ((unsigned long long)w * h > PFX_MAX_IMAGE_PIXELS)
+            return pfx_cli_usage_error(
+                "--size takes at most 134217728 pixels (the renderer's float "
+                "framebuffer: 16 bytes a pixel, 2 GiB), got '%s'",
+                optarg);
+        o->compile.width = (int)w;
+        o->compile.height = (int)h;
+        break;
+    }
+    case OPT_FPS: {
+        char *end;
+        double fps = strtod(optarg, &end);
+        if (*end || !(fps > 0 && fps <= 1000))
+            return pfx_cli_usage_error("--fps takes a number in (0, 1000], got '%s'", optarg);
+        o->compile.fps = fps;
+        break;
+    }
+    case OPT_SEED:
+        if (!parse_ulong(optarg, &v))
+            return pfx_cli_usage_error("--seed takes a whole number, got '%s'", optarg);
+        o->compile.seed = v;
+        o->compile.has_seed = true;
+        break;
+    case OPT_MAX:
+        if (!parse_ulong(optarg, &v) || v < 1 || v > 100000000)
+            return pfx_cli_usage_error(
+                "--max-particles takes a number from 1 to 100000000, got '%s'", optarg);
+        o->compile.max_particles = v;
+        break;
+    case OPT_EVERY:
+        if (!parse_ulong(optarg, &v) || v < 1 || v > 1000000)
+            return pfx_cli_usage_error("--every takes a whole number from 1, got '%s'", optarg);
+        o->every = (long)v;
+        break;
+    case OPT_FORMAT:
+        /* Each command reads its own words (validate: text, json, sarif; bake:
+         * csv, ply, pcache); see format_of. */
+        if (!pfx_frame_format_parse(optarg, &o->frames_as))
+            o->format = optarg;
+        else if (strcmp(argv[1], "render"))
+            return pfx_cli_usage_error("--format %s is for render's frames", optarg);
+        break;
+    case OPT_RENDERER:
+        if (!pfx_cli_parse_renderer("--renderer", optarg, &o->renderer))
+            return EXIT_USAGE;
+        o->has_renderer = true;
+        break;
+    case OPT_ALPHA: {
+        int mode = pfx_kind_find(pfx_alpha_mode_names, optarg);
+        if (mode < 0)
+            return pfx_cli_usage_error("--alpha takes 'straight' or 'premultiplied', got '%s'",
+                                       optarg);
+        o->compile.alpha = (pfx_alpha_mode)mode;
+        o->compile.has_alpha = true;
+        break;
+    }
+    case OPT_MAX_MEMORY:
+        if (!pfx_memory_parse(optarg, &o->max_memory))
+            return pfx_cli_usage_error("--max-memory takes a size in bytes, or with K, M, G or T "
+                                       "after it, got '%s'",
+                                       optarg);
+        break;
+    case OPT_THREADS:
+        if (!parse_ulong(optarg, &v) || v < 1 || v > 1024)
+            return pfx_cli_usage_error("--threads takes a number from 1 to 1024, got '%s'", optarg);
+        o->compile.threads = (int)v;
+        break;
+    case OPT_JSON:
+        o->bench_json = true;
+        break;
+    case OPT_FORCE:
+        o->force = true;
+        break;
+    case OPT_DEPFILE:
+        o->depfile = optarg;
+        break;
+    case OPT_SLICE: {
+        long i, n;
+        char extra;
+        if (sscanf(optarg, "%ld/%ld%c", &i, &n, &extra) != 2 || n < 1 || n > 1000000 || i < 0 ||
+            i >= n)
+            return pfx_cli_usage_error("--slice takes I/N with 0 <= I < N <= 1000000, got '%s'",
+                                       optarg);
+        o->slice = i;
+        o->slices = n;
+        break;
+    }
+    case OPT_SLICE_ENV:
+        o->slice_env = optarg;
+        break;
+    case OPT_SLICE_COUNT:
+        if (!parse_ulong(optarg, &v) || v < 1 || v > 1000000)
+            return pfx_cli_usage_error("--slice-count takes a number from 1 to 1000000, got '%s'",
+                                       optarg);
+        o->slice_count = (long)v;
+        break;
+    case ':':
+        return pfx_cli_usage_error("option '%s' needs a value", option_word(argv, optopt));
+    default:
+        return pfx_cli_usage_error("unknown option '%s'", option_word(argv, optopt));
+    }
+    return -1;
+}
+
+/* --slice-env VAR --slice-count N: the slice index from the environment,
+ * resolved now so that every later step sees one slice. Returns -1, or the
+ * exit status of a usage error. */
+static int resolve_slice_env(pfx_cli *o) {
     if (o->slice_env) {
         if (!o->slice_count)
             return pfx_cli_usage_error("%s", "--slice-env needs --slice-count N");
@@ -454,6 +460,16 @@ static int parse_options(int argc, char **argv, pfx_cli *o) {
     } else if (o->slice_count) {
         return pfx_cli_usage_error("%s", "--slice-count goes with --slice-env VAR");
     }
+    return -1;
+}
+
+/* What no single option can check: --slice-env resolved now, the
+ * combinations each command refuses, and --format's word for the
+ * command. Returns -1, or the exit status of a usage error. */
+static int check_options(int argc, char **argv, pfx_cli *o) {
+    int stop = resolve_slice_env(o);
+    if (stop >= 0)
+        return stop;
     if (o->preview && o->slices)
         return pfx_cli_usage_error("%s",
                                    "--preview needs every frame: give it to 'pfx assemble' instead "
@@ -519,6 +535,21 @@ static int parse_options(int argc, char **argv, pfx_cli *o) {
     if (o->list_rules && strcmp(argv[1], "validate"))
         return pfx_cli_usage_error("%s", "--list-rules is for validate");
     return -1;
+}
+
+/* Parses the options after the command; returns -1 on success or the exit
+ * status to stop with. Positional arguments are left in argv[optind..]. */
+static int parse_options(int argc, char **argv, pfx_cli *o) {
+    int stop = option_defaults(o);
+    if (stop >= 0)
+        return stop;
+    opterr = 0;
+    optind = 2; /* argv[1] is the command */
+    int c;
+    while ((c = getopt_long(argc, argv, ":o:j:qh", longopts, NULL)) != -1)
+        if ((stop = parse_option(c, argc, argv, o)) >= 0)
+            return stop;
+    return check_options(argc, argv, o);
 }
 
 /* The commands, one row each: the name argv[1] gives and what runs it.

@@ -22,27 +22,76 @@ static bool bake_format(const pfx_cli *o, pfx_bake_format *f) {
     return true;
 }
 
-int pfx_cmd_bake(const char *const *operands, int count, const pfx_cli *o) {
+/* The usage checks of bake's options, and its format; 0 when they pass,
+ * else the exit status (the message printed). */
+static int check_bake_options(int count, const pfx_cli *o, pfx_bake_format *format) {
     if (count != 1)
         return pfx_cli_usage_error("%s", "bake takes one FILE and -o OUT");
     if (!o->output)
         return pfx_cli_usage_error("%s",
                                    "bake needs -o OUT (a .csv, .ply or .pcache file, or - for "
                                    "standard output)");
-    pfx_bake_format format;
-    if (!bake_format(o, &format))
+    if (!bake_format(o, format))
         return EXIT_USAGE;
-    bool to_stdout = !strcmp(o->output, "-");
-    if (to_stdout && o->depfile)
+    if (!strcmp(o->output, "-") && o->depfile)
         return pfx_cli_usage_error("%s", "--depfile needs a file to name as its target, not -o -");
+    return 0;
+}
+
+/* Simulates frames first..last and writes every --every'th to the bake at
+ * -o (whole or not at all); notes the particles a full pool dropped unless
+ * -q. */
+static bool bake_frames(const pfx_effect *e, const pfx_cli *o, pfx_bake_format format, long first,
+                        long last, pfx_diags *run) {
+    const bool to_stdout = !strcmp(o->output, "-");
+    pfx_sim *sim = pfx_sim_create(e, run), *view = pfx_sim_create(e, run);
+    pfx_bake *b = NULL;
+    bool ok = false;
+    if (!sim || !view) {
+        pfx_diag_error(run, PFX_RULE_OUT_OF_MEMORY, "out of memory");
+        goto done;
+    }
+    if (!to_stdout && !pfx_cli_make_parent_dirs(o->output, run))
+        goto done;
+    b = pfx_bake_open(o->output, format, e, run);
+    if (!b)
+        goto done;
+    ok = true;
+    for (long f = first; f <= last && ok; f++) {
+        const pfx_sim *state = pfx_sim_frame(sim, view, f);
+        if (sim->failed || view->failed) {
+            ok = false;
+            break;
+        }
+        if ((f - first) % o->every == 0)
+            ok = pfx_bake_frame(b, state, f, pfx_sim_frame_time(e, f));
+    }
+    if (!pfx_bake_close(b, ok, run) || !ok) {
+        if (!run->errors)
+            pfx_diag_error(run, PFX_RULE_WRITE_FAILED, "cannot write the bake");
+        ok = false;
+        goto done;
+    }
+    if (!o->quiet)
+        pfx_sim_note_dropped(sim, run);
+done:
+    pfx_sim_destroy(view);
+    pfx_sim_destroy(sim);
+    return ok;
+}
+
+int pfx_cmd_bake(const char *const *operands, int count, const pfx_cli *o) {
+    pfx_bake_format format;
+    int usage = check_bake_options(count, o, &format);
+    if (usage)
+        return usage;
+    bool to_stdout = !strcmp(o->output, "-");
     pfx_loaded l;
     pfx_effect *e = pfx_cli_load(&l, operands[0], o);
     int status = EXIT_INVALID;
     pfx_diags run;
     pfx_diags_init_runtime(&run);
     long first, last;
-    pfx_sim *sim = NULL, *view = NULL;
-    pfx_bake *b = NULL;
     /* The manifest: OUT.manifest.json beside OUT (none for standard
      * output), listing OUT by its name. */
     char dir[4096] = ".", manifest[4200];
@@ -77,37 +126,12 @@ int pfx_cmd_bake(const char *const *operands, int count, const pfx_cli *o) {
         }
         goto done;
     }
-    sim = pfx_sim_create(e, &run);
-    view = pfx_sim_create(e, &run);
-    if (!sim || !view) {
-        pfx_diag_error(&run, PFX_RULE_OUT_OF_MEMORY, "out of memory");
+    if (!bake_frames(e, o, format, first, last, &run))
         goto done;
-    }
-    if (!to_stdout && !pfx_cli_make_parent_dirs(o->output, &run))
-        goto done;
-    b = pfx_bake_open(o->output, format, e, &run);
-    if (!b)
-        goto done;
-    bool ok = true;
-    for (long f = first; f <= last && ok; f++) {
-        const pfx_sim *state = pfx_sim_frame(sim, view, f);
-        if (sim->failed || view->failed) {
-            ok = false;
-            break;
-        }
-        if ((f - first) % o->every == 0)
-            ok = pfx_bake_frame(b, state, f, pfx_sim_frame_time(e, f));
-    }
-    if (!pfx_bake_close(b, ok, &run) || !ok) {
-        if (!run.errors)
-            pfx_diag_error(&run, PFX_RULE_WRITE_FAILED, "cannot write the bake");
-        goto done;
-    }
     if (!to_stdout &&
         (!pfx_manifest_add_output(dl.now, dir, name, &run) || !pfx_delivery_finish(&dl, &run)))
         goto done;
     if (!o->quiet) {
-        pfx_sim_note_dropped(sim, &run);
         fprintf(stderr, "pfx: baked '%s': frames %ld to %ld as %s to '%s'\n", operands[0], first,
                 last, pfx_bake_format_name(format), to_stdout ? "standard output" : o->output);
     }
@@ -116,8 +140,6 @@ done:
     pfx_diags_print(&run, stderr, false);
     pfx_diags_free(&run);
     pfx_delivery_free(&dl);
-    pfx_sim_destroy(view);
-    pfx_sim_destroy(sim);
     pfx_loaded_free(&l);
     return status;
 }

@@ -66,6 +66,42 @@ static int print_info_json(const pfx_effect *e, const pfx_cli *o) {
     return 0;
 }
 
+/* One emitter of pfx info's text: shape, rate, pool, integrator,
+ * deflectors, sub-emitters and kill rules. */
+static void print_emitter(const pfx_effect *e, const pfx_emitter *em, size_t bpp) {
+    printf("    %s: %s shape, %s rate up to %g particles/s%s%s, lifetime up to %g s, %s "
+           "blend\n",
+           em->name, pfx_kind_name(pfx_shape_names, (int)em->shape.type),
+           pfx_kind_name(pfx_rate_kind_names, (int)em->rate_kind), pfx_emitter_max_rate(em),
+           em->burst_count ? " plus bursts" : "", em->spawned_peak > 0 ? " plus sub-emitters" : "",
+           em->max_lifetime, em->blend == PFX_BLEND_ADD ? "additive" : "alpha");
+    printf("      pool %u particles x %zu bytes = %zu bytes%s\n", em->capacity, bpp,
+           em->capacity * bpp, em->saturates ? " (saturates: cut by the budget)" : "");
+    if (em->motion)
+        printf("      integrator: %s\n", em->motion->choice.why);
+    else if (em->accel[0] == 0 && em->accel[1] == 0 && em->accel[2] == 0)
+        printf("      integrator: exact (no force: straight lines)\n");
+    else
+        printf("      integrator: exact (only gravity, [%g, %g, %g] m/s^2%s: the "
+               "constant-acceleration closed form, exact at any step)\n",
+               em->accel[0], em->accel[1], em->accel[2],
+               em->gravity_scale.dist == PFX_DIST_CONST ? "" : " x gravity_scale");
+    if (em->deflector_count) {
+        printf("      deflectors:");
+        for (size_t d = 0; d < em->deflector_count; d++)
+            printf(" %s", em->deflectors[d].name);
+        printf(" (swept exact hits; 24 scratch bytes per particle)\n");
+    }
+    for (size_t k = 0; k < em->spawn_count; k++)
+        printf("      %s -> %s\n", pfx_kind_name(pfx_spawn_event_names, (int)em->spawns[k].event),
+               e->emitters[em->spawns[k].target].name);
+    if (em->kill)
+        printf("      kill rules: %zu%s\n", em->kill->count,
+               em->kill->bounds == PFX_BOUNDS_WRAP   ? ", wrapping bounds"
+               : em->kill->bounds == PFX_BOUNDS_KILL ? ", killing bounds"
+                                                     : "");
+}
+
 int pfx_cmd_info(const char *const *operands, int count, const pfx_cli *o) {
     if (count != 1)
         return pfx_cli_usage_error("%s", "info takes one FILE");
@@ -101,39 +137,7 @@ int pfx_cmd_info(const char *const *operands, int count, const pfx_cli *o) {
     for (size_t i = 0; i < e->emitter_count; i++) {
         const pfx_emitter *em = &e->emitters[i];
         size_t bpp = pfx_sim_bytes_per_particle(e, i);
-        printf("    %s: %s shape, %s rate up to %g particles/s%s%s, lifetime up to %g s, %s "
-               "blend\n",
-               em->name, pfx_kind_name(pfx_shape_names, (int)em->shape.type),
-               pfx_kind_name(pfx_rate_kind_names, (int)em->rate_kind), pfx_emitter_max_rate(em),
-               em->burst_count ? " plus bursts" : "",
-               em->spawned_peak > 0 ? " plus sub-emitters" : "", em->max_lifetime,
-               em->blend == PFX_BLEND_ADD ? "additive" : "alpha");
-        printf("      pool %u particles x %zu bytes = %zu bytes%s\n", em->capacity, bpp,
-               em->capacity * bpp, em->saturates ? " (saturates: cut by the budget)" : "");
-        if (em->motion)
-            printf("      integrator: %s\n", em->motion->choice.why);
-        else if (em->accel[0] == 0 && em->accel[1] == 0 && em->accel[2] == 0)
-            printf("      integrator: exact (no force: straight lines)\n");
-        else
-            printf("      integrator: exact (only gravity, [%g, %g, %g] m/s^2%s: the "
-                   "constant-acceleration closed form, exact at any step)\n",
-                   em->accel[0], em->accel[1], em->accel[2],
-                   em->gravity_scale.dist == PFX_DIST_CONST ? "" : " x gravity_scale");
-        if (em->deflector_count) {
-            printf("      deflectors:");
-            for (size_t d = 0; d < em->deflector_count; d++)
-                printf(" %s", em->deflectors[d].name);
-            printf(" (swept exact hits; 24 scratch bytes per particle)\n");
-        }
-        for (size_t k = 0; k < em->spawn_count; k++)
-            printf("      %s -> %s\n",
-                   pfx_kind_name(pfx_spawn_event_names, (int)em->spawns[k].event),
-                   e->emitters[em->spawns[k].target].name);
-        if (em->kill)
-            printf("      kill rules: %zu%s\n", em->kill->count,
-                   em->kill->bounds == PFX_BOUNDS_WRAP   ? ", wrapping bounds"
-                   : em->kill->bounds == PFX_BOUNDS_KILL ? ", killing bounds"
-                                                         : "");
+        print_emitter(e, em, bpp);
         total += em->capacity;
         bytes += em->capacity * bpp;
     }

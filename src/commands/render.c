@@ -13,6 +13,99 @@
 #include "jobs/progress.h"
 #include "jobs/slice.h"
 
+/* A slice: its part of the job's range, and a manifest of its own, so
+ * that slices may share a directory. */
+static void take_slice(const pfx_cli *o, pfx_render_job *job, char *manifest, size_t size) {
+    if (!o->slices)
+        return;
+    const long all_first = job->first, all_last = job->last;
+    pfx_slice_range(all_first, all_last, o->slice, o->slices, &job->first, &job->last);
+    snprintf(manifest, size, "%s/%s.slice-%04ld-of-%04ld.manifest.json", job->dir, job->stem,
+             o->slice, o->slices);
+}
+
+/* The run's settings in its manifest (renderer, frame format, slice,
+ * atlas, preview, motion vectors): what decides the bake key. An atlas that
+ * cannot be made fails here, before any frame. */
+static bool describe_render(const pfx_render_job *job, const pfx_cli *o, long all_first,
+                            long all_last, pfx_delivery *dl, pfx_atlas_layout *atlas,
+                            pfx_mv_meta *mv, pfx_diags *run) {
+    pfx_manifest_set_string(dl->now, "renderer", pfx_renderer_name(job->renderer));
+    if (o->frames_as != PFX_FRAME_PNG) /* PNG, the default, keeps the keys it had */
+        pfx_manifest_set_string(dl->now, "format", pfx_frame_format_name(o->frames_as));
+    if (o->slices)
+        pfx_manifest_set_slice(dl->now, o->slice, o->slices, all_first, all_last);
+    if (o->atlas) {
+        /* The sheet's size is known now but for --crop, which only makes
+         * it smaller: one that cannot be made fails before any frame. */
+        pfx_atlas_layout check = *atlas;
+        check.frame_w = job->effect->width;
+        check.frame_h = job->effect->height;
+        check.frames = (int)(job->last - job->first + 1);
+        if (!pfx_atlas_layout_resolve(&check, run))
+            return false;
+        pfx_atlas_job_describe(atlas, dl->now);
+    }
+    if (o->preview)
+        pfx_manifest_set_string(dl->now, "preview", o->preview);
+    if (o->motion_vectors)
+        pfx_mv_describe(mv, dl->now);
+    return true;
+}
+
+/* After the frames: each one listed in the manifest, then the motion
+ * vectors' list and sidecar, the atlas, the preview, and the manifest
+ * itself with the depfile. */
+static bool write_extras(const pfx_render_job *job, const pfx_cli *o, const char *stem,
+                         pfx_delivery *dl, pfx_atlas_layout *atlas, const pfx_mv_meta *mv,
+                         pfx_diags *run) {
+    const char *dir = job->dir;
+    for (long f = job->first; f <= job->last; f++) {
+        char name[300];
+        snprintf(name, sizeof name, "%s_%04ld.%s", stem, f, pfx_frame_format_name(o->frames_as));
+        if (!pfx_manifest_add_output(dl->now, dir, name, run))
+            return false;
+    }
+    if (o->motion_vectors &&
+        (!pfx_mv_add_outputs(dl->now, dir, stem, job->first, job->last, run) ||
+         (!o->atlas && !pfx_mv_sidecar_run(dir, stem, job->first, job->last, mv, dl->now, run))))
+        return false;
+    if (o->atlas && !pfx_atlas_job_run(dir, stem, job->first, job->last, job->effect->fps,
+                                       job->effect->loop, atlas, dl->now, run))
+        return false;
+    if (o->preview &&
+        !pfx_preview_run(dir, stem, job->first, job->last, job->effect->fps, o->preview, run))
+        return false;
+    if (!pfx_delivery_finish(dl, run))
+        return false;
+    return true;
+}
+
+/* The one summary line of a render that succeeded. */
+static void say_rendered(const pfx_render_job *job, const pfx_cli *o, const char *path,
+                         long all_first, long all_last, const pfx_delivery *dl,
+                         const pfx_atlas_layout *atlas, const pfx_mv_meta *mv, pfx_diags *run) {
+    pfx_sim_note_dropped(job->sim, run);
+    if (job->first > job->last)
+        fprintf(stderr, "pfx: slice %ld of %ld of '%s' has no frames (%ld frames in all)", o->slice,
+                o->slices, path, all_last - all_first + 1);
+    else
+        fprintf(stderr, "pfx: rendered '%s': %ld frames (%ld to %ld) in '%s'", path,
+                job->frames_done, job->first, job->last, job->dir);
+    if (o->slices && job->first <= job->last)
+        fprintf(stderr, ", slice %ld of %ld", o->slice, o->slices);
+    if (o->atlas)
+        fprintf(stderr, ", atlas %dx%d of %dx%d", atlas->columns, atlas->rows, atlas->width,
+                atlas->height);
+    if (o->preview)
+        fprintf(stderr, ", preview '%s'", o->preview);
+    if (o->motion_vectors)
+        fprintf(stderr, ", motion vectors up to %g px", mv->max_px);
+    if (dl->stale_removed)
+        fprintf(stderr, ", %zu stale removed", dl->stale_removed);
+    fputc('\n', stderr);
+}
+
 /* Renders one effect file into dir: the whole of `pfx render` for one FILE.
  * Returns the exit status. */
 static int render_one(const char *path, const char *dir, pfx_renderer_kind kind, const pfx_cli *o) {
@@ -42,14 +135,8 @@ static int render_one(const char *path, const char *dir, pfx_renderer_kind kind,
         status = EXIT_USAGE;
         goto done;
     }
-    /* A slice: its part of the range, and a manifest of its own, so that
-     * slices may share a directory. */
     long all_first = job.first, all_last = job.last;
-    if (o->slices) {
-        pfx_slice_range(all_first, all_last, o->slice, o->slices, &job.first, &job.last);
-        snprintf(manifest, sizeof manifest, "%s/%s.slice-%04ld-of-%04ld.manifest.json", dir, stem,
-                 o->slice, o->slices);
-    }
+    take_slice(o, &job, manifest, sizeof manifest);
     if (o->progress_json) {
         pfx_progress_init(&progress, stderr, path, job.last - job.first + 1);
         job.on_frame = pfx_progress_frame;
@@ -66,29 +153,11 @@ static int render_one(const char *path, const char *dir, pfx_renderer_kind kind,
     if (!pfx_delivery_begin(&dl, "render", &run) ||
         !pfx_cli_describe_run(&dl, e, job.first, job.last, &run))
         goto done;
-    pfx_manifest_set_string(dl.now, "renderer", pfx_renderer_name(job.renderer));
-    if (o->frames_as != PFX_FRAME_PNG) /* PNG, the default, keeps the keys it had */
-        pfx_manifest_set_string(dl.now, "format", pfx_frame_format_name(o->frames_as));
-    if (o->slices)
-        pfx_manifest_set_slice(dl.now, o->slice, o->slices, all_first, all_last);
     pfx_atlas_layout atlas = o->atlas_layout;
-    if (o->atlas) {
-        /* The sheet's size is known now but for --crop, which only makes
-         * it smaller: one that cannot be made fails before any frame. */
-        pfx_atlas_layout check = atlas;
-        check.frame_w = e->width;
-        check.frame_h = e->height;
-        check.frames = (int)(job.last - job.first + 1);
-        if (!pfx_atlas_layout_resolve(&check, &run))
-            goto done;
-        pfx_atlas_job_describe(&atlas, dl.now);
-    }
-    if (o->preview)
-        pfx_manifest_set_string(dl.now, "preview", o->preview);
     pfx_mv_meta mv = {
         .max_px = o->mv_max, .max_given = o->mv_max > 0, .flip_y = o->mv_flip_y, .fps = e->fps};
-    if (o->motion_vectors)
-        pfx_mv_describe(&mv, dl.now);
+    if (!describe_render(&job, o, all_first, all_last, &dl, &atlas, &mv, &run))
+        goto done;
     if (pfx_delivery_up_to_date(&dl) && (!o->preview || access(o->preview, F_OK) == 0)) {
         if (pfx_delivery_skip(&dl, &run)) {
             pfx_cli_say_up_to_date(o, path, dir, &dl);
@@ -107,44 +176,10 @@ static int render_one(const char *path, const char *dir, pfx_renderer_kind kind,
     if (!(o->jobs > 1 ? pfx_render_job_run_parallel(&job, kind, o->jobs, &run)
                       : pfx_render_job_run(&job, &run)))
         goto done;
-    for (long f = job.first; f <= job.last; f++) {
-        char name[300];
-        snprintf(name, sizeof name, "%s_%04ld.%s", stem, f, pfx_frame_format_name(o->frames_as));
-        if (!pfx_manifest_add_output(dl.now, dir, name, &run))
-            goto done;
-    }
-    if (o->motion_vectors &&
-        (!pfx_mv_add_outputs(dl.now, dir, stem, job.first, job.last, &run) ||
-         (!o->atlas && !pfx_mv_sidecar_run(dir, stem, job.first, job.last, &mv, dl.now, &run))))
+    if (!write_extras(&job, o, stem, &dl, &atlas, &mv, &run))
         goto done;
-    if (o->atlas &&
-        !pfx_atlas_job_run(dir, stem, job.first, job.last, e->fps, e->loop, &atlas, dl.now, &run))
-        goto done;
-    if (o->preview && !pfx_preview_run(dir, stem, job.first, job.last, e->fps, o->preview, &run))
-        goto done;
-    if (!pfx_delivery_finish(&dl, &run))
-        goto done;
-    if (!o->quiet) {
-        pfx_sim_note_dropped(job.sim, &run);
-        if (job.first > job.last)
-            fprintf(stderr, "pfx: slice %ld of %ld of '%s' has no frames (%ld frames in all)",
-                    o->slice, o->slices, path, all_last - all_first + 1);
-        else
-            fprintf(stderr, "pfx: rendered '%s': %ld frames (%ld to %ld) in '%s'", path,
-                    job.frames_done, job.first, job.last, dir);
-        if (o->slices && job.first <= job.last)
-            fprintf(stderr, ", slice %ld of %ld", o->slice, o->slices);
-        if (o->atlas)
-            fprintf(stderr, ", atlas %dx%d of %dx%d", atlas.columns, atlas.rows, atlas.width,
-                    atlas.height);
-        if (o->preview)
-            fprintf(stderr, ", preview '%s'", o->preview);
-        if (o->motion_vectors)
-            fprintf(stderr, ", motion vectors up to %g px", mv.max_px);
-        if (dl.stale_removed)
-            fprintf(stderr, ", %zu stale removed", dl.stale_removed);
-        fputc('\n', stderr);
-    }
+    if (!o->quiet)
+        say_rendered(&job, o, path, all_first, all_last, &dl, &atlas, &mv, &run);
     status = 0;
 done:
     pfx_diags_print(&run, stderr, false);
