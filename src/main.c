@@ -567,9 +567,6 @@ static int parse_options(int argc, char **argv, options *o) {
         return usage_error("%s", "--mv-max and --mv-flip-y go with --motion-vectors");
     if (o->motion_vectors && strcmp(argv[1], "render"))
         return usage_error("%s", "--motion-vectors is for render");
-    if (o->motion_vectors && o->slices)
-        return usage_error("%s", "--motion-vectors does not work with --slice yet: render the "
-                                 "frames with --frames A:B instead");
     if (o->frames_as == PFX_FRAME_EXR) {
         /* EXR keeps the float image; what needs 8-bit frames cannot follow. */
         if (o->atlas || o->preview)
