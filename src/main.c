@@ -500,10 +500,6 @@ static int check_options(int argc, char **argv, pfx_cli *o) {
         return pfx_cli_usage_error("%s", "--mv-max and --mv-flip-y go with --motion-vectors");
     if (o->motion_vectors && strcmp(argv[1], "render"))
         return pfx_cli_usage_error("%s", "--motion-vectors is for render");
-    if (o->motion_vectors && o->slices)
-        return pfx_cli_usage_error("%s",
-                                   "--motion-vectors does not work with --slice yet: render the "
-                                   "frames with --frames A:B instead");
     if (o->frames_as == PFX_FRAME_EXR) {
         /* EXR keeps the float image; what needs 8-bit frames cannot follow. */
         if (o->atlas || o->preview)

@@ -146,7 +146,8 @@ bool pfx_cli_frame_range(const pfx_effect *e, const pfx_cli *o, long *first, lon
 bool pfx_cli_memory_fits(const pfx_effect *e, long first, long last, bool render, const pfx_cli *o,
                          pfx_diags *run) {
     pfx_estimate est;
-    pfx_estimate_run(e, first, last, render, &est);
+    pfx_estimate_run(e, first, last, render | (o->motion_vectors ? PFX_ESTIMATE_MOTION_VECTORS : 0),
+                     &est);
     if (!o->max_memory || est.total_bytes <= (double)o->max_memory)
         return true;
     char need[32], bound[32], part[32];

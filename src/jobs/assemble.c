@@ -15,6 +15,7 @@
 #include "base/sha256.h"
 #include "jobs/atlas_job.h"
 #include "jobs/manifest.h"
+#include "jobs/motion_job.h"
 #include "jobs/preview.h"
 #include "output/atomic_file.h"
 
@@ -165,64 +166,126 @@ static bool gather(const char *dir, const char *name, const char *sha256, const 
     return true;
 }
 
-/* One render: parts p[0..n) share a stem. */
-static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_options *opt,
-                         pfx_assemble_report *r, pfx_diags *d) {
+/* Whether the sorted outputs of m list name: a binary search, as
+ * pfx_manifest_assemble sorts them by strcmp. */
+static bool lists(const pfx_manifest *m, const char *name) {
+    size_t lo = 0, hi = pfx_manifest_output_count(m);
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        int c = strcmp(pfx_manifest_output(m, mid, NULL), name);
+        if (!c)
+            return true;
+        if (c < 0)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return false;
+}
+
+/* Every frame of first..last exactly once and nothing else: the colour
+ * frames in the slices' format and, with --motion-vectors, their motion
+ * vectors. Names are unique (pfx_manifest_assemble), so the right count
+ * with every name listed is the whole check. */
+static bool check_frames(const pfx_manifest *all, const char *stem, long first, long last,
+                         const char *ext, bool motion, pfx_diags *d) {
+    const size_t frames = (size_t)(last - first + 1), want = motion ? 2 * frames : frames;
+    if (pfx_manifest_output_count(all) != want) {
+        pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                       "the slices of '%s' hold %zu files for the %zu frames %ld to %ld%s", stem,
+                       pfx_manifest_output_count(all), frames, first, last,
+                       motion ? " and their motion vectors" : "");
+        return false;
+    }
+    for (long f = first; f <= last; f++) {
+        char name[300];
+        snprintf(name, sizeof name, "%s_%04ld.%s", stem, f, ext);
+        if (!lists(all, name)) {
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES, "frame %ld of '%s' is in no slice", f,
+                           stem);
+            return false;
+        }
+        snprintf(name, sizeof name, "%s_mv_%04ld.png", stem, f);
+        if (motion && !lists(all, name)) {
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                           "the motion vectors of frame %ld of '%s' are in no slice", f, stem);
+            return false;
+        }
+    }
+    return true;
+}
+
+/* The slices' frame format, from the first frame's name (render --format;
+ * colour frames sort before STEM_mv_...): "exr" or "png". */
+static const char *frame_ext(const pfx_manifest *all) {
+    const char *name = pfx_manifest_output_count(all) ? pfx_manifest_output(all, 0, NULL) : NULL;
+    const size_t len = name ? strlen(name) : 0;
+    return len > 4 && !strcmp(name + len - 4, ".exr") ? "exr" : "png";
+}
+
+/* The merged manifest of parts p[0..n), with its frame range; with
+ * --motion-vectors also their encoding in *mv (NULL when off). */
+static pfx_manifest *merge_parts(part *p, size_t n, long *first, long *last, pfx_mv_meta *mv,
+                                 const pfx_mv_meta **motion, pfx_diags *d) {
     pfx_manifest **ms = malloc(n * sizeof *ms);
     const char **names = malloc(n * sizeof *names);
-    bool ok = ms && names;
-    for (size_t i = 0; ok && i < n; i++) {
+    pfx_manifest *all = NULL;
+    if (!ms || !names)
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
+    for (size_t i = 0; ms && names && i < n; i++) {
         ms[i] = p[i].m;
         names[i] = p[i].path;
     }
-    long first = 0, last = -1;
-    pfx_manifest *all = ok ? pfx_manifest_assemble(ms, names, n, &first, &last, d) : NULL;
+    if (ms && names)
+        all = pfx_manifest_assemble(ms, names, n, first, last, d);
+    *motion = NULL;
+    if (all && pfx_manifest_get_number(all, "motion_vectors", 0) != 0) {
+        if (pfx_mv_assembled(all, ms, names, n, mv, d)) {
+            *motion = mv;
+        } else {
+            pfx_manifest_destroy(all);
+            all = NULL;
+        }
+    }
     free(ms);
     free(names);
+    return all;
+}
+
+/* One render: parts p[0..n) share a stem. */
+static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_options *opt,
+                         pfx_assemble_report *r, pfx_diags *d) {
+    long first = 0, last = -1;
+    pfx_mv_meta mv;
+    const pfx_mv_meta *motion;
+    pfx_manifest *all = merge_parts(p, n, &first, &last, &mv, &motion, d);
     if (!all)
         return false;
-    /* Every frame of the range exactly once, and nothing else. */
-    size_t expected = (size_t)(last - first + 1);
-    if (pfx_manifest_output_count(all) != expected) {
-        pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
-                       "the slices of '%s' hold %zu files for the %zu frames %ld to %ld", p[0].stem,
-                       pfx_manifest_output_count(all), expected, first, last);
-        ok = false;
-    }
-    /* The slices' frame format, from their first frame's name (render
-     * --format): every frame must then have it. */
-    const char *first_name = ok ? pfx_manifest_output(all, 0, NULL) : NULL;
-    const size_t len = first_name ? strlen(first_name) : 0;
-    const char *ext = len > 4 && !strcmp(first_name + len - 4, ".exr") ? "exr" : "png";
+    const char *ext = frame_ext(all);
+    bool ok = check_frames(all, p[0].stem, first, last, ext, motion != NULL, d);
     if (ok && !strcmp(ext, "exr") && (opt->atlas || opt->preview)) {
         pfx_diag_error(d, PFX_RULE_IMPOSSIBLE_REQUEST,
                        "the slices of '%s' are EXR frames; %s is built from PNG frames", p[0].stem,
                        opt->atlas ? "--atlas" : "--preview");
         ok = false;
     }
-    for (long f = first; ok && f <= last; f++) {
-        char want[300];
-        snprintf(want, sizeof want, "%s_%04ld.%s", p[0].stem, f, ext);
-        const char *got = pfx_manifest_output(all, (size_t)(f - first), NULL);
-        if (!got || strcmp(got, want)) {
-            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES, "frame %ld of '%s' is in no slice", f,
-                           p[0].stem);
-            ok = false;
-        }
-    }
     for (size_t i = 0; ok && i < n; i++)
         for (size_t k = 0; ok && k < pfx_manifest_output_count(p[i].m); k++) {
             const char *sha, *name = pfx_manifest_output(p[i].m, k, &sha);
             ok = gather(p[i].dir, name, sha, out, r, d);
         }
-    /* The atlas and preview as render makes them, and in its settings, so
-     * that the key is the one a single render with them would have. */
+    /* The atlas (with the motion-vector sheet), the motion-vector sidecar
+     * and the preview as render makes them, and in its settings, so that
+     * the key is the one a single render with them would have. */
     double fps = pfx_manifest_get_number(all, "fps", 30);
     bool loop = pfx_manifest_get_number(all, "loop", 0) != 0;
     if (ok && opt->atlas) {
         pfx_atlas_layout atlas = *opt->atlas;
+        atlas.motion = motion;
         pfx_atlas_job_describe(&atlas, all);
         ok = pfx_atlas_job_run(out, p[0].stem, first, last, fps, loop, &atlas, all, d);
+    } else if (ok && motion) {
+        ok = pfx_mv_sidecar_run(out, p[0].stem, first, last, motion, all, d);
     }
     if (ok && opt->preview) {
         pfx_manifest_set_string(all, "preview", opt->preview);
@@ -240,7 +303,7 @@ static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_
     }
     if (ok) {
         r->effects++;
-        r->frames += expected;
+        r->frames += (size_t)(last - first + 1);
     }
     pfx_manifest_destroy(all);
     return ok;

@@ -20,10 +20,11 @@ typedef struct pfx_assemble_report {
 /* Finds every slice manifest (<name>.slice-I-of-N.manifest.json) in the
  * n directories, and for each render among them checks that every slice is
  * there exactly once and every frame has its recorded SHA-256, then gathers
- * the frames into out (hard links where possible) and writes
- * out/<name>.manifest.json, the manifest a single-process render would
- * have written, with the atlas and preview of opt as render would make
- * them from all the frames. out must exist. False with the reasons in d; a render whose
+ * the frames (and --motion-vectors' frames) into out (hard links where
+ * possible) and writes out/<name>.manifest.json, the manifest a
+ * single-process render would have written, with the atlas, the
+ * motion-vector sidecar or sheet and the preview of opt as render would
+ * make them from all the frames. out must exist. False with the reasons in d; a render whose
  * slices do not check out gets no manifest. */
 typedef struct pfx_assemble_options {
     const pfx_atlas_layout *atlas; /* build <name>_atlas.png/.json in out, or NULL */

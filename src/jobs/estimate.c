@@ -55,7 +55,9 @@ static double sprite_side_px(const pfx_effect *e, const pfx_emitter *em) {
     return size * 0.5 * e->height / (tan(0.5 * k->fov) * depth);
 }
 
-void pfx_estimate_run(const pfx_effect *e, long first, long last, bool render, pfx_estimate *out) {
+void pfx_estimate_run(const pfx_effect *e, long first, long last, unsigned what,
+                      pfx_estimate *out) {
+    const bool render = what & PFX_ESTIMATE_RENDER;
     memset(out, 0, sizeof *out);
     if (last < first)
         last = first;
@@ -109,6 +111,13 @@ void pfx_estimate_run(const pfx_effect *e, long first, long last, bool render, p
          * known here, so the larger, EXR's) and the deflate scratch it keeps
          * (output/png_write.c). */
         out->bytes[PFX_MEMORY_FRAMEBUFFER] = (e->blur_samples > 1 ? 3 : 2) * image * 16;
+        /* --motion-vectors: the pass's own RGBA32F target and its float
+         * read-back (render/motion_vectors.c, 16 bytes a pixel each), the
+         * (dx, dy, coverage) floats (12) and the RGBA16 samples (8) of
+         * jobs/motion_job.c. Its scale pass simulates before the render
+         * and frees its pools first, so it adds nothing to the peak. */
+        if (what & PFX_ESTIMATE_MOTION_VECTORS)
+            out->bytes[PFX_MEMORY_MOTION_VECTORS] = image * (16 + 16 + 12 + 8);
         out->threads = pfx_frame_encoder_count(e->threads);
         out->per_thread_bytes = pfx_frame_queue_bytes(e->width, e->height, 1, PFX_FRAME_EXR) +
                                 (double)pfx_png_encoder_scratch_bytes(e->width, e->height);

@@ -24,6 +24,7 @@
     X(RIBBONS, "ribbons", "ribbon triangles (array, scratch and GL vertex buffer)")                \
     X(DRIVER, "driver", "GL driver's binned triangles (llvmpipe)")                                 \
     X(FRAMEBUFFER, "framebuffer", "float framebuffer, read-back, blur sum")                        \
+    X(MOTION_VECTORS, "motion_vectors", "motion-vector pass (float target, read-back, encoding)")  \
     X(ENCODER, "encoders", "frame encoder buffers and deflate scratch")                            \
     X(TEXTURES, "textures", "textures")
 
@@ -61,10 +62,18 @@ typedef struct pfx_estimate {
     double bound_bytes;
 } pfx_estimate;
 
+/* What a run does, for pfx_estimate_run, or'ed: a bake (0) or a render,
+ * with --motion-vectors or not. RENDER is 1 so that a bool `render`
+ * (true, false) still says render or bake. */
+enum {
+    PFX_ESTIMATE_RENDER = 1,
+    PFX_ESTIMATE_MOTION_VECTORS = 2, /* with RENDER: the motion-vector pass too */
+};
+
 /* Estimates a run of e to output frame `last` (frames from `first`):
- * drawing them when `render` is true, baking them otherwise. Pure: reads
- * the effect only. */
-void pfx_estimate_run(const pfx_effect *e, long first, long last, bool render, pfx_estimate *out);
+ * drawing them when `what` has PFX_ESTIMATE_RENDER, baking them otherwise.
+ * Pure: reads the effect only. */
+void pfx_estimate_run(const pfx_effect *e, long first, long last, unsigned what, pfx_estimate *out);
 
 /* The estimate as JSON (jansson; the caller owns the reference): work
  * {steps, particle_steps, sprites, sprite_pixels} and memory {total_bytes,

@@ -244,6 +244,17 @@ void pfx_manifest_set_slice(pfx_manifest *m, long index, long count, long first,
                                   (json_int_t)last));
 }
 
+/* A real, so that the value reads back as the same double. */
+bool pfx_manifest_set_slice_number(pfx_manifest *m, const char *key, double value) {
+    json_t *slice = member(m, "slice");
+    return json_is_object(slice) && json_object_set_new(slice, key, json_real(value)) == 0;
+}
+
+double pfx_manifest_slice_number(const pfx_manifest *m, const char *key, double fallback) {
+    json_t *v = json_object_get(member(m, "slice"), key);
+    return json_is_number(v) ? json_number_value(v) : fallback;
+}
+
 static bool is_render(const pfx_manifest *m) {
     const char *c = json_string_value(member(m, "command"));
     return c && !strcmp(c, "render");

@@ -74,6 +74,14 @@ double pfx_manifest_get_number(const pfx_manifest *m, const char *key, double fa
  * frames of all slices together). */
 void pfx_manifest_set_slice(pfx_manifest *m, long index, long count, long first, long last);
 
+/* A number that slice manifest m records for `pfx assemble` beside its
+ * index, outside the settings and so outside the bake key (a value the run
+ * found, not one it was given: --motion-vectors' scale). False, nothing
+ * set, when m is not a slice's manifest. */
+bool pfx_manifest_set_slice_number(pfx_manifest *m, const char *key, double value);
+/* That number, or `fallback` when m records none. */
+double pfx_manifest_slice_number(const pfx_manifest *m, const char *key, double fallback);
+
 /* The one manifest of a render cut into slices: the slices' manifests
  * (named by `names` in messages) must be every slice of one render
  * exactly once: the same inputs, settings but for the frames, and count;

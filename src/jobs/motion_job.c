@@ -146,6 +146,11 @@ bool pfx_mv_atlas_write(const char *dir, const char *stem, long first, long last
 
 bool pfx_mv_sidecar_run(const char *dir, const char *stem, long first, long last,
                         const pfx_mv_meta *m, pfx_manifest *mf, pfx_diags *d) {
+    /* A slice's sidecar would describe its part under the name of the
+     * whole, and slices may share a directory: the scale goes into its
+     * manifest instead, and assemble writes the sidecar of the whole. */
+    if (mf && pfx_manifest_set_slice_number(mf, PFX_MV_SLICE_SCALE, m->max_px))
+        return true;
     char path[4400], pattern[300], name[300];
     snprintf(pattern, sizeof pattern, "%s_mv_%%04d.png", stem);
     snprintf(name, sizeof name, "%s_mv.json", stem);
@@ -158,4 +163,31 @@ void pfx_mv_describe(const pfx_mv_meta *m, pfx_manifest *mf) {
     pfx_manifest_set_number(mf, "motion_vectors", 1);
     pfx_manifest_set_number(mf, "mv_max", m->max_given ? m->max_px : 0);
     pfx_manifest_set_number(mf, "mv_flip_y", m->flip_y);
+}
+
+bool pfx_mv_assembled(const pfx_manifest *all, pfx_manifest *const *slices,
+                      const char *const *names, size_t n, pfx_mv_meta *m, pfx_diags *d) {
+    const double given = pfx_manifest_get_number(all, "mv_max", 0);
+    *m = (pfx_mv_meta){.max_given = given > 0,
+                       .flip_y = pfx_manifest_get_number(all, "mv_flip_y", 0) != 0,
+                       .fps = pfx_manifest_get_number(all, "fps", 30)};
+    for (size_t i = 0; i < n; i++) {
+        const double s = pfx_manifest_slice_number(slices[i], PFX_MV_SLICE_SCALE, 0);
+        if (!(s > 0)) {
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                           "'%s' does not record the scale of its motion vectors", names[i]);
+            return false;
+        }
+        /* Every slice finds the scale over the whole effect (or is given
+         * it), so the slices of one render agree to the bit. */
+        if (i > 0 && s != m->max_px) {
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                           "'%s' encodes its motion vectors with a scale of %.17g px, '%s' with "
+                           "%.17g px",
+                           names[i], s, names[0], m->max_px);
+            return false;
+        }
+        m->max_px = s;
+    }
+    return true;
 }

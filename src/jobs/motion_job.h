@@ -54,11 +54,24 @@ bool pfx_mv_add_outputs(pfx_manifest *mf, const char *dir, const char *stem, lon
 bool pfx_mv_atlas_write(const char *dir, const char *stem, long first, long last,
                         const pfx_atlas_layout *l, char *image, size_t image_size, pfx_diags *d);
 
-/* Without an atlas: dir/stem_mv.json, listed in mf. */
+/* The key of a slice manifest's "slice" member holding the scale
+ * (pfx_mv_meta.max_px) its motion-vector frames were encoded with. */
+#define PFX_MV_SLICE_SCALE "mv_max_px"
+
+/* Without an atlas: dir/stem_mv.json, listed in mf. When mf is a slice's
+ * manifest (render --slice), only the scale is recorded in it, for `pfx
+ * assemble` to write the sidecar of all the slices (pfx_mv_assembled). */
 bool pfx_mv_sidecar_run(const char *dir, const char *stem, long first, long last,
                         const pfx_mv_meta *m, pfx_manifest *mf, pfx_diags *d);
 
 /* The settings of m into mf (part of the bake key). */
 void pfx_mv_describe(const pfx_mv_meta *m, pfx_manifest *mf);
+
+/* The encoding of assembled slices: the settings of all (the assembled
+ * manifest) and the scale each slice recorded, which must be the same in
+ * every one of the n slice manifests (named in messages by names). False
+ * with the reason in d. */
+bool pfx_mv_assembled(const pfx_manifest *all, pfx_manifest *const *slices,
+                      const char *const *names, size_t n, pfx_mv_meta *m, pfx_diags *d);
 
 #endif

@@ -3,7 +3,9 @@
 # (check_motion_vectors.py: the camera formula, the encoding, the sign of
 # each axis, averaging under overlap, additive weights); the same bytes for
 # --threads 1 and 7, -j 2 and a --frames range; the sheet in the colour
-# atlas's cells; the manifest; the usage errors.
+# atlas's cells; the manifest; the usage errors; three slices assembled
+# (with and without --atlas) equal to a one-process render, file for file;
+# the pass's memory in --max-memory.
 #
 #   bash run_motion_vectors.sh PATH-TO-PFX SOURCE-DIR
 set -u
@@ -107,10 +109,100 @@ want_status 2
 stderr_has "--mv-max takes pixels in (0, 1000000], got '0'"
 end
 
-begin "--motion-vectors with --slice is a usage error"
-pfx_run render "$FIRE" -o u --motion-vectors --slice 0/2
-want_status 2
-stderr_has "--motion-vectors does not work with --slice yet"
+# Slices: each writes its motion-vector frames and records the scale; the
+# assembly must equal a one-process render file for file, byte for byte.
+key() { "$py" -c 'import json,sys; print(json.load(open(sys.argv[1]))["bake_key"])' "$1"; }
+# outputs MANIFEST: its outputs, path and hash, sorted.
+outputs() { "$py" -c 'import json,sys; [print(o["path"], o["sha256"]) for o in sorted(json.load(open(sys.argv[1]))["outputs"], key=lambda o: o["path"])]' "$1"; }
+# same_render ONE ALL: the same files but the manifest byte for byte, and
+# manifests with the same key and outputs.
+same_render() {
+    local f
+    [ "$(ls "$1")" = "$(ls "$2")" ] || flunk "$2 holds $(ls "$2" | tr '\n' ' '), $1 $(ls "$1" | tr '\n' ' ')"
+    for f in "$1"/*; do
+        case $f in *.manifest.json) continue ;; esac
+        cmp -s "$f" "$2/${f#"$1"/}" || flunk "$2/${f#"$1"/} differs from the one-process file"
+    done
+    [ "$(key "$1/fire.manifest.json")" = "$(key "$2/fire.manifest.json")" ] || flunk "the bake keys differ"
+    [ "$(outputs "$1/fire.manifest.json")" = "$(outputs "$2/fire.manifest.json")" ] || flunk "the manifests list other outputs"
+}
+S=(--size 48x40 --seed 4 -q --frames 10:20 --motion-vectors)
+
+begin "three slices with --motion-vectors in one directory, assembled: a one-process render"
+pfx_run render "$FIRE" -o mv-one "${S[@]}"
+want_status 0
+for i in 0 1 2; do
+    pfx_run render "$FIRE" -o mv-s "${S[@]}" --slice $i/3
+    want_status 0
+done
+[ ! -e mv-s/fire_mv.json ] || flunk "a slice wrote the sidecar of the whole"
+# 11 frames: every slice lists its own colour and motion-vector frames, and
+# all three found the one scale of the whole effect.
+n=$("$py" -c 'import json,sys; print(sum(o["path"].startswith("fire_mv_") for p in sys.argv[1:] for o in json.load(open(p))["outputs"]))' mv-s/fire.slice-*.manifest.json)
+[ "$n" = 11 ] || flunk "the slice manifests list $n motion-vector frames, not 11"
+scales=$("$py" -c 'import json,sys; print(" ".join(repr(json.load(open(p))["slice"]["mv_max_px"]) for p in sys.argv[1:]))' mv-s/fire.slice-*.manifest.json)
+one=$("$py" -c 'import json,sys; print(repr(json.load(open(sys.argv[1]))["motion_vectors"]["max_px"]))' mv-one/fire_mv.json)
+[ "$scales" = "$one $one $one" ] || flunk "the slices' scales are $scales, the one-process render's $one"
+pfx_run assemble mv-s -o mv-all
+want_status 0
+stderr_has "assembled 11 frames of 1 render in 'mv-all' (22 linked"
+same_render mv-one mv-all
+[ "$(stat -c %h mv-all/fire_mv_0015.png)" -ge 2 ] || flunk "motion-vector frames are not hard links"
+end
+
+begin "assemble --atlas: the colour and motion-vector sheets of a one-process render"
+pfx_run render "$FIRE" -o mv-one-atlas "${S[@]}" --atlas --crop --padding 3
+want_status 0
+pfx_run assemble mv-s -o mv-all-atlas --atlas --crop --padding 3
+want_status 0
+[ -f mv-all-atlas/fire_mv_atlas.png ] || flunk "no fire_mv_atlas.png"
+same_render mv-one-atlas mv-all-atlas
+end
+
+begin "slices with --mv-max 3 --mv-flip-y: the sidecar of a one-process render"
+M=(--size 48x40 --seed 4 -q --frames 10:14 --motion-vectors --mv-max 3 --mv-flip-y)
+pfx_run render "$FIRE" -o mx-one "${M[@]}"
+want_status 0
+for i in 0 1; do
+    pfx_run render "$FIRE" -o mx-s$i "${M[@]}" --slice $i/2
+    want_status 0
+done
+pfx_run assemble mx-s0 mx-s1 -o mx-all
+want_status 0
+same_render mx-one mx-all
+grep -q '"max_from": "--mv-max"' mx-all/fire_mv.json || flunk "the sidecar does not say --mv-max"
+end
+
+begin "a slice missing a motion-vector frame is an error and writes no manifest"
+cp -r mv-s mv-gap && rm mv-gap/fire_mv_0015.png
+pfx_run assemble mv-gap -o mv-gap-all
+want_status 1
+stderr_has "cannot read 'mv-gap/fire_mv_0015.png'"
+[ ! -e mv-gap-all/fire.manifest.json ] || flunk "a manifest was written"
+end
+
+begin "slices that disagree on the scale are an error"
+cp -r mv-s mv-odd
+"$py" -c 'import json,sys; p=sys.argv[1]; m=json.load(open(p)); m["slice"]["mv_max_px"] *= 2; json.dump(m, open(p, "w"))' \
+    mv-odd/fire.slice-0001-of-0003.manifest.json
+pfx_run assemble mv-odd -o mv-odd-all
+want_status 1
+stderr_has "encodes its motion vectors with a scale of"
+[ ! -e mv-odd-all/fire.manifest.json ] || flunk "a manifest was written"
+end
+
+# The pass's memory: 52 bytes a pixel (two RGBA32F images, 3 floats and 4
+# 16-bit samples), here 48 x 40 x 52 = 99840 bytes over the render's estimate.
+begin "--max-memory counts the motion-vector pass"
+total=$("$pfx" info "$FIRE" --size 48x40 --seed 4 --format json | "$py" -c 'import json,sys; print(int(json.load(sys.stdin)["memory"]["total_bytes"]))')
+bound=$((total + 60000))
+pfx_run render "$FIRE" -o mem --size 48x40 --seed 4 -q --frames 10:10 --max-memory $bound
+want_status 0
+pfx_run render "$FIRE" -o mem --size 48x40 --seed 4 -q --frames 10:10 --max-memory $bound --motion-vectors
+want_status 1
+stderr_has "this render needs up to"
+pfx_run render "$FIRE" -o mem --size 48x40 --seed 4 -q --frames 10:10 --max-memory $((total + 99841)) --motion-vectors
+want_status 0
 end
 
 summary

@@ -93,6 +93,31 @@ static void test_render_parts(void) {
     compiled_free(&c);
 }
 
+/* --motion-vectors adds its pass, 52 bytes a pixel (a second RGBA32F
+ * target and its read-back, 3 floats and 4 16-bit samples a pixel), to a
+ * render and to nothing else; without it the part is 0. */
+static void test_motion_vectors_part(void) {
+    compiled c;
+    const pfx_effect *e = compile_text(&c, cycle);
+    if (!e)
+        return;
+    pfx_estimate plain, mv, bake;
+    pfx_estimate_run(e, 10, 12, PFX_ESTIMATE_RENDER, &plain);
+    pfx_estimate_run(e, 10, 12, PFX_ESTIMATE_RENDER | PFX_ESTIMATE_MOTION_VECTORS, &mv);
+    pfx_estimate_run(e, 10, 12, PFX_ESTIMATE_MOTION_VECTORS, &bake);
+    CHECK_NEAR(plain.bytes[PFX_MEMORY_MOTION_VECTORS], 0, 0);
+    CHECK_NEAR(mv.bytes[PFX_MEMORY_MOTION_VECTORS], 512.0 * 512 * (16 + 16 + 12 + 8), 0);
+    CHECK_NEAR(mv.total_bytes, plain.total_bytes + 512.0 * 512 * 52, 0);
+    CHECK_NEAR(bake.bytes[PFX_MEMORY_MOTION_VECTORS], 0, 0);
+    CHECK_NEAR(bake.bytes[PFX_MEMORY_FRAMEBUFFER], 0, 0);
+    CHECK(!strcmp(pfx_memory_part_keys[PFX_MEMORY_MOTION_VECTORS], "motion_vectors"));
+    /* The other parts do not move. */
+    for (int p = 0; p < PFX_MEMORY_PART_COUNT; p++)
+        if (p != PFX_MEMORY_MOTION_VECTORS)
+            CHECK_NEAR(mv.bytes[p], plain.bytes[p], 0);
+    compiled_free(&c);
+}
+
 static void test_memory_parse(void) {
     uint64_t b = 0;
     CHECK(pfx_memory_parse("4096", &b) && b == 4096);
@@ -113,6 +138,7 @@ static void test_memory_parse(void) {
 int main(void) {
     RUN(test_pools_and_queues_as_allocated);
     RUN(test_render_parts);
+    RUN(test_motion_vectors_part);
     RUN(test_memory_parse);
     return TEST_EXIT();
 }
