@@ -30,7 +30,7 @@ static const char usage_text[] =
     "                  [--fps N] [--seed N] [--max-particles N] [--max-memory SIZE]\n"
     "                  [--threads N] [--force] [--depfile FILE]\n"
     "       pfx info FILE [--format text|json] [--seed N] [--max-particles N]\n"
-    "                  [--max-memory SIZE] [--threads N]\n"
+    "                  [--max-memory SIZE] [--threads N] [--motion-vectors]\n"
     "       pfx bench [--json] [--renderer R]\n"
     "       pfx bench accuracy -o DIR\n"
     "       pfx assemble DIR... -o OUT [--atlas[=CxR]] [--preview OUT.webp|OUT.mp4]\n"
@@ -498,8 +498,8 @@ static int check_options(int argc, char **argv, pfx_cli *o) {
                                    "of the slices");
     if ((o->mv_max > 0 || o->mv_flip_y) && !o->motion_vectors)
         return pfx_cli_usage_error("%s", "--mv-max and --mv-flip-y go with --motion-vectors");
-    if (o->motion_vectors && strcmp(argv[1], "render"))
-        return pfx_cli_usage_error("%s", "--motion-vectors is for render");
+    if (o->motion_vectors && strcmp(argv[1], "render") && strcmp(argv[1], "info"))
+        return pfx_cli_usage_error("%s", "--motion-vectors is for render (and info's estimate)");
     if (o->frames_as == PFX_FRAME_EXR) {
         /* EXR keeps the float image; what needs 8-bit frames cannot follow. */
         if (o->atlas || o->preview)

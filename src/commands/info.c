@@ -5,12 +5,18 @@
 #include "jobs/estimate.h"
 #include "render/sprites.h"
 
+/* What the estimate counts: a render, and its motion-vector pass when
+ * --motion-vectors is given. */
+static unsigned estimate_flags(const pfx_cli *o) {
+    return PFX_ESTIMATE_RENDER | (o->motion_vectors ? PFX_ESTIMATE_MOTION_VECTORS : 0);
+}
+
 /* The estimate of a whole render, every frame, before anything is allocated:
  * work as particle-steps and memory by part (jobs/estimate.c). */
-static void print_estimate(const pfx_effect *e) {
+static void print_estimate(const pfx_effect *e, const pfx_cli *o) {
     pfx_estimate est;
     char b[32];
-    pfx_estimate_run(e, 0, pfx_effect_frame_count(e) - 1, true, &est);
+    pfx_estimate_run(e, 0, pfx_effect_frame_count(e) - 1, estimate_flags(o), &est);
     printf("  work to the last frame, at most: %.4g steps, %.4g particle-steps, %.4g sprites "
            "covering %.4g pixels\n",
            est.steps, est.particle_steps, est.sprites, est.sprite_pixels);
@@ -43,7 +49,7 @@ static int print_info_json(const pfx_effect *e, const pfx_cli *o) {
                                                   (json_int_t)bpp));
     }
     pfx_estimate est;
-    pfx_estimate_run(e, 0, pfx_effect_frame_count(e) - 1, true, &est);
+    pfx_estimate_run(e, 0, pfx_effect_frame_count(e) - 1, estimate_flags(o), &est);
     json_t *root = json_pack("{s:s, s:I, s:i, s:i, s:o, s:f, s:b}", "effect", e->path, "frames",
                              (json_int_t)pfx_effect_frame_count(e), "width", e->width, "height",
                              e->height, "emitters", emitters, "pool_bytes", bytes, "depth_sort",
@@ -146,7 +152,7 @@ int pfx_cmd_info(const char *const *operands, int count, const pfx_cli *o) {
     printf("  depth sort: %s\n", pfx_sprites_need_sort(e)
                                      ? "yes (a sprite emitter blends by alpha)"
                                      : "no (no sprite emitter blends by alpha)");
-    print_estimate(e);
+    print_estimate(e, o);
     if (o->max_memory) {
         char b[32];
         printf("  memory bound %s (--max-memory)\n",

@@ -205,4 +205,11 @@ pfx_run render "$FIRE" -o mem --size 48x40 --seed 4 -q --frames 10:10 --max-memo
 want_status 0
 end
 
+begin "pfx info --motion-vectors shows the pass: 48 x 40 x 52 bytes"
+part=$("$pfx" info "$FIRE" --size 48x40 --seed 4 --format json --motion-vectors | "$py" -c 'import json,sys; print(int(json.load(sys.stdin)["memory"]["parts"]["motion_vectors"]))')
+[ "$part" = 99840 ] || flunk "motion_vectors part $part, expected 99840"
+part=$("$pfx" info "$FIRE" --size 48x40 --seed 4 --format json | "$py" -c 'import json,sys; print(int(json.load(sys.stdin)["memory"]["parts"]["motion_vectors"]))')
+[ "$part" = 0 ] || flunk "motion_vectors part $part without the option, expected 0"
+end
+
 summary
