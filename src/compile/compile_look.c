@@ -192,7 +192,8 @@ static const pfx_image *read_texture(pfx_reader *r, const pfx_node *v, const cha
     pfx_diag_at at = pfx_read_at(r, v);
     if (!img || !pfx_png_read_texture(path, name, colour, r->arena, img, &at))
         return NULL;
-    return img;
+    img->file = pfx_arena_strndup(r->arena, path, strlen(path));
+    return img->file ? img : NULL;
 }
 
 /* The grid must cut the texture into whole equal cells, and hold the

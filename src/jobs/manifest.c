@@ -92,9 +92,17 @@ bool pfx_manifest_add_input(pfx_manifest *m, const char *path, pfx_diags *d) {
 
 bool pfx_manifest_add_effect(pfx_manifest *m, const pfx_effect *e, pfx_diags *d) {
     bool ok = pfx_manifest_add_input(m, e->path, d);
-    for (size_t i = 0; i < e->emitter_count; i++)
-        if (e->emitters[i].shape.file)
-            ok = pfx_manifest_add_input(m, e->emitters[i].shape.file, d) && ok;
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        const pfx_emitter *em = &e->emitters[i];
+        if (em->shape.file)
+            ok = pfx_manifest_add_input(m, em->shape.file, d) && ok;
+        /* Textures and normal maps are inputs too: editing one must make
+         * the run stale and re-run a build that reads the depfile. */
+        const pfx_image *maps[2] = {em->look.texture, em->look.normal_map};
+        for (int k = 0; k < 2; k++)
+            if (maps[k] && maps[k]->file)
+                ok = pfx_manifest_add_input(m, maps[k]->file, d) && ok;
+    }
     return ok;
 }
 

@@ -148,6 +148,7 @@ typedef enum {
  * first, 8 or 16 bits a channel as the file had them. */
 typedef struct pfx_image {
     const char *path; /* as written, relative to the effect file */
+    const char *file; /* where it was read from: an input of the run's manifest */
     int width, height;
     int bits;     /* 8 or 16 */
     void *pixels; /* width * height * 4 uint8_t or uint16_t */
