@@ -31,7 +31,7 @@ static const char usage_text[] =
     "                  [--threads N] [--force] [--depfile FILE]\n"
     "       pfx info FILE [--format text|json] [--seed N] [--max-particles N]\n"
     "                  [--max-memory SIZE] [--threads N] [--motion-vectors]\n"
-    "       pfx bench [--json] [--renderer R]\n"
+    "       pfx bench [SECTION...] [--json] [--renderer R]\n"
     "       pfx bench accuracy -o DIR\n"
     "       pfx assemble DIR... -o OUT [--atlas[=CxR]] [--preview OUT.webp|OUT.mp4]\n"
     "       pfx schema\n"

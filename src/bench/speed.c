@@ -360,8 +360,23 @@ static bool bench_render(report *rep, const char *fire_path, pfx_renderer *r, in
     return ok;
 }
 
+const char *const pfx_bench_section_names[] = {
+#define PFX_BENCH_NAME(id, bit, name) name,
+    PFX_BENCH_SECTIONS(PFX_BENCH_NAME)
+#undef PFX_BENCH_NAME
+        NULL};
+
+unsigned pfx_bench_section(const char *name) {
+#define PFX_BENCH_MATCH(id, bit, text)                                                             \
+    if (!strcmp(name, text))                                                                       \
+        return bit;
+    PFX_BENCH_SECTIONS(PFX_BENCH_MATCH)
+#undef PFX_BENCH_MATCH
+    return 0;
+}
+
 bool pfx_bench_speed(FILE *out, const char *fire_path, pfx_renderer_kind renderer, bool json,
-                     pfx_diags *d) {
+                     unsigned sections, pfx_diags *d) {
     static const int sizes[2][2] = {{512, 512}, {1920, 1080}};
     pfx_renderer *r[2] = {NULL, NULL};
     for (int k = 0; k < 2; k++)
@@ -377,14 +392,18 @@ bool pfx_bench_speed(FILE *out, const char *fire_path, pfx_renderer_kind rendere
     if (!json)
         fprintf(out, "machine: %d cores, memory bandwidth %.1f GB/s (STREAM triad, all cores)\n",
                 cores, bandwidth);
-    bench_sim(&rep, cores, bandwidth);
-    bench_forces(&rep);
+    if (sections & PFX_BENCH_SIM)
+        bench_sim(&rep, cores, bandwidth);
+    if (sections & PFX_BENCH_FORCES)
+        bench_forces(&rep);
     json_t *sort = json_array();
-    bool ok = pfx_bench_sort(json ? NULL : out, r[0], cores, sort, d);
-    for (int k = 0; k < 2 && ok; k++)
+    bool ok = true;
+    if (sections & PFX_BENCH_SORT)
+        ok = pfx_bench_sort(json ? NULL : out, r[0], cores, sort, d);
+    for (int k = 0; k < 2 && ok && (sections & PFX_BENCH_RENDER); k++)
         ok = bench_render(&rep, fire_path, r[k], sizes[k][0], sizes[k][1], d);
     /* The sprite looks' table is text only (not part of --json). */
-    if (ok && !json)
+    if (ok && !json && (sections & PFX_BENCH_LOOKS))
         ok = pfx_bench_looks(out, r[0], sizes[0][0], sizes[0][1], d);
     json_object_set(rep.root, "sim", rep.sim);
     json_object_set(rep.root, "forces", rep.forces);

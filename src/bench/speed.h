@@ -22,7 +22,27 @@
  * of the same sprites, through the `renderer` kind, which it names.
  * Returns false with the failure in d (a renderer that cannot start fails
  * before anything is measured). */
+/* The sections of the report, one row each: the bit and the name `pfx
+ * bench NAME...` gives; none named: all. The machine line is always
+ * there. */
+#define PFX_BENCH_SECTIONS(X)                                                                      \
+    X(PFX_BENCH_SIM, 1u << 0, "sim")                                                               \
+    X(PFX_BENCH_FORCES, 1u << 1, "forces")                                                         \
+    X(PFX_BENCH_SORT, 1u << 2, "sort")                                                             \
+    X(PFX_BENCH_RENDER, 1u << 3, "render")                                                         \
+    X(PFX_BENCH_LOOKS, 1u << 4, "looks")
+enum {
+#define PFX_BENCH_BIT(id, bit, name) id = bit,
+    PFX_BENCH_SECTIONS(PFX_BENCH_BIT)
+#undef PFX_BENCH_BIT
+        PFX_BENCH_ALL = (1u << 5) - 1
+};
+/* The section's bit for its name, or 0 when there is none; names, a
+ * NULL-ended list of them for suggestions. */
+unsigned pfx_bench_section(const char *name);
+extern const char *const pfx_bench_section_names[];
+
 bool pfx_bench_speed(FILE *out, const char *fire_path, pfx_renderer_kind renderer, bool json,
-                     pfx_diags *d);
+                     unsigned sections, pfx_diags *d);
 
 #endif

@@ -166,8 +166,12 @@ bool pfx_png_read_texture(const char *path, const char *name, bool premultiply, 
         premultiply8(pixels, (size_t)w * h);
     else if (premultiply)
         premultiply16((uint16_t *)(void *)pixels, (size_t)w * h);
-    *out = (pfx_image){
-        .path = name, .file = NULL, .width = (int)w, .height = (int)h, .bits = bits, .pixels = pixels};
+    *out = (pfx_image){.path = name,
+                       .file = NULL,
+                       .width = (int)w,
+                       .height = (int)h,
+                       .bits = bits,
+                       .pixels = pixels};
     ok = true;
 done:
     png_destroy_read_struct(&png, info ? &info : NULL, NULL);
