@@ -1,5 +1,5 @@
 /* Atomic output files (atomic_file.h). Open temporaries are listed in a
- * small registry under a mutex. Signals that end the process are blocked
+ * registry under a mutex. Signals that end the process are blocked
  * in every thread and taken by one thread in sigwait(), which removes the
  * listed temporaries while holding the mutex (so no writer creates or
  * renames one meanwhile) and then dies of the signal it got: the usual
@@ -23,9 +23,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-/* A render writes one file at a time on its writer thread, a bake one: a
- * few slots are plenty. */
-#define SLOTS 16
+/* Temporaries open at once: one per frame encoder thread (up to one per
+ * core, times -j), plus the sidecars a job writes. The list grows as
+ * needed, under the lock, so a machine of many cores never runs out: a
+ * fixed 16 failed with EMFILE once more than 16 encoders wrote at once. */
 
 struct pfx_atomic_file {
     FILE *f;
@@ -35,8 +36,9 @@ struct pfx_atomic_file {
 };
 
 static pthread_mutex_t registry_lock = PTHREAD_MUTEX_INITIALIZER;
-static char *registry[SLOTS];
-static bool dying; /* a signal is being handled: no new temporaries */
+static char **registry;     /* registry_cap entries, NULL where free */
+static size_t registry_cap; /* under registry_lock */
+static bool dying;          /* a signal is being handled: no new temporaries */
 
 /* Thread-safe strerror. */
 static const char *errno_text(int errnum, char *buf, size_t size) {
@@ -113,9 +115,20 @@ static pfx_atomic_file *start(const char *path, const char *link_from, int *errn
     a->slot = -1;
     *errnum = 0;
     pthread_mutex_lock(&registry_lock);
-    for (int i = 0; i < SLOTS && a->slot < 0; i++)
+    for (size_t i = 0; i < registry_cap && a->slot < 0; i++)
         if (!registry[i])
-            a->slot = i;
+            a->slot = (int)i;
+    if (a->slot < 0 && registry_cap < INT_MAX / 2) {
+        size_t cap = registry_cap ? 2 * registry_cap : 16;
+        char **grown = realloc(registry, cap * sizeof *grown);
+        if (grown) {
+            for (size_t i = registry_cap; i < cap; i++)
+                grown[i] = NULL;
+            a->slot = (int)registry_cap;
+            registry = grown;
+            registry_cap = cap;
+        }
+    }
     if (dying)
         *errnum = EINTR;
     else if (a->slot < 0)
@@ -267,7 +280,7 @@ static void *signal_thread(void *arg) {
      * whatever it is doing when the process ends. */
     pthread_mutex_lock(&registry_lock);
     dying = true;
-    for (int i = 0; i < SLOTS; i++)
+    for (size_t i = 0; i < registry_cap; i++)
         if (registry[i])
             unlink(registry[i]);
     signal(sig, SIG_DFL);
