@@ -12,7 +12,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "output/atomic_file.h"
+#include "output/json_file.h"
 
 #define MANIFEST_FORMAT 1
 
@@ -162,13 +162,7 @@ const char *pfx_manifest_output(const pfx_manifest *m, size_t i, const char **sh
 bool pfx_manifest_write(pfx_manifest *m, const char *path, pfx_diags *d) {
     if (!member(m, "bake_key"))
         pfx_manifest_key(m);
-    pfx_atomic_file *a = pfx_atomic_open(path, d);
-    if (!a)
-        return false;
-    FILE *f = pfx_atomic_stream(a);
-    if (json_dumpf(m->root, f, JSON_INDENT(2) | JSON_PRESERVE_ORDER) != 0 || fputc('\n', f) == EOF)
-        pfx_atomic_failed(a, errno);
-    return pfx_atomic_commit(a, true, d);
+    return pfx_json_file_write(path, m->root, d);
 }
 
 pfx_manifest *pfx_manifest_read(const char *path) {

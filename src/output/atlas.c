@@ -15,7 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "output/atomic_file.h"
+#include "output/json_file.h"
 #include "output/motion_vectors.h"
 
 #define BLEED_PASSES 16
@@ -198,18 +198,7 @@ bool pfx_atlas_write_json(const char *path, const pfx_atlas_layout *l, const cha
         l->columns, "v_frames", l->rows);
     if (root && l->motion)
         json_object_set_new(root, "motion_vectors", pfx_mv_json(l->motion, l, l->motion_image));
-    if (!root) {
-        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "cannot write '%s': out of memory", path);
-        return false;
-    }
-    pfx_atomic_file *a = pfx_atomic_open(path, d);
-    bool ok = false;
-    if (a) {
-        FILE *f = pfx_atomic_stream(a);
-        if (json_dumpf(root, f, JSON_INDENT(2) | JSON_PRESERVE_ORDER) != 0 || fputc('\n', f) == EOF)
-            pfx_atomic_failed(a, errno);
-        ok = pfx_atomic_commit(a, true, d);
-    }
+    bool ok = pfx_json_file_write(path, root, d);
     json_decref(root);
     return ok;
 }

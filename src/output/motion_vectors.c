@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "output/atomic_file.h"
+#include "output/json_file.h"
 
 /* round(v x 65535) of v clamped to [0, 1]: 0.5 is 32768. */
 static uint16_t sample(double v) {
@@ -88,18 +88,7 @@ bool pfx_mv_write_sidecar(const char *path, const pfx_mv_meta *m, const char *pa
         mv ? json_pack("{s:s, s:s, s:I, s:I, s:o}", "app", "pfx", "frames", pattern, "first",
                        (json_int_t)first, "last", (json_int_t)last, "motion_vectors", mv)
            : NULL;
-    if (!root) {
-        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "cannot write '%s': out of memory", path);
-        return false;
-    }
-    pfx_atomic_file *a = pfx_atomic_open(path, d);
-    bool ok = false;
-    if (a) {
-        FILE *f = pfx_atomic_stream(a);
-        if (json_dumpf(root, f, JSON_INDENT(2) | JSON_PRESERVE_ORDER) != 0 || fputc('\n', f) == EOF)
-            pfx_atomic_failed(a, errno);
-        ok = pfx_atomic_commit(a, true, d);
-    }
+    bool ok = pfx_json_file_write(path, root, d);
     json_decref(root);
     return ok;
 }

@@ -169,15 +169,16 @@ static const uint8_t *pfx_png_idat(const uint8_t *rgba, int width, int height, s
     return *size ? z : NULL;
 }
 
-/* Encodes into ctx->file: libpng writes the chunks, the IDAT data comes
- * from pfx_png_idat. Nothing assigned before setjmp is modified after it,
- * so no local needs to be volatile. */
-static bool pfx_png_encode(pfx_png_ctx *ctx, const uint8_t *rgba, int width, int height) {
-    size_t idat_size = 0;
-    const uint8_t *idat = pfx_png_idat(rgba, width, height, &idat_size);
-    png_structp png = idat ? png_create_write_struct(PNG_LIBPNG_VER_STRING, ctx, pfx_png_on_error,
-                                                     pfx_png_on_warning)
-                           : NULL;
+/* The chunks of a PNG of `depth` bits a sample, RGBA, no interlace:
+ * libpng writes the header, then `body` the image data and the end. The
+ * one place that sets up libpng and catches its longjmp for both writers. */
+typedef void (*png_body_fn)(png_structp png, png_infop info, const void *image, int width,
+                            int height);
+
+static bool png_encode_with(pfx_png_ctx *ctx, int width, int height, int depth, png_body_fn body,
+                            const void *image) {
+    png_structp png =
+        png_create_write_struct(PNG_LIBPNG_VER_STRING, ctx, pfx_png_on_error, pfx_png_on_warning);
     png_infop info = png ? png_create_info_struct(png) : NULL;
     if (info == NULL) {
         png_destroy_write_struct(&png, NULL);
@@ -189,17 +190,39 @@ static bool pfx_png_encode(pfx_png_ctx *ctx, const uint8_t *rgba, int width, int
         return false;
     }
     png_set_write_fn(png, ctx, pfx_png_on_write, pfx_png_on_flush);
-    png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, 8, PNG_COLOR_TYPE_RGBA,
+    png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, depth, PNG_COLOR_TYPE_RGBA,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    /* No tIME or text chunks: the same pixels must give the same bytes. */
-    png_write_info(png, info);
-    for (size_t at = 0; at < idat_size; at += PFX_PNG_IDAT_MAX)
-        png_write_chunk(png, (png_const_bytep) "IDAT", idat + at,
-                        idat_size - at < PFX_PNG_IDAT_MAX ? idat_size - at : PFX_PNG_IDAT_MAX);
-    /* png_write_end would refuse: libpng did not see the IDAT go out. */
-    png_write_chunk(png, (png_const_bytep) "IEND", NULL, 0);
+    body(png, info, image, width, height);
     png_destroy_write_struct(&png, &info);
     return true;
+}
+
+/* The 8-bit frames' IDAT, made by libdeflate (pfx_png_idat). */
+typedef struct idat_stream {
+    const uint8_t *bytes;
+    size_t size;
+} idat_stream;
+
+static void write_idat(png_structp png, png_infop info, const void *image, int width, int height) {
+    (void)width, (void)height;
+    const idat_stream *idat = image;
+    /* No tIME or text chunks: the same pixels must give the same bytes. */
+    png_write_info(png, info);
+    for (size_t at = 0; at < idat->size; at += PFX_PNG_IDAT_MAX)
+        png_write_chunk(png, (png_const_bytep) "IDAT", idat->bytes + at,
+                        idat->size - at < PFX_PNG_IDAT_MAX ? idat->size - at : PFX_PNG_IDAT_MAX);
+    /* png_write_end would refuse: libpng did not see the IDAT go out. */
+    png_write_chunk(png, (png_const_bytep) "IEND", NULL, 0);
+}
+
+static bool pfx_png_encode(pfx_png_ctx *ctx, const uint8_t *rgba, int width, int height) {
+    idat_stream idat = {NULL, 0};
+    idat.bytes = pfx_png_idat(rgba, width, height, &idat.size);
+    if (!idat.bytes) {
+        snprintf(ctx->message, sizeof ctx->message, "out of memory");
+        return false;
+    }
+    return png_encode_with(ctx, width, height, 8, write_idat, &idat);
 }
 
 /* Encodes into an atomic file (output/atomic_file.h): whole or absent.
@@ -314,27 +337,13 @@ uint8_t *pfx_png_read(const char *path, int *width, int *height) {
     return result;
 }
 
-/* 16-bit RGBA. PNG
- * stores samples big-endian; png_set_swap turns host order into that on a
- * little-endian machine. */
-static bool png_encode16(pfx_png_ctx *ctx, const uint16_t *rgba, int width, int height) {
-    png_structp png =
-        png_create_write_struct(PNG_LIBPNG_VER_STRING, ctx, pfx_png_on_error, pfx_png_on_warning);
-    png_infop info = png ? png_create_info_struct(png) : NULL;
-    if (info == NULL) {
-        png_destroy_write_struct(&png, NULL);
-        snprintf(ctx->message, sizeof ctx->message, "out of memory");
-        return false;
-    }
-    if (setjmp(png_jmpbuf(png))) {
-        png_destroy_write_struct(&png, &info);
-        return false;
-    }
-    png_set_write_fn(png, ctx, pfx_png_on_write, pfx_png_on_flush);
-    png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, 16, PNG_COLOR_TYPE_RGBA,
-                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    /* libpng's own deflate here (motion vectors are written only when
-     * asked), at the level and with the row filter of the 8-bit frames. */
+/* 16-bit RGBA rows through libpng's own deflate (motion vectors are
+ * written only when asked), at the level and with the row filter of the
+ * 8-bit frames. PNG stores samples big-endian; png_set_swap turns host
+ * order into that on a little-endian machine. */
+static void write_rows16(png_structp png, png_infop info, const void *image, int width,
+                         int height) {
+    const uint16_t *rgba = image;
     png_set_compression_level(png, PFX_PNG_DEFLATE_LEVEL);
     png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
     png_write_info(png, info);
@@ -345,8 +354,10 @@ static bool png_encode16(pfx_png_ctx *ctx, const uint16_t *rgba, int width, int 
     for (int y = 0; y < height; y++)
         png_write_row(png, (png_const_bytep)(rgba + (size_t)y * stride));
     png_write_end(png, info);
-    png_destroy_write_struct(&png, &info);
-    return true;
+}
+
+static bool png_encode16(pfx_png_ctx *ctx, const uint16_t *rgba, int width, int height) {
+    return png_encode_with(ctx, width, height, 16, write_rows16, rgba);
 }
 
 bool pfx_png_write16(const char *path, const uint16_t *rgba, int width, int height, bool sync_dir,

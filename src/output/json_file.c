@@ -1,0 +1,20 @@
+#include "output/json_file.h"
+
+#include <errno.h>
+#include <stdio.h>
+
+#include "output/atomic_file.h"
+
+bool pfx_json_file_write(const char *path, const json_t *root, pfx_diags *d) {
+    if (!root) {
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "cannot write '%s': out of memory", path);
+        return false;
+    }
+    pfx_atomic_file *a = pfx_atomic_open(path, d);
+    if (!a)
+        return false;
+    FILE *f = pfx_atomic_stream(a);
+    if (json_dumpf(root, f, JSON_INDENT(2) | JSON_PRESERVE_ORDER) != 0 || fputc('\n', f) == EOF)
+        pfx_atomic_failed(a, errno);
+    return pfx_atomic_commit(a, true, d);
+}
