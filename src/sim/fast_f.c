@@ -99,3 +99,54 @@ void pfx_vortex_f(const pfx_motion_force *F, size_t n, const float *restrict w, 
         }
     }
 }
+
+/* One falloff's loop: den(q, sq) the denominator of g = s / den for
+ * q = r^2 + e^2 and sq = sqrt(q). g is kept (q > 0, inside the cut-off) or
+ * zeroed by a mask on its bits, with the tests on the bits of q and r^2
+ * (non-negative floats order as their bits do): a float compare or select
+ * here would be turned into a branch round the divide (which may trap), and
+ * the loop would not vectorise. The same g as the double loop's select. */
+#define ATTRACT_LOOP(den)                                                                          \
+    for (size_t j = 0; j < n; j++) {                                                               \
+        const float dx = cx - X[j], dy = cy - Y[j], dz = cz - Z[j];                                \
+        const float r2 = dx * dx + dy * dy + dz * dz, q = r2 + e2, sq = sqrtf(q);                  \
+        const float g0 = s / (den);                                                                \
+        (void)sq; /* (the linear falloff has no use for it) */                                     \
+        int32_t bq, br, bg;                                                                        \
+        memcpy(&bq, &q, sizeof bq);                                                                \
+        memcpy(&br, &r2, sizeof br);                                                               \
+        memcpy(&bg, &g0, sizeof bg);                                                               \
+        /* q > 0 (q in (0, inf]: not NaN) and r2 <= cut2 (both >= 0) */                            \
+        bg &= -(int32_t)(((uint32_t)bq - 1u < 0x7f800000u) & (br <= bcut));                        \
+        float g;                                                                                   \
+        memcpy(&g, &bg, sizeof g);                                                                 \
+        g *= w[j];                                                                                 \
+        ax[j] += g * dx;                                                                           \
+        ay[j] += g * dy;                                                                           \
+        az[j] += g * dz;                                                                           \
+    }
+
+PFX_CLONES
+void pfx_attractor_f(const pfx_motion_force *F, size_t n, const float *restrict w,
+                     const float *restrict X, const float *restrict Y, const float *restrict Z,
+                     float *restrict ax, float *restrict ay, float *restrict az) {
+    const float cx = (float)F->center[0], cy = (float)F->center[1], cz = (float)F->center[2];
+    const float s = (float)F->strength, e2 = (float)(F->softening * F->softening);
+    const double Ld = F->ref_radius > 0 ? F->ref_radius : 1.0;
+    const float L = (float)Ld, L2 = (float)(Ld * Ld);
+    const float cut2 = F->radius > 0 ? (float)(F->radius * F->radius) : INFINITY;
+    int32_t bcut;
+    memcpy(&bcut, &cut2, sizeof bcut);
+    switch (F->falloff) {
+    case PFX_FALLOFF_INVERSE_SQUARE:
+        ATTRACT_LOOP(q * sq)
+        break;
+    case PFX_FALLOFF_LINEAR:
+        ATTRACT_LOOP(L * q)
+        break;
+    default:
+        ATTRACT_LOOP(L2 * sq)
+        break;
+    }
+}
+#undef ATTRACT_LOOP

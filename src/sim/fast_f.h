@@ -79,4 +79,12 @@ static inline __attribute__((always_inline)) float pfx_cosm1_small_f(float x) {
 void pfx_vortex_f(const pfx_motion_force *F, size_t n, const float *w, float *X, float *Y, float *Z,
                   double h);
 
+/* The attractor of force F (kind ATTRACTOR) over n particles: adds w times
+ * its acceleration at (X, Y, Z) to (ax, ay, az), as motion_impl.h's double
+ * force loop does, in float and in the same order of operations (so the
+ * same bits as that loop instantiated in float): one loop per falloff, so
+ * each is straight arithmetic with sqrtf and one divide. */
+void pfx_attractor_f(const pfx_motion_force *F, size_t n, const float *w, const float *X,
+                     const float *Y, const float *Z, float *ax, float *ay, float *az);
+
 #endif

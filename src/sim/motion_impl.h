@@ -108,6 +108,10 @@ static void FN(accel)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, si
              * e^2)) (constant); d = centre - x, so s > 0 attracts. All three
              * agree at r = L when e = 0. */
             FN(region_weight)(&F->region, n, x, y, z, w);
+#ifdef PFX_REAL_IS_FLOAT
+            pfx_attractor_f(F, n, w, x, y, z, ax, ay, az); /* the same loop, vectorised */
+            break;
+#endif
             const R cx = (R)F->center[0], cy = (R)F->center[1], cz = (R)F->center[2];
             const R s = (R)F->strength, e2 = (R)(F->softening * F->softening);
             const double Ld = F->ref_radius > 0 ? F->ref_radius : 1.0;
@@ -338,8 +342,9 @@ static void FN(step_rk4)(BLOCK_ARGS) {
  * E1 = -expm1(-kh)/k and E2 by its series h^2 sum (-kh)^n/(n+2)! when kh <
  * 0.5, so k -> 0 gives E1 = h, E2 = h^2/2: the exact projectile, without
  * the cancellation of v_inf = w + g/k. Scalars in double, once per call. */
-static void FN(drift)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n, R *X, R *Y,
-                      R *Z, R *U, R *V, R *W, double h) {
+static void FN(drift)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n,
+                      R *restrict X, R *restrict Y, R *restrict Z, R *restrict U, R *restrict V,
+                      R *restrict W, double h) {
     const double k = m->drift_k, zk = k * h;
     double e = 1, E1 = h, E2 = 0.5 * h * h;
     if (k > 0) {
@@ -360,16 +365,25 @@ static void FN(drift)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, si
     const R wx = (R)m->drift_wind[0], wy = (R)m->drift_wind[1], wz = (R)m->drift_wind[2];
     const R gx = (R)m->drift_g[0], gy = (R)m->drift_g[1], gz = (R)m->drift_g[2];
     const R *gs = p->gravity_scale ? p->gravity_scale + i0 : NULL;
-    for (size_t j = 0; j < n; j++) {
-        R s = gs ? gs[j] : (R)1;
-        R ux = U[j] - wx, uy = V[j] - wy, uz = W[j] - wz;
-        X[j] += wx * hr + ux * r1 + s * gx * r2;
-        Y[j] += wy * hr + uy * r1 + s * gy * r2;
-        Z[j] += wz * hr + uz * r1 + s * gz * r2;
-        U[j] = wx + ux * re + s * gx * r1;
-        V[j] = wy + uy * re + s * gy * r1;
-        W[j] = wz + uz * re + s * gz * r1;
-    }
+    /* Two copies of one loop, with and without the scale column: a select
+     * per particle between them would keep the loop from vectorising. */
+#define DRIFT_ONE(s)                                                                               \
+    do {                                                                                           \
+        R ux = U[j] - wx, uy = V[j] - wy, uz = W[j] - wz;                                          \
+        X[j] += wx * hr + ux * r1 + (s)*gx * r2;                                                   \
+        Y[j] += wy * hr + uy * r1 + (s)*gy * r2;                                                   \
+        Z[j] += wz * hr + uz * r1 + (s)*gz * r2;                                                   \
+        U[j] = wx + ux * re + (s)*gx * r1;                                                         \
+        V[j] = wy + uy * re + (s)*gy * r1;                                                         \
+        W[j] = wz + uz * re + (s)*gz * r1;                                                         \
+    } while (0)
+    if (gs)
+        for (size_t j = 0; j < n; j++)
+            DRIFT_ONE(gs[j]);
+    else
+        for (size_t j = 0; j < n; j++)
+            DRIFT_ONE((R)1);
+#undef DRIFT_ONE
 }
 
 /* Boris rotation of v by the magnetic forces for time h: v' = Omega x v with
