@@ -60,6 +60,18 @@ static void fold_split(pfx_motion_plan *m) {
         }
     }
     m->has_kick = pfx_motion_split_kicks(m->model); /* what is not folded or rotated */
+    /* Forces of x alone (gravity, attractors) and operators on v alone:
+     * the kicks read nothing a kick or an operator changes. (An undamped
+     * spring or E would qualify too, but their loops multiply v by a zero,
+     * which could flip the sign of a zero result: left out, so that carrying
+     * gives the same bits always.) */
+    m->kick_carries = m->has_kick;
+    for (size_t i = 0; i < m->force_count; i++) {
+        const pfx_motion_kind k = m->forces[i].kind;
+        if (k != PFX_MOTION_GRAVITY && k != PFX_MOTION_ATTRACTOR && k != PFX_MOTION_SPIRAL &&
+            k != PFX_MOTION_SPEED_LIMIT)
+            m->kick_carries = false;
+    }
     if (m->drift_k > 0)
         for (int a = 0; a < 3; a++)
             m->drift_wind[a] = kw[a] / m->drift_k;

@@ -30,6 +30,9 @@ typedef struct pfx_motion_plan {
     bool has_operators;    /* vortex, spiral or speed_limit present */
     bool has_rotation;     /* split: some magnetic B to rotate by */
     bool has_kick;         /* split: some force left to kick with */
+    bool kick_carries;     /* split: the kicks read positions only (not v, not t) and no
+                              operator moves a position, so a substep's closing kick's
+                              acceleration is the next one's opening kick's */
     bool uniform_rotation; /* split: B unregioned, so one Omega unless charge/mass vary */
     double omega[3];       /* its -(q/m) B sum with the forces' constants */
     double drift_k;        /* split drift: sum of unregioned linear drag */
