@@ -106,7 +106,7 @@ void pfx_vortex_f(const pfx_motion_force *F, size_t n, const float *restrict w, 
  * (non-negative floats order as their bits do): a float compare or select
  * here would be turned into a branch round the divide (which may trap), and
  * the loop would not vectorise. The same g as the double loop's select. */
-#define ATTRACT_LOOP(den)                                                                          \
+#define ATTRACT_LOOP(den, fresh, wj)                                                               \
     for (size_t j = 0; j < n; j++) {                                                               \
         const float dx = cx - X[j], dy = cy - Y[j], dz = cz - Z[j];                                \
         const float r2 = dx * dx + dy * dy + dz * dz, q = r2 + e2, sq = sqrtf(q);                  \
@@ -120,16 +120,26 @@ void pfx_vortex_f(const pfx_motion_force *F, size_t n, const float *restrict w, 
         bg &= -(int32_t)(((uint32_t)bq - 1u < 0x7f800000u) & (br <= bcut));                        \
         float g;                                                                                   \
         memcpy(&g, &bg, sizeof g);                                                                 \
-        g *= w[j];                                                                                 \
-        ax[j] += g * dx;                                                                           \
-        ay[j] += g * dy;                                                                           \
-        az[j] += g * dz;                                                                           \
+        g *= (wj);                                                                                 \
+        ax[j] = (fresh ? 0.0f : ax[j]) + g * dx;                                                   \
+        ay[j] = (fresh ? 0.0f : ay[j]) + g * dy;                                                   \
+        az[j] = (fresh ? 0.0f : az[j]) + g * dz;                                                   \
     }
+
+#define ATTRACT_CASES(den)                                                                         \
+    if (fresh && w)                                                                                \
+        ATTRACT_LOOP(den, 1, w[j])                                                                 \
+    else if (fresh)                                                                                \
+        ATTRACT_LOOP(den, 1, 1.0f)                                                                 \
+    else if (w)                                                                                    \
+        ATTRACT_LOOP(den, 0, w[j])                                                                 \
+    else                                                                                           \
+        ATTRACT_LOOP(den, 0, 1.0f)
 
 PFX_CLONES
 void pfx_attractor_f(const pfx_motion_force *F, size_t n, const float *restrict w,
                      const float *restrict X, const float *restrict Y, const float *restrict Z,
-                     float *restrict ax, float *restrict ay, float *restrict az) {
+                     bool fresh, float *restrict ax, float *restrict ay, float *restrict az) {
     const float cx = (float)F->center[0], cy = (float)F->center[1], cz = (float)F->center[2];
     const float s = (float)F->strength, e2 = (float)(F->softening * F->softening);
     const double Ld = F->ref_radius > 0 ? F->ref_radius : 1.0;
@@ -137,16 +147,19 @@ void pfx_attractor_f(const pfx_motion_force *F, size_t n, const float *restrict 
     const float cut2 = F->radius > 0 ? (float)(F->radius * F->radius) : INFINITY;
     int32_t bcut;
     memcpy(&bcut, &cut2, sizeof bcut);
+    /* (fresh and w constant in each copy: the sum starts at 0 + g d, the
+     * same bits as a column zeroed first; g times 1 is g) */
     switch (F->falloff) {
     case PFX_FALLOFF_INVERSE_SQUARE:
-        ATTRACT_LOOP(q * sq)
+        ATTRACT_CASES(q * sq)
         break;
     case PFX_FALLOFF_LINEAR:
-        ATTRACT_LOOP(L * q)
+        ATTRACT_CASES(L * q)
         break;
     default:
-        ATTRACT_LOOP(L2 * sq)
+        ATTRACT_CASES(L2 * sq)
         break;
     }
 }
+#undef ATTRACT_CASES
 #undef ATTRACT_LOOP

@@ -39,6 +39,12 @@ typedef struct pfx_motion_plan {
     double drift_wind[3];  /* its k-weighted wind */
     double drift_g[3];     /* split drift: sum of unregioned gravity */
     bool folded[PFX_MOTION_MAX_FORCES]; /* split: handled by the drift, not kicked */
+    /* Substeps per particle (the model's choice.radius), for a full step
+     * of dt: level k < radius_top runs 2^k substeps where a particle's
+     * nearest reach to the attractor is at least radius_r[k], the top
+     * level all `steps`; radius_top = 0: off. */
+    int radius_top;
+    double radius_r[11];
     const pfx_motion *model;
 } pfx_motion_plan;
 

@@ -7,6 +7,12 @@
 #define R PFX_REAL
 #define FN(name) PFX_CAT(name, PFX_SUFFIX)
 #define BLK PFX_MOTION_BLOCK
+/* The float kernels' hot loops get an AVX2 copy (same bits: fast_f.h) */
+#ifdef PFX_REAL_IS_FLOAT
+#define CLONES PFX_CLONES
+#else
+#define CLONES
+#endif
 
 /* Region weight per particle: 1 inside, 1 - d/falloff at distance d
  * outside, 0 beyond. */
@@ -82,11 +88,30 @@ static void FN(accel)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, si
                       const R *y, const R *z, const R *vx, const R *vy, const R *vz, double t,
                       int split, R *ax, R *ay, R *az) {
     R w[BLK];
-    for (size_t j = 0; j < n; j++)
-        ax[j] = ay[j] = az[j] = 0;
+    /* The columns are zeroed before the first force adds to them, unless
+     * that is a float attractor, which starts the sum itself. */
+    bool fresh = true;
     for (size_t f = 0; f < m->force_count; f++) {
         const pfx_motion_force *F = &m->forces[f];
         const int folded = split && m->folded[f];
+        const pfx_motion_kind k = F->kind;
+        const bool adds = !(k == PFX_MOTION_GRAVITY && folded) && k != PFX_MOTION_VORTEX &&
+                          k != PFX_MOTION_SPIRAL && k != PFX_MOTION_SPEED_LIMIT;
+#ifdef PFX_REAL_IS_FLOAT
+        if (k == PFX_MOTION_ATTRACTOR) {
+            const bool whole = F->region.kind == PFX_REGION_NONE;
+            if (!whole)
+                FN(region_weight)(&F->region, n, x, y, z, w);
+            pfx_attractor_f(F, n, whole ? NULL : w, x, y, z, fresh, ax, ay, az);
+            fresh = false;
+            continue;
+        }
+#endif
+        if (fresh && adds) {
+            for (size_t j = 0; j < n; j++)
+                ax[j] = ay[j] = az[j] = 0;
+            fresh = false;
+        }
         switch (F->kind) {
         case PFX_MOTION_GRAVITY: {
             if (folded)
@@ -107,11 +132,8 @@ static void FN(accel)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, si
              * square); s d / (L (r^2 + e^2)) (linear); s d / (L^2 sqrt(r^2 +
              * e^2)) (constant); d = centre - x, so s > 0 attracts. All three
              * agree at r = L when e = 0. */
+            /* (float: pfx_attractor_f above, the same loop vectorised) */
             FN(region_weight)(&F->region, n, x, y, z, w);
-#ifdef PFX_REAL_IS_FLOAT
-            pfx_attractor_f(F, n, w, x, y, z, ax, ay, az); /* the same loop, vectorised */
-            break;
-#endif
             const R cx = (R)F->center[0], cy = (R)F->center[1], cz = (R)F->center[2];
             const R s = (R)F->strength, e2 = (R)(F->softening * F->softening);
             const double Ld = F->ref_radius > 0 ? F->ref_radius : 1.0;
@@ -207,6 +229,8 @@ static void FN(accel)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, si
             break;
         }
     }
+    for (size_t j = 0; j < n && fresh; j++)
+        ax[j] = ay[j] = az[j] = 0;
 }
 
 /* ---- The schemes, each on one block of n particles in place ---- */
@@ -342,9 +366,9 @@ static void FN(step_rk4)(BLOCK_ARGS) {
  * E1 = -expm1(-kh)/k and E2 by its series h^2 sum (-kh)^n/(n+2)! when kh <
  * 0.5, so k -> 0 gives E1 = h, E2 = h^2/2: the exact projectile, without
  * the cancellation of v_inf = w + g/k. Scalars in double, once per call. */
-static void FN(drift)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n,
-                      R *restrict X, R *restrict Y, R *restrict Z, R *restrict U, R *restrict V,
-                      R *restrict W, double h) {
+CLONES static void FN(drift)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n,
+                             R *restrict X, R *restrict Y, R *restrict Z, R *restrict U,
+                             R *restrict V, R *restrict W, double h) {
     const double k = m->drift_k, zk = k * h;
     double e = 1, E1 = h, E2 = 0.5 * h * h;
     if (k > 0) {
@@ -489,9 +513,9 @@ static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, 
  * same positions, and these forces read nothing else, so the one
  * evaluation serves both (first same as last): steps + 1 evaluations
  * instead of 2 steps, and the same bits as step_split run steps times. */
-static void FN(run_split_carried)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n,
-                                  R *X, R *Y, R *Z, R *U, R *V, R *W, double t, double h,
-                                  int steps) {
+CLONES static void FN(run_split_carried)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0,
+                                         size_t n, R *X, R *Y, R *Z, R *U, R *V, R *W, double t,
+                                         double h, int steps) {
     R ax[BLK], ay[BLK], az[BLK];
     const R h2 = (R)(0.5 * h);
     FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t, 1, ax, ay, az);
@@ -585,42 +609,70 @@ static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, 
     }
 }
 
+/* `steps` split substeps of h from t on n particles in place. */
+static void FN(run_split)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n, R *X,
+                          R *Y, R *Z, R *U, R *V, R *W, double t, double h, int steps) {
+    if (m->kick_carries) {
+        FN(run_split_carried)(m, p, i0, n, X, Y, Z, U, V, W, t, h, steps);
+        return;
+    }
+    for (int s = 0; s < steps; s++) {
+        FN(step_split)(m, p, i0, n, X, Y, Z, U, V, W, t + s * h, h);
+        if (m->has_operators)
+            FN(operators)(m, n, X, Y, Z, U, V, W, h);
+    }
+}
+
+/* `steps` substeps of h from t on n particles in place, by any scheme. */
+static void FN(run_block)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n, R *X,
+                          R *Y, R *Z, R *U, R *V, R *W, double t, double h, int steps) {
+    if (m->scheme == PFX_SCHEME_SPLIT) {
+        FN(run_split)(m, p, i0, n, X, Y, Z, U, V, W, t, h, steps);
+        return;
+    }
+    for (int s = 0; s < steps; s++) {
+        double ts = t + s * h;
+        switch (m->scheme) {
+        case PFX_SCHEME_EULER:
+            FN(step_euler)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
+            break;
+        case PFX_SCHEME_SYMPLECTIC:
+            FN(step_symplectic)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
+            break;
+        case PFX_SCHEME_MIDPOINT:
+            FN(step_midpoint)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
+            break;
+        case PFX_SCHEME_RK4:
+            FN(step_rk4)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
+            break;
+        case PFX_SCHEME_VERLET:
+            FN(step_verlet)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
+            break;
+        case PFX_SCHEME_SPLIT: /* above */
+            break;
+        }
+        if (m->has_operators)
+            FN(operators)(m, n, X, Y, Z, U, V, W, h);
+    }
+}
+
+#include "sim/motion_levels_impl.h"
+
 void FN(pfx_motion_advance)(const pfx_motion_plan *m, PFX_POOL *p, double t, double span) {
     const int steps = pfx_motion_substeps_for(&m->model->choice, span);
     const double h = span / steps;
+    /* per particle for a full step only: other spans take the count for
+     * the span, so that a particle's substeps stay a function of its own
+     * state and the span */
+    const bool by_radius = m->radius_top > 0 && fabs(span - m->dt) <= 1e-9 * m->dt;
     for (size_t i0 = 0; i0 < p->count; i0 += BLK) {
         size_t n = p->count - i0 < BLK ? p->count - i0 : BLK;
         R *X = p->px + i0, *Y = p->py + i0, *Z = p->pz + i0;
         R *U = p->vx + i0, *V = p->vy + i0, *W = p->vz + i0;
-        if (m->scheme == PFX_SCHEME_SPLIT && m->kick_carries) {
-            FN(run_split_carried)(m, p, i0, n, X, Y, Z, U, V, W, t, h, steps);
-            continue;
-        }
-        for (int s = 0; s < steps; s++) {
-            double ts = t + s * h;
-            switch (m->scheme) {
-            case PFX_SCHEME_EULER:
-                FN(step_euler)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
-                break;
-            case PFX_SCHEME_SYMPLECTIC:
-                FN(step_symplectic)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
-                break;
-            case PFX_SCHEME_MIDPOINT:
-                FN(step_midpoint)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
-                break;
-            case PFX_SCHEME_RK4:
-                FN(step_rk4)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
-                break;
-            case PFX_SCHEME_VERLET:
-                FN(step_verlet)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
-                break;
-            case PFX_SCHEME_SPLIT:
-                FN(step_split)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
-                break;
-            }
-            if (m->has_operators)
-                FN(operators)(m, n, X, Y, Z, U, V, W, h);
-        }
+        if (by_radius)
+            FN(advance_by_radius)(m, p, i0, n, X, Y, Z, U, V, W, t, span, steps);
+        else
+            FN(run_block)(m, p, i0, n, X, Y, Z, U, V, W, t, h, steps);
     }
 }
 
@@ -630,5 +682,6 @@ void FN(pfx_motion_step)(const pfx_motion_plan *m, PFX_POOL *p, double t) {
 
 #undef BLOCK_ARGS
 #undef BLK
+#undef CLONES
 #undef FN
 #undef R
