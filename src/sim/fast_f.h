@@ -75,7 +75,7 @@ static inline __attribute__((always_inline)) float pfx_cosm1_small_f(float x) {
 
 /* The Sims vortex of force F (kind VORTEX) over n particles for time h:
  * each position turns about the axis by strength f(r) w h and moves in by
- * inflow f(r) w h (w the region weight per particle), as motion_impl.h's
+ * inflow f(r) w h (w the region weight per particle; NULL: 1), as motion_impl.h's
  * double operator does, in float. */
 void pfx_vortex_f(const pfx_motion_force *F, size_t n, const float *w, float *X, float *Y, float *Z,
                   double h);

@@ -551,11 +551,15 @@ static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, 
     for (size_t f = 0; f < m->force_count; f++) {
         const pfx_motion_force *F = &m->forces[f];
         if (F->kind == PFX_MOTION_VORTEX) {
-            FN(region_weight)(&F->region, n, X, Y, Z, w);
 #ifdef PFX_REAL_IS_FLOAT
-            pfx_vortex_f(F, n, w, X, Y, Z, h); /* the same operator in float, vectorised */
+            /* the same operator in float, vectorised (no weights: 1) */
+            const bool whole = F->region.kind == PFX_REGION_NONE;
+            if (!whole)
+                FN(region_weight)(&F->region, n, X, Y, Z, w);
+            pfx_vortex_f(F, n, whole ? NULL : w, X, Y, Z, h);
             continue;
 #endif
+            FN(region_weight)(&F->region, n, X, Y, Z, w);
             const double ux = F->axis[0], uy = F->axis[1], uz = F->axis[2];
             const double inv_rad = 1.0 / F->radius, d = F->sims_d;
             for (size_t j = 0; j < n; j++) {
