@@ -300,6 +300,55 @@ static void write_auto_why(const auto_survey *a, pfx_motion_choice *c) {
                  a->kv * hh, c->error_rate);
 }
 
+/* The rule per particle (c->radius), where it applies: split step,
+ * several substeps, one attractor with a softening (within it the field
+ * softens, so r0 is the worst place), beside it only gravity (whose pull a
+ * particle's path bound takes in) and spiral and speed_limit (which turn or
+ * slow v and move no position). The survey's terms are then the
+ * attractor's alone. Its omega, sqrt(S / (L^m r^n)), and C r omega^3 scale
+ * with r as r^-(n/2) and r^-(3n/2 - 1). */
+static void choose_by_radius(const pfx_motion *m, double tol, const auto_survey *a,
+                             pfx_motion_choice *c) {
+    const pfx_motion_force *at = NULL;
+    double gravity = 0;
+    if (c->steps <= 1 || c->scheme != PFX_SCHEME_SPLIT || a->rotation || a->velocity)
+        return;
+    for (size_t i = 0; i < m->force_count; i++) {
+        const pfx_motion_force *f = &m->forces[i];
+        if (f->kind == PFX_MOTION_ATTRACTOR && !at && f->strength > 0 && f->softening > 0)
+            at = f;
+        else if (f->kind == PFX_MOTION_GRAVITY)
+            gravity += norm3(f->accel);
+        else if (f->kind != PFX_MOTION_SPIRAL && f->kind != PFX_MOTION_SPEED_LIMIT)
+            return;
+    }
+    if (!at)
+        return;
+    const double s = at->strength, e = at->softening, L = at->ref_radius > 0 ? at->ref_radius : 1;
+    /* n = 3, 2, 1 for inverse square, linear, constant; the peak of
+     * s r / (r^2 + e^2)^(3/2) is 2 s / (3 sqrt(3) e^2) at r = e / sqrt(2),
+     * of s r / (L (r^2 + e^2)) s / (2 L e) at r = e, and s / L^2 bounds
+     * the constant falloff's. */
+    const int pw = at->falloff == PFX_FALLOFF_INVERSE_SQUARE ? 3
+                   : at->falloff == PFX_FALLOFF_LINEAR       ? 2
+                                                             : 1;
+    c->radius.on = true;
+    c->radius.r0 = e;
+    c->radius.omega0 = pfx_motion_force_omega(at);
+    c->radius.err0 = oscillation_error(at);
+    c->radius.tol = tol;
+    c->radius.omega_pow2 = pw;
+    c->radius.err_pow2 = 3 * pw - 2;
+    memcpy(c->radius.center, at->center, sizeof at->center);
+    c->radius.peak = pw == 3   ? 2 * s / (3 * sqrt(3.0) * e * e)
+                     : pw == 2 ? s / (2 * L * e)
+                               : s / (L * L);
+    c->radius.gravity = gravity;
+    size_t len = strlen(c->why);
+    snprintf(c->why + len, sizeof c->why - len, "; fewer, per particle, away from '%s'",
+             at->name ? at->name : "-");
+}
+
 /* The auto rule, per emitter, from the forces it feels:
  *  - only gravity and unregioned linear drag (springs' damping counts):
  *    `exact`, the closed form, 1 step at any dt;
@@ -331,6 +380,7 @@ static void choose_auto(const pfx_motion *m, double tol, pfx_motion_choice *c) {
     c->steps = ceil_steps(c->dt, a.h);
     c->error_rate = a.err * (c->dt / c->steps) * (c->dt / c->steps);
     write_auto_why(&a, c);
+    choose_by_radius(m, tol, &a, c);
 }
 
 void pfx_motion_choose(pfx_motion *m, double dt) {
@@ -340,8 +390,10 @@ void pfx_motion_choose(pfx_motion *m, double dt) {
     c->dt = dt;
     if (m->integrator == PFX_INTEGRATOR_AUTO) {
         choose_auto(m, tol, c);
-        if (m->substeps > 0)
+        if (m->substeps > 0) {
             c->steps = m->substeps;
+            c->radius.on = false; /* the count asked for, for every particle */
+        }
     } else {
         c->chosen = m->integrator;
         c->scheme = pfx_integrator_scheme(m->integrator);

@@ -173,7 +173,21 @@ typedef struct pfx_motion_choice {
     int steps;         /* substeps per step, >= 1 */
     double error_rate; /* auto: the expected position error, m per simulated s
                           (0 for other integrators and exact flows) */
-    char why[192];     /* one line for `pfx info` */
+    char why[256];     /* one line for `pfx info` */
+    /* auto, where one softened attractor sets the substeps with nothing
+     * beside it but gravity and operators on v: the same rule at each
+     * particle's own distance r from it, so particles far from it take
+     * fewer substeps (never more than `steps`; sim/motion_impl.h). Beyond
+     * r0 (the softening) the attractor's omega and error term fall as
+     * (r0 / r)^(omega_pow2 / 2) and (r0 / r)^(err_pow2 / 2). */
+    struct {
+        bool on;
+        double r0, omega0, err0, tol; /* the rule's terms at r0, and its tolerance */
+        int omega_pow2, err_pow2;
+        double center[3];
+        double peak;    /* the attractor's largest acceleration, m/s^2 */
+        double gravity; /* the sum of |g| over the gravities, m/s^2 */
+    } radius;
 } pfx_motion_choice;
 
 /* An emitter's motion: the request the compiler fills, and its choice for

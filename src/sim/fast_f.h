@@ -6,6 +6,7 @@
 #ifndef PFX_SIM_FAST_F_H
 #define PFX_SIM_FAST_F_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <string.h>
@@ -74,9 +75,18 @@ static inline __attribute__((always_inline)) float pfx_cosm1_small_f(float x) {
 
 /* The Sims vortex of force F (kind VORTEX) over n particles for time h:
  * each position turns about the axis by strength f(r) w h and moves in by
- * inflow f(r) w h (w the region weight per particle), as motion_impl.h's
+ * inflow f(r) w h (w the region weight per particle; NULL: 1), as motion_impl.h's
  * double operator does, in float. */
 void pfx_vortex_f(const pfx_motion_force *F, size_t n, const float *w, float *X, float *Y, float *Z,
                   double h);
+
+/* The attractor of force F (kind ATTRACTOR) over n <= PFX_MOTION_BLOCK
+ * particles: adds w times its acceleration at (X, Y, Z) to (ax, ay, az)
+ * (w NULL: 1; fresh: to 0, the columns unread), as motion_impl.h's double
+ * force loop does, in float and in the same order of operations (so the
+ * same bits as that loop instantiated in float): one loop per falloff, so
+ * each is straight arithmetic with sqrtf and one divide. */
+void pfx_attractor_f(const pfx_motion_force *F, size_t n, const float *w, const float *X,
+                     const float *Y, const float *Z, bool fresh, float *ax, float *ay, float *az);
 
 #endif

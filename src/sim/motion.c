@@ -60,6 +60,18 @@ static void fold_split(pfx_motion_plan *m) {
         }
     }
     m->has_kick = pfx_motion_split_kicks(m->model); /* what is not folded or rotated */
+    /* Forces of x alone (gravity, attractors) and operators on v alone:
+     * the kicks read nothing a kick or an operator changes. (An undamped
+     * spring or E would qualify too, but their loops multiply v by a zero,
+     * which could flip the sign of a zero result: left out, so that carrying
+     * gives the same bits always.) */
+    m->kick_carries = m->has_kick;
+    for (size_t i = 0; i < m->force_count; i++) {
+        const pfx_motion_kind k = m->forces[i].kind;
+        if (k != PFX_MOTION_GRAVITY && k != PFX_MOTION_ATTRACTOR && k != PFX_MOTION_SPIRAL &&
+            k != PFX_MOTION_SPEED_LIMIT)
+            m->kick_carries = false;
+    }
     if (m->drift_k > 0)
         for (int a = 0; a < 3; a++)
             m->drift_wind[a] = kw[a] / m->drift_k;
@@ -79,6 +91,30 @@ static void fold_split(pfx_motion_plan *m) {
         m->uniform_rotation = false; /* fields that cancel: the general path skips them */
 }
 
+/* The levels of the rule per particle (model/motion.c, choose_by_radius):
+ * at distance r >= r0 from the attractor, with rho = r0 / r, its omega is
+ * omega0 rho^(a/2) and its error term err0 rho^(b/2) (b = 3a - 2), so
+ * 2^k substeps of h = dt / 2^k pass the rule's tests, omega h <= 1 and
+ * err h^2 <= tol, from r = r0 max(1, (omega0 h)^(2/a), (err0 h^2 /
+ * tol)^(2/b)) out. A part in 10^5 more covers the pools' float compare. */
+static void radius_levels(pfx_motion_plan *p, const pfx_motion *m) {
+    const pfx_motion_choice *c = &m->choice;
+    p->radius_top = 0;
+    if (!c->radius.on || p->steps <= 1 || p->scheme != PFX_SCHEME_SPLIT)
+        return;
+    const double a = c->radius.omega_pow2, b = 3 * a - 2;
+    int top = 0;
+    while ((1 << top) < p->steps && top < 11)
+        top++;
+    for (int k = 0; k < top; k++) {
+        const double h = p->dt / (double)(1 << k);
+        double r = fmax(1, pow(c->radius.omega0 * h, 2 / a));
+        r = fmax(r, pow(c->radius.err0 * h * h / c->radius.tol, 2 / b));
+        p->radius_r[k] = c->radius.r0 * r * (1 + 1e-5);
+    }
+    p->radius_top = top;
+}
+
 void pfx_motion_plan_init(pfx_motion_plan *p, const pfx_motion *m) {
     memset(p, 0, sizeof *p);
     p->model = m;
@@ -95,6 +131,7 @@ void pfx_motion_plan_init(pfx_motion_plan *p, const pfx_motion *m) {
     }
     if (p->scheme == PFX_SCHEME_SPLIT)
         fold_split(p);
+    radius_levels(p, m);
 }
 
 void pfx_motion_plan_prepare(pfx_motion_plan *p, pfx_motion *m, double dt) {

@@ -30,12 +30,21 @@ typedef struct pfx_motion_plan {
     bool has_operators;    /* vortex, spiral or speed_limit present */
     bool has_rotation;     /* split: some magnetic B to rotate by */
     bool has_kick;         /* split: some force left to kick with */
+    bool kick_carries;     /* split: the kicks read positions only (not v, not t) and no
+                              operator moves a position, so a substep's closing kick's
+                              acceleration is the next one's opening kick's */
     bool uniform_rotation; /* split: B unregioned, so one Omega unless charge/mass vary */
     double omega[3];       /* its -(q/m) B sum with the forces' constants */
     double drift_k;        /* split drift: sum of unregioned linear drag */
     double drift_wind[3];  /* its k-weighted wind */
     double drift_g[3];     /* split drift: sum of unregioned gravity */
     bool folded[PFX_MOTION_MAX_FORCES]; /* split: handled by the drift, not kicked */
+    /* Substeps per particle (the model's choice.radius), for a full step
+     * of dt: level k < radius_top runs 2^k substeps where a particle's
+     * nearest reach to the attractor is at least radius_r[k], the top
+     * level all `steps`; radius_top = 0: off. */
+    int radius_top;
+    double radius_r[11];
     const pfx_motion *model;
 } pfx_motion_plan;
 

@@ -7,6 +7,12 @@
 #define R PFX_REAL
 #define FN(name) PFX_CAT(name, PFX_SUFFIX)
 #define BLK PFX_MOTION_BLOCK
+/* The float kernels' hot loops get an AVX2 copy (same bits: fast_f.h) */
+#ifdef PFX_REAL_IS_FLOAT
+#define CLONES PFX_CLONES
+#else
+#define CLONES
+#endif
 
 /* Region weight per particle: 1 inside, 1 - d/falloff at distance d
  * outside, 0 beyond. */
@@ -82,11 +88,30 @@ static void FN(accel)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, si
                       const R *y, const R *z, const R *vx, const R *vy, const R *vz, double t,
                       int split, R *ax, R *ay, R *az) {
     R w[BLK];
-    for (size_t j = 0; j < n; j++)
-        ax[j] = ay[j] = az[j] = 0;
+    /* The columns are zeroed before the first force adds to them, unless
+     * that is a float attractor, which starts the sum itself. */
+    bool fresh = true;
     for (size_t f = 0; f < m->force_count; f++) {
         const pfx_motion_force *F = &m->forces[f];
         const int folded = split && m->folded[f];
+        const pfx_motion_kind k = F->kind;
+        const bool adds = !(k == PFX_MOTION_GRAVITY && folded) && k != PFX_MOTION_VORTEX &&
+                          k != PFX_MOTION_SPIRAL && k != PFX_MOTION_SPEED_LIMIT;
+#ifdef PFX_REAL_IS_FLOAT
+        if (k == PFX_MOTION_ATTRACTOR) {
+            const bool whole = F->region.kind == PFX_REGION_NONE;
+            if (!whole)
+                FN(region_weight)(&F->region, n, x, y, z, w);
+            pfx_attractor_f(F, n, whole ? NULL : w, x, y, z, fresh, ax, ay, az);
+            fresh = false;
+            continue;
+        }
+#endif
+        if (fresh && adds) {
+            for (size_t j = 0; j < n; j++)
+                ax[j] = ay[j] = az[j] = 0;
+            fresh = false;
+        }
         switch (F->kind) {
         case PFX_MOTION_GRAVITY: {
             if (folded)
@@ -107,6 +132,7 @@ static void FN(accel)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, si
              * square); s d / (L (r^2 + e^2)) (linear); s d / (L^2 sqrt(r^2 +
              * e^2)) (constant); d = centre - x, so s > 0 attracts. All three
              * agree at r = L when e = 0. */
+            /* (float: pfx_attractor_f above, the same loop vectorised) */
             FN(region_weight)(&F->region, n, x, y, z, w);
             const R cx = (R)F->center[0], cy = (R)F->center[1], cz = (R)F->center[2];
             const R s = (R)F->strength, e2 = (R)(F->softening * F->softening);
@@ -203,6 +229,8 @@ static void FN(accel)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, si
             break;
         }
     }
+    for (size_t j = 0; j < n && fresh; j++)
+        ax[j] = ay[j] = az[j] = 0;
 }
 
 /* ---- The schemes, each on one block of n particles in place ---- */
@@ -338,8 +366,9 @@ static void FN(step_rk4)(BLOCK_ARGS) {
  * E1 = -expm1(-kh)/k and E2 by its series h^2 sum (-kh)^n/(n+2)! when kh <
  * 0.5, so k -> 0 gives E1 = h, E2 = h^2/2: the exact projectile, without
  * the cancellation of v_inf = w + g/k. Scalars in double, once per call. */
-static void FN(drift)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n, R *X, R *Y,
-                      R *Z, R *U, R *V, R *W, double h) {
+CLONES static void FN(drift)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n,
+                             R *restrict X, R *restrict Y, R *restrict Z, R *restrict U,
+                             R *restrict V, R *restrict W, double h) {
     const double k = m->drift_k, zk = k * h;
     double e = 1, E1 = h, E2 = 0.5 * h * h;
     if (k > 0) {
@@ -360,16 +389,25 @@ static void FN(drift)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, si
     const R wx = (R)m->drift_wind[0], wy = (R)m->drift_wind[1], wz = (R)m->drift_wind[2];
     const R gx = (R)m->drift_g[0], gy = (R)m->drift_g[1], gz = (R)m->drift_g[2];
     const R *gs = p->gravity_scale ? p->gravity_scale + i0 : NULL;
-    for (size_t j = 0; j < n; j++) {
-        R s = gs ? gs[j] : (R)1;
-        R ux = U[j] - wx, uy = V[j] - wy, uz = W[j] - wz;
-        X[j] += wx * hr + ux * r1 + s * gx * r2;
-        Y[j] += wy * hr + uy * r1 + s * gy * r2;
-        Z[j] += wz * hr + uz * r1 + s * gz * r2;
-        U[j] = wx + ux * re + s * gx * r1;
-        V[j] = wy + uy * re + s * gy * r1;
-        W[j] = wz + uz * re + s * gz * r1;
-    }
+    /* Two copies of one loop, with and without the scale column: a select
+     * per particle between them would keep the loop from vectorising. */
+#define DRIFT_ONE(s)                                                                               \
+    do {                                                                                           \
+        R ux = U[j] - wx, uy = V[j] - wy, uz = W[j] - wz;                                          \
+        X[j] += wx * hr + ux * r1 + (s)*gx * r2;                                                   \
+        Y[j] += wy * hr + uy * r1 + (s)*gy * r2;                                                   \
+        Z[j] += wz * hr + uz * r1 + (s)*gz * r2;                                                   \
+        U[j] = wx + ux * re + (s)*gx * r1;                                                         \
+        V[j] = wy + uy * re + (s)*gy * r1;                                                         \
+        W[j] = wz + uz * re + (s)*gz * r1;                                                         \
+    } while (0)
+    if (gs)
+        for (size_t j = 0; j < n; j++)
+            DRIFT_ONE(gs[j]);
+    else
+        for (size_t j = 0; j < n; j++)
+            DRIFT_ONE((R)1);
+#undef DRIFT_ONE
 }
 
 /* Boris rotation of v by the magnetic forces for time h: v' = Omega x v with
@@ -467,6 +505,42 @@ static void FN(step_split)(BLOCK_ARGS) {
     }
 }
 
+static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, R *U, R *V, R *W,
+                          double h);
+
+/* `steps` split steps of h from t (plan kick_carries): the closing kick of
+ * a substep and the opening kick of the next evaluate the forces at the
+ * same positions, and these forces read nothing else, so the one
+ * evaluation serves both (first same as last): steps + 1 evaluations
+ * instead of 2 steps, and the same bits as step_split run steps times. */
+CLONES static void FN(run_split_carried)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0,
+                                         size_t n, R *X, R *Y, R *Z, R *U, R *V, R *W, double t,
+                                         double h, int steps) {
+    R ax[BLK], ay[BLK], az[BLK];
+    const R h2 = (R)(0.5 * h);
+    FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t, 1, ax, ay, az);
+    for (int s = 0; s < steps; s++) {
+        for (size_t j = 0; j < n; j++) {
+            U[j] += h2 * ax[j];
+            V[j] += h2 * ay[j];
+            W[j] += h2 * az[j];
+        }
+        if (m->has_rotation)
+            FN(rotate)(m, p, i0, n, X, Y, Z, U, V, W, 0.5 * h);
+        FN(drift)(m, p, i0, n, X, Y, Z, U, V, W, h);
+        if (m->has_rotation)
+            FN(rotate)(m, p, i0, n, X, Y, Z, U, V, W, 0.5 * h);
+        FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t + s * h + h, 1, ax, ay, az);
+        for (size_t j = 0; j < n; j++) {
+            U[j] += h2 * ax[j];
+            V[j] += h2 * ay[j];
+            W[j] += h2 * az[j];
+        }
+        if (m->has_operators) /* on v alone (kick_carries) */
+            FN(operators)(m, n, X, Y, Z, U, V, W, h);
+    }
+}
+
 /* Operators that are rotations or clamps rather than forces, applied after
  * each (sub)step: the Sims vortex turns the position about its axis by
  * strength f(r) h (and pulls it in by inflow f(r) h); the spiral turns the
@@ -477,11 +551,15 @@ static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, 
     for (size_t f = 0; f < m->force_count; f++) {
         const pfx_motion_force *F = &m->forces[f];
         if (F->kind == PFX_MOTION_VORTEX) {
-            FN(region_weight)(&F->region, n, X, Y, Z, w);
 #ifdef PFX_REAL_IS_FLOAT
-            pfx_vortex_f(F, n, w, X, Y, Z, h); /* the same operator in float, vectorised */
+            /* the same operator in float, vectorised (no weights: 1) */
+            const bool whole = F->region.kind == PFX_REGION_NONE;
+            if (!whole)
+                FN(region_weight)(&F->region, n, X, Y, Z, w);
+            pfx_vortex_f(F, n, whole ? NULL : w, X, Y, Z, h);
             continue;
 #endif
+            FN(region_weight)(&F->region, n, X, Y, Z, w);
             const double ux = F->axis[0], uy = F->axis[1], uz = F->axis[2];
             const double inv_rad = 1.0 / F->radius, d = F->sims_d;
             for (size_t j = 0; j < n; j++) {
@@ -535,38 +613,70 @@ static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, 
     }
 }
 
+/* `steps` split substeps of h from t on n particles in place. */
+static void FN(run_split)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n, R *X,
+                          R *Y, R *Z, R *U, R *V, R *W, double t, double h, int steps) {
+    if (m->kick_carries) {
+        FN(run_split_carried)(m, p, i0, n, X, Y, Z, U, V, W, t, h, steps);
+        return;
+    }
+    for (int s = 0; s < steps; s++) {
+        FN(step_split)(m, p, i0, n, X, Y, Z, U, V, W, t + s * h, h);
+        if (m->has_operators)
+            FN(operators)(m, n, X, Y, Z, U, V, W, h);
+    }
+}
+
+/* `steps` substeps of h from t on n particles in place, by any scheme. */
+static void FN(run_block)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n, R *X,
+                          R *Y, R *Z, R *U, R *V, R *W, double t, double h, int steps) {
+    if (m->scheme == PFX_SCHEME_SPLIT) {
+        FN(run_split)(m, p, i0, n, X, Y, Z, U, V, W, t, h, steps);
+        return;
+    }
+    for (int s = 0; s < steps; s++) {
+        double ts = t + s * h;
+        switch (m->scheme) {
+        case PFX_SCHEME_EULER:
+            FN(step_euler)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
+            break;
+        case PFX_SCHEME_SYMPLECTIC:
+            FN(step_symplectic)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
+            break;
+        case PFX_SCHEME_MIDPOINT:
+            FN(step_midpoint)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
+            break;
+        case PFX_SCHEME_RK4:
+            FN(step_rk4)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
+            break;
+        case PFX_SCHEME_VERLET:
+            FN(step_verlet)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
+            break;
+        case PFX_SCHEME_SPLIT: /* above */
+            break;
+        }
+        if (m->has_operators)
+            FN(operators)(m, n, X, Y, Z, U, V, W, h);
+    }
+}
+
+#include "sim/motion_levels_impl.h"
+
 void FN(pfx_motion_advance)(const pfx_motion_plan *m, PFX_POOL *p, double t, double span) {
     const int steps = pfx_motion_substeps_for(&m->model->choice, span);
     const double h = span / steps;
+    /* per particle for a full step only: other spans take the count for
+     * the span, so that a particle's substeps stay a function of its own
+     * state and the span */
+    const bool by_radius = m->radius_top > 0 && fabs(span - m->dt) <= 1e-9 * m->dt;
     for (size_t i0 = 0; i0 < p->count; i0 += BLK) {
         size_t n = p->count - i0 < BLK ? p->count - i0 : BLK;
         R *X = p->px + i0, *Y = p->py + i0, *Z = p->pz + i0;
         R *U = p->vx + i0, *V = p->vy + i0, *W = p->vz + i0;
-        for (int s = 0; s < steps; s++) {
-            double ts = t + s * h;
-            switch (m->scheme) {
-            case PFX_SCHEME_EULER:
-                FN(step_euler)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
-                break;
-            case PFX_SCHEME_SYMPLECTIC:
-                FN(step_symplectic)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
-                break;
-            case PFX_SCHEME_MIDPOINT:
-                FN(step_midpoint)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
-                break;
-            case PFX_SCHEME_RK4:
-                FN(step_rk4)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
-                break;
-            case PFX_SCHEME_VERLET:
-                FN(step_verlet)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
-                break;
-            case PFX_SCHEME_SPLIT:
-                FN(step_split)(m, p, i0, n, X, Y, Z, U, V, W, ts, h);
-                break;
-            }
-            if (m->has_operators)
-                FN(operators)(m, n, X, Y, Z, U, V, W, h);
-        }
+        if (by_radius)
+            FN(advance_by_radius)(m, p, i0, n, X, Y, Z, U, V, W, t, span, steps);
+        else
+            FN(run_block)(m, p, i0, n, X, Y, Z, U, V, W, t, h, steps);
     }
 }
 
@@ -576,5 +686,6 @@ void FN(pfx_motion_step)(const pfx_motion_plan *m, PFX_POOL *p, double t) {
 
 #undef BLOCK_ARGS
 #undef BLK
+#undef CLONES
 #undef FN
 #undef R

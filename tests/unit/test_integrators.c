@@ -521,22 +521,27 @@ static void test_fast_float(void) {
         double want = -2 * sin(0.5 * (float)x) * sin(0.5 * (float)x);
         CHECK(fabs(cm1 - want) <= 1e-6 * fabs(want));
     }
-    const double d = 0.5, R = 2, a = 1.5, dt = 0.05;
+    /* a small turn (the one-loop path, weights or none) and a large one
+     * (the general path) */
+    const double d = 0.5, R = 2, a = 1.5, dts[3] = {0.05, 0.05, 1.0};
     pfx_motion_force f = {.kind = PFX_MOTION_VORTEX, .strength = a, .radius = R, .sims_d = d};
     f.axis[2] = 1;
     enum { N = 13 };
-    float x[N], y[N], z[N], w[N];
-    for (int i = 0; i < N; i++)
-        x[i] = (float)(0.1 * (i + 0.5) * R), y[i] = 0, z[i] = 0.3f, w[i] = 1;
-    pfx_vortex_f(&f, N, w, x, y, z, dt);
-    for (int i = 0; i < N; i++) {
-        double r = 0.1 * (i + 0.5), q = r * r;
-        double expect = r < 1 ? a * dt * (q * q - 2 * q + 1) / (1 + d * q) : 0;
-        CHECK_NEAR(atan2(y[i], x[i]), expect, 2e-6);
-        CHECK_NEAR(sqrt((double)x[i] * x[i] + (double)y[i] * y[i]), r * R, 2e-6 * R);
-        CHECK(z[i] == 0.3f);
-        if (r >= 1) /* untouched, bit for bit */
-            CHECK(x[i] == (float)(0.1 * (i + 0.5) * R) && y[i] == 0);
+    for (int k = 0; k < 3; k++) {
+        const double dt = dts[k];
+        float x[N], y[N], z[N], w[N];
+        for (int i = 0; i < N; i++)
+            x[i] = (float)(0.1 * (i + 0.5) * R), y[i] = 0, z[i] = 0.3f, w[i] = 1;
+        pfx_vortex_f(&f, N, k == 1 ? NULL : w, x, y, z, dt);
+        for (int i = 0; i < N; i++) {
+            double r = 0.1 * (i + 0.5), q = r * r;
+            double expect = r < 1 ? a * dt * (q * q - 2 * q + 1) / (1 + d * q) : 0;
+            CHECK_NEAR(atan2(y[i], x[i]), expect, 2e-6);
+            CHECK_NEAR(sqrt((double)x[i] * x[i] + (double)y[i] * y[i]), r * R, 2e-6 * R);
+            CHECK(z[i] == 0.3f);
+            if (r >= 1) /* untouched, bit for bit */
+                CHECK(x[i] == (float)(0.1 * (i + 0.5) * R) && y[i] == 0);
+        }
     }
 }
 

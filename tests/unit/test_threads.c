@@ -27,6 +27,13 @@ static const char *const effects[] = {
     "    on_hit: { emit: c, count: 1, probability: 0.2 }\n"
     "    on_death: { emit: c, count: 1, probability: 0.2 }\n"
     "  c:\n    speed: [0, 1]\n    lifetime: 0.1\n    deflectors: []\n",
+    /* an attractor whose substeps auto takes per particle (by distance) */
+    "pfx: 1\nseed: 6\nforces:\n  g: { type: gravity }\n"
+    "  a: { type: attractor, center: [0, 0.6, 0], strength: 2, softening: 0.2 }\n"
+    "  s: { type: spiral, axis: [0, 1, 0], rate: 2 }\n"
+    "emitters:\n  e:\n    shape: { type: sphere, radius: 0.3 }\n    rate: 80000\n"
+    "    speed: [1, 3]\n    spread: 40\n    lifetime: [0.4, 0.8]\n"
+    "    gravity_scale: [0.5, 1.5]\n",
 };
 
 static uint64_t run_hash(const char *text, int threads, int steps, uint32_t *most) {
