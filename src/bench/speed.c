@@ -338,7 +338,13 @@ static bool bench_render(report *rep, const char *fire_path, pfx_renderer *r, in
          * state), as many of them as the render drew on average. */
         long frames = job.frames_done;
         size_t mean = frames ? job.sprites_drawn / (size_t)frames : 0;
-        double raw_fps = pfx_renderer_bench_raw(r, &e->camera, job.sprites, mean, (int)frames);
+        pfx_sprite *last = calloc(pfx_sprites_capacity(e) + 1, sizeof *last);
+        double raw_fps = -1;
+        if (last) {
+            pfx_sprites_build(pfx_sim_frame(job.sim, job.view, job.last), last);
+            raw_fps = pfx_renderer_bench_raw(r, &e->camera, last, mean, (int)frames);
+        }
+        free(last);
         json_array_append_new(rep->render, json_pack("{s:i, s:i, s:I, s:f, s:f}", "width", width,
                                                      "height", height, "sprites", (json_int_t)mean,
                                                      "pfx_fps", full_fps, "raw_fps", raw_fps));
