@@ -75,13 +75,14 @@ static double frame_seconds(pfx_renderer *r, const pfx_camera *cam, const pfx_ma
     pfx_render_settings set = pfx_render_settings_plain(clear);
     set.light_dir[1] = -1;
     set.light_color[0] = set.light_color[1] = set.light_color[2] = 1;
+    const pfx_sprite_source src = pfx_sprite_source_array(s, n);
     double t0 = now();
     for (int f = 0; f < FRAMES; f++) {
         bool ok = true;
         if (blur > 0) {
             ok = pfx_renderer_blur_begin(r, d);
             for (int k = 0; ok && k < blur; k++)
-                ok = pfx_renderer_blur_add(r, cam, &set, s, n, false, (pfx_ribbons){NULL, 0},
+                ok = pfx_renderer_blur_add(r, cam, &set, &src, false, (pfx_ribbons){NULL, 0},
                                            1.0f / blur, d);
             if (ok)
                 pfx_renderer_blur_resolve(r, &set, rgba);

@@ -360,8 +360,13 @@ static bool bench_render(report *rep, const char *fire_path, pfx_renderer *r, in
          * state), as many of them as the render drew on average. */
         frames = job.frames_done;
         mean = frames ? job.sprites_drawn / (size_t)frames : 0;
-        if (ok)
-            raw[k] = pfx_renderer_bench_raw(r, &e->camera, job.sprites, mean, (int)frames);
+        pfx_sprite *sprites = ok ? calloc(pfx_sprites_capacity(e) + 1, sizeof *sprites) : NULL;
+        if (sprites) {
+            pfx_sprites_build(pfx_sim_frame(job.sim, job.view, job.last), sprites);
+            raw[k] = pfx_renderer_bench_raw(r, &e->camera, sprites, mean, (int)frames);
+        }
+        ok = ok && sprites && raw[k] > 0;
+        free(sprites);
         pfx_render_job_free(&job);
     }
     if (ok) {

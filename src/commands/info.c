@@ -26,13 +26,15 @@ static void print_estimate(const pfx_effect *e, const pfx_cli *o) {
             printf("    %s: %s%s\n", pfx_memory_part_names[p],
                    pfx_memory_format(est.bytes[p], b, sizeof b),
                    p == (int)est.biggest ? " (the most)" : "");
-    char c[32];
-    printf("  2 x pools + %d threads x %s = %s: %s\n", est.threads,
+    char c[32], f[32];
+    printf("  2 x pools + %s fixed + %d threads x %s = %s: %s\n",
+           pfx_memory_format(est.fixed_bytes, f, sizeof f), est.threads,
            pfx_memory_format(est.per_thread_bytes, b, sizeof b),
            pfx_memory_format(est.bound_bytes, c, sizeof c),
            est.total_bytes <= est.bound_bytes
                ? "the estimate is within it"
-               : "the estimate is over it (parts that grow with the sprites or the image)");
+               : "the estimate is over it (parts that grow with the particles beyond the "
+                 "pools: depth sort, loop, spawn queues, ribbons)");
 }
 
 /* pfx info --format json: the figures of the text form that scripts use

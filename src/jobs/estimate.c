@@ -70,7 +70,7 @@ void pfx_estimate_run(const pfx_effect *e, long first, long last, unsigned what,
     out->steps = ceil(t_last * e->sim_rate);
     const double frames = (double)(last - first + 1);
     const double image = (double)e->width * (double)e->height;
-    double particles = 0, pool_bytes = 0, queue_bytes = 0;
+    double particles = 0, pool_bytes = 0, queue_bytes = 0, fixed = 0;
     for (size_t i = 0; i < e->emitter_count; i++) {
         const pfx_emitter *em = &e->emitters[i];
         particles += em->capacity;
@@ -92,18 +92,27 @@ void pfx_estimate_run(const pfx_effect *e, long first, long last, unsigned what,
     out->bytes[PFX_MEMORY_QUEUES] = copies * queue_bytes;
     if (render) {
         const double sprites = (double)pfx_sprites_capacity(e) + 1;
-        /* The array main.c fills, and the GL buffer it is uploaded to. */
-        out->bytes[PFX_MEMORY_SPRITES] = 2 * sprites * sizeof(pfx_sprite);
-        /* render/sort.c: keys and indices (double buffered), a sorted
-         * copy and the radix blocks' histograms, grown by doubling. */
+        /* render.c makes sprites a chunk at a time into one buffer and
+         * uploads each to a GL store of its own: the one being drawn and
+         * two in flight. */
+        out->bytes[PFX_MEMORY_SPRITES] =
+            (PFX_RENDER_CHUNK + fmin(sprites, 3.0 * PFX_RENDER_CHUNK)) * sizeof(pfx_sprite);
+        /* render/sort.c: keys and indices (double buffered) and the radix
+         * blocks' histograms, grown by doubling; the sprites are made in
+         * sorted order, never copied. */
         if (pfx_sprites_need_sort(e))
             out->bytes[PFX_MEMORY_SORT] = (double)pfx_renderer_sort_bytes((size_t)sprites);
         out->bytes[PFX_MEMORY_RIBBONS] = (double)pfx_ribbons_bytes(e);
-        /* What Mesa keeps of a frame's draw: see PFX_RENDER_DRIVER_BYTES_PER_SPRITE. */
-        const double drawn = sprites + 0.5 * (double)pfx_ribbons_triangles(e);
-        out->bytes[PFX_MEMORY_DRIVER] =
-            fmin(drawn * PFX_RENDER_DRIVER_FIRST_BYTES_PER_SPRITE, PFX_RENDER_DRIVER_FIRST_CAP) +
-            drawn * PFX_RENDER_DRIVER_BYTES_PER_SPRITE;
+        /* What Mesa keeps of the chunks in flight, and of the ribbons'
+         * single draw: see PFX_RENDER_DRIVER_BYTES_PER_SPRITE. */
+        const double in_flight = fmin(sprites, PFX_RENDER_DRIVER_CHUNKS * PFX_RENDER_CHUNK);
+        const double triangles = (double)pfx_ribbons_triangles(e);
+        const double driver_sprites = in_flight * PFX_RENDER_DRIVER_BYTES_PER_SPRITE;
+        out->bytes[PFX_MEMORY_DRIVER] = driver_sprites +
+                                        fmin(triangles * PFX_RENDER_DRIVER_FIRST_BYTES_PER_TRIANGLE,
+                                             PFX_RENDER_DRIVER_FIRST_CAP) +
+                                        triangles * PFX_RENDER_DRIVER_BYTES_PER_TRIANGLE;
+        fixed += out->bytes[PFX_MEMORY_SPRITES] + driver_sprites;
         /* RGBA32F in GL and its float read-back, and motion blur's float
          * sum. The frame queue: per encoder thread two float frames (the
          * encoders convert them, so each costs 16 bytes a pixel, four times
@@ -123,8 +132,10 @@ void pfx_estimate_run(const pfx_effect *e, long first, long last, unsigned what,
                                 (double)pfx_png_encoder_scratch_bytes(e->width, e->height);
         out->bytes[PFX_MEMORY_ENCODER] = out->threads * out->per_thread_bytes;
         for (size_t i = 0; i < e->emitter_count; i++)
-            if (e->emitters[i].look.texture || e->emitters[i].look.normal_map)
+            if (e->emitters[i].look.texture || e->emitters[i].look.normal_map) {
                 out->bytes[PFX_MEMORY_DRIVER] += PFX_RENDER_DRIVER_BYTES_PER_TEXTURED;
+                fixed += PFX_RENDER_DRIVER_BYTES_PER_TEXTURED;
+            }
         /* Textures: the decoded pixels, and their copy in GL with mipmaps
          * (4/3 of the base level). */
         for (size_t i = 0; i < e->emitter_count; i++) {
@@ -136,7 +147,10 @@ void pfx_estimate_run(const pfx_effect *e, long first, long last, unsigned what,
                         (1 + 4.0 / 3) * maps[k]->width * maps[k]->height * 4 * (maps[k]->bits / 8);
         }
     }
-    out->bound_bytes = 2 * pool_bytes + out->threads * out->per_thread_bytes;
+    if (render)
+        fixed += out->bytes[PFX_MEMORY_FRAMEBUFFER] + out->bytes[PFX_MEMORY_TEXTURES];
+    out->fixed_bytes = fixed;
+    out->bound_bytes = 2 * pool_bytes + fixed + out->threads * out->per_thread_bytes;
     out->biggest = PFX_MEMORY_POOLS;
     for (int p = 0; p < PFX_MEMORY_PART_COUNT; p++) {
         out->total_bytes += out->bytes[p];
@@ -149,9 +163,10 @@ json_t *pfx_estimate_json(const pfx_estimate *est) {
     json_t *parts = json_object();
     for (int p = 0; p < PFX_MEMORY_PART_COUNT; p++)
         json_object_set_new(parts, pfx_memory_part_keys[p], json_real(est->bytes[p]));
-    json_t *memory = json_pack("{s:f, s:o, s:i, s:f, s:f}", "total_bytes", est->total_bytes,
-                               "parts", parts, "threads", est->threads, "per_thread_bytes",
-                               est->per_thread_bytes, "bound_bytes", est->bound_bytes);
+    json_t *memory =
+        json_pack("{s:f, s:o, s:i, s:f, s:f, s:f}", "total_bytes", est->total_bytes, "parts", parts,
+                  "threads", est->threads, "per_thread_bytes", est->per_thread_bytes, "fixed_bytes",
+                  est->fixed_bytes, "bound_bytes", est->bound_bytes);
     return json_pack("{s:{s:f, s:f, s:f, s:f}, s:o}", "work", "steps", est->steps, "particle_steps",
                      est->particle_steps, "sprites", est->sprites, "sprite_pixels",
                      est->sprite_pixels, "memory", memory);

@@ -19,10 +19,10 @@
     X(VIEW, "view", "frame view (a second copy of the pools)")                                     \
     X(LOOP, "loop", "loop start (a third copy of the pools)")                                      \
     X(QUEUES, "queues", "spawn queues")                                                            \
-    X(SPRITES, "sprites", "sprites (array and GL vertex buffer)")                                  \
+    X(SPRITES, "sprites", "sprites (a chunk and its GL vertex buffers)")                           \
     X(SORT, "sort", "depth-sort scratch")                                                          \
     X(RIBBONS, "ribbons", "ribbon triangles (array, scratch and GL vertex buffer)")                \
-    X(DRIVER, "driver", "GL driver's binned triangles (llvmpipe)")                                 \
+    X(DRIVER, "driver", "GL driver's binned triangles (llvmpipe, chunks in flight)")               \
     X(FRAMEBUFFER, "framebuffer", "float framebuffer, read-back, blur sum")                        \
     X(MOTION_VECTORS, "motion_vectors", "motion-vector pass (float target, read-back, encoding)")  \
     X(ENCODER, "encoders", "frame encoder buffers and deflate scratch")                            \
@@ -52,13 +52,20 @@ typedef struct pfx_estimate {
     double bytes[PFX_MEMORY_PART_COUNT];
     double total_bytes; /* peak: every part at once */
     pfx_memory_part biggest;
-    /* Issue 11's bound on a render: 2 x the pools plus a fixed amount per
-     * thread. per_thread_bytes is what each encoder thread holds (its two
-     * frames and its deflate scratch); bound_bytes = 2 x pools + threads x
-     * per_thread_bytes. Parts that grow with the sprites (sprites, sort,
-     * ribbons, driver) or the image (framebuffer) fall outside it. */
+    /* The bound on a render: 2 x the pools plus a fixed amount for the
+     * drawing thread and one per encoder thread. fixed_bytes is what does
+     * not grow with the particles: the sprite chunk and its GL stores, the
+     * driver's chunks in flight and its shaders for textures, the float
+     * framebuffers and the textures (it grows with the image, as the
+     * encoders' frames do). per_thread_bytes is what each encoder thread
+     * holds (its two frames and its deflate scratch). bound_bytes = 2 x
+     * pools + fixed_bytes + threads x per_thread_bytes. What falls outside
+     * it grows with the particles: the depth sort's keys (16 bytes a
+     * sprite, when an emitter blends by alpha), a loop's third copy of the
+     * pools, the spawn queues and the ribbons. */
     int threads;
     double per_thread_bytes;
+    double fixed_bytes;
     double bound_bytes;
 } pfx_estimate;
 
@@ -78,7 +85,7 @@ void pfx_estimate_run(const pfx_effect *e, long first, long last, unsigned what,
 /* The estimate as JSON (jansson; the caller owns the reference): work
  * {steps, particle_steps, sprites, sprite_pixels} and memory {total_bytes,
  * one key per part (pfx_memory_part_keys), threads, per_thread_bytes,
- * bound_bytes}. NULL when out of memory. */
+ * fixed_bytes, bound_bytes}. NULL when out of memory. */
 json_t *pfx_estimate_json(const pfx_estimate *est);
 
 /* Half of physical memory: --max-memory's default (0 where unknown). */

@@ -23,10 +23,33 @@ static bool reaches_frame(const pfx_effect *e, const pfx_sprite *sp, const doubl
     return c[0] + r > 0 && c[0] - r < e->width && c[1] + r > 0 && c[1] - r < e->height;
 }
 
+/* The largest displacement, in pixels over dt, of the sprites that reach
+ * the frame. */
+static double most_moved(const pfx_effect *e, const pfx_sprite *sprites, size_t n, double dt,
+                         double most) {
+    for (size_t i = 0; i < n; i++) {
+        const pfx_sprite *sp = &sprites[i];
+        const double p[3] = {sp->x, sp->y, sp->z},
+                     q[3] = {sp->x + sp->vx * dt, sp->y + sp->vy * dt, sp->z + sp->vz * dt};
+        double a[2], b[2], wa, wb;
+        if (!pfx_camera_project(&e->camera, e->width, e->height, p, a, &wa) ||
+            !pfx_camera_project(&e->camera, e->width, e->height, q, b, &wb) ||
+            !reaches_frame(e, sp, a, wa))
+            continue;
+        double dx = fabs(b[0] - a[0]), dy = fabs(b[1] - a[1]);
+        double m = dx > dy ? dx : dy;
+        most = m > most ? m : most;
+    }
+    return most;
+}
+
+/* The sprites are made a chunk at a time, as the renderer makes them: the
+ * pass holds no array of a frame's sprites. */
 bool pfx_mv_sequence_max(const pfx_effect *e, double *max_px, pfx_diags *d) {
     pfx_sim *sim = pfx_sim_create(e, d), *view = pfx_sim_create(e, d);
-    pfx_sprite *sprites = malloc((pfx_sprites_capacity(e) + 1) * sizeof *sprites);
-    bool ok = sim && view && sprites;
+    pfx_sprite *sprites = malloc(PFX_RENDER_CHUNK * sizeof *sprites);
+    pfx_sprite_feed feed = {NULL, NULL};
+    bool ok = sim && view && sprites && pfx_sprite_feed_init(&feed, e);
     if (!ok)
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for %zu particles",
                        pfx_sprites_capacity(e));
@@ -39,23 +62,16 @@ bool pfx_mv_sequence_max(const pfx_effect *e, double *max_px, pfx_diags *d) {
             ok = false;
             break;
         }
-        size_t n = pfx_sprites_build(state, sprites);
-        for (size_t i = 0; i < n; i++) {
-            const pfx_sprite *sp = &sprites[i];
-            const double p[3] = {sp->x, sp->y, sp->z},
-                         q[3] = {sp->x + sp->vx * dt, sp->y + sp->vy * dt, sp->z + sp->vz * dt};
-            double a[2], b[2], wa, wb;
-            if (!pfx_camera_project(&e->camera, e->width, e->height, p, a, &wa) ||
-                !pfx_camera_project(&e->camera, e->width, e->height, q, b, &wb) ||
-                !reaches_frame(e, sp, a, wa))
-                continue;
-            double dx = fabs(b[0] - a[0]), dy = fabs(b[1] - a[1]);
-            double m = dx > dy ? dx : dy;
-            most = m > most ? m : most;
+        const pfx_sprite_source src = pfx_sprite_feed_source(&feed, state);
+        for (size_t at = 0; at < src.count; at += PFX_RENDER_CHUNK) {
+            size_t n = src.count - at < PFX_RENDER_CHUNK ? src.count - at : PFX_RENDER_CHUNK;
+            src.make(src.ctx, at, n, NULL, sprites);
+            most = most_moved(e, sprites, n, dt, most);
         }
     }
     pfx_sim_destroy(sim);
     pfx_sim_destroy(view);
+    pfx_sprite_feed_free(&feed);
     free(sprites);
     *max_px = most > 0 && isfinite(most) ? most : 1.0;
     return ok;
@@ -81,9 +97,9 @@ void pfx_mv_frame_free(pfx_mv_frame *b) {
 }
 
 bool pfx_mv_frame_write(pfx_mv_frame *b, pfx_renderer *r, const pfx_effect *e,
-                        const pfx_render_settings *s, const pfx_sprite *sprites, size_t count,
+                        const pfx_render_settings *s, const pfx_sprite_source *src,
                         const pfx_mv_meta *m, const char *path, pfx_diags *d) {
-    if (!pfx_renderer_motion_vectors(r, &e->camera, s, sprites, count, 1.0 / e->fps, b->mv, d))
+    if (!pfx_renderer_motion_vectors(r, &e->camera, s, src, 1.0 / e->fps, b->mv, d))
         return false;
     pfx_mv_encode(b->mv, e->width, e->height, m, b->samples);
     return pfx_png_write16(path, b->samples, e->width, e->height, false, d);

@@ -33,11 +33,11 @@ typedef struct pfx_mv_frame {
 bool pfx_mv_frame_init(pfx_mv_frame *b, const pfx_effect *e, pfx_diags *d);
 void pfx_mv_frame_free(pfx_mv_frame *b);
 
-/* Draws the motion vectors of `count` sprites at the effect's camera over
- * 1 / fps and writes them to `path` (the directory synced by the caller).
- * False with the reason in d. */
+/* Draws the motion vectors of the source's sprites at the effect's camera
+ * over 1 / fps and writes them to `path` (the directory synced by the
+ * caller). False with the reason in d. */
 bool pfx_mv_frame_write(pfx_mv_frame *b, pfx_renderer *r, const pfx_effect *e,
-                        const pfx_render_settings *s, const pfx_sprite *sprites, size_t count,
+                        const pfx_render_settings *s, const pfx_sprite_source *src,
                         const pfx_mv_meta *m, const char *path, pfx_diags *d);
 
 /* dir/stem_mv_NNNN.png; false when it does not fit in size. */

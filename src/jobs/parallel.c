@@ -79,7 +79,7 @@ bool pfx_render_job_run_parallel(pfx_render_job *job, pfx_renderer_kind kind, in
             /* The last chunk's state is the job's: its sims end at the last frame. */
             job->sim = c->job.sim;
             job->view = c->job.view;
-            job->sprites = c->job.sprites;
+            job->feed = c->job.feed;
             job->sprite_count = c->job.sprite_count;
         } else {
             pfx_render_job_free(&c->job);

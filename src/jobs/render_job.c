@@ -30,22 +30,21 @@ static long draw_frame(pfx_render_job *job, long f, const pfx_render_settings *s
     const pfx_sim *state = pfx_sim_frame(job->sim, job->view, f);
     if (job->sim->failed || job->view->failed)
         return -1; /* the sims reported into d */
-    size_t n = pfx_sprites_build(state, job->sprites);
+    const pfx_sprite_source src = pfx_sprite_feed_source(&job->feed, state);
+    const size_t n = src.count;
     pfx_ribbons ribbons = pfx_ribbons_build(job->ribbons, state);
-    /* Motion vectors first: the frame's own sprites, before the colour
-     * pass sorts them or motion blur replaces them with later ones. */
+    /* Motion vectors first: the frame's own sprites, before motion blur
+     * moves the view on to later times. */
     char path[4600];
     if (job->motion && !pfx_mv_frame_path(job->dir, job->stem, f, path, sizeof path)) {
         pfx_diag_error(d, PFX_RULE_TOO_LARGE, "output path '%s/%s_mv_%04ld.png' is too long",
                        job->dir, job->stem, f);
         return -1;
     }
-    if (job->motion &&
-        !pfx_mv_frame_write(mv, job->renderer, e, s, job->sprites, n, job->motion, path, d))
+    if (job->motion && !pfx_mv_frame_write(mv, job->renderer, e, s, &src, job->motion, path, d))
         return -1;
     if (e->blur_samples <= 1)
-        return pfx_renderer_draw_float(job->renderer, &e->camera, s, job->sprites, n, sort, ribbons,
-                                       img, d)
+        return pfx_renderer_draw_float(job->renderer, &e->camera, s, &src, sort, ribbons, img, d)
                    ? (long)n
                    : -1;
     const int samples = e->blur_samples;
@@ -60,13 +59,12 @@ static long draw_frame(pfx_render_job *job, long f, const pfx_render_settings *s
             pfx_sim_view_at(job->sim, job->view, t);
             if (job->sim->failed || job->view->failed)
                 return -1;
-            size_t m = pfx_sprites_build(job->view, job->sprites);
+            const pfx_sprite_source at = pfx_sprite_feed_source(&job->feed, job->view);
             pfx_ribbons sub = pfx_ribbons_build(job->ribbons, job->view);
-            if (!pfx_renderer_blur_add(job->renderer, &e->camera, s, job->sprites, m, sort, sub,
-                                       weight, d))
+            if (!pfx_renderer_blur_add(job->renderer, &e->camera, s, &at, sort, sub, weight, d))
                 return -1;
-        } else if (!pfx_renderer_blur_add(job->renderer, &e->camera, s, job->sprites, n, sort,
-                                          ribbons, weight, d)) {
+        } else if (!pfx_renderer_blur_add(job->renderer, &e->camera, s, &src, sort, ribbons, weight,
+                                          d)) {
             return -1;
         }
     }
@@ -81,9 +79,8 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
     job->sprite_count = 0;
     job->sim = pfx_sim_create(e, d);
     job->view = pfx_sim_create(e, d);
-    job->sprites = malloc((pfx_sprites_capacity(e) + 1) * sizeof *job->sprites);
     job->ribbons = pfx_ribbons_create(e);
-    if (!job->sim || !job->view || !job->sprites || !job->ribbons) {
+    if (!job->sim || !job->view || !pfx_sprite_feed_init(&job->feed, e) || !job->ribbons) {
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for %zu particles",
                        pfx_sprites_capacity(e));
         return false;
@@ -148,11 +145,10 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
 }
 
 void pfx_render_job_free(pfx_render_job *job) {
-    free(job->sprites);
+    pfx_sprite_feed_free(&job->feed);
     pfx_ribbons_destroy(job->ribbons);
     job->ribbons = NULL;
     pfx_sim_destroy(job->view);
     pfx_sim_destroy(job->sim);
-    job->sprites = NULL;
     job->sim = job->view = NULL;
 }

@@ -10,6 +10,7 @@
 #include "model/effect.h"
 #include "output/frame_queue.h"
 #include "render/render.h"
+#include "render/sprites.h"
 #include "sim/sim.h"
 
 typedef struct pfx_render_job {
@@ -35,9 +36,9 @@ typedef struct pfx_render_job {
     /* Out, valid after pfx_render_job_run until pfx_render_job_free. */
     long frames_done;     /* frames drawn and handed to the writer */
     size_t sprites_drawn; /* summed over those frames */
-    pfx_sprite *sprites;  /* the last frame's sprites, in drawing order */
-    size_t sprite_count;
-    pfx_sim *sim; /* the simulation at the last frame (per-emitter drop counts) */
+    size_t sprite_count;  /* the last frame's */
+    pfx_sprite_feed feed; /* the frame's sprites, made as the renderer reads them */
+    pfx_sim *sim;         /* the simulation at the last frame (per-emitter drop counts) */
     pfx_sim *view;
     struct pfx_ribbon_buffer *ribbons; /* the frame's ribbon triangles */
 } pfx_render_job;
@@ -49,7 +50,8 @@ typedef struct pfx_render_job {
  * frames written before a failure stay. */
 bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d);
 
-/* Frees what run allocated (the sims and sprites), not the renderer. */
+/* Frees what run allocated (the sims and the sprite feed), not the
+ * renderer. */
 void pfx_render_job_free(pfx_render_job *job);
 
 #endif

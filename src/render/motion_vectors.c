@@ -34,44 +34,55 @@ static bool build_target(pfx_renderer *r, pfx_diags *d) {
     return true;
 }
 
-/* One instanced draw per run of one material, as the colour pass draws. The
+/* One instanced draw per run of one material, as the colour pass draws,
+ * a chunk of the source at a time (at most two in flight, as there). The
  * blend sums (dx w, dy w, w) in RGB and keeps A = 1 - prod(1 - w), the
  * coverage of the sprites laid over each other; both are independent of
- * the drawing order but for rounding, and the order is the caller's. */
+ * the drawing order but for rounding, and the order is the source's. */
 static bool draw_motion(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
-                        const pfx_sprite *sprites, size_t count, double dt, pfx_diags *d) {
+                        const pfx_sprite_source *src, double dt, pfx_diags *d) {
     r->gl.BindFramebuffer(GL_FRAMEBUFFER, r->mv_fbo);
     r->gl.Viewport(0, 0, r->width, r->height);
     r->gl.ClearColor(0, 0, 0, 0);
     r->gl.Clear(GL_COLOR_BUFFER_BIT);
-    if (count == 0)
+    if (src->count == 0)
         return true;
     r->gl.BlendFuncSeparate(GL_ONE, GL_ONE, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
     r->gl.BindVertexArray(r->vao);
     r->gl.BindBuffer(GL_ARRAY_BUFFER, r->instance_vbo);
-    r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(count * sizeof *sprites), sprites,
-                     GL_STREAM_DRAW);
     bool ok = true;
-    for (size_t first = 0; ok && first < count;) {
-        const pfx_gpu_material *g = pfx_render_material_of(r, &sprites[first]);
-        size_t end = first + 1;
-        while (end < count && pfx_render_material_of(r, &sprites[end]) == g)
-            end++;
-        ok = pfx_shader_motion(r, v, s, g, dt, d);
-        if (ok) {
-            pfx_render_point_instances(r, first);
-            r->gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)(end - first));
+    GLsync fences[2] = {NULL, NULL};
+    for (size_t at = 0, k = 0; ok && at < src->count; at += PFX_RENDER_CHUNK, k++) {
+        const size_t n = src->count - at < PFX_RENDER_CHUNK ? src->count - at : PFX_RENDER_CHUNK;
+        const pfx_sprite *sprites = r->chunk;
+        if (k > 0)
+            pfx_render_chunk_done(r, fences, k - 1);
+        pfx_sort_make(r, src, NULL, at, at + n, r->chunk);
+        r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(n * sizeof *sprites), sprites,
+                         GL_STREAM_DRAW);
+        for (size_t first = 0; ok && first < n;) {
+            const pfx_gpu_material *g = pfx_render_material_of(r, &sprites[first]);
+            size_t end = first + 1;
+            while (end < n && pfx_render_material_of(r, &sprites[end]) == g)
+                end++;
+            ok = pfx_shader_motion(r, v, s, g, dt, d);
+            if (ok) {
+                pfx_render_point_instances(r, first);
+                r->gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)(end - first));
+            }
+            first = end;
         }
-        first = end;
     }
+    pfx_render_chunks_end(r, fences);
     pfx_render_point_instances(r, 0);
     r->gl.BlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); /* the colour pass's, as it was */
     return ok;
 }
 
 bool pfx_renderer_motion_vectors(pfx_renderer *r, const pfx_camera *cam,
-                                 const pfx_render_settings *s, const pfx_sprite *sprites,
-                                 size_t count, double dt, float *mv, pfx_diags *d) {
+                                 const pfx_render_settings *s, const pfx_sprite_source *src,
+                                 double dt, float *mv, pfx_diags *d) {
+    const size_t count = src->count;
     if (count > (size_t)INT32_MAX) {
         pfx_diag_error(d, PFX_RULE_TOO_MANY, "too many sprites to draw: %zu", count);
         return false;
@@ -80,7 +91,7 @@ bool pfx_renderer_motion_vectors(pfx_renderer *r, const pfx_camera *cam,
     if (!pfx_render_view(cam, r->width, r->height, &v, d) || !pfx_render_make_current(r, d) ||
         !build_target(r, d))
         return false;
-    bool drawn = draw_motion(r, &v, s, sprites, count, dt, d);
+    bool drawn = draw_motion(r, &v, s, src, dt, d);
     r->gl.ReadPixels(0, 0, r->width, r->height, GL_RGBA, GL_FLOAT, r->mv_pixels);
     r->gl.BindFramebuffer(GL_FRAMEBUFFER, r->fbo);
     GLenum e = r->gl.GetError();

@@ -31,6 +31,32 @@ typedef struct pfx_sprite {
     float length;     /* align velocity: the length in metres (size x length + |v| x speed) */
 } pfx_sprite;
 
+/* A frame's sprites as the renderer reads them: `count` sprites in a fixed
+ * order, made when asked rather than held, so that a frame needs no array
+ * of them (render/sprites.h makes one from the simulation's pools). make
+ * writes sprites first .. first + n - 1 of the order into out, or, when
+ * index is not NULL, sprites index[0 .. n) (first is then unused);
+ * centres writes the (x, y, z) of sprites first .. first + n - 1 into xyz,
+ * what the depth sort reads. Both may be called from several threads at
+ * once on different ranges, and must give the same sprite for the same
+ * position whatever the call. */
+typedef struct pfx_sprite_source {
+    size_t count;
+    void (*make)(const void *ctx, size_t first, size_t n, const uint32_t *index, pfx_sprite *out);
+    void (*centres)(const void *ctx, size_t first, size_t n, float *xyz);
+    const void *ctx;
+} pfx_sprite_source;
+/* The source of an array of count sprites, which must outlive its use. */
+pfx_sprite_source pfx_sprite_source_array(const pfx_sprite *sprites, size_t count);
+
+/* Sprites a draw call takes: the renderer makes, uploads and draws a
+ * frame's sprites this many at a time (after one depth sort over all of
+ * them), flushing GL between chunks, so neither its sprite buffer nor the
+ * driver's binned triangles grow with the sprite count. One instanced draw
+ * split into several in the same order, with the same blend state, gives
+ * the same pixels. */
+#define PFX_RENDER_CHUNK 4096u
+
 /* One corner of a ribbon, 36 bytes: ribbons come as a triangle list (three
  * vertices a triangle) in world space, already facing the camera, so the
  * renderer only projects them. Colour is premultiplied as a sprite's is
@@ -141,26 +167,27 @@ bool pfx_renderer_set_materials(pfx_renderer *r, const pfx_material *m, size_t c
  * 8-bit RGBA (straight or premultiplied as `s` says), top row first, into
  * rgba. When `sort` is true the sprites are drawn back to front by view
  * depth (one sort over all of them, stable, so ties keep input order); the
- * sprites array is reordered in place (sprites may be NULL when count is
- * 0). Consecutive sprites of one material are one instanced draw. The
- * ribbons (none: {NULL, 0}) are drawn first, in their order, under every
- * sprite: one draw of their triangles. Returns
- * false (with an error in d) on a GL failure or when the sort scratch
- * cannot be grown; rgba is then unspecified. */
+ * array is not changed (sprites may be NULL when count is 0). Consecutive
+ * sprites of one material are one instanced draw (split at every
+ * PFX_RENDER_CHUNK sprites). The ribbons (none: {NULL, 0}) are drawn
+ * first, in their order, under every sprite: one draw of their triangles.
+ * Returns false (with an error in d) on a GL failure or when the sort
+ * scratch cannot be grown; rgba is then unspecified. */
 bool pfx_renderer_draw_frame(pfx_renderer *r, const pfx_camera *cam, const pfx_render_settings *s,
-                             pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
-                             uint8_t *rgba, pfx_diags *d);
+                             const pfx_sprite *sprites, size_t count, bool sort,
+                             pfx_ribbons ribbons, uint8_t *rgba, pfx_diags *d);
 /* pfx_renderer_draw_frame without the conversion: the frame's float image
  * into img, whose pixels the caller owns (room for width * height * 4
  * floats); the renderer reads the drawn box back into them and sets the
  * rest of img. The conversion (pfx_float_image_to_rgba8 with
  * pfx_render_tone(s)) is then the caller's, on any thread. */
 bool pfx_renderer_draw_float(pfx_renderer *r, const pfx_camera *cam, const pfx_render_settings *s,
-                             pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
+                             const pfx_sprite_source *src, bool sort, pfx_ribbons ribbons,
                              pfx_float_image *img, pfx_diags *d);
 /* pfx_renderer_draw_frame with pfx_render_settings_plain(bg). */
 bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4],
-                       pfx_sprite *sprites, size_t count, bool sort, uint8_t *rgba, pfx_diags *d);
+                       const pfx_sprite *sprites, size_t count, bool sort, uint8_t *rgba,
+                       pfx_diags *d);
 
 /* Motion blur: the float images of several sub-frame times, averaged.
  * begin clears the sum; each add draws the sprites as draw_frame would and
@@ -169,7 +196,7 @@ bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4]
  * a fixed order, so the bytes do not depend on anything but the inputs. */
 bool pfx_renderer_blur_begin(pfx_renderer *r, pfx_diags *d);
 bool pfx_renderer_blur_add(pfx_renderer *r, const pfx_camera *cam, const pfx_render_settings *s,
-                           pfx_sprite *sprites, size_t count, bool sort, pfx_ribbons ribbons,
+                           const pfx_sprite_source *src, bool sort, pfx_ribbons ribbons,
                            float weight, pfx_diags *d);
 void pfx_renderer_blur_resolve(pfx_renderer *r, const pfx_render_settings *s, uint8_t *rgba);
 /* The sum as a float image (the whole frame is its box) into img, whose
@@ -188,11 +215,12 @@ void pfx_renderer_blur_resolve_float(pfx_renderer *r, const pfx_render_settings 
  * (+right), dy (+up), and the coverage 1 - prod(1 - weight) in [0, 1]; a
  * pixel no sprite touches is (0, 0, 0). A sprite whose centre is behind
  * the camera at t or t + dt weighs 0. Drawn into a float target of its
- * own, made on the first call. Does not reorder sprites. False with an
+ * own, made on the first call. Draws the source's sprites in its order, a
+ * chunk at a time, unsorted. False with an
  * error in d on a GL failure. */
 bool pfx_renderer_motion_vectors(pfx_renderer *r, const pfx_camera *cam,
-                                 const pfx_render_settings *s, const pfx_sprite *sprites,
-                                 size_t count, double dt, float *mv, pfx_diags *d);
+                                 const pfx_render_settings *s, const pfx_sprite_source *src,
+                                 double dt, float *mv, pfx_diags *d);
 /* The threads the depth sort of alpha-blended sprites runs on (0: one per
  * online core; a new renderer sorts on the caller's thread alone). The
  * order does not depend on the count. False (with an error in d, which
@@ -200,25 +228,35 @@ bool pfx_renderer_motion_vectors(pfx_renderer *r, const pfx_camera *cam,
  * the caller's thread, with the same result. */
 bool pfx_renderer_set_threads(pfx_renderer *r, int threads, pfx_diags *d);
 
-/* Sorts the sprites back to front as pfx_renderer_draw_frame does with
- * sort true, and draws nothing (pfx bench times it). False with an error
- * in d when the sort scratch cannot grow. */
+/* Sorts the sprites back to front, in place, in the order
+ * pfx_renderer_draw_frame draws them with sort true, and draws nothing
+ * (pfx bench times it; tests check the order). It keeps a sorted copy of
+ * the array, which drawing never needs. False with an error in d when the
+ * scratch cannot grow. */
 bool pfx_renderer_sort(pfx_renderer *r, const pfx_camera *cam, pfx_sprite *sprites, size_t count,
                        pfx_diags *d);
 
 /* Memory the GL driver holds for a frame's triangles beyond their vertex
  * buffer: Mesa's llvmpipe bins every triangle into screen tiles before
- * rasterising, in scenes it keeps in flight while its threads work. The
- * peak RSS of renders of 5e4 to 3.2e6 alpha-blended sprites (128x128, 2
- * cores), less the libraries' own and the parts counted elsewhere, was
- * 34 MB at 5e4, 74 to 108 MB at 2e5 (it varies from run to run), 66 to
- * 116 MB at 8e5 and 246 MB at 3.2e6: quick growth to about 100 MB, then
- * under 100 bytes a sprite. Counted as up to 1 KiB a sprite for the first
- * 96 MiB plus 128 bytes a sprite, which bounds every figure measured; a
- * ribbon triangle counts half a sprite. tests/jobs/run_memory.sh checks
- * it against real renders. */
-#define PFX_RENDER_DRIVER_BYTES_PER_SPRITE 128.0
-#define PFX_RENDER_DRIVER_FIRST_BYTES_PER_SPRITE 1024.0
+ * rasterising, in scenes it keeps in flight while its threads work.
+ * Sprites go to it a chunk (PFX_RENDER_CHUNK) at a time with at most two
+ * chunks in flight (render.c), so their share does not grow with the
+ * sprite count: the peak RSS of 2e5 and 1.6e6 sprites, alpha-blended and
+ * additive, at 128x128, 320x240 and 512x512 (2 cores), less the
+ * libraries' own and the parts counted elsewhere, was 12 to 24 MB with
+ * 4096-sprite chunks (the most for sprites covering most of the frame),
+ * 33 to 35 MB with 16384 and 82 to 117 MB with 65536; drawn whole (before
+ * chunking) 2e5 sprites took 74 to 108 MB and 3.2e6 took 246 MB. Counted
+ * as PFX_RENDER_DRIVER_BYTES_PER_SPRITE for PFX_RENDER_DRIVER_CHUNKS
+ * chunks (32 MiB). Ribbons are still one draw of all their triangles,
+ * counted as whole frames of sprites were (a ribbon triangle is half a
+ * sprite's two): 512 bytes a triangle for the first 96 MiB plus 64 bytes
+ * a triangle, which bounded every whole frame measured.
+ * tests/jobs/run_memory.sh checks both against real renders. */
+#define PFX_RENDER_DRIVER_BYTES_PER_SPRITE 2048.0
+#define PFX_RENDER_DRIVER_CHUNKS 4
+#define PFX_RENDER_DRIVER_BYTES_PER_TRIANGLE 64.0
+#define PFX_RENDER_DRIVER_FIRST_BYTES_PER_TRIANGLE 512.0
 #define PFX_RENDER_DRIVER_FIRST_CAP (96.0 * 1024 * 1024)
 /* LLVM's memory while llvmpipe compiles the shaders of a material that
  * samples a texture or normal map: 16 MB more peak RSS for one such
@@ -226,9 +264,10 @@ bool pfx_renderer_sort(pfx_renderer *r, const pfx_camera *cam, pfx_sprite *sprit
  * beyond the first (measured with four emitters of different looks). */
 #define PFX_RENDER_DRIVER_BYTES_PER_TEXTURED (16.0 * 1024 * 1024)
 
-/* Bytes of sort scratch a renderer holds once it has sorted `count`
- * sprites (keys, indices, the sorted copy, histograms): the memory
- * estimate's share for the sort. */
+/* Bytes of sort scratch a renderer holds once it has drawn `count` sorted
+ * sprites (two key and two index arrays, the histograms: 16 bytes a sprite
+ * and 1 KiB a 64 Ki block; the sorted sprites are made a chunk at a time,
+ * never copied whole): the memory estimate's share for the sort. */
 size_t pfx_renderer_sort_bytes(size_t count);
 
 /* The reference the pfx bench measures full rendering against: `frames`

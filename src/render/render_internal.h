@@ -30,6 +30,10 @@
     X(PFNGLPIXELSTOREIPROC, PixelStorei)                                                           \
     X(PFNGLREADPIXELSPROC, ReadPixels)                                                             \
     X(PFNGLFINISHPROC, Finish)                                                                     \
+    X(PFNGLFLUSHPROC, Flush)                                                                       \
+    X(PFNGLFENCESYNCPROC, FenceSync)                                                               \
+    X(PFNGLCLIENTWAITSYNCPROC, ClientWaitSync)                                                     \
+    X(PFNGLDELETESYNCPROC, DeleteSync)                                                             \
     X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                                                   \
     X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                                             \
     X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                                                   \
@@ -126,12 +130,21 @@ struct pfx_renderer {
     float *pixels; /* width * height * 4 floats read back from the FBO */
     float *blur;   /* motion blur: the weighted sum of full float images */
     /* Sort scratch, grown to the largest count seen: two key and two index
-     * arrays for the radix ping-pong, a sprite copy for the permutation and
-     * the radix blocks' histograms (render/sort.c). */
+     * arrays for the radix ping-pong and the radix blocks' histograms
+     * (render/sort.c). `sorted` is pfx_renderer_sort's copy alone (pfx
+     * bench): drawing makes the sorted sprites a chunk at a time. */
     size_t scratch_cap;
     uint32_t *keys;
     uint32_t *index;
     pfx_sprite *sorted;
+    size_t sorted_cap;
+    /* The sprites of one draw chunk, made from the source, then uploaded
+     * (PFX_RENDER_CHUNK of them). */
+    pfx_sprite *chunk;
+    /* The pixels of fbo that may differ from `cleared`, the colour last
+     * cleared to: last frame's box (render.c clears only these). */
+    int dirty[4];
+    float cleared[4];
     /* Motion vectors (render/motion_vectors.c): their own float target and
      * read-back, made on first use so that a render without them pays
      * nothing. */
@@ -181,10 +194,25 @@ void pfx_render_point_instances(pfx_renderer *r, size_t first);
  * switches), into r->ribbon_program and its two uniforms. */
 bool pfx_shader_build_ribbon(pfx_renderer *r, pfx_diags *d);
 
-/* render/sort.c: back-to-front by view depth, stable (LSD radix on float
- * keys, over r->workers); false with an error when the scratch cannot
- * grow. */
+/* render/sort.c: the back-to-front order of the source's sprites by view
+ * depth, stable (LSD radix on float keys, over r->workers): src->count
+ * sprite positions in r's scratch, valid until the next sort. NULL with an
+ * error when the scratch cannot grow or the count does not fit 32 bits. */
+const uint32_t *pfx_sort_order(pfx_renderer *r, const pfx_view *v, const pfx_sprite_source *src,
+                               pfx_diags *d);
+/* render/render.c: keeps at most two chunks of sprites in the driver's
+ * hands: after chunk k is drawn, fences it and flushes, and first waits
+ * for chunk k - 2 (fences[k % 2]). pfx_render_chunks_end drops what is
+ * left (the read-back that follows waits for everything anyway). */
+void pfx_render_chunk_done(pfx_renderer *r, GLsync fences[2], size_t k);
+void pfx_render_chunks_end(pfx_renderer *r, GLsync fences[2]);
+
+/* render/sort.c: pfx_renderer_sort's in-place sort of an array. */
 bool pfx_sort_back_to_front(pfx_renderer *r, const pfx_view *v, pfx_sprite *sprites, size_t count,
                             pfx_diags *d);
+/* render/sort.c: sprites [lo, hi) of the source (in the order `index`
+ * gives, when not NULL) into out, over r->workers when there are many. */
+void pfx_sort_make(pfx_renderer *r, const pfx_sprite_source *src, const uint32_t *index, size_t lo,
+                   size_t hi, pfx_sprite *out);
 
 #endif

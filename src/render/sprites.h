@@ -17,8 +17,27 @@ pfx_render_settings pfx_sprites_settings(const pfx_effect *e);
 /* The most sprites a frame can have: the sum of the pool capacities. */
 size_t pfx_sprites_capacity(const pfx_effect *e);
 /* Writes one sprite per live particle of every `draw: sprite` emitter into
- * out (room for pfx_sprites_capacity); returns how many. */
+ * out (room for pfx_sprites_capacity); returns how many. A render does not
+ * hold them all: it reads them through pfx_sprite_feed_source, a chunk at
+ * a time; this is for the callers that want an array (pfx bench, tests). */
 size_t pfx_sprites_build(const pfx_sim *s, pfx_sprite *out);
+
+/* The sprites of a state as the renderer reads them (pfx_sprite_source):
+ * made from the pools when asked, in the order pfx_sprites_build writes
+ * them, so a frame holds no sprite array, only the renderer's chunk.
+ * `start` holds where each emitter's sprites begin (emitter_count + 1
+ * entries). */
+typedef struct pfx_sprite_feed {
+    const pfx_sim *sim;
+    size_t *start;
+} pfx_sprite_feed;
+/* False when out of memory; the caller frees it with pfx_sprite_feed_free. */
+bool pfx_sprite_feed_init(pfx_sprite_feed *f, const pfx_effect *e);
+void pfx_sprite_feed_free(pfx_sprite_feed *f);
+/* Points f at state s (which must outlive the source's use) and returns the
+ * source of its sprites. Its callbacks only read s, so the renderer may
+ * call them from several threads at once. */
+pfx_sprite_source pfx_sprite_feed_source(pfx_sprite_feed *f, const pfx_sim *s);
 
 /* The intensity multiplier of a look at normalised age u. */
 static inline float pfx_look_intensity(const pfx_look *k, float u) {

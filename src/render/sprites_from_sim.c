@@ -7,6 +7,7 @@
 #include "render/sprites.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 #include "base/rng.h"
 
@@ -78,46 +79,115 @@ static float cell_of(const pfx_flipbook *b, float u, double age, float variant) 
     return (float)fmod(start + f, b->frames);
 }
 
+/* The sprite of particle j of emitter i (a `draw: sprite` emitter): the
+ * same whichever order, chunk or thread asks for it. */
+static pfx_sprite sprite_of(const pfx_sim *s, size_t i, uint32_t j) {
+    const pfx_emitter *em = &s->effect->emitters[i];
+    const pfx_look *k = &em->look;
+    const pfx_pool *p = &s->pools[i];
+    const bool additive = em->blend == PFX_BLEND_ADD;
+    /* A round sprite looks the same at any angle: skip the work. */
+    const bool turns =
+        k->sprite != PFX_SPRITE_ROUND || k->texture || k->lit || k->align == PFX_ALIGN_WORLD;
+    float c[4];
+    pfx_particle_color(em, p, j, c);
+    const double age = pfx_particle_age(p, j);
+    const float u = (float)age / p->lifetime[j], size = pfx_particle_size(em, p, j);
+    const float a = c[3], glow = a * pfx_look_intensity(k, u);
+    const float variant = variant_of(i, p->id[j]);
+    const float speed = sqrtf(p->vx[j] * p->vx[j] + p->vy[j] * p->vy[j] + p->vz[j] * p->vz[j]);
+    return (pfx_sprite){.x = p->px[j],
+                        .y = p->py[j],
+                        .z = p->pz[j],
+                        .size = size,
+                        .r = c[0] * glow,
+                        .g = c[1] * glow,
+                        .b = c[2] * glow,
+                        .a = additive ? 0.0f : a,
+                        .angle = turns ? pfx_particle_angle(em, p, j) : 0,
+                        .material = (float)i,
+                        .frame = cell_of(&k->flipbook, u, age, variant),
+                        .variant = variant,
+                        .vx = p->vx[j],
+                        .vy = p->vy[j],
+                        .vz = p->vz[j],
+                        .length =
+                            size * (float)k->stretch_length + speed * (float)k->stretch_speed};
+}
+
 size_t pfx_sprites_build(const pfx_sim *s, pfx_sprite *out) {
     const pfx_effect *e = s->effect;
     size_t n = 0;
-    for (size_t i = 0; i < e->emitter_count; i++) {
-        const pfx_emitter *em = &e->emitters[i];
-        const pfx_look *k = &em->look;
-        const pfx_pool *p = &s->pools[i];
-        if (k->draw != PFX_DRAW_SPRITE)
-            continue; /* its points make ribbons (ribbons_from_sim.c) */
-        const bool additive = em->blend == PFX_BLEND_ADD;
-        /* A round sprite looks the same at any angle: skip the work. */
-        const bool turns =
-            k->sprite != PFX_SPRITE_ROUND || k->texture || k->lit || k->align == PFX_ALIGN_WORLD;
-        for (uint32_t j = 0; j < p->count; j++) {
-            float c[4];
-            pfx_particle_color(em, p, j, c);
-            const double age = pfx_particle_age(p, j);
-            const float u = (float)age / p->lifetime[j], size = pfx_particle_size(em, p, j);
-            const float a = c[3], glow = a * pfx_look_intensity(k, u);
-            const float variant = variant_of(i, p->id[j]);
-            const float speed =
-                sqrtf(p->vx[j] * p->vx[j] + p->vy[j] * p->vy[j] + p->vz[j] * p->vz[j]);
-            out[n++] = (pfx_sprite){.x = p->px[j],
-                                    .y = p->py[j],
-                                    .z = p->pz[j],
-                                    .size = size,
-                                    .r = c[0] * glow,
-                                    .g = c[1] * glow,
-                                    .b = c[2] * glow,
-                                    .a = additive ? 0.0f : a,
-                                    .angle = turns ? pfx_particle_angle(em, p, j) : 0,
-                                    .material = (float)i,
-                                    .frame = cell_of(&k->flipbook, u, age, variant),
-                                    .variant = variant,
-                                    .vx = p->vx[j],
-                                    .vy = p->vy[j],
-                                    .vz = p->vz[j],
-                                    .length = size * (float)k->stretch_length +
-                                              speed * (float)k->stretch_speed};
+    for (size_t i = 0; i < e->emitter_count; i++)
+        if (e->emitters[i].look.draw == PFX_DRAW_SPRITE) /* else ribbons_from_sim.c */
+            for (uint32_t j = 0; j < s->pools[i].count; j++)
+                out[n++] = sprite_of(s, i, j);
+    return n;
+}
+
+bool pfx_sprite_feed_init(pfx_sprite_feed *f, const pfx_effect *e) {
+    f->sim = NULL;
+    f->start = malloc((e->emitter_count + 1) * sizeof *f->start);
+    return f->start != NULL;
+}
+
+void pfx_sprite_feed_free(pfx_sprite_feed *f) {
+    free(f->start);
+    f->start = NULL;
+}
+
+/* The emitter whose sprites hold sprite n: the last i with start[i] <= n
+ * (emitters without sprites have start[i] = start[i + 1]). */
+static size_t emitter_of(const pfx_sprite_feed *f, size_t n) {
+    size_t lo = 0, hi = f->sim->effect->emitter_count; /* start[lo] <= n < start[hi] */
+    while (hi - lo > 1) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (f->start[mid] <= n)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+static void feed_make(const void *ctx, size_t first, size_t n, const uint32_t *index,
+                      pfx_sprite *out) {
+    const pfx_sprite_feed *f = ctx;
+    if (index) {
+        for (size_t k = 0; k < n; k++) {
+            size_t i = emitter_of(f, index[k]);
+            out[k] = sprite_of(f->sim, i, (uint32_t)(index[k] - f->start[i]));
+        }
+        return;
+    }
+    /* In order: emitter by emitter, no search past the first. */
+    for (size_t k = 0, i = n ? emitter_of(f, first) : 0; k < n; i++)
+        for (size_t m = first + k; m < f->start[i + 1] && k < n; m++, k++)
+            out[k] = sprite_of(f->sim, i, (uint32_t)(m - f->start[i]));
+}
+
+static void feed_centres(const void *ctx, size_t first, size_t n, float *xyz) {
+    const pfx_sprite_feed *f = ctx;
+    for (size_t k = 0, i = n ? emitter_of(f, first) : 0; k < n; i++) {
+        const pfx_pool *p = &f->sim->pools[i];
+        for (size_t m = first + k; m < f->start[i + 1] && k < n; m++, k++) {
+            const size_t j = m - f->start[i];
+            xyz[3 * k] = p->px[j];
+            xyz[3 * k + 1] = p->py[j];
+            xyz[3 * k + 2] = p->pz[j];
         }
     }
-    return n;
+}
+
+pfx_sprite_source pfx_sprite_feed_source(pfx_sprite_feed *f, const pfx_sim *s) {
+    const pfx_effect *e = s->effect;
+    size_t n = 0;
+    f->sim = s;
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        f->start[i] = n;
+        if (e->emitters[i].look.draw == PFX_DRAW_SPRITE)
+            n += s->pools[i].count;
+    }
+    f->start[e->emitter_count] = n;
+    return (pfx_sprite_source){n, feed_make, feed_centres, f};
 }

@@ -102,9 +102,9 @@ fi
 end
 
 # ---- the largest budget: --max-particles 100000000
-# Needs about 41 GiB (pools, their view, sprites, the sort scratch of an
-# alpha blend and the GL driver's binned triangles) where `pfx info` once
-# said 4 GB and validate nothing. The bound is
+# Needs about 9.5 GiB (pools, their view and the sort scratch of an alpha
+# blend; the sprites are made and drawn a chunk at a time) where `pfx info`
+# once said 4 GB and validate nothing. The bound is
 # given, so that the checks do not depend on this machine's memory.
 cat >"$work/huge.yaml" <<'YAML'
 pfx: 1
@@ -118,29 +118,29 @@ YAML
 HUGE=("$work/huge.yaml" --max-particles 100000000 --max-memory 4G)
 
 # The parts by their formulas: pools 1e8 x 40 bytes = 3.73 GiB, and the
-# view again; sprites 2 x (1e8 + 1) x 64 bytes = 11.9 GiB (the array and
-# the GL buffer); the sort's scratch 2^27 x (4 words + a 64-byte sprite) =
-# 10 GiB (and 2 MiB of histograms); the driver's 96 MiB + 128 bytes x
-# (1e8 + 1) = 12 GiB; 41.4 GiB in all with the 8 MiB framebuffer and the
-# encoders.
-begin "pfx info: the memory of a render by part, over 40 GiB for 1e8 particles"
+# view again; the sort's keys and indices 2^27 x 4 words = 2 GiB (and 2 MiB
+# of histograms); a chunk of 4096 sprites and its GL buffers, 1 MiB; the
+# driver's two chunks in flight, 32 MiB; 9.52 GiB in all with the 8 MiB
+# framebuffer and the encoders.
+begin "pfx info: the memory of a render by part, over 9 GiB for 1e8 particles"
 pfx_run info "${HUGE[@]}"
 want_status 0
 stdout_has "work to the last frame, at most: 116 steps, 1.16e+10 particle-steps"
 stdout_has "particle pools: 3.73 GiB"
 stdout_has "frame view (a second copy of the pools): 3.73 GiB"
-stdout_has "sprites (array and GL vertex buffer): 11.9 GiB"
-stdout_has "GL driver's binned triangles (llvmpipe): 12 GiB (the most)"
-stdout_has "depth-sort scratch: 10 GiB"
+stdout_has "particle pools: 3.73 GiB (the most)"
+stdout_has "sprites (a chunk and its GL vertex buffers): 1 MiB"
+stdout_has "GL driver's binned triangles (llvmpipe, chunks in flight): 32 MiB"
+stdout_has "depth-sort scratch: 2 GiB"
 stdout_has "memory bound 4 GiB (--max-memory)"
 gib=$(sed -n 's/^  memory of a render, at most \([0-9.]*\) GiB:$/\1/p' "$work/out")
-awk -v g="${gib:-0}" 'BEGIN { exit !(g > 40) }' || flunk "total '$gib' GiB, expected over 40"
+awk -v g="${gib:-0}" 'BEGIN { exit !(g > 9) }' || flunk "total '$gib' GiB, expected over 9"
 end
 
 begin "validate: a warning when the estimate is over --max-memory"
 pfx_run validate "${HUGE[@]}"
 want_status 0
-stderr_has "huge.yaml: warning: rendering needs up to 41.4 GiB of memory, over the bound of 4 GiB (--max-memory); the most goes to the GL driver's binned triangles (llvmpipe): 12 GiB"
+stderr_has "huge.yaml: warning: rendering needs up to 9.52 GiB of memory, over the bound of 4 GiB (--max-memory); the most goes to the particle pools: 3.73 GiB"
 end
 
 # refused NAME NEEDS ARGS...: pfx ARGS exits 1 at once (5 s, 500 MB) saying
@@ -159,7 +159,7 @@ refused() {
     fi
     end
 }
-refused "render over --max-memory: refused before allocating" "pfx: this render needs up to 41.4 GiB" \
+refused "render over --max-memory: refused before allocating" "pfx: this render needs up to 9.52 GiB" \
     render "${HUGE[@]}" -o "$work/refused"
 refused "bake over --max-memory: refused before allocating" "pfx: this bake needs up to 7.45 GiB" \
     bake "${HUGE[@]}" -o "$work/refused"

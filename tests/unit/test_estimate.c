@@ -75,13 +75,26 @@ static void test_render_parts(void) {
     CHECK_NEAR(est.bytes[PFX_MEMORY_FRAMEBUFFER], 2.0 * 512 * 512 * 16, 0);
     CHECK_NEAR(est.bytes[PFX_MEMORY_ENCODER], encoders * per_thread, 0);
     CHECK_NEAR(est.per_thread_bytes, per_thread, 0);
-    CHECK_NEAR(est.bound_bytes, 2 * est.bytes[PFX_MEMORY_POOLS] + encoders * per_thread, 0);
-    /* Untextured: the driver's part is 1 KiB a sprite up to 96 MiB, and
-     * 128 bytes a sprite. */
-    CHECK_NEAR(est.bytes[PFX_MEMORY_DRIVER],
-               fmin(1024 * (particles + 1), 96 << 20) + 128 * (particles + 1), 0);
-    CHECK_NEAR(est.bytes[PFX_MEMORY_SPRITES], 2 * (particles + 1) * sizeof(pfx_sprite), 0);
-    CHECK(est.bytes[PFX_MEMORY_SORT] >= (particles + 1) * (16 + sizeof(pfx_sprite)));
+    /* Sprites go to GL in chunks of 4096 (render.h), at most two in flight:
+     * one chunk buffer, up to three GL stores of 64-byte sprites, and the
+     * driver's 2 KiB a sprite over four chunks; none of it grows with the
+     * particles (this effect has more than four chunks' worth). */
+    CHECK(PFX_RENDER_CHUNK == 4096 && particles > 4 * 4096);
+    CHECK_NEAR(est.bytes[PFX_MEMORY_SPRITES], 4 * 4096 * 64, 0);
+    CHECK_NEAR(est.bytes[PFX_MEMORY_DRIVER], 4 * 4096 * 2048.0, 0);
+    /* The sort: two key and two index arrays of 4 bytes, by doubling from
+     * 1024, and 256 histogram words a 65536-key block and one more. */
+    size_t cap = 1024;
+    while (cap < particles + 1)
+        cap *= 2;
+    CHECK_NEAR(est.bytes[PFX_MEMORY_SORT], cap * 16.0 + ((cap + 65535) / 65536 + 1) * 256 * 4, 0);
+    CHECK(est.bytes[PFX_MEMORY_SORT] < (particles + 1) * 33);
+    /* What does not grow with the particles: the sprite chunk, the
+     * driver's chunks, the framebuffers; the bound adds it to 2 x pools
+     * and the encoders. */
+    CHECK_NEAR(est.fixed_bytes, 4 * 4096 * 64 + 4 * 4096 * 2048.0 + 2.0 * 512 * 512 * 16, 0);
+    CHECK_NEAR(est.bound_bytes,
+               2 * est.bytes[PFX_MEMORY_POOLS] + est.fixed_bytes + encoders * per_thread, 0);
     CHECK_NEAR(est.sprites, 3 * particles, 0);
     double total = 0, most = 0;
     for (int p = 0; p < PFX_MEMORY_PART_COUNT; p++) {

@@ -133,7 +133,7 @@ static void test_alpha_order(void) {
     pfx_sprite s[2] = {blue_near, red_far};
     if (draw(r, &cam, transparent, s, 2, true, img)) {
         check_pixel(px(img, W, MID, MID), want_sorted, 1);
-        CHECK(s[0].r > 0 && s[1].b > 0); /* reordered in place: far first */
+        CHECK(s[0].b > 0 && s[1].r > 0); /* drawn far first, the array left as it was */
     }
 
     double c_unsorted[3] = {af * 1.0, 0, (1 - af) * an * 1.0};
@@ -169,14 +169,13 @@ static void test_sort_ties_keep_order(void) {
 }
 
 /* Many sprites on a few depth levels, tagged with their input position in
- * `r` (size 0, so nothing is rasterised): after the sort, depth never increases (the camera looks
+ * `r`: after pfx_renderer_sort (the order drawing uses), depth never increases (the camera looks
  * down -z, so z never decreases) and within a level the tags increase. Uses n above 65536 so every
  * radix pass that can move sprites does. */
 static void test_sort_is_stable_back_to_front(void) {
     pfx_renderer *r = make(W, H);
     if (!r)
         return;
-    static uint8_t img[W * H * 4];
     /* The camera sits among the sprites, so depths have both signs. */
     pfx_camera cam = ortho_camera(6.5);
     cam.position[2] = 0.5;
@@ -193,7 +192,11 @@ static void test_sort_is_stable_back_to_front(void) {
         float z = (float)((state >> 16) % 7) - 3.0f + ((state >> 8) & 1 ? -0.001f : 0.0f);
         s[i] = (pfx_sprite){0, 0, z, 0, (float)i, 0, 0, 0, 0, 0};
     }
-    if (draw(r, &cam, transparent, s, n, true, img)) {
+    pfx_diags d;
+    pfx_diags_init_runtime(&d);
+    CHECK(pfx_renderer_sort(r, &cam, s, n, &d));
+    pfx_diags_free(&d);
+    {
         size_t bad = 0;
         for (size_t i = 1; i < n; i++) {
             if (s[i].z < s[i - 1].z || (s[i].z == s[i - 1].z && s[i].r <= s[i - 1].r))
@@ -373,6 +376,47 @@ static void same_pixels(pfx_renderer *r1, pfx_renderer *r2) {
     }
 }
 
+/* Sprites are made, uploaded and drawn PFX_RENDER_CHUNK at a time after
+ * one sort over all of them: a scene of several chunks (random materials,
+ * alpha and additive), drawn sorted, gives the bytes of the same sprites
+ * put in that order first (pfx_renderer_sort) and drawn unsorted, so the
+ * chunks follow the sorted order across their boundaries; and a second
+ * frame elsewhere on the screen, with the first one's pixels left to
+ * clear, gives the bytes a fresh renderer gives. */
+static void test_chunks(void) {
+    enum { D = 96, N = 3 * PFX_RENDER_CHUNK + 77 };
+    static uint8_t a[D * D * 4], b[D * D * 4], c[D * D * 4];
+    static pfx_sprite s[N], t[N];
+    pfx_renderer *r1 = make(D, D), *r2 = make(D, D);
+    random_sprites(s, N, 7);
+    for (size_t i = 0; i < N; i++) {
+        s[i].material = (float)(i % 3);
+        s[i].size *= 0.2f;
+    }
+    memcpy(t, s, sizeof s);
+    pfx_camera cam = {
+        .position = {1, 2, 8}, .target = {0, 0, 0}, .up = {0, 1, 0}, .fov = 45 * M_PI / 180};
+    const float bg[4] = {0.05f, 0.05f, 0.1f, 0.5f};
+    pfx_diags d;
+    pfx_diags_init_runtime(&d);
+    bool sorted = r1 && r2 && pfx_renderer_sort(r2, &cam, t, N, &d);
+    CHECK(sorted);
+    if (sorted && draw(r1, &cam, bg, s, N, true, a) && draw(r2, &cam, bg, t, N, false, b)) {
+        CHECK(memcmp(a, b, sizeof a) == 0);
+        /* One sprite at the left edge, then one at the right: the second
+         * frame must not keep the first one's pixels. */
+        pfx_sprite left = {-2.5f, 0, 0, 1, 0.5f, 0.5f, 0.5f, 0.5f, 0, 0};
+        pfx_sprite right = {2.5f, 0, 0, 1, 0, 0.5f, 0, 0.5f, 0, 0};
+        if (draw(r1, &cam, bg, &left, 1, true, a) && draw(r1, &cam, bg, &right, 1, true, a) &&
+            draw(r2, &cam, transparent, &right, 1, true, c) &&
+            draw(r2, &cam, bg, &right, 1, true, b))
+            CHECK(memcmp(a, b, sizeof a) == 0);
+    }
+    pfx_diags_free(&d);
+    pfx_renderer_destroy(r1);
+    pfx_renderer_destroy(r2);
+}
+
 static void test_determinism(void) {
     pfx_renderer *r1 = make(128, 128), *r2 = make(128, 128);
     same_pixels(r1, r2);
@@ -535,6 +579,7 @@ int main(void) {
     RUN(test_backgrounds);
     RUN(test_perspective_size);
     RUN(test_determinism);
+    RUN(test_chunks);
     RUN(test_osmesa_equals_egl_cpu);
     RUN(test_errors);
     RUN(test_bench_raw);
