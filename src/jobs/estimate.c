@@ -55,6 +55,69 @@ static double sprite_side_px(const pfx_effect *e, const pfx_emitter *em) {
     return size * 0.5 * e->height / (tan(0.5 * k->fov) * depth);
 }
 
+/* The memory parts of drawing and writing frames: the sprite chunk, the
+ * sort, ribbons, the driver, the framebuffers, motion vectors, the frame
+ * encoders and the textures; `fixed` gains what does not grow with the
+ * particles. */
+static void estimate_drawing(const pfx_effect *e, unsigned what, double image, pfx_estimate *out,
+                             double *fixed) {
+    const double sprites = (double)pfx_sprites_capacity(e) + 1;
+    /* render.c makes sprites a chunk at a time into one buffer and
+     * uploads each to a GL store of its own: the one being drawn and
+     * two in flight. */
+    out->bytes[PFX_MEMORY_SPRITES] =
+        (PFX_RENDER_CHUNK + fmin(sprites, 3.0 * PFX_RENDER_CHUNK)) * sizeof(pfx_sprite);
+    /* render/sort.c: keys and indices (double buffered) and the radix
+     * blocks' histograms, grown by doubling; the sprites are made in
+     * sorted order, never copied. */
+    if (pfx_sprites_need_sort(e))
+        out->bytes[PFX_MEMORY_SORT] = (double)pfx_renderer_sort_bytes((size_t)sprites);
+    out->bytes[PFX_MEMORY_RIBBONS] = (double)pfx_ribbons_bytes(e);
+    /* What Mesa keeps of the chunks in flight, and of the ribbons'
+     * single draw: see PFX_RENDER_DRIVER_BYTES_PER_SPRITE. */
+    const double in_flight = fmin(sprites, PFX_RENDER_DRIVER_CHUNKS * PFX_RENDER_CHUNK);
+    const double triangles = (double)pfx_ribbons_triangles(e);
+    const double driver_sprites = in_flight * PFX_RENDER_DRIVER_BYTES_PER_SPRITE;
+    out->bytes[PFX_MEMORY_DRIVER] =
+        driver_sprites +
+        fmin(triangles * PFX_RENDER_DRIVER_FIRST_BYTES_PER_TRIANGLE, PFX_RENDER_DRIVER_FIRST_CAP) +
+        triangles * PFX_RENDER_DRIVER_BYTES_PER_TRIANGLE;
+    *fixed += out->bytes[PFX_MEMORY_SPRITES] + driver_sprites;
+    /* RGBA32F in GL and its float read-back, and motion blur's float
+     * sum. The frame queue: per encoder thread two float frames (the
+     * encoders convert them, so each costs 16 bytes a pixel, four times
+     * the RGBA8 frame it becomes), its own buffer (the format is not
+     * known here, so the larger, EXR's) and the deflate scratch it keeps
+     * (output/png_write.c). */
+    out->bytes[PFX_MEMORY_FRAMEBUFFER] = (e->blur_samples > 1 ? 3 : 2) * image * 16;
+    /* --motion-vectors: the pass's own RGBA32F target and its float
+     * read-back (render/motion_vectors.c, 16 bytes a pixel each), the
+     * (dx, dy, coverage) floats (12) and the RGBA16 samples (8) of
+     * jobs/motion_job.c. Its scale pass simulates before the render
+     * and frees its pools first, so it adds nothing to the peak. */
+    if (what & PFX_ESTIMATE_MOTION_VECTORS)
+        out->bytes[PFX_MEMORY_MOTION_VECTORS] = image * (16 + 16 + 12 + 8);
+    out->threads = pfx_frame_encoder_count(e->threads);
+    out->per_thread_bytes = pfx_frame_queue_bytes(e->width, e->height, 1, PFX_FRAME_EXR) +
+                            (double)pfx_png_encoder_scratch_bytes(e->width, e->height);
+    out->bytes[PFX_MEMORY_ENCODER] = out->threads * out->per_thread_bytes;
+    for (size_t i = 0; i < e->emitter_count; i++)
+        if (e->emitters[i].look.texture || e->emitters[i].look.normal_map) {
+            out->bytes[PFX_MEMORY_DRIVER] += PFX_RENDER_DRIVER_BYTES_PER_TEXTURED;
+            *fixed += PFX_RENDER_DRIVER_BYTES_PER_TEXTURED;
+        }
+    /* Textures: the decoded pixels, and their copy in GL with mipmaps
+     * (4/3 of the base level). */
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        const pfx_image *maps[2] = {e->emitters[i].look.texture, e->emitters[i].look.normal_map};
+        for (int k = 0; k < 2; k++)
+            if (maps[k])
+                out->bytes[PFX_MEMORY_TEXTURES] +=
+                    (1 + 4.0 / 3) * maps[k]->width * maps[k]->height * 4 * (maps[k]->bits / 8);
+    }
+    *fixed += out->bytes[PFX_MEMORY_FRAMEBUFFER] + out->bytes[PFX_MEMORY_TEXTURES];
+}
+
 void pfx_estimate_run(const pfx_effect *e, long first, long last, unsigned what,
                       pfx_estimate *out) {
     const bool render = what & PFX_ESTIMATE_RENDER;
@@ -90,65 +153,8 @@ void pfx_estimate_run(const pfx_effect *e, long first, long last, unsigned what,
     out->bytes[PFX_MEMORY_VIEW] = pool_bytes;
     out->bytes[PFX_MEMORY_LOOP] = e->loop ? pool_bytes : 0;
     out->bytes[PFX_MEMORY_QUEUES] = copies * queue_bytes;
-    if (render) {
-        const double sprites = (double)pfx_sprites_capacity(e) + 1;
-        /* render.c makes sprites a chunk at a time into one buffer and
-         * uploads each to a GL store of its own: the one being drawn and
-         * two in flight. */
-        out->bytes[PFX_MEMORY_SPRITES] =
-            (PFX_RENDER_CHUNK + fmin(sprites, 3.0 * PFX_RENDER_CHUNK)) * sizeof(pfx_sprite);
-        /* render/sort.c: keys and indices (double buffered) and the radix
-         * blocks' histograms, grown by doubling; the sprites are made in
-         * sorted order, never copied. */
-        if (pfx_sprites_need_sort(e))
-            out->bytes[PFX_MEMORY_SORT] = (double)pfx_renderer_sort_bytes((size_t)sprites);
-        out->bytes[PFX_MEMORY_RIBBONS] = (double)pfx_ribbons_bytes(e);
-        /* What Mesa keeps of the chunks in flight, and of the ribbons'
-         * single draw: see PFX_RENDER_DRIVER_BYTES_PER_SPRITE. */
-        const double in_flight = fmin(sprites, PFX_RENDER_DRIVER_CHUNKS * PFX_RENDER_CHUNK);
-        const double triangles = (double)pfx_ribbons_triangles(e);
-        const double driver_sprites = in_flight * PFX_RENDER_DRIVER_BYTES_PER_SPRITE;
-        out->bytes[PFX_MEMORY_DRIVER] = driver_sprites +
-                                        fmin(triangles * PFX_RENDER_DRIVER_FIRST_BYTES_PER_TRIANGLE,
-                                             PFX_RENDER_DRIVER_FIRST_CAP) +
-                                        triangles * PFX_RENDER_DRIVER_BYTES_PER_TRIANGLE;
-        fixed += out->bytes[PFX_MEMORY_SPRITES] + driver_sprites;
-        /* RGBA32F in GL and its float read-back, and motion blur's float
-         * sum. The frame queue: per encoder thread two float frames (the
-         * encoders convert them, so each costs 16 bytes a pixel, four times
-         * the RGBA8 frame it becomes), its own buffer (the format is not
-         * known here, so the larger, EXR's) and the deflate scratch it keeps
-         * (output/png_write.c). */
-        out->bytes[PFX_MEMORY_FRAMEBUFFER] = (e->blur_samples > 1 ? 3 : 2) * image * 16;
-        /* --motion-vectors: the pass's own RGBA32F target and its float
-         * read-back (render/motion_vectors.c, 16 bytes a pixel each), the
-         * (dx, dy, coverage) floats (12) and the RGBA16 samples (8) of
-         * jobs/motion_job.c. Its scale pass simulates before the render
-         * and frees its pools first, so it adds nothing to the peak. */
-        if (what & PFX_ESTIMATE_MOTION_VECTORS)
-            out->bytes[PFX_MEMORY_MOTION_VECTORS] = image * (16 + 16 + 12 + 8);
-        out->threads = pfx_frame_encoder_count(e->threads);
-        out->per_thread_bytes = pfx_frame_queue_bytes(e->width, e->height, 1, PFX_FRAME_EXR) +
-                                (double)pfx_png_encoder_scratch_bytes(e->width, e->height);
-        out->bytes[PFX_MEMORY_ENCODER] = out->threads * out->per_thread_bytes;
-        for (size_t i = 0; i < e->emitter_count; i++)
-            if (e->emitters[i].look.texture || e->emitters[i].look.normal_map) {
-                out->bytes[PFX_MEMORY_DRIVER] += PFX_RENDER_DRIVER_BYTES_PER_TEXTURED;
-                fixed += PFX_RENDER_DRIVER_BYTES_PER_TEXTURED;
-            }
-        /* Textures: the decoded pixels, and their copy in GL with mipmaps
-         * (4/3 of the base level). */
-        for (size_t i = 0; i < e->emitter_count; i++) {
-            const pfx_image *maps[2] = {e->emitters[i].look.texture,
-                                        e->emitters[i].look.normal_map};
-            for (int k = 0; k < 2; k++)
-                if (maps[k])
-                    out->bytes[PFX_MEMORY_TEXTURES] +=
-                        (1 + 4.0 / 3) * maps[k]->width * maps[k]->height * 4 * (maps[k]->bits / 8);
-        }
-    }
     if (render)
-        fixed += out->bytes[PFX_MEMORY_FRAMEBUFFER] + out->bytes[PFX_MEMORY_TEXTURES];
+        estimate_drawing(e, what, image, out, &fixed);
     out->fixed_bytes = fixed;
     out->bound_bytes = 2 * pool_bytes + fixed + out->threads * out->per_thread_bytes;
     out->biggest = PFX_MEMORY_POOLS;

@@ -225,10 +225,34 @@ static bool pfx_png_encode(pfx_png_ctx *ctx, const uint8_t *rgba, int width, int
     return png_encode_with(ctx, width, height, 8, write_idat, &idat);
 }
 
+/* 16-bit RGBA rows through libpng's own deflate (motion vectors are
+ * written only when asked), at the level and with the row filter of the
+ * 8-bit frames. PNG stores samples big-endian; png_set_swap turns host
+ * order into that on a little-endian machine. */
+static void write_rows16(png_structp png, png_infop info, const void *image, int width,
+                         int height) {
+    const uint16_t *rgba = image;
+    png_set_compression_level(png, PFX_PNG_DEFLATE_LEVEL);
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
+    png_write_info(png, info);
+    const uint16_t one = 1;
+    if (*(const uint8_t *)&one == 1)
+        png_set_swap(png);
+    size_t stride = (size_t)width * 4;
+    for (int y = 0; y < height; y++)
+        png_write_row(png, (png_const_bytep)(rgba + (size_t)y * stride));
+    png_write_end(png, info);
+}
+
+static bool png_encode16(pfx_png_ctx *ctx, const uint16_t *rgba, int width, int height) {
+    return png_encode_with(ctx, width, height, 16, write_rows16, rgba);
+}
+
 /* Encodes into an atomic file (output/atomic_file.h): whole or absent.
- * sync_dir: fsync the directory after the rename. */
-static bool png_write(const char *path, const uint8_t *rgba, int width, int height, bool sync_dir,
-                      pfx_diags *d) {
+ * depth 8: rgba is uint8_t samples, 16: uint16_t in host order. sync_dir:
+ * fsync the directory after the rename. */
+static bool png_write_depth(const char *path, const void *rgba, int width, int height, int depth,
+                            bool sync_dir, pfx_diags *d) {
     if (path == NULL || path[0] == '\0' || path[strlen(path) - 1] == '/') {
         pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot write '%s': not a file name",
                        path ? path : "");
@@ -244,7 +268,8 @@ static bool png_write(const char *path, const uint8_t *rgba, int width, int heig
     if (a == NULL)
         return false;
     pfx_png_ctx ctx = {.message = "", .write_errno = 0, .file = pfx_atomic_stream(a)};
-    if (!pfx_png_encode(&ctx, rgba, width, height)) {
+    if (!(depth == 16 ? png_encode16(&ctx, rgba, width, height)
+                      : pfx_png_encode(&ctx, rgba, width, height))) {
         if (ctx.write_errno != 0) {
             pfx_atomic_failed(a, ctx.write_errno);
             return pfx_atomic_commit(a, false, d); /* reports the errno, removes the temporary */
@@ -254,6 +279,11 @@ static bool png_write(const char *path, const uint8_t *rgba, int width, int heig
         return false;
     }
     return pfx_atomic_commit(a, sync_dir, d);
+}
+
+static bool png_write(const char *path, const uint8_t *rgba, int width, int height, bool sync_dir,
+                      pfx_diags *d) {
+    return png_write_depth(path, rgba, width, height, 8, sync_dir, d);
 }
 
 bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height, pfx_diags *d) {
@@ -337,50 +367,9 @@ uint8_t *pfx_png_read(const char *path, int *width, int *height) {
     return result;
 }
 
-/* 16-bit RGBA rows through libpng's own deflate (motion vectors are
- * written only when asked), at the level and with the row filter of the
- * 8-bit frames. PNG stores samples big-endian; png_set_swap turns host
- * order into that on a little-endian machine. */
-static void write_rows16(png_structp png, png_infop info, const void *image, int width,
-                         int height) {
-    const uint16_t *rgba = image;
-    png_set_compression_level(png, PFX_PNG_DEFLATE_LEVEL);
-    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
-    png_write_info(png, info);
-    const uint16_t one = 1;
-    if (*(const uint8_t *)&one == 1)
-        png_set_swap(png);
-    size_t stride = (size_t)width * 4;
-    for (int y = 0; y < height; y++)
-        png_write_row(png, (png_const_bytep)(rgba + (size_t)y * stride));
-    png_write_end(png, info);
-}
-
-static bool png_encode16(pfx_png_ctx *ctx, const uint16_t *rgba, int width, int height) {
-    return png_encode_with(ctx, width, height, 16, write_rows16, rgba);
-}
-
 bool pfx_png_write16(const char *path, const uint16_t *rgba, int width, int height, bool sync_dir,
                      pfx_diags *d) {
-    if (rgba == NULL || width <= 0 || height <= 0 || width > 1000000 || height > 1000000) {
-        pfx_diag_error(d, PFX_RULE_ENCODE_FAILED, "cannot write '%s': invalid image size %dx%d",
-                       path, width, height);
-        return false;
-    }
-    pfx_atomic_file *a = pfx_atomic_open(path, d);
-    if (a == NULL)
-        return false;
-    pfx_png_ctx ctx = {.message = "", .write_errno = 0, .file = pfx_atomic_stream(a)};
-    if (!png_encode16(&ctx, rgba, width, height)) {
-        if (ctx.write_errno != 0) {
-            pfx_atomic_failed(a, ctx.write_errno);
-            return pfx_atomic_commit(a, false, d);
-        }
-        pfx_diag_error(d, PFX_RULE_ENCODE_FAILED, "cannot encode '%s': %s", path, ctx.message);
-        pfx_atomic_abort(a);
-        return false;
-    }
-    return pfx_atomic_commit(a, sync_dir, d);
+    return png_write_depth(path, rgba, width, height, 16, sync_dir, d);
 }
 
 uint16_t *pfx_png_read16(const char *path, int *width, int *height) {

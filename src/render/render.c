@@ -449,95 +449,6 @@ static void read_frame(pfx_renderer *r) {
     r->gl.ReadPixels(0, 0, r->width, r->height, GL_RGBA, GL_FLOAT, r->pixels);
 }
 
-/* The pixels a frame's sprites can touch, in GL window coordinates (y up),
- * [x0, x1) x [y0, y1), gathered chunk by chunk as normalised device
- * coordinates (lo, hi; min and max, so in any order). A camera-facing or
- * velocity-stretched quad lies at one view depth, so its image is the
- * projection of its view-space square of half-side max(size, length) / 2,
- * widened by sqrt 2 for turned quads, by the minimum footprint and by 2
- * pixels for rasterisation. A quad in a world plane or about an axis tilts
- * in depth, and a sprite at or behind the near plane: then the box is the
- * whole frame (`full`). Outside the box every pixel is the background, so
- * only the box is read back and converted, and cleared next frame. */
-typedef struct bounds {
-    double lo[2], hi[2];
-    bool full;
-} bounds;
-
-static void bounds_widen(bounds *b, double x, double y) {
-    b->lo[0] = x < b->lo[0] ? x : b->lo[0];
-    b->hi[0] = x > b->hi[0] ? x : b->hi[0];
-    b->lo[1] = y < b->lo[1] ? y : b->lo[1];
-    b->hi[1] = y > b->hi[1] ? y : b->hi[1];
-}
-
-/* Ribbon corners are final world points: each projects as it is. */
-static void bounds_ribbons(const pfx_view *v, pfx_ribbons ribbons, bounds *b) {
-    const double *m = v->m, *p = v->proj;
-    for (size_t i = 0; i < ribbons.count && !b->full; i++) {
-        const pfx_ribbon_vertex *q = &ribbons.v[i];
-        double c[4] = {0, 0, 0, 1}, clip[4];
-        for (int row = 0; row < 3; row++)
-            c[row] = m[row] * q->x + m[4 + row] * q->y + m[8 + row] * q->z + m[12 + row];
-        for (int row = 0; row < 4; row++)
-            clip[row] = p[row] * c[0] + p[4 + row] * c[1] + p[8 + row] * c[2] + p[12 + row];
-        if (!(clip[3] > 1e-6) || !(fabs(clip[0]) < 1e30) || !(fabs(clip[1]) < 1e30))
-            b->full = true;
-        else
-            bounds_widen(b, clip[0] / clip[3], clip[1] / clip[3]);
-    }
-}
-
-static void bounds_sprites(const pfx_renderer *r, const pfx_view *v, const pfx_sprite *sp,
-                           size_t count, bounds *b) {
-    const double *m = v->m, *p = v->proj;
-    for (size_t i = 0; i < count && !b->full; i++) {
-        pfx_align align = material_of(r, &sp[i])->m.align;
-        if (align == PFX_ALIGN_AXIS || align == PFX_ALIGN_WORLD) {
-            b->full = true;
-            break;
-        }
-        double c[3];
-        for (int row = 0; row < 3; row++)
-            c[row] = m[row] * sp[i].x + m[4 + row] * sp[i].y + m[8 + row] * sp[i].z + m[12 + row];
-        double side =
-            align == PFX_ALIGN_VELOCITY && sp[i].length > sp[i].size ? sp[i].length : sp[i].size;
-        double rad = 0.5 * side * 1.4142136;
-        double w = p[3] * c[0] + p[7] * c[1] + p[11] * c[2] + p[15];
-        if (!(w > 1e-6) || !(rad < 1e30)) {
-            b->full = true;
-            break;
-        }
-        for (int cx = -1; cx <= 1; cx += 2)
-            for (int cy = -1; cy <= 1; cy += 2) {
-                double x = c[0] + cx * rad, y = c[1] + cy * rad;
-                bounds_widen(b, (p[0] * x + p[4] * y + p[8] * c[2] + p[12]) / w,
-                             (p[1] * x + p[5] * y + p[9] * c[2] + p[13]) / w);
-            }
-    }
-}
-
-static pixel_box bounds_box(const pfx_renderer *r, const bounds *bd) {
-    if (bd->full)
-        return (pixel_box){0, 0, r->width, r->height};
-    if (!(bd->lo[0] <= bd->hi[0]))
-        return (pixel_box){0, 0, 0, 0}; /* nothing drawn */
-    const double margin = 2 + PFX_MIN_FOOTPRINT_PX * 0.7072;
-    double size[2] = {r->width, r->height};
-    int b[4];
-    for (int a = 0; a < 2; a++) {
-        double l = floor((bd->lo[a] * 0.5 + 0.5) * size[a] - margin),
-               h = ceil((bd->hi[a] * 0.5 + 0.5) * size[a] + margin);
-        l = l < 0 ? 0 : l > size[a] ? size[a] : l;
-        h = h < 0 ? 0 : h > size[a] ? size[a] : h;
-        b[a] = (int)l;
-        b[a + 2] = (int)h;
-    }
-    if (b[2] <= b[0] || b[3] <= b[1])
-        return (pixel_box){0, 0, 0, 0};
-    return (pixel_box){b[0], b[1], b[2], b[3]};
-}
-
 static void array_make(const void *ctx, size_t first, size_t n, const uint32_t *index,
                        pfx_sprite *out) {
     const pfx_sprite *s = ctx;
@@ -621,7 +532,7 @@ void pfx_render_chunks_end(pfx_renderer *r, GLsync fences[2]) {
  * rasteriser and at most two are in flight (pfx_render_chunk_done), so the
  * driver's binned triangles are bounded by the chunk, not the frame. */
 static void submit_sprites(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
-                           const pfx_sprite_source *src, const uint32_t *order, bounds *b) {
+                           const pfx_sprite_source *src, const uint32_t *order, pfx_bounds *b) {
     const size_t count = src->count;
     if (count == 0)
         return;
@@ -631,7 +542,7 @@ static void submit_sprites(pfx_renderer *r, const pfx_view *v, const pfx_render_
     for (size_t first = 0, k = 0; first < count; first += PFX_RENDER_CHUNK, k++) {
         const size_t n = count - first < PFX_RENDER_CHUNK ? count - first : PFX_RENDER_CHUNK;
         pfx_sort_make(r, src, order, first, first + n, r->chunk);
-        bounds_sprites(r, v, r->chunk, n, b);
+        pfx_bounds_sprites(r, v, r->chunk, n, b);
         r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(n * sizeof *r->chunk), r->chunk,
                          GL_STREAM_DRAW);
         draw_runs(r, v, s, r->chunk, n);
@@ -664,11 +575,11 @@ static bool render_float(pfx_renderer *r, const pfx_camera *cam, const pfx_rende
     float clear[4];
     clear_colour(s, clear);
     clear_dirty(r, clear);
-    bounds b = {{INFINITY, INFINITY}, {-INFINITY, -INFINITY}, false};
-    bounds_ribbons(&v, ribbons, &b);
+    pfx_bounds b = pfx_bounds_empty();
+    pfx_bounds_ribbons(&v, ribbons, &b);
     submit_ribbons(r, &v, ribbons);
     submit_sprites(r, &v, s, src, order, &b);
-    *box = bounds_box(r, &b);
+    *box = pfx_bounds_box(r, &b);
     if (box->x1 > box->x0)
         r->gl.ReadPixels(box->x0, box->y0, box->x1 - box->x0, box->y1 - box->y0, GL_RGBA, GL_FLOAT,
                          dst);

@@ -169,6 +169,31 @@ typedef struct pixel_box {
     int x0, y0, x1, y1;
 } pixel_box;
 
+/* The pixels a frame's sprites can touch, in GL window coordinates (y up),
+ * [x0, x1) x [y0, y1), gathered chunk by chunk as normalised device
+ * coordinates (lo, hi; min and max, so in any order). A camera-facing or
+ * velocity-stretched quad lies at one view depth, so its image is the
+ * projection of its view-space square of half-side max(size, length) / 2,
+ * widened by sqrt 2 for turned quads, by the minimum footprint and by 2
+ * pixels for rasterisation. A quad in a world plane or about an axis tilts
+ * in depth, and a sprite at or behind the near plane: then the box is the
+ * whole frame (`full`). Outside the box every pixel is the background, so
+ * only the box is read back and converted, and cleared next frame. */
+typedef struct pfx_bounds {
+    double lo[2], hi[2];
+    bool full;
+} pfx_bounds;
+/* Nothing yet: lo above hi. */
+pfx_bounds pfx_bounds_empty(void);
+/* Widens b by the ribbons' corners, final world points each. */
+void pfx_bounds_ribbons(const pfx_view *v, pfx_ribbons ribbons, pfx_bounds *b);
+/* Widens b by the quads of count sprites. */
+void pfx_bounds_sprites(const pfx_renderer *r, const pfx_view *v, const pfx_sprite *sp,
+                        size_t count, pfx_bounds *b);
+/* The pixels of b, with a margin for rasterisation and the minimum
+ * footprint, clipped to the frame. */
+pixel_box pfx_bounds_box(const pfx_renderer *r, const pfx_bounds *b);
+
 /* render/shader.c: bind gives g the program its switches need, compiling
  * and linking it the first time; material makes g's program current and
  * sets its uniforms (camera, light, alignment, flipbook, textures).
