@@ -13,6 +13,7 @@
 #include <time.h>
 
 #include "bench/accuracy_problems.h"
+#include "output/atomic_file.h"
 #include "output/svg_chart.h"
 
 #define TWO_PI 6.283185307179586
@@ -165,20 +166,34 @@ static const char *run_name(int run) {
     return run == 0 ? "model (double, born on the grid)" : pfx_birth_mode_name(run - 1);
 }
 
-/* Opens DIR/NAME for writing, or says why not on log and returns NULL. */
-static FILE *open_output(const char *dir, const char *name, FILE *log) {
+/* DIR/NAME as an atomic file (whole or absent, like every file pfx
+ * writes), or NULL with why not on log. */
+static pfx_atomic_file *open_output(const char *dir, const char *name, FILE *log) {
     char path[1024];
     snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "w");
-    if (!f)
-        fprintf(log, "pfx: cannot open '%s': %s\n", path, strerror(errno));
-    return f;
+    pfx_diags d;
+    pfx_diags_init_runtime(&d);
+    pfx_atomic_file *a = pfx_atomic_open(path, &d);
+    pfx_diags_print(&d, log, false);
+    pfx_diags_free(&d);
+    return a;
+}
+
+/* Renames the file into place; 0, or 1 with why not on log. */
+static int close_output(pfx_atomic_file *a, FILE *log) {
+    pfx_diags d;
+    pfx_diags_init_runtime(&d);
+    bool ok = pfx_atomic_commit(a, true, &d);
+    pfx_diags_print(&d, log, false);
+    pfx_diags_free(&d);
+    return ok ? 0 : 1;
 }
 
 static int write_csv(const char *dir, result (*res)[NINT][NJ], FILE *log) {
-    FILE *f = open_output(dir, "work-precision.csv", log);
-    if (!f)
+    pfx_atomic_file *a = open_output(dir, "work-precision.csv", log);
+    if (!a)
         return 1;
+    FILE *f = pfx_atomic_stream(a);
     fprintf(f, "problem,integrator,run,dt,substeps,evals_per_s,error,max_error_per_s,"
                "ns_per_particle_step,unstable_rate_name,unstable_rate\n");
     for (size_t p = 0; p < NPROB; p++)
@@ -196,8 +211,7 @@ static int write_csv(const char *dir, result (*res)[NINT][NJ], FILE *log) {
                             r->rate > 0 ? r->rate_name : "", r->rate);
                 }
         }
-    fclose(f);
-    return 0;
+    return close_output(a, log);
 }
 
 /* The cost axis of problem p's panel: whole decades around every
@@ -255,9 +269,10 @@ static void plot_integrator(FILE *f, const pfx_chart *c, size_t p, size_t i, int
  * problem in a grid of two columns. */
 static int write_work_precision(const char *dir, const char *name, int run, result (*res)[NINT][NJ],
                                 FILE *log) {
-    FILE *f = open_output(dir, name, log);
-    if (!f)
+    pfx_atomic_file *a = open_output(dir, name, log);
+    if (!a)
         return 1;
+    FILE *f = pfx_atomic_stream(a);
     const int cols = 2, pw = 400, ph = 260, mx = 80, my = 70;
     const int W = cols * (pw + mx) + 160, H = (int)((NPROB + cols - 1) / cols) * (ph + my) + 90;
     pfx_svg_begin(f, W, H);
@@ -295,8 +310,7 @@ static int write_work_precision(const char *dir, const char *name, int run, resu
         labels[i] = pfx_integrator_name(integrators[i]);
     pfx_svg_legend(f, W - 130, 90, (int)NINT, labels, (const char *const *)colors);
     pfx_svg_end(f);
-    fclose(f);
-    return 0;
+    return close_output(a, log);
 }
 
 /* The integrators whose stability limits are charted; boris shares exact's
@@ -307,16 +321,16 @@ static const pfx_integrator stab_integrators[] = {
 enum { NS = sizeof stab_integrators / sizeof stab_integrators[0] };
 
 static int write_stability_csv(const char *dir, double meas[NS][2], double theo[NS][2], FILE *log) {
-    FILE *f = open_output(dir, "stability.csv", log);
-    if (!f)
+    pfx_atomic_file *a = open_output(dir, "stability.csv", log);
+    if (!a)
         return 1;
+    FILE *f = pfx_atomic_stream(a);
     fprintf(f, "integrator,decay_kdt_measured,decay_kdt_theory,oscillator_wdt_measured,"
                "oscillator_wdt_theory\n");
     for (int i = 0; i < NS; i++)
         fprintf(f, "%s,%.6g,%.6g,%.6g,%.6g\n", pfx_integrator_name(stab_integrators[i]), meas[i][0],
                 theo[i][0], meas[i][1], theo[i][1]);
-    fclose(f);
-    return 0;
+    return close_output(a, log);
 }
 
 /* Row i of a stability panel: the measured limit m as a bar (clipped at
@@ -349,9 +363,10 @@ static void stability_row(FILE *f, const pfx_chart *c, int i, double m, double t
 }
 
 static int write_stability_svg(const char *dir, double meas[NS][2], double theo[NS][2], FILE *log) {
-    FILE *f = open_output(dir, "stability.svg", log);
-    if (!f)
+    pfx_atomic_file *a = open_output(dir, "stability.svg", log);
+    if (!a)
         return 1;
+    FILE *f = pfx_atomic_stream(a);
     const int W = 900, H = 360;
     pfx_svg_begin(f, W, H);
     pfx_svg_text(f, W / 2.0, 24, 16, "middle", "#000",
@@ -376,8 +391,7 @@ static int write_stability_svg(const char *dir, double meas[NS][2], double theo[
             stability_row(f, &c, i, meas[i][o], theo[i][o]);
     }
     pfx_svg_end(f);
-    fclose(f);
-    return 0;
+    return close_output(a, log);
 }
 
 /* The measured stability limits (decay k*dt, oscillator omega*dt) of each

@@ -44,7 +44,7 @@ bool pfx_render_job_run_parallel(pfx_render_job *job, pfx_renderer_kind kind, in
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
         return false;
     }
-    /* The PNG encoders (render_job.h's threads): the cores shared among the
+    /* The frame encoders (render_job.h's threads): the cores shared among the
      * chunks, rather than every chunk starting one per core. */
     int encoders = job->threads;
     if (encoders <= 0) {
