@@ -575,14 +575,19 @@ int main(int argc, char **argv) {
         puts("pfx " PFX_VERSION);
         return 0;
     }
-    pfx_cli o;
-    int stop = parse_options(argc, argv, &o);
-    if (stop >= 0)
-        return stop;
-    const char *const *operands = (const char *const *)argv + optind;
+    /* The command first: a mistyped one is named as such, not blamed on
+     * an option that only some commands take. */
+    size_t which = COMMAND_COUNT;
     for (size_t i = 0; i < COMMAND_COUNT; i++)
         if (!strcmp(cmd, commands[i].name))
-            return commands[i].run(operands, argc - optind, &o);
+            which = i;
+    if (which < COMMAND_COUNT) {
+        pfx_cli o;
+        int stop = parse_options(argc, argv, &o);
+        if (stop >= 0)
+            return stop;
+        return commands[which].run((const char *const *)argv + optind, argc - optind, &o);
+    }
     const char *names[COMMAND_COUNT + 1] = {NULL};
     for (size_t i = 0; i < COMMAND_COUNT; i++)
         names[i] = commands[i].name;

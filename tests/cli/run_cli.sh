@@ -333,6 +333,8 @@ frames_error "--frames 200: beyond the last frame" "--frames 200: is outside the
     render "$FIRE" -o "$work/u" --frames 200:
 usage_error "a mistyped command gets a suggestion" "unknown command 'rendr'; did you mean 'render'?" \
     rendr "$FIRE"
+usage_error "a mistyped command is named before its options are judged" \
+    "unknown command 'rendr'; did you mean 'render'?" rendr "$FIRE" --format exr -o "$work/x"
 usage_error "an unknown option in a cluster names itself" "unknown option '-x'" \
     render "$FIRE" -o "$work/u" -x4
 usage_error "an unknown long option names itself" "unknown option '--bogus=3'" \
