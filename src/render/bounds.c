@@ -8,6 +8,20 @@ pfx_bounds pfx_bounds_empty(void) {
     return (pfx_bounds){{INFINITY, INFINITY}, {-INFINITY, -INFINITY}, false};
 }
 
+void pfx_bounds_merge(pfx_bounds *b, const pfx_bounds *part) {
+    for (int a = 0; a < 2; a++) {
+        b->lo[a] = part->lo[a] < b->lo[a] ? part->lo[a] : b->lo[a];
+        b->hi[a] = part->hi[a] > b->hi[a] ? part->hi[a] : b->hi[a];
+    }
+    b->full = b->full || part->full;
+}
+
+void pfx_bounds_scissor(pfx_renderer *r, const pfx_bounds *b) {
+    const pixel_box box = pfx_bounds_box(r, b);
+    r->gl.Enable(GL_SCISSOR_TEST);
+    r->gl.Scissor(box.x0, box.y0, box.x1 - box.x0, box.y1 - box.y0);
+}
+
 static void bounds_widen(pfx_bounds *b, double x, double y) {
     b->lo[0] = x < b->lo[0] ? x : b->lo[0];
     b->hi[0] = x > b->hi[0] ? x : b->hi[0];

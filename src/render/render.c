@@ -542,7 +542,10 @@ static void submit_sprites(pfx_renderer *r, const pfx_view *v, const pfx_render_
     for (size_t first = 0, k = 0; first < count; first += PFX_RENDER_CHUNK, k++) {
         const size_t n = count - first < PFX_RENDER_CHUNK ? count - first : PFX_RENDER_CHUNK;
         pfx_sort_make(r, src, order, first, first + n, r->chunk);
-        pfx_bounds_sprites(r, v, r->chunk, n, b);
+        pfx_bounds chunk = pfx_bounds_empty();
+        pfx_bounds_sprites(r, v, r->chunk, n, &chunk);
+        pfx_bounds_merge(b, &chunk);
+        pfx_bounds_scissor(r, &chunk);
         r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(n * sizeof *r->chunk), r->chunk,
                          GL_STREAM_DRAW);
         draw_runs(r, v, s, r->chunk, n);
@@ -550,6 +553,7 @@ static void submit_sprites(pfx_renderer *r, const pfx_view *v, const pfx_render_
             pfx_render_chunk_done(r, fences, k);
     }
     pfx_render_chunks_end(r, fences);
+    r->gl.Disable(GL_SCISSOR_TEST);
     point_instances(r, 0);
 }
 
@@ -577,7 +581,9 @@ static bool render_float(pfx_renderer *r, const pfx_camera *cam, const pfx_rende
     clear_dirty(r, clear);
     pfx_bounds b = pfx_bounds_empty();
     pfx_bounds_ribbons(&v, ribbons, &b);
+    pfx_bounds_scissor(r, &b);
     submit_ribbons(r, &v, ribbons);
+    r->gl.Disable(GL_SCISSOR_TEST);
     submit_sprites(r, &v, s, src, order, &b);
     *box = pfx_bounds_box(r, &b);
     if (box->x1 > box->x0)

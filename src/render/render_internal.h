@@ -185,6 +185,12 @@ typedef struct pfx_bounds {
 } pfx_bounds;
 /* Nothing yet: lo above hi. */
 pfx_bounds pfx_bounds_empty(void);
+/* Widens b to hold part too. */
+void pfx_bounds_merge(pfx_bounds *b, const pfx_bounds *part);
+/* Clips drawing to b's pixels (GL_SCISSOR_TEST on; the caller turns it
+ * off): what is drawn next cannot leave a pixel outside the box that is
+ * read back and cleared, even if a bound fell short. */
+void pfx_bounds_scissor(pfx_renderer *r, const pfx_bounds *b);
 /* Widens b by the ribbons' corners, final world points each. */
 void pfx_bounds_ribbons(const pfx_view *v, pfx_ribbons ribbons, pfx_bounds *b);
 /* Widens b by the quads of count sprites. */
