@@ -108,11 +108,11 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
     pfx_mv_frame mv = {NULL, NULL};
     if (!failed && job->motion)
         failed = !pfx_mv_frame_init(&mv, e, d);
-    /* The depth sort runs on the effect's threads (--threads); its order
-     * does not depend on how many, so where they cannot start it sorts on
-     * this one and the frames are the same. */
-    if (sort)
-        pfx_renderer_set_threads(job->renderer, e->threads, NULL);
+    /* Making each chunk's sprites from the pools, and the depth sort, run
+     * on the effect's threads (--threads); neither result depends on how
+     * many, so where they cannot start this thread does the work and the
+     * frames are the same. */
+    pfx_renderer_set_threads(job->renderer, e->threads, NULL);
     char name[4600];
     for (long f = job->first; !failed && f <= job->last && !pfx_frame_queue_failed(q); f++) {
         long drawn = draw_frame(job, f, &settings, sort, pfx_frame_queue_buffer(q), &mv, d);

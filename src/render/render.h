@@ -221,11 +221,12 @@ void pfx_renderer_blur_resolve_float(pfx_renderer *r, const pfx_render_settings 
 bool pfx_renderer_motion_vectors(pfx_renderer *r, const pfx_camera *cam,
                                  const pfx_render_settings *s, const pfx_sprite_source *src,
                                  double dt, float *mv, pfx_diags *d);
-/* The threads the depth sort of alpha-blended sprites runs on (0: one per
- * online core; a new renderer sorts on the caller's thread alone). The
- * order does not depend on the count. False (with an error in d, which
- * may be NULL) when the threads cannot start; the renderer then sorts on
- * the caller's thread, with the same result. */
+/* The threads that make each chunk's sprites and run the depth sort of
+ * alpha-blended ones (0: one per online core; a new renderer works on the
+ * caller's thread alone). Neither sprites nor order depend on the count.
+ * False (with an error in d, which may be NULL) when the threads cannot
+ * start; the renderer then works on the caller's thread, with the same
+ * result. */
 bool pfx_renderer_set_threads(pfx_renderer *r, int threads, pfx_diags *d);
 
 /* Sorts the sprites back to front, in place, in the order
