@@ -295,8 +295,10 @@ bool pfx_png_write_nosync(const char *path, const uint8_t *rgba, int width, int 
     return png_write(path, rgba, width, height, false, d);
 }
 
-/* Applies the transforms that turn any PNG into 8-bit RGBA rows. */
-static void pfx_png_want_rgba(png_structp png, png_infop info) {
+/* Transforms so that any PNG reads as RGBA of `bits` bits a sample:
+ * palette, grey and tRNS expanded, 16-bit scaled down or 8-bit widened
+ * (x 257), alpha added where there is none; 16-bit samples in host order. */
+static void want_rgba(png_structp png, png_infop info, int bits) {
     int color = png_get_color_type(png, info);
     int depth = png_get_bit_depth(png, info);
     if (color == PNG_COLOR_TYPE_PALETTE)
@@ -306,17 +308,24 @@ static void pfx_png_want_rgba(png_structp png, png_infop info) {
     bool has_trns = png_get_valid(png, info, PNG_INFO_tRNS) != 0;
     if (has_trns)
         png_set_tRNS_to_alpha(png);
-    if (depth == 16)
+    if (bits == 8 && depth == 16)
         png_set_scale_16(png);
+    if (bits == 16)
+        png_set_expand_16(png);
     if (color == PNG_COLOR_TYPE_GRAY || color == PNG_COLOR_TYPE_GRAY_ALPHA)
         png_set_gray_to_rgb(png);
     if (!has_trns && (color & PNG_COLOR_MASK_ALPHA) == 0)
-        png_set_add_alpha(png, 0xff, PNG_FILLER_AFTER);
+        png_set_add_alpha(png, bits == 16 ? 0xffff : 0xff, PNG_FILLER_AFTER);
+    const uint16_t one = 1;
+    if (bits == 16 && *(const uint8_t *)&one == 1)
+        png_set_swap(png);
     png_set_interlace_handling(png);
     png_read_update_info(png, info);
 }
 
-uint8_t *pfx_png_read(const char *path, int *width, int *height) {
+/* Any PNG as RGBA samples of `bits` (8 or 16) bits, top row first. Returns
+ * a malloc'd buffer the caller frees, or NULL. */
+static void *png_read_depth(const char *path, int bits, int *width, int *height) {
     FILE *file = fopen(path, "rb");
     if (file == NULL)
         return NULL;
@@ -330,7 +339,7 @@ uint8_t *pfx_png_read(const char *path, int *width, int *height) {
         return NULL;
     }
     /* Assigned after setjmp and needed after a longjmp, hence volatile. */
-    uint8_t *volatile pixels = NULL;
+    png_bytep volatile pixels = NULL;
     png_bytep *volatile rows = NULL;
     if (setjmp(png_jmpbuf(png))) {
         free(rows);
@@ -341,12 +350,12 @@ uint8_t *pfx_png_read(const char *path, int *width, int *height) {
     }
     png_init_io(png, file);
     png_read_info(png, info);
-    pfx_png_want_rgba(png, info);
+    want_rgba(png, info, bits);
     png_uint_32 w = png_get_image_width(png, info);
     png_uint_32 h = png_get_image_height(png, info);
-    size_t stride = (size_t)w * 4;
+    size_t stride = (size_t)w * 4 * (size_t)(bits / 8);
     if (png_get_rowbytes(png, info) != stride)
-        png_error(png, "not 8-bit RGBA after transforms");
+        png_error(png, "not RGBA of the asked depth after transforms");
     /* Dimensions are at most libpng's limit of 1000000, so no overflow. */
     pixels = malloc(stride * h);
     rows = malloc(sizeof(png_bytep) * h);
@@ -356,7 +365,7 @@ uint8_t *pfx_png_read(const char *path, int *width, int *height) {
         rows[y] = pixels + (size_t)y * stride;
     png_read_image(png, rows);
     png_read_end(png, NULL);
-    uint8_t *result = pixels;
+    void *result = pixels;
     free(rows);
     png_destroy_read_struct(&png, &info, NULL);
     fclose(file);
@@ -365,6 +374,10 @@ uint8_t *pfx_png_read(const char *path, int *width, int *height) {
     if (height != NULL)
         *height = (int)h;
     return result;
+}
+
+uint8_t *pfx_png_read(const char *path, int *width, int *height) {
+    return png_read_depth(path, 8, width, height);
 }
 
 bool pfx_png_write16(const char *path, const uint16_t *rgba, int width, int height, bool sync_dir,
@@ -373,62 +386,5 @@ bool pfx_png_write16(const char *path, const uint16_t *rgba, int width, int heig
 }
 
 uint16_t *pfx_png_read16(const char *path, int *width, int *height) {
-    FILE *file = fopen(path, "rb");
-    if (file == NULL)
-        return NULL;
-    pfx_png_ctx ctx = {.message = "", .write_errno = 0, .file = file};
-    png_structp png =
-        png_create_read_struct(PNG_LIBPNG_VER_STRING, &ctx, pfx_png_on_error, pfx_png_on_warning);
-    png_infop info = png != NULL ? png_create_info_struct(png) : NULL;
-    if (info == NULL) {
-        png_destroy_read_struct(&png, NULL, NULL);
-        fclose(file);
-        return NULL;
-    }
-    uint16_t *volatile pixels = NULL;
-    png_bytep *volatile rows = NULL;
-    if (setjmp(png_jmpbuf(png))) {
-        free(rows);
-        free(pixels);
-        png_destroy_read_struct(&png, &info, NULL);
-        fclose(file);
-        return NULL;
-    }
-    png_init_io(png, file);
-    png_read_info(png, info);
-    /* png_set_expand_16 widens 8-bit samples (and palette, low-depth grey
-     * and tRNS, through png_set_expand) to 16 bits. */
-    int color = png_get_color_type(png, info);
-    png_set_expand(png);
-    png_set_expand_16(png);
-    if (color == PNG_COLOR_TYPE_GRAY || color == PNG_COLOR_TYPE_GRAY_ALPHA)
-        png_set_gray_to_rgb(png);
-    if (!png_get_valid(png, info, PNG_INFO_tRNS) && (color & PNG_COLOR_MASK_ALPHA) == 0)
-        png_set_add_alpha(png, 0xffff, PNG_FILLER_AFTER);
-    const uint16_t one = 1;
-    if (*(const uint8_t *)&one == 1)
-        png_set_swap(png);
-    png_set_interlace_handling(png);
-    png_read_update_info(png, info);
-    png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
-    size_t stride = (size_t)w * 8;
-    if (png_get_rowbytes(png, info) != stride)
-        png_error(png, "not 16-bit RGBA after transforms");
-    pixels = malloc(stride * h);
-    rows = malloc(sizeof(png_bytep) * h);
-    if (pixels == NULL || rows == NULL)
-        png_error(png, "out of memory");
-    for (png_uint_32 y = 0; y < h; y++)
-        rows[y] = (png_bytep)pixels + (size_t)y * stride;
-    png_read_image(png, rows);
-    png_read_end(png, NULL);
-    uint16_t *result = pixels;
-    free(rows);
-    png_destroy_read_struct(&png, &info, NULL);
-    fclose(file);
-    if (width != NULL)
-        *width = (int)w;
-    if (height != NULL)
-        *height = (int)h;
-    return result;
+    return png_read_depth(path, 16, width, height);
 }
