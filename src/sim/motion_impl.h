@@ -475,6 +475,27 @@ static void FN(rotate)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, s
     }
 }
 
+/* v += h2 a: half a kick of the split step. */
+static inline void FN(half_kick)(size_t n, R *U, R *V, R *W, const R *ax, const R *ay, const R *az,
+                                 R h2) {
+    for (size_t j = 0; j < n; j++) {
+        U[j] += h2 * ax[j];
+        V[j] += h2 * ay[j];
+        W[j] += h2 * az[j];
+    }
+}
+
+/* Between the two half kicks: half the rotation, the exact drift over h,
+ * the other half of the rotation. */
+static inline void FN(between_kicks)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0,
+                                     size_t n, R *X, R *Y, R *Z, R *U, R *V, R *W, double h) {
+    if (m->has_rotation)
+        FN(rotate)(m, p, i0, n, X, Y, Z, U, V, W, 0.5 * h);
+    FN(drift)(m, p, i0, n, X, Y, Z, U, V, W, h);
+    if (m->has_rotation)
+        FN(rotate)(m, p, i0, n, X, Y, Z, U, V, W, 0.5 * h);
+}
+
 /* The split step: K(h/2) R(h/2) D(h) R(h/2) K(h/2) - kicks by the forces
  * that are not folded, the Boris rotation, the exact drift of gravity and
  * linear drag. Symmetric, hence second order; exact when only gravity and
@@ -484,24 +505,12 @@ static void FN(step_split)(BLOCK_ARGS) {
     const R h2 = (R)(0.5 * h);
     if (m->has_kick) {
         FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t, 1, ax, ay, az);
-        for (size_t j = 0; j < n; j++) {
-            U[j] += h2 * ax[j];
-            V[j] += h2 * ay[j];
-            W[j] += h2 * az[j];
-        }
+        FN(half_kick)(n, U, V, W, ax, ay, az, h2);
     }
-    if (m->has_rotation)
-        FN(rotate)(m, p, i0, n, X, Y, Z, U, V, W, 0.5 * h);
-    FN(drift)(m, p, i0, n, X, Y, Z, U, V, W, h);
-    if (m->has_rotation)
-        FN(rotate)(m, p, i0, n, X, Y, Z, U, V, W, 0.5 * h);
+    FN(between_kicks)(m, p, i0, n, X, Y, Z, U, V, W, h);
     if (m->has_kick) {
         FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t + h, 1, ax, ay, az);
-        for (size_t j = 0; j < n; j++) {
-            U[j] += h2 * ax[j];
-            V[j] += h2 * ay[j];
-            W[j] += h2 * az[j];
-        }
+        FN(half_kick)(n, U, V, W, ax, ay, az, h2);
     }
 }
 
@@ -520,22 +529,10 @@ CLONES static void FN(run_split_carried)(const pfx_motion_plan *m, const PFX_POO
     const R h2 = (R)(0.5 * h);
     FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t, 1, ax, ay, az);
     for (int s = 0; s < steps; s++) {
-        for (size_t j = 0; j < n; j++) {
-            U[j] += h2 * ax[j];
-            V[j] += h2 * ay[j];
-            W[j] += h2 * az[j];
-        }
-        if (m->has_rotation)
-            FN(rotate)(m, p, i0, n, X, Y, Z, U, V, W, 0.5 * h);
-        FN(drift)(m, p, i0, n, X, Y, Z, U, V, W, h);
-        if (m->has_rotation)
-            FN(rotate)(m, p, i0, n, X, Y, Z, U, V, W, 0.5 * h);
+        FN(half_kick)(n, U, V, W, ax, ay, az, h2);
+        FN(between_kicks)(m, p, i0, n, X, Y, Z, U, V, W, h);
         FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t + s * h + h, 1, ax, ay, az);
-        for (size_t j = 0; j < n; j++) {
-            U[j] += h2 * ax[j];
-            V[j] += h2 * ay[j];
-            W[j] += h2 * az[j];
-        }
+        FN(half_kick)(n, U, V, W, ax, ay, az, h2);
         if (m->has_operators) /* on v alone (kick_carries) */
             FN(operators)(m, n, X, Y, Z, U, V, W, h);
     }
