@@ -3,10 +3,9 @@ motion-vector tests (tests/jobs/check_motion_vectors.py): Pillow opens a
 16-bit RGBA PNG as 8-bit RGBA, dropping the low byte these tests check.
 Handles colour type 6 at depth 16, non-interlaced, with any of the five
 filters."""
-import struct
-import zlib
-
 import numpy as np
+
+from png_rgba import read_image_data
 
 
 def _paeth(a, b, c):
@@ -17,28 +16,8 @@ def _paeth(a, b, c):
 
 def decode(path):
     """16-bit RGBA PNG -> numpy uint16 array of shape (height, width, 4)."""
-    with open(path, "rb") as f:
-        data = f.read()
-    if data[:8] != b"\x89PNG\r\n\x1a\n":
-        raise ValueError(f"{path}: not a PNG")
-    pos, idat, head = 8, [], None
-    while pos < len(data):
-        (length,) = struct.unpack(">I", data[pos : pos + 4])
-        kind = data[pos + 4 : pos + 8]
-        body = data[pos + 8 : pos + 8 + length]
-        if kind == b"IHDR":
-            head = struct.unpack(">IIBBBBB", body)
-        elif kind == b"IDAT":
-            idat.append(body)
-        elif kind == b"IEND":
-            break
-        pos += 12 + length
-    if head is None:
-        raise ValueError(f"{path}: no IHDR")
-    w, h, depth, ctype, _, _, interlace = head
-    if depth != 16 or ctype != 6 or interlace != 0:
-        raise ValueError(f"{path}: expected 16-bit RGBA non-interlaced, got {head}")
-    raw = np.frombuffer(zlib.decompress(b"".join(idat)), dtype=np.uint8)
+    w, h, data = read_image_data(path, 16)
+    raw = np.frombuffer(data, dtype=np.uint8)
     stride, bpp = 8 * w, 8
     rows = raw.reshape(h, stride + 1)
     out = np.zeros((h, stride), dtype=np.uint8)

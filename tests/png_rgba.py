@@ -6,8 +6,9 @@ import struct
 import zlib
 
 
-def decode(path):
-    """8-bit RGBA (colour type 6), non-interlaced PNG -> (width, height, bytes)."""
+def read_image_data(path, depth):
+    """Checks an RGBA (colour type 6), non-interlaced PNG of `depth` bits a
+    sample and returns (width, height, filtered rows as one bytes object)."""
     with open(path, "rb") as f:
         data = f.read()
     if data[:8] != b"\x89PNG\r\n\x1a\n":
@@ -26,10 +27,15 @@ def decode(path):
         pos += 12 + length
     if head is None:
         raise ValueError(f"{path}: no IHDR")
-    w, h, depth, ctype, _, _, interlace = head
-    if depth != 8 or ctype != 6 or interlace != 0:
-        raise ValueError(f"{path}: expected 8-bit RGBA non-interlaced, got {head}")
-    raw = zlib.decompress(b"".join(idat))
+    w, h, got_depth, ctype, _, _, interlace = head
+    if got_depth != depth or ctype != 6 or interlace != 0:
+        raise ValueError(f"{path}: expected {depth}-bit RGBA non-interlaced, got {head}")
+    return w, h, zlib.decompress(b"".join(idat))
+
+
+def decode(path):
+    """8-bit RGBA (colour type 6), non-interlaced PNG -> (width, height, bytes)."""
+    w, h, raw = read_image_data(path, 8)
     stride, bpp = 4 * w, 4
     out = bytearray(h * stride)
     prev = bytearray(stride)
