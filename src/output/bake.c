@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "model/kinds.h"
 #include "output/atomic_file.h"
 #include "output/bake_rows.h"
 #include "sim/appearance.h"
@@ -17,19 +18,17 @@ static const char *const format_names[] = {
 #define PFX_BAKE_NAME(e, name) name,
     PFX_BAKE_FORMATS(PFX_BAKE_NAME)
 #undef PFX_BAKE_NAME
-};
+        NULL};
 
 const char *pfx_bake_format_name(pfx_bake_format f) {
     return (unsigned)f < PFX_BAKE_FORMAT_COUNT ? format_names[f] : NULL;
 }
 
 bool pfx_bake_format_parse(const char *name, pfx_bake_format *out) {
-    for (int f = 0; f < PFX_BAKE_FORMAT_COUNT; f++)
-        if (!strcmp(name, format_names[f])) {
-            *out = (pfx_bake_format)f;
-            return true;
-        }
-    return false;
+    int f = pfx_kind_find(format_names, name);
+    if (f >= 0)
+        *out = (pfx_bake_format)f;
+    return f >= 0;
 }
 
 /* Rows are sorted by (id, pool index) pairs: qsort has no context argument

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "base/workers.h"
+#include "model/kinds.h"
 #include "output/atomic_file.h"
 #include "output/exr_write.h"
 #include "output/png_write.h"
@@ -23,19 +24,17 @@ static const char *const format_names[] = {
 #define PFX_FRAME_FORMAT_NAME(kind, name) name,
     PFX_FRAME_FORMATS(PFX_FRAME_FORMAT_NAME)
 #undef PFX_FRAME_FORMAT_NAME
-};
+        NULL};
 
 const char *pfx_frame_format_name(pfx_frame_format f) {
     return f >= 0 && f < PFX_FRAME_FORMAT_COUNT ? format_names[f] : "?";
 }
 
 bool pfx_frame_format_parse(const char *name, pfx_frame_format *f) {
-    for (int i = 0; i < PFX_FRAME_FORMAT_COUNT; i++)
-        if (!strcmp(name, format_names[i])) {
-            *f = (pfx_frame_format)i;
-            return true;
-        }
-    return false;
+    int i = pfx_kind_find(format_names, name);
+    if (i >= 0)
+        *f = (pfx_frame_format)i;
+    return i >= 0;
 }
 
 /* A pool of encoder threads over a ring of 2 x threads slots. The caller

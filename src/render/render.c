@@ -11,6 +11,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "model/kinds.h"
+
 /* Clip planes. The depth test is off, so these only decide what is cut away:
  * nothing nearer than 1 cm or farther than 1 km is drawn, in either
  * projection. */
@@ -102,19 +104,17 @@ static const char *const kind_names[] = {
 #define PFX_RENDERER_NAME(kind, name) name,
     PFX_RENDERER_KINDS(PFX_RENDERER_NAME)
 #undef PFX_RENDERER_NAME
-};
+        NULL};
 
 const char *pfx_renderer_kind_name(pfx_renderer_kind kind) {
     return (unsigned)kind < PFX_RENDERER_KIND_COUNT ? kind_names[kind] : "unknown";
 }
 
 bool pfx_renderer_kind_parse(const char *name, pfx_renderer_kind *kind) {
-    for (int k = 0; k < PFX_RENDERER_KIND_COUNT; k++)
-        if (!strcmp(name, kind_names[k])) {
-            *kind = (pfx_renderer_kind)k;
-            return true;
-        }
-    return false;
+    int k = pfx_kind_find(kind_names, name);
+    if (k >= 0)
+        *kind = (pfx_renderer_kind)k;
+    return k >= 0;
 }
 
 /* The backends this pfx was built with (PFX_HAVE_OSMESA, PFX_HAVE_EGL, set
