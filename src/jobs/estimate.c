@@ -136,7 +136,9 @@ void pfx_estimate_run(const pfx_effect *e, long first, long last, unsigned what,
     double particles = 0, pool_bytes = 0, queue_bytes = 0, fixed = 0;
     for (size_t i = 0; i < e->emitter_count; i++) {
         const pfx_emitter *em = &e->emitters[i];
-        particles += em->capacity;
+        /* A particle costs a step per substep its emitter's integrator
+         * takes (a stiff field can ask for hundreds). */
+        particles += (double)em->capacity * (em->motion ? em->motion->choice.steps : 1);
         pool_bytes += (double)pfx_pool_bytes(em, em->capacity); /* as sim.c allocates */
         queue_bytes += (double)pfx_spawn_queue_capacity(e, i) * sizeof(spawn_record);
         if (render) {

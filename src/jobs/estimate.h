@@ -46,7 +46,8 @@ extern const char *const pfx_memory_part_keys[PFX_MEMORY_PART_COUNT];
  * full from the first step on, every sprite as large as it can be. */
 typedef struct pfx_estimate {
     double steps;          /* fixed simulation steps, prewarm included */
-    double particle_steps; /* steps x the particles alive in each, at most */
+    double particle_steps; /* steps x the particles alive in each x their
+                              emitter's substeps, at most */
     double sprites;        /* sprites drawn over the frames rendered */
     double sprite_pixels;  /* their pixels, each sprite at most the image */
     double bytes[PFX_MEMORY_PART_COUNT];
