@@ -228,6 +228,8 @@ void pfx_collide(const pfx_deflector *defl, size_t n_defl, double dt, const pfx_
         if (pool->stuck && pool->stuck[i]) { /* held where it stuck, whatever the integrator did */
             pool->px[i] = pool->px0[i], pool->py[i] = pool->py0[i], pool->pz[i] = pool->pz0[i];
             pool->vx[i] = pool->vy[i] = pool->vz[i] = 0;
+            if (pool->ax)
+                pool->ax[i] = NAN;
             continue;
         }
         collide_one(&c, i, &b);

@@ -33,6 +33,8 @@ typedef struct pfx_collide_pool {
     float *lifetime;    /* kill writes PFX_KILLED; lifetime_loss lowers it */
     const uint32_t *id; /* key of the chance hash; NULL: the pool index (not stable) */
     uint8_t *stuck;     /* optional: 1 once stuck (see pfx_collide) */
+    float *ax;          /* optional: the carried acceleration (sim/columns.h), set to NaN
+                           where a position changes: it is no longer the one there */
 } pfx_collide_pool;
 
 /* Called for every impact and every kill or stick touch (not for resting

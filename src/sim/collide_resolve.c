@@ -286,4 +286,6 @@ void pfx_collide_store(const ctx *c, body *b) {
     uint32_t i = b->i;
     pool->px[i] = xf[0], pool->py[i] = xf[1], pool->pz[i] = xf[2];
     pool->vx[i] = (float)b->v[0], pool->vy[i] = (float)b->v[1], pool->vz[i] = (float)b->v[2];
+    if (pool->ax)
+        pool->ax[i] = NAN;
 }

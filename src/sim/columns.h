@@ -1,7 +1,8 @@
 /* The one list of particle columns. Each row is X(name, C type, role,
  * needed, what): the pool struct's field, its element type, whether it is
- * STATE (copied by views, moved by swap-remove, hashed) or SCRATCH (the
- * step's own working space), the condition under which emitter `em` keeps
+ * STATE (copied by views, moved by swap-remove, hashed), CARRY (copied and
+ * moved, not hashed: a value the state determines, kept to save work) or
+ * SCRATCH (the step's own working space), the condition under which emitter `em` keeps
  * it, and what it holds. Layout, allocation, swap-remove, copies, views,
  * offsets and the state hash all expand from this list (sim/pool.c); a new
  * particle attribute is one row here, where it is written at birth, and
@@ -40,6 +41,10 @@
     X(stuck, uint8_t, STATE, em->sticks, "1 once stuck to a deflector")                            \
     X(parent_id, uint32_t, STATE, em->look.draw == PFX_DRAW_RIBBON,                                \
       "id of the particle whose trail made it: its ribbon")                                        \
+    X(ax, float, CARRY, pfx_needs_carried_accel(em),                                               \
+      "acceleration at the position and time, from the last kick; NaN: not known")                 \
+    X(ay, float, CARRY, pfx_needs_carried_accel(em), "")                                           \
+    X(az, float, CARRY, pfx_needs_carried_accel(em), "")                                           \
     X(start_px, float, SCRATCH, em->deflector_count > 0,                                           \
       "start-of-step state the collision pass sweeps from")                                        \
     X(start_py, float, SCRATCH, em->deflector_count > 0, "")                                       \

@@ -60,8 +60,10 @@ static void fold_split(pfx_motion_plan *m) {
         }
     }
     m->has_kick = pfx_motion_split_kicks(m->model); /* what is not folded or rotated */
-    /* Forces of x alone (gravity, attractors) and operators on v alone:
-     * the kicks read nothing a kick or an operator changes. (An undamped
+    /* Forces of x alone (gravity, attractors) or of x and t (turbulence:
+     * a substep's closing kick and the next one's opening kick see one
+     * time, motion_impl.h's substep_time) and operators on v alone: the
+     * kicks read nothing a kick or an operator changes. (An undamped
      * spring or E would qualify too, but their loops multiply v by a zero,
      * which could flip the sign of a zero result: left out, so that carrying
      * gives the same bits always.) */
@@ -69,7 +71,7 @@ static void fold_split(pfx_motion_plan *m) {
     for (size_t i = 0; i < m->force_count; i++) {
         const pfx_motion_kind k = m->forces[i].kind;
         if (k != PFX_MOTION_GRAVITY && k != PFX_MOTION_ATTRACTOR && k != PFX_MOTION_SPIRAL &&
-            k != PFX_MOTION_SPEED_LIMIT)
+            k != PFX_MOTION_SPEED_LIMIT && k != PFX_MOTION_TURBULENCE)
             m->kick_carries = false;
     }
     if (m->drift_k > 0)
@@ -132,6 +134,21 @@ void pfx_motion_plan_init(pfx_motion_plan *p, const pfx_motion *m) {
     if (p->scheme == PFX_SCHEME_SPLIT)
         fold_split(p);
     radius_levels(p, m);
+    /* Across steps, where it pays: a turbulence evaluation (two octaves,
+     * some 20 ns a particle) costs far more than reading and writing 12
+     * bytes; an attractor's (about 3 ns) does not. Not with substeps per
+     * particle, whose levels end a step at different substeps. */
+    p->carry_accel = false;
+    if (p->kick_carries && p->radius_top == 0)
+        for (size_t i = 0; i < p->force_count; i++)
+            if (p->forces[i].kind == PFX_MOTION_TURBULENCE && !p->folded[i])
+                p->carry_accel = true;
+}
+
+bool pfx_motion_carries_accel(const pfx_motion *m) {
+    pfx_motion_plan p;
+    pfx_motion_plan_init(&p, m);
+    return p.carry_accel;
 }
 
 void pfx_motion_plan_prepare(pfx_motion_plan *p, pfx_motion *m, double dt) {

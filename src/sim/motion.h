@@ -33,6 +33,9 @@ typedef struct pfx_motion_plan {
     bool kick_carries;     /* split: the kicks read positions only (not v, not t) and no
                               operator moves a position, so a substep's closing kick's
                               acceleration is the next one's opening kick's */
+    bool carry_accel;      /* kick_carries across steps too: the pool keeps the closing
+                              kick's acceleration (ax, ay, az) for the next step's opening
+                              one, where a force costs more than that column's traffic */
     bool uniform_rotation; /* split: B unregioned, so one Omega unless charge/mass vary */
     double omega[3];       /* its -(q/m) B sum with the forces' constants */
     double drift_k;        /* split drift: sum of unregioned linear drag */
@@ -54,6 +57,9 @@ void pfx_motion_plan_init(pfx_motion_plan *p, const pfx_motion *m);
 /* pfx_motion_choose(m, dt) then pfx_motion_plan_init: for the tests and
  * the accuracy harness, which build their own models. */
 void pfx_motion_plan_prepare(pfx_motion_plan *p, pfx_motion *m, double dt);
+/* Whether m's plan carries accelerations across steps (carry_accel): the
+ * pool then keeps the ax, ay, az column (sim/columns.h). */
+bool pfx_motion_carries_accel(const pfx_motion *m);
 
 /* A view of one emitter's dense pool. Positions and velocities are updated
  * in place. Optional columns may be NULL: gravity_scale -> 1, charge/mass ->
@@ -64,7 +70,8 @@ void pfx_motion_plan_prepare(pfx_motion_plan *p, pfx_motion *m, double dt);
     T *px, *py, *pz, *vx, *vy, *vz;                                                                \
     const T *gravity_scale, *charge, *mass, *bx, *by, *bz;                                         \
     const double *birth_time;                                                                      \
-    const T *lifetime;
+    const T *lifetime;                                                                             \
+    T *ax, *ay, *az;
 typedef struct pfx_motion_pool_f {
     PFX_MOTION_POOL_FIELDS(float)
 } pfx_motion_pool_f;
@@ -86,6 +93,13 @@ void pfx_motion_step_d(const pfx_motion_plan *m, pfx_motion_pool_d *pool, double
  * stepped at that span would be. pfx_motion_step_* is span = dt. */
 void pfx_motion_advance_f(const pfx_motion_plan *m, pfx_motion_pool_f *pool, double t, double span);
 void pfx_motion_advance_d(const pfx_motion_plan *m, pfx_motion_pool_d *pool, double t, double span);
+
+/* The simulation's step from t0 to t1 (span t1 - t0): as advance, with the
+ * last kick evaluated at t1 itself, the next step's t0, and with the plan's
+ * carry_accel the pool's ax, ay, az read (where no particle of a block has
+ * NaN there) for the first kick and written by the last. */
+void pfx_motion_move_f(const pfx_motion_plan *m, pfx_motion_pool_f *pool, double t0, double t1);
+void pfx_motion_move_d(const pfx_motion_plan *m, pfx_motion_pool_d *pool, double t0, double t1);
 
 /* Acceleration of the n particles starting at pool index i0, at state
  * (x, v) given in block arrays, time t, from the ODE forces (all but the

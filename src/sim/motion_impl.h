@@ -499,8 +499,10 @@ static inline void FN(between_kicks)(const pfx_motion_plan *m, const PFX_POOL *p
 /* The split step: K(h/2) R(h/2) D(h) R(h/2) K(h/2) - kicks by the forces
  * that are not folded, the Boris rotation, the exact drift of gravity and
  * linear drag. Symmetric, hence second order; exact when only gravity and
- * linear drag act; symplectic (kick-drift-kick) for position forces. */
-static void FN(step_split)(BLOCK_ARGS) {
+ * linear drag act; symplectic (kick-drift-kick) for position forces. The
+ * closing kick is evaluated at t_close, the next substep's start (t + h, or
+ * the step's own end time: see run_split). */
+static void FN(step_split)(BLOCK_ARGS, double t_close) {
     R ax[BLK], ay[BLK], az[BLK];
     const R h2 = (R)(0.5 * h);
     if (m->has_kick) {
@@ -509,7 +511,7 @@ static void FN(step_split)(BLOCK_ARGS) {
     }
     FN(between_kicks)(m, p, i0, n, X, Y, Z, U, V, W, h);
     if (m->has_kick) {
-        FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t + h, 1, ax, ay, az);
+        FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t_close, 1, ax, ay, az);
         FN(half_kick)(n, U, V, W, ax, ay, az, h2);
     }
 }
@@ -517,24 +519,62 @@ static void FN(step_split)(BLOCK_ARGS) {
 static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, R *U, R *V, R *W,
                           double h);
 
+/* The time substep s of `steps` starts at: t + s h, and the last one ends
+ * at t_end exactly (the caller's end of the step, which is the next step's
+ * start bit for bit), so a kick evaluated at a substep's end and one at the
+ * next substep's start see the same time. */
+static inline double FN(substep_time)(double t, double h, int s, int steps, double t_end) {
+    return s < steps ? t + s * h : t_end;
+}
+
+/* The opening kick's acceleration from the pool's carried column (plan
+ * carry_accel): when no particle of the block has NaN there, each holds
+ * the acceleration at its position and this time, computed by the closing
+ * kick of the step before (sim/step.c keeps it so: births, deflector hits
+ * and wraps write NaN), and the forces read nothing else, so it is the
+ * very value a new evaluation would give. Returns whether it took it. */
+static bool FN(take_carried)(const PFX_POOL *p, size_t i0, size_t n, R *ax, R *ay, R *az) {
+    const R *cx = p->ax + i0, *cy = p->ay + i0, *cz = p->az + i0;
+    int unknown = 0;
+    for (size_t j = 0; j < n; j++)
+        unknown |= cx[j] != cx[j];
+    if (unknown)
+        return false;
+    memcpy(ax, cx, n * sizeof *ax);
+    memcpy(ay, cy, n * sizeof *ay);
+    memcpy(az, cz, n * sizeof *az);
+    return true;
+}
+
 /* `steps` split steps of h from t (plan kick_carries): the closing kick of
  * a substep and the opening kick of the next evaluate the forces at the
- * same positions, and these forces read nothing else, so the one
+ * same positions and time, and these forces read nothing else, so the one
  * evaluation serves both (first same as last): steps + 1 evaluations
- * instead of 2 steps, and the same bits as step_split run steps times. */
+ * instead of 2 steps, and the same bits as step_split run steps times.
+ * With the plan's carry_accel and a pool that has the column, the first
+ * evaluation comes from the step before and the last is kept for the step
+ * after: one evaluation a step. */
 CLONES static void FN(run_split_carried)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0,
                                          size_t n, R *X, R *Y, R *Z, R *U, R *V, R *W, double t,
-                                         double h, int steps) {
+                                         double h, int steps, double t_end) {
     R ax[BLK], ay[BLK], az[BLK];
     const R h2 = (R)(0.5 * h);
-    FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t, 1, ax, ay, az);
+    const bool carry = m->carry_accel && p->ax;
+    if (!carry || !FN(take_carried)(p, i0, n, ax, ay, az))
+        FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t, 1, ax, ay, az);
     for (int s = 0; s < steps; s++) {
         FN(half_kick)(n, U, V, W, ax, ay, az, h2);
         FN(between_kicks)(m, p, i0, n, X, Y, Z, U, V, W, h);
-        FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t + s * h + h, 1, ax, ay, az);
+        const double t_close = FN(substep_time)(t, h, s + 1, steps, t_end);
+        FN(accel)(m, p, i0, n, X, Y, Z, U, V, W, t_close, 1, ax, ay, az);
         FN(half_kick)(n, U, V, W, ax, ay, az, h2);
         if (m->has_operators) /* on v alone (kick_carries) */
             FN(operators)(m, n, X, Y, Z, U, V, W, h);
+    }
+    if (carry) {
+        memcpy(p->ax + i0, ax, n * sizeof *ax);
+        memcpy(p->ay + i0, ay, n * sizeof *ay);
+        memcpy(p->az + i0, az, n * sizeof *az);
     }
 }
 
@@ -610,15 +650,18 @@ static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, 
     }
 }
 
-/* `steps` split substeps of h from t on n particles in place. */
+/* `steps` split substeps of h from t on n particles in place, the last
+ * ending at t_end. */
 static void FN(run_split)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n, R *X,
-                          R *Y, R *Z, R *U, R *V, R *W, double t, double h, int steps) {
+                          R *Y, R *Z, R *U, R *V, R *W, double t, double h, int steps,
+                          double t_end) {
     if (m->kick_carries) {
-        FN(run_split_carried)(m, p, i0, n, X, Y, Z, U, V, W, t, h, steps);
+        FN(run_split_carried)(m, p, i0, n, X, Y, Z, U, V, W, t, h, steps, t_end);
         return;
     }
     for (int s = 0; s < steps; s++) {
-        FN(step_split)(m, p, i0, n, X, Y, Z, U, V, W, t + s * h, h);
+        FN(step_split)
+        (m, p, i0, n, X, Y, Z, U, V, W, t + s * h, h, FN(substep_time)(t, h, s + 1, steps, t_end));
         if (m->has_operators)
             FN(operators)(m, n, X, Y, Z, U, V, W, h);
     }
@@ -626,9 +669,10 @@ static void FN(run_split)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0
 
 /* `steps` substeps of h from t on n particles in place, by any scheme. */
 static void FN(run_block)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n, R *X,
-                          R *Y, R *Z, R *U, R *V, R *W, double t, double h, int steps) {
+                          R *Y, R *Z, R *U, R *V, R *W, double t, double h, int steps,
+                          double t_end) {
     if (m->scheme == PFX_SCHEME_SPLIT) {
-        FN(run_split)(m, p, i0, n, X, Y, Z, U, V, W, t, h, steps);
+        FN(run_split)(m, p, i0, n, X, Y, Z, U, V, W, t, h, steps, t_end);
         return;
     }
     for (int s = 0; s < steps; s++) {
@@ -659,7 +703,10 @@ static void FN(run_block)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0
 
 #include "sim/motion_levels_impl.h"
 
-void FN(pfx_motion_advance)(const pfx_motion_plan *m, PFX_POOL *p, double t, double span) {
+/* From t by span, the last substep ending at t_end (t + span, or the
+ * caller's own end time of the step). */
+static void FN(advance_to)(const pfx_motion_plan *m, PFX_POOL *p, double t, double span,
+                           double t_end) {
     const int steps = pfx_motion_substeps_for(&m->model->choice, span);
     const double h = span / steps;
     /* per particle for a full step only: other spans take the count for
@@ -671,10 +718,18 @@ void FN(pfx_motion_advance)(const pfx_motion_plan *m, PFX_POOL *p, double t, dou
         R *X = p->px + i0, *Y = p->py + i0, *Z = p->pz + i0;
         R *U = p->vx + i0, *V = p->vy + i0, *W = p->vz + i0;
         if (by_radius)
-            FN(advance_by_radius)(m, p, i0, n, X, Y, Z, U, V, W, t, span, steps);
+            FN(advance_by_radius)(m, p, i0, n, X, Y, Z, U, V, W, t, span, steps, t_end);
         else
-            FN(run_block)(m, p, i0, n, X, Y, Z, U, V, W, t, h, steps);
+            FN(run_block)(m, p, i0, n, X, Y, Z, U, V, W, t, h, steps, t_end);
     }
+}
+
+void FN(pfx_motion_advance)(const pfx_motion_plan *m, PFX_POOL *p, double t, double span) {
+    FN(advance_to)(m, p, t, span, t + span);
+}
+
+void FN(pfx_motion_move)(const pfx_motion_plan *m, PFX_POOL *p, double t0, double t1) {
+    FN(advance_to)(m, p, t0, t1 - t0, t1);
 }
 
 void FN(pfx_motion_step)(const pfx_motion_plan *m, PFX_POOL *p, double t) {

@@ -60,11 +60,11 @@ CLONES static bool FN(radius_levels)(const pfx_motion_plan *m, const PFX_POOL *p
  * thread it is in. */
 static void FN(advance_by_radius)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n,
                                   R *X, R *Y, R *Z, R *U, R *V, R *W, double t, double span,
-                                  int steps) {
+                                  int steps, double t_end) {
     unsigned char lv[BLK];
     const int top = m->radius_top;
     if (!FN(radius_levels)(m, p, i0, n, X, Y, Z, U, V, W, lv)) { /* all at level 0 */
-        FN(run_split)(m, p, i0, n, X, Y, Z, U, V, W, t, span, 1);
+        FN(run_split)(m, p, i0, n, X, Y, Z, U, V, W, t, span, 1, t_end);
         return;
     }
     int lo = top, hi = 0;
@@ -86,7 +86,7 @@ static void FN(advance_by_radius)(const pfx_motion_plan *m, const PFX_POOL *p, s
             at[saved++] = (unsigned short)j;
         }
     const int n_lo = lo < top ? 1 << lo : steps;
-    FN(run_split)(m, p, i0, n, X, Y, Z, U, V, W, t, span / n_lo, n_lo);
+    FN(run_split)(m, p, i0, n, X, Y, Z, U, V, W, t, span / n_lo, n_lo, t_end);
     for (int k = lo + 1; k <= hi; k++) {
         size_t cnt = 0;
         unsigned short back[BLK];
@@ -100,7 +100,7 @@ static void FN(advance_by_radius)(const pfx_motion_plan *m, const PFX_POOL *p, s
             continue;
         PFX_POOL one = {.count = cnt, .gravity_scale = gs ? q[6] : NULL};
         const int nk = k < top ? 1 << k : steps;
-        FN(run_split)(m, &one, 0, cnt, q[0], q[1], q[2], q[3], q[4], q[5], t, span / nk, nk);
+        FN(run_split)(m, &one, 0, cnt, q[0], q[1], q[2], q[3], q[4], q[5], t, span / nk, nk, t_end);
         for (size_t s = 0; s < cnt; s++)
             for (int c = 0; c < 6; c++)
                 cols[c][back[s]] = q[c][s];

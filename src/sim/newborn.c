@@ -22,6 +22,8 @@ static void write_newborn(pfx_pool *p, uint32_t j, const birth_draws *b, uint64_
                           const pfx_parent *parent) {
     p->px[j] = (float)b->pos[0], p->py[j] = (float)b->pos[1], p->pz[j] = (float)b->pos[2];
     p->vx[j] = (float)b->vel[0], p->vy[j] = (float)b->vel[1], p->vz[j] = (float)b->vel[2];
+    if (p->ax) /* its partial step keeps none: the first full step evaluates it */
+        p->ax[j] = NAN;
     p->birth[j] = tb;
     p->lifetime[j] = (float)b->life;
     p->id[j] = (uint32_t)k;

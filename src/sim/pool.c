@@ -10,6 +10,7 @@
 
 #define STATE 1
 #define SCRATCH 0
+#define CARRY 2
 
 /* Bytes per particle of one element type, for the alignment classes. */
 #define COLUMN_BYTES(type) sizeof(type)
@@ -53,7 +54,7 @@ void pfx_pool_layout(pfx_pool *p, const pfx_emitter *em, void *block, uint32_t n
 
 void pfx_pool_move(pfx_pool *p, uint32_t to, uint32_t from) {
 #define MOVE(name, type, role, needed, what)                                                       \
-    if (role == STATE && p->name)                                                                  \
+    if (role != SCRATCH && p->name)                                                                \
         memcpy(&p->name[to], &p->name[from], sizeof(type));
     PFX_POOL_COLUMNS(MOVE)
 #undef MOVE
@@ -61,7 +62,7 @@ void pfx_pool_move(pfx_pool *p, uint32_t to, uint32_t from) {
 
 void pfx_pool_copy(pfx_pool *dst, const pfx_pool *src) {
 #define COPY(name, type, role, needed, what)                                                       \
-    if (role == STATE && src->name)                                                                \
+    if (role != SCRATCH && src->name)                                                              \
         memcpy(dst->name, src->name, sizeof(type) * (size_t)src->count);
     PFX_POOL_COLUMNS(COPY)
 #undef COPY

@@ -13,9 +13,11 @@ size_t pfx_pool_bytes(const pfx_emitter *em, uint32_t n);
 /* Points p's columns into block (8-byte aligned, pfx_pool_bytes long) for
  * n particles; columns em does not keep are NULL. Empties the pool. */
 void pfx_pool_layout(pfx_pool *p, const pfx_emitter *em, void *block, uint32_t n);
-/* Particle `from`'s state columns copied over particle `to` (swap-remove). */
+/* Particle `from`'s state and carried columns copied over particle `to`
+ * (swap-remove). */
 void pfx_pool_move(pfx_pool *p, uint32_t to, uint32_t from);
-/* src's live particles, state columns only, into dst (same emitter). */
+/* src's live particles, state and carried columns, into dst (same
+ * emitter). */
 void pfx_pool_copy(pfx_pool *dst, const pfx_pool *src);
 /* A view of p from index `from` on: the same columns, shifted. */
 pfx_pool pfx_pool_from(const pfx_pool *p, uint32_t from);

@@ -170,7 +170,10 @@ static void move_block(void *arg, size_t b) {
     bool bad;
     if (em->motion) {
         pfx_motion_pool_f view = pfx_step_motion_view(p, first, n);
-        pfx_motion_advance_f(&s->plans[j->emitter], &view, j->t0, j->span);
+        if (p->ax) { /* the carried accelerations: a full step, ending at t1 */
+            view.ax = p->ax + first, view.ay = p->ay + first, view.az = p->az + first;
+        }
+        pfx_motion_move_f(&s->plans[j->emitter], &view, j->t0, j->t1);
         pfx_bad_kind why;
         bad = pfx_motion_find_bad_f(&view, &why) != n;
     } else {
@@ -234,7 +237,8 @@ void pfx_step_collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t
                              .vz = p->vz + first,
                              .lifetime = p->lifetime + first,
                              .id = p->id + first,
-                             .stuck = p->stuck ? p->stuck + first : NULL};
+                             .stuck = p->stuck ? p->stuck + first : NULL,
+                             .ax = p->ax ? p->ax + first : NULL};
     hit_context hc = {s, i, first, t0};
     bool hits = em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_HIT);
     pfx_collide(em->deflectors, em->deflector_count, dt, &view, &st->collide_rng,
