@@ -9,6 +9,7 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <math.h>
 #include <png.h>
 #include <signal.h>
 #include <stdint.h>
@@ -629,6 +630,146 @@ static void test_queue_converts(void) {
     check_entries(test_dir, 0);
 }
 
+/* ---- The float-to-byte conversion against its formula ----
+ * render/convert.c converts four pixels at a time in vector lanes; its
+ * contract (the comment at its top) is restated here one pixel at a time,
+ * plainly, and the two must give the same bytes on values of every kind:
+ * zero and -0, NaN and infinities, negatives, above 1, random bit patterns,
+ * pixels equal to the background, boxes of every width (so runs end at any
+ * lane), every tone curve, both alpha modes, dither on and off. */
+static double spec_curve(const pfx_tone *t, double x) {
+    x *= exp2(t->exposure);
+    if (t->tonemap == PFX_TONEMAP_REINHARD)
+        return x > 0 ? x / (1 + x) : 0;
+    if (t->tonemap == PFX_TONEMAP_ACES) {
+        if (!(x > 0))
+            return 0;
+        double y = x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14);
+        return y < 1 ? y : 1;
+    }
+    return x;
+}
+
+static int spec_byte(double x) {
+    if (!(x > 0))
+        return 0;
+    if (x >= 1)
+        return 255;
+    double y = 255.0 * x;
+    int t = (int)y;
+    return y - t >= 0.5 ? t + 1 : t; /* lround(255 x): half away from zero */
+}
+
+static double spec_dither(int x, int y, int c) {
+    uint32_t h = (uint32_t)x * 0x8da6b343u ^ (uint32_t)y * 0xd8163841u ^ (uint32_t)c * 0xcb1ab31fu;
+    h ^= h >> 15;
+    h *= 0x2c1b3c6du;
+    h ^= h >> 12;
+    h *= 0x297a2d39u;
+    h ^= h >> 15;
+    return ((double)(h >> 8) / 16777216.0 - 0.5) / 255.0;
+}
+
+static void spec_pixel(const pfx_tone *t, const float src[4], const float clear[4], int x, int y,
+                       bool background, uint8_t out[4]) {
+    memset(out, 0, 4);
+    uint32_t bits[4];
+    memcpy(bits, src, sizeof bits);
+    if ((bits[0] | bits[1] | bits[2] | bits[3]) == 0)
+        return;
+    const bool plain = t->exposure == 0 && t->tonemap == PFX_TONEMAP_NONE;
+    double p[4] = {src[0], src[1], src[2], src[3]};
+    for (int c = 0; c < 3 && !plain; c++)
+        p[c] = spec_curve(t, p[c]);
+    if (t->alpha == PFX_ALPHA_STRAIGHT) {
+        double ap = p[3];
+        for (int c = 0; c < 3; c++)
+            ap = (p[c] > ap || ap != ap) ? p[c] : ap; /* max, NaN giving way */
+        ap = ap > 1 ? 1 : ap;
+        if (!(ap > 0))
+            return;
+        for (int c = 0; c < 3; c++)
+            p[c] /= ap;
+        p[3] = ap;
+    }
+    const bool dither = t->dither && !background && memcmp(src, clear, 16) != 0;
+    for (int c = 0; c < 4; c++)
+        out[c] = (uint8_t)spec_byte(dither ? p[c] + spec_dither(x, y, c) : p[c]);
+}
+
+static float odd_value(uint64_t *s) {
+    *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
+    const uint32_t r = (uint32_t)(*s >> 33);
+    switch (r % 11) {
+    case 0:
+        return 0.0f;
+    case 1:
+        return -0.0f;
+    case 2:
+        return NAN;
+    case 3:
+        return (r & 64) ? INFINITY : -INFINITY;
+    case 4:
+        return -(float)(r % 1000) / 100.0f;
+    case 5:
+        return (float)(r % 256) / 255.0f; /* on a byte step */
+    case 6:
+        return (float)(r % 100000) / 1000.0f; /* up to 100 */
+    case 7: {
+        float f;
+        memcpy(&f, &r, sizeof f); /* any bit pattern */
+        return f;
+    }
+    default:
+        return (float)(r % 1000003) / 1000003.0f;
+    }
+}
+
+static void test_conversion_formula(void) {
+    uint64_t seed = 12345;
+    long differ = 0, bytes = 0;
+    for (int trial = 0; trial < 300; trial++) {
+        const int w = 9 + trial % 23, h = 4 + trial % 5;
+        const int x0 = trial % 3, x1 = x0 + 1 + (trial * 7) % (w - x0), y0 = trial % 2, y1 = h - 1;
+        const int bw = x1 - x0, bh = y1 - y0;
+        float *box = malloc(sizeof(float) * 4 * (size_t)(bw * bh));
+        float clear[4];
+        for (int c = 0; c < 4; c++)
+            clear[c] = trial % 3 == 0 ? 0.0f : (float)((trial * 31 + c * 17) % 100) / 100.0f;
+        for (int i = 0; i < bw * bh; i++) {
+            for (int c = 0; c < 4; c++)
+                box[4 * i + c] = odd_value(&seed);
+            if (seed % 5 == 0)
+                memset(box + 4 * i, 0, 16);
+            else if (seed % 7 == 0)
+                memcpy(box + 4 * i, clear, 16);
+        }
+        const pfx_tone tone = {.exposure = trial % 4 == 0 ? 0 : (trial % 9) / 2.0 - 2,
+                               .tonemap = (pfx_tonemap)(trial % 3),
+                               .alpha = trial % 2 ? PFX_ALPHA_PREMULTIPLIED : PFX_ALPHA_STRAIGHT,
+                               .dither = trial % 5 != 0};
+        pfx_float_image img = {
+            .width = w, .height = h, .x0 = x0, .y0 = y0, .x1 = x1, .y1 = y1, .pixels = box};
+        memcpy(img.clear, clear, sizeof clear);
+        uint8_t *got = malloc((size_t)(4 * w * h));
+        pfx_float_image_to_rgba8(&img, &tone, got);
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++) {
+                const int gl_y = h - 1 - y;
+                const bool in = x >= x0 && x < x1 && gl_y >= y0 && gl_y < y1;
+                const float *src = in ? box + 4 * ((gl_y - y0) * bw + (x - x0)) : clear;
+                uint8_t want[4];
+                spec_pixel(&tone, src, clear, x, y, !in, want);
+                differ += memcmp(want, got + 4 * (y * w + x), 4) != 0;
+                bytes += 4;
+            }
+        free(got);
+        free(box);
+    }
+    fprintf(stderr, "  %ld of %ld pixels differ from the formula\n", differ, bytes / 4);
+    CHECK(differ == 0);
+}
+
 int main(void) {
     const char *tmp = getenv("TMPDIR");
     snprintf(test_dir, sizeof test_dir, "%s/pfx_test_png_XXXXXX", tmp && *tmp ? tmp : "/tmp");
@@ -651,6 +792,7 @@ int main(void) {
     RUN(test_queue_first_error);
     RUN(test_queue_empty);
     RUN(test_queue_converts);
+    RUN(test_conversion_formula);
     remove_dir(test_dir);
     return TEST_EXIT();
 }
