@@ -69,9 +69,11 @@ static void estimate_drawing(const pfx_effect *e, unsigned what, double image, p
         (PFX_RENDER_CHUNK + fmin(sprites, 3.0 * PFX_RENDER_CHUNK)) * sizeof(pfx_sprite);
     /* render/sort.c: keys and indices (double buffered) and the radix
      * blocks' histograms, grown by doubling; the sprites are made in
-     * sorted order, never copied. */
+     * sorted order, never copied. It stops growing at PFX_SORT_BATCH
+     * sprites (more are sorted in batches), so it is a fixed amount. */
     if (pfx_sprites_need_sort(e))
         out->bytes[PFX_MEMORY_SORT] = (double)pfx_renderer_sort_bytes((size_t)sprites);
+    *fixed += out->bytes[PFX_MEMORY_SORT];
     out->bytes[PFX_MEMORY_RIBBONS] = (double)pfx_ribbons_bytes(e);
     /* What Mesa keeps of the chunks in flight, and of the ribbons'
      * single draw: see PFX_RENDER_DRIVER_BYTES_PER_SPRITE. */

@@ -249,6 +249,8 @@ pfx_renderer *pfx_renderer_create(pfx_renderer_kind kind, int width, int height,
         return NULL;
     }
     pfx_renderer *r = calloc(1, sizeof *r);
+    if (r)
+        r->sort_batch = PFX_SORT_BATCH;
     float *pixels = malloc((size_t)width * (size_t)height * 4 * sizeof(float));
     pfx_sprite *chunk = malloc(PFX_RENDER_CHUNK * sizeof *chunk);
     if (!r || !pixels || !chunk) {
@@ -316,6 +318,7 @@ void pfx_renderer_destroy(pfx_renderer *r) {
     free(r->chunk);
     free(r->mv_pixels);
     free(r->hist);
+    free(r->select_hist);
     pfx_workers_destroy(r->workers);
     free(r);
 }
@@ -525,36 +528,56 @@ void pfx_render_chunks_end(pfx_renderer *r, GLsync fences[2]) {
             r->gl.DeleteSync(fences[i]);
 }
 
-/* The sprites a chunk at a time, in `order` (NULL: the source's): made
- * into r->chunk, bounded, uploaded (glBufferData orphans the previous
- * chunk's store, so the driver never waits on it) and drawn. A frame of
- * one chunk is drawn as before; with more, each chunk is flushed to the
- * rasteriser and at most two are in flight (pfx_render_chunk_done), so the
- * driver's binned triangles are bounded by the chunk, not the frame. */
-static void submit_sprites(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
-                           const pfx_sprite_source *src, const uint32_t *order, pfx_bounds *b) {
+/* Sprites [0, n) of `order` (NULL: the source's own), a chunk at a time:
+ * made into r->chunk, bounded, uploaded (glBufferData orphans the previous
+ * chunk's store, so the driver never waits on it) and drawn. Each chunk
+ * but the frame's last is flushed to the rasteriser, and at most two are in
+ * flight (pfx_render_chunk_done), so the driver's binned triangles are
+ * bounded by the chunk, not the frame. *k counts the frame's chunks. */
+static void draw_chunks(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
+                        const pfx_sprite_source *src, const uint32_t *order, size_t n, bool last,
+                        size_t *k, GLsync fences[2], pfx_bounds *b) {
+    for (size_t first = 0; first < n; first += PFX_RENDER_CHUNK, ++*k) {
+        const size_t m = n - first < PFX_RENDER_CHUNK ? n - first : PFX_RENDER_CHUNK;
+        pfx_sort_make(r, src, order ? order + first : NULL, order ? 0 : first,
+                      order ? m : first + m, r->chunk);
+        pfx_bounds chunk = pfx_bounds_empty();
+        pfx_bounds_sprites(r, v, r->chunk, m, &chunk);
+        pfx_bounds_merge(b, &chunk);
+        pfx_bounds_scissor(r, &chunk);
+        r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(m * sizeof *r->chunk), r->chunk,
+                         GL_STREAM_DRAW);
+        draw_runs(r, v, s, r->chunk, m);
+        if (!last || first + m < n)
+            pfx_render_chunk_done(r, fences, *k);
+    }
+}
+
+/* The sprites, in the depth sort's batches when `sort` (render/sort.c). */
+static bool submit_sprites(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
+                           const pfx_sprite_source *src, bool sort, pfx_bounds *b, pfx_diags *d) {
     const size_t count = src->count;
     if (count == 0)
-        return;
+        return true;
     r->gl.BindVertexArray(r->vao);
     r->gl.BindBuffer(GL_ARRAY_BUFFER, r->instance_vbo);
     GLsync fences[2] = {NULL, NULL};
-    for (size_t first = 0, k = 0; first < count; first += PFX_RENDER_CHUNK, k++) {
-        const size_t n = count - first < PFX_RENDER_CHUNK ? count - first : PFX_RENDER_CHUNK;
-        pfx_sort_make(r, src, order, first, first + n, r->chunk);
-        pfx_bounds chunk = pfx_bounds_empty();
-        pfx_bounds_sprites(r, v, r->chunk, n, &chunk);
-        pfx_bounds_merge(b, &chunk);
-        pfx_bounds_scissor(r, &chunk);
-        r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(n * sizeof *r->chunk), r->chunk,
-                         GL_STREAM_DRAW);
-        draw_runs(r, v, s, r->chunk, n);
-        if (first + n < count)
-            pfx_render_chunk_done(r, fences, k);
+    size_t k = 0;
+    bool ok = true;
+    if (!sort || count < 2) {
+        draw_chunks(r, v, s, src, NULL, count, true, &k, fences, b);
+    } else {
+        pfx_sort_cursor c;
+        pfx_sort_begin(&c, v, src);
+        const uint32_t *order;
+        size_t n;
+        while ((ok = pfx_sort_next(r, &c, &order, &n, d)) && n > 0)
+            draw_chunks(r, v, s, src, order, n, c.done == count, &k, fences, b);
     }
     pfx_render_chunks_end(r, fences);
     r->gl.Disable(GL_SCISSOR_TEST);
     point_instances(r, 0);
+    return ok;
 }
 
 /* Sorts, draws and reads back the box the sprites touch into dst
@@ -573,9 +596,6 @@ static bool render_float(pfx_renderer *r, const pfx_camera *cam, const pfx_rende
     pfx_view v;
     if (!camera_matrices(cam, r->width, r->height, &v, d) || !make_current(r, d))
         return false;
-    const uint32_t *order = NULL;
-    if (sort && count > 1 && !(order = pfx_sort_order(r, &v, src, d)))
-        return false;
     float clear[4];
     clear_colour(s, clear);
     clear_dirty(r, clear);
@@ -584,7 +604,8 @@ static bool render_float(pfx_renderer *r, const pfx_camera *cam, const pfx_rende
     pfx_bounds_scissor(r, &b);
     submit_ribbons(r, &v, ribbons);
     r->gl.Disable(GL_SCISSOR_TEST);
-    submit_sprites(r, &v, s, src, order, &b);
+    if (!submit_sprites(r, &v, s, src, sort, &b, d))
+        return false;
     *box = pfx_bounds_box(r, &b);
     if (box->x1 > box->x0)
         r->gl.ReadPixels(box->x0, box->y0, box->x1 - box->x0, box->y1 - box->y0, GL_RGBA, GL_FLOAT,
@@ -746,6 +767,10 @@ bool pfx_renderer_set_threads(pfx_renderer *r, int threads, pfx_diags *d) {
         return false;
     }
     return true;
+}
+
+void pfx_renderer_set_sort_batch(pfx_renderer *r, size_t batch) {
+    r->sort_batch = batch < 1 ? 1 : batch > PFX_SORT_BATCH ? PFX_SORT_BATCH : batch;
 }
 
 bool pfx_renderer_sort(pfx_renderer *r, const pfx_camera *cam, pfx_sprite *sprites, size_t count,

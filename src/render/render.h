@@ -265,11 +265,24 @@ bool pfx_renderer_sort(pfx_renderer *r, const pfx_camera *cam, pfx_sprite *sprit
  * beyond the first (measured with four emitters of different looks). */
 #define PFX_RENDER_DRIVER_BYTES_PER_TEXTURED (16.0 * 1024 * 1024)
 
+/* Sprites the depth sort sorts at once: a frame with more is sorted in
+ * batches of this many (render/sort.c), each found by a radix select over
+ * the keys (five more passes over them), so the sort's memory stops
+ * growing here: 64 MiB of keys and positions, and 2 MiB of histograms. */
+#define PFX_SORT_BATCH ((size_t)1 << 22)
+
 /* Bytes of sort scratch a renderer holds once it has drawn `count` sorted
  * sprites (two key and two index arrays, the histograms: 16 bytes a sprite
- * and 1 KiB a 64 Ki block; the sorted sprites are made a chunk at a time,
- * never copied whole): the memory estimate's share for the sort. */
+ * and 1 KiB a 64 Ki block, for at most PFX_SORT_BATCH sprites, and the
+ * batches' histograms beyond that; the sorted sprites are made a chunk at
+ * a time, never copied whole): the memory estimate's share for the sort,
+ * which no count takes past about 66 MiB. */
 size_t pfx_renderer_sort_bytes(size_t count);
+
+/* Sorts at most `batch` sprites at once from now on (at least 1; larger
+ * than PFX_SORT_BATCH is not allowed): for the tests, which check that
+ * batches give the order of one sort. */
+void pfx_renderer_set_sort_batch(pfx_renderer *r, size_t batch);
 
 /* The reference the pfx bench measures full rendering against: `frames`
  * times clears, uploads the sprites, makes the one instanced draw, glFinish

@@ -129,13 +129,15 @@ struct pfx_renderer {
     size_t material_count;
     float *pixels; /* width * height * 4 floats read back from the FBO */
     float *blur;   /* motion blur: the weighted sum of full float images */
-    /* Sort scratch, grown to the largest count seen: two key and two index
-     * arrays for the radix ping-pong and the radix blocks' histograms
-     * (render/sort.c). `sorted` is pfx_renderer_sort's copy alone (pfx
+    /* Sort scratch, grown to the largest count seen, up to sort_batch: two
+     * key and two index arrays for the radix ping-pong and the radix
+     * blocks' histograms (render/sort.c). `sorted` is pfx_renderer_sort's copy alone (pfx
      * bench): drawing makes the sorted sprites a chunk at a time. */
     size_t scratch_cap;
     uint32_t *keys;
     uint32_t *index;
+    size_t sort_batch;     /* sprites sorted at once (PFX_SORT_BATCH): the scratch's limit */
+    uint32_t *select_hist; /* the batches' selection histograms, when a source has more */
     pfx_sprite *sorted;
     size_t sorted_cap;
     /* The sprites of one draw chunk, made from the source, then uploaded
@@ -226,11 +228,22 @@ void pfx_render_point_instances(pfx_renderer *r, size_t first);
 bool pfx_shader_build_ribbon(pfx_renderer *r, pfx_diags *d);
 
 /* render/sort.c: the back-to-front order of the source's sprites by view
- * depth, stable (LSD radix on float keys, over r->workers): src->count
- * sprite positions in r's scratch, valid until the next sort. NULL with an
- * error when the scratch cannot grow or the count does not fit 32 bits. */
-const uint32_t *pfx_sort_order(pfx_renderer *r, const pfx_view *v, const pfx_sprite_source *src,
-                               pfx_diags *d);
+ * depth, stable (LSD radix on float keys, over r->workers), given out in
+ * batches of at most r->sort_batch: pfx_sort_begin, then pfx_sort_next
+ * until it gives n = 0. Each batch is the next stretch of the one stable
+ * order: order[0, n) are sprite positions in the source, in r's scratch,
+ * valid until the next call. false with an error when the scratch cannot
+ * grow or the count does not fit 32 bits. */
+typedef struct pfx_sort_cursor {
+    const pfx_sprite_source *src;
+    double f[3], e[3]; /* the camera's forward axis and eye */
+    size_t done;       /* sprites given out */
+    bool started;      /* a batch was given; (k_last, i_last) is its last */
+    uint32_t k_last, i_last;
+} pfx_sort_cursor;
+void pfx_sort_begin(pfx_sort_cursor *c, const pfx_view *v, const pfx_sprite_source *src);
+bool pfx_sort_next(pfx_renderer *r, pfx_sort_cursor *c, const uint32_t **order, size_t *n,
+                   pfx_diags *d);
 /* render/render.c: keeps at most two chunks of sprites in the driver's
  * hands: after chunk k is drawn, fences it and flushes, and first waits
  * for chunk k - 2 (fences[k % 2]). pfx_render_chunks_end drops what is

@@ -89,10 +89,19 @@ static void test_render_parts(void) {
         cap *= 2;
     CHECK_NEAR(est.bytes[PFX_MEMORY_SORT], cap * 16.0 + ((cap + 65535) / 65536 + 1) * 256 * 4, 0);
     CHECK(est.bytes[PFX_MEMORY_SORT] < (particles + 1) * 33);
-    /* What does not grow with the particles: the sprite chunk, the
-     * driver's chunks, the framebuffers; the bound adds it to 2 x pools
-     * and the encoders. */
-    CHECK_NEAR(est.fixed_bytes, 4 * 4096 * 64 + 4 * 4096 * 2048.0 + 2.0 * 512 * 512 * 16, 0);
+    /* Past PFX_SORT_BATCH sprites the sort works in batches: its scratch
+     * stops at 2^22 sprites' keys and positions (64 MiB), their
+     * histograms, and the batches' 256 x 2048 selection histograms. */
+    CHECK(PFX_SORT_BATCH == (size_t)1 << 22);
+    const double top = (double)(1 << 22) * 16 + (64 + 1) * 256 * 4 + 256 * 2048 * 4;
+    CHECK_NEAR((double)pfx_renderer_sort_bytes(PFX_SORT_BATCH + 1), top, 0);
+    CHECK_NEAR((double)pfx_renderer_sort_bytes((size_t)1 << 30), top, 0);
+    /* What does not grow with the particles past a point: the sprite
+     * chunk, the driver's chunks, the framebuffers and the sort; the bound
+     * adds it to 2 x pools and the encoders. */
+    CHECK_NEAR(
+        est.fixed_bytes,
+        4 * 4096 * 64 + 4 * 4096 * 2048.0 + 2.0 * 512 * 512 * 16 + est.bytes[PFX_MEMORY_SORT], 0);
     CHECK_NEAR(est.bound_bytes,
                2 * est.bytes[PFX_MEMORY_POOLS] + est.fixed_bytes + encoders * per_thread, 0);
     CHECK_NEAR(est.sprites, 3 * particles, 0);
