@@ -361,10 +361,14 @@ void pfx_curl_noise_f(size_t n, const float *x, const float *y, const float *z, 
     *why = PFX_BAD_NONE;                                                                           \
     return p->count;
 
-size_t pfx_motion_find_bad_f(const pfx_motion_pool_f *p,
-                             pfx_bad_kind *why){FIND_BAD(float, fabsf)} size_t
-    pfx_motion_find_bad_d(const pfx_motion_pool_d *p, pfx_bad_kind *why) {
-    FIND_BAD(double, fabs)
+/* PFX_CLONES: the float scan, run after every block of every step, in
+ * AVX2 too. */
+PFX_CLONES size_t pfx_motion_find_bad_f(const pfx_motion_pool_f *p, pfx_bad_kind *why) {
+    FIND_BAD(float, fabsf);
+}
+
+size_t pfx_motion_find_bad_d(const pfx_motion_pool_d *p, pfx_bad_kind *why) {
+    FIND_BAD(double, fabs);
 }
 
 void pfx_motion_blame(const pfx_motion *m, pfx_bad_kind why, char *buf, size_t size) {

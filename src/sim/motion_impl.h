@@ -516,8 +516,8 @@ static void FN(step_split)(BLOCK_ARGS, double t_close) {
     }
 }
 
-static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, R *U, R *V, R *W,
-                          double h);
+CLONES static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, R *U, R *V,
+                                 R *W, double h);
 
 /* The time substep s of `steps` starts at: t + s h, and the last one ends
  * at t_end exactly (the caller's end of the step, which is the next step's
@@ -582,8 +582,8 @@ CLONES static void FN(run_split_carried)(const pfx_motion_plan *m, const PFX_POO
  * each (sub)step: the Sims vortex turns the position about its axis by
  * strength f(r) h (and pulls it in by inflow f(r) h); the spiral turns the
  * velocity by rate h (Rodrigues); speed_limit scales |v| down. */
-static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, R *U, R *V, R *W,
-                          double h) {
+CLONES static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, R *U, R *V,
+                                 R *W, double h) {
     R w[BLK];
     for (size_t f = 0; f < m->force_count; f++) {
         const pfx_motion_force *F = &m->forces[f];

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "base/clones.h"
 #include "base/workers.h"
 #include "sim/pool.h"
 #include "sim/spawn.h"
@@ -141,8 +142,9 @@ typedef struct move_job {
 
 /* Whether particles [first, first + n) hold one dead at t1 (age >=
  * lifetime): the test of pfx_step_kill_expired, branch-free so that it
- * vectorises. */
-static bool block_has_death(const pfx_pool *p, uint32_t first, uint32_t n, double t1) {
+ * vectorises (the baseline x86-64 build does not: the float lifetimes'
+ * widening to double needs AVX, hence the clone). */
+PFX_CLONES static bool block_has_death(const pfx_pool *p, uint32_t first, uint32_t n, double t1) {
     const double *birth = p->birth + first;
     const float *lifetime = p->lifetime + first;
     int dead = 0;
