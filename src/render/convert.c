@@ -244,9 +244,11 @@ static inline __attribute__((always_inline)) void convert4(const tone *t, const 
     for (int c = 0; c < 4; c++) {
         const v4d v = select4(dither, p[c] + dither4(x, y, c), p[c]);
         const v4d b = select4(zero, splat4(0), to_bytes4(v));
-        word |= (v4u) __builtin_convertvector(b, v4i) << (8 * c);
+        /* byte c of each pixel's word in memory is channel c */
+        const int shift = __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__ ? 8 * c : 24 - 8 * c;
+        word |= (v4u) __builtin_convertvector(b, v4i) << shift;
     }
-    memcpy(dst, &word, sizeof word); /* little-endian: byte c of each word is channel c */
+    memcpy(dst, &word, sizeof word);
 }
 
 /* Pixels [from, to) of row y (top first) from src, the box's row, four at a

@@ -141,6 +141,8 @@ typedef struct select_job {
     uint32_t pivot;        /* count, gather: the batch's last key */
     size_t below[SELECT_BLOCKS], equal[SELECT_BLOCKS];  /* count: per block */
     size_t offset[SELECT_BLOCKS], quota[SELECT_BLOCKS]; /* gather: per block */
+    size_t end[SELECT_BLOCKS]; /* gather: where the block's share ends (a guard: the keys are
+                                  the same on every pass, so it is never reached early) */
 } select_job;
 
 /* Whether sprite i, of key k, is still to be given out: after the last
@@ -173,7 +175,8 @@ static void select_block(void *ctx, size_t b) {
             } else if (j->kind == PASS_COUNT) {
                 below += key[k] < j->pivot;
                 equal += key[k] == j->pivot;
-            } else if (key[k] < j->pivot || (key[k] == j->pivot && quota > 0)) {
+            } else if ((key[k] < j->pivot || (key[k] == j->pivot && quota > 0)) &&
+                       out < j->end[b]) {
                 quota -= key[k] == j->pivot;
                 j->r->keys[out] = key[k];
                 j->r->index[out++] = (uint32_t)(at + k);
@@ -225,6 +228,7 @@ static void gather_batch(pfx_renderer *r, const pfx_sort_cursor *c, size_t want)
         j->quota[b] = j->equal[b] < ties ? j->equal[b] : ties;
         ties -= j->quota[b];
         at += j->below[b] + j->quota[b];
+        j->end[b] = at;
     }
     run_pass(j, PASS_GATHER);
 }
@@ -259,7 +263,7 @@ bool pfx_sort_next(pfx_renderer *r, pfx_sort_cursor *c, const uint32_t **order, 
         *n = left < r->sort_batch ? left : r->sort_batch;
         if (*n == left) { /* the last batch: every remaining sprite */
             select_job j = {.r = r, .c = c, .blocks = 1, .pivot = UINT32_MAX};
-            j.quota[0] = left;
+            j.quota[0] = j.end[0] = left;
             j.kind = PASS_GATHER;
             select_block(&j, 0);
         } else {
