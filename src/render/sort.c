@@ -192,9 +192,10 @@ static void run_pass(select_job *j, pass_kind kind) {
     pfx_workers_run(j->r->workers, j->blocks, select_block, j);
 }
 
-/* Gathers the next `want` sprites of the stable order (want < the number
- * remaining) into r->keys and r->index, in source order. */
-static void gather_batch(pfx_renderer *r, const pfx_sort_cursor *c, size_t want) {
+/* Gathers the next `want` sprites of the stable order into r->keys and
+ * r->index, in source order: with `all`, every remaining one (want is the
+ * number remaining). */
+static void gather_batch(pfx_renderer *r, const pfx_sort_cursor *c, size_t want, bool all) {
     select_job job = {.r = r, .c = c}, *j = &job;
     const size_t blocks = (c->src->count + PFX_RADIX_BLOCK - 1) / PFX_RADIX_BLOCK;
     j->blocks = blocks < SELECT_BLOCKS ? blocks : SELECT_BLOCKS;
@@ -202,7 +203,7 @@ static void gather_batch(pfx_renderer *r, const pfx_sort_cursor *c, size_t want)
      * key order, reach `want`, a digit at a time from the top. */
     static const unsigned shifts[3] = {21, 10, 0}, widths[3] = {11, 11, 10};
     size_t before = 0; /* remaining sprites with keys below the prefix's range */
-    for (int level = 0; level < 3; level++) {
+    for (int level = 0; level < 3 && !all; level++) {
         j->shift = shifts[level];
         j->bins = 1u << widths[level];
         run_pass(j, PASS_HISTOGRAM);
@@ -220,8 +221,11 @@ static void gather_batch(pfx_renderer *r, const pfx_sort_cursor *c, size_t want)
     }
     /* Everything below the pivot key, then the first of its ties in source
      * order: each block's place and share, in block order. */
-    j->pivot = j->prefix;
+    j->pivot = all ? UINT32_MAX : j->prefix;
     run_pass(j, PASS_COUNT);
+    before = 0;
+    for (size_t b = 0; b < j->blocks; b++)
+        before += j->below[b];
     size_t at = 0, ties = want - before;
     for (size_t b = 0; b < j->blocks; b++) {
         j->offset[b] = at;
@@ -261,14 +265,7 @@ bool pfx_sort_next(pfx_renderer *r, pfx_sort_cursor *c, const uint32_t **order, 
         *n = count;
     } else {
         *n = left < r->sort_batch ? left : r->sort_batch;
-        if (*n == left) { /* the last batch: every remaining sprite */
-            select_job j = {.r = r, .c = c, .blocks = 1, .pivot = UINT32_MAX};
-            j.quota[0] = j.end[0] = left;
-            j.kind = PASS_GATHER;
-            select_block(&j, 0);
-        } else {
-            gather_batch(r, c, *n);
-        }
+        gather_batch(r, c, *n, *n == left);
     }
     *order = radix(r, *n);
     /* The batch's last sprite: where the next one starts. */
