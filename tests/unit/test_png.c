@@ -120,6 +120,17 @@ static bool file_exists(const char *path) {
     return stat(path, &st) == 0;
 }
 
+/* Checks that the PNG at path reads back as the w x h RGBA image want. */
+static void check_reads_back(const char *path, const uint8_t *want, int w, int h) {
+    int rw = 0, rh = 0;
+    uint8_t *back = pfx_png_read(path, &rw, &rh);
+    CHECK(back != NULL);
+    CHECK(rw == w && rh == h);
+    if (back != NULL && rw == w && rh == h)
+        CHECK(memcmp(back, want, (size_t)w * h * 4) == 0);
+    free(back);
+}
+
 /* Removes the regular files in dir, then dir itself. */
 static void remove_dir(const char *dir) {
     DIR *d = opendir(dir);
@@ -145,15 +156,9 @@ static void test_round_trip(void) {
     char err[512] = "";
     CHECK(write_png(path, rgba, w, h, err));
     CHECK(err[0] == '\0');
-    int rw = 0, rh = 0;
-    uint8_t *back = pfx_png_read(path, &rw, &rh);
-    CHECK(back != NULL);
-    CHECK(rw == w && rh == h);
-    if (back != NULL && rw == w && rh == h)
-        CHECK(memcmp(back, rgba, (size_t)w * h * 4) == 0);
+    check_reads_back(path, rgba, w, h);
     /* Only the file itself: the temporary was renamed, not copied. */
     check_entries(test_dir, 1);
-    free(back);
     free(rgba);
     unlink(path);
 }
@@ -177,12 +182,7 @@ static void test_round_trip_edges(void) {
             }
             err[0] = '\0';
             CHECK(write_png(path, rgba, w, h, err));
-            int rw = 0, rh = 0;
-            uint8_t *back = pfx_png_read(path, &rw, &rh);
-            CHECK(back != NULL && rw == w && rh == h);
-            if (back != NULL && rw == w && rh == h)
-                CHECK(memcmp(back, rgba, n) == 0);
-            free(back);
+            check_reads_back(path, rgba, w, h);
         }
         free(rgba);
     }
@@ -235,12 +235,7 @@ static void test_round_trip_split_idat(void) {
     if (chunks == 5)
         CHECK(!strcmp(types[0], "IHDR") && !strcmp(types[1], "IDAT") && !strcmp(types[3], "IDAT") &&
               !strcmp(types[4], "IEND"));
-    int rw = 0, rh = 0;
-    uint8_t *back = pfx_png_read(path, &rw, &rh);
-    CHECK(back != NULL && rw == w && rh == h);
-    if (back != NULL && rw == w && rh == h)
-        CHECK(memcmp(back, rgba, n) == 0);
-    free(back);
+    check_reads_back(path, rgba, w, h);
     free(rgba);
     unlink(path);
 }
@@ -512,12 +507,7 @@ static void queue_frames(int encoders) {
     CHECK(finish_queue(q, err));
     CHECK(err[0] == '\0');
     for (int i = 0; i < frames; i++) {
-        int rw = 0, rh = 0;
-        uint8_t *back = pfx_png_read(path[i], &rw, &rh);
-        CHECK(back != NULL && rw == w && rh == h);
-        if (back != NULL && rw == w && rh == h)
-            CHECK(memcmp(back, sent[i], (size_t)w * h * 4) == 0);
-        free(back);
+        check_reads_back(path[i], sent[i], w, h);
         free(sent[i]);
         unlink(path[i]);
     }
