@@ -20,6 +20,8 @@ import sys
 
 import jsonschema
 
+from rule_list import read_rules
+
 schema_path, log_path, rules_path, text_path, *files = sys.argv[1:]
 schema = json.load(open(schema_path, encoding="utf-8"))
 raw = open(log_path, "rb").read()
@@ -44,12 +46,7 @@ if driver.get("name") != "pfx" or not driver.get("version"):
     bad.append(f"driver {driver.get('name')!r} {driver.get('version')!r}")
 
 # The rules: exactly --list-rules, in its order.
-listed = []
-for line in open(rules_path, encoding="utf-8").read().splitlines():
-    m = re.fullmatch(r"(PFX\d{4})  +(error|warning|note)  +([a-z0-9-]+)  +(\S.*)", line)
-    if not m:
-        sys.exit(f"--list-rules line does not parse: {line!r}")
-    listed.append(m.groups())
+listed = read_rules(rules_path)
 rules = driver.get("rules", [])
 got_rules = [(r["id"], r["defaultConfiguration"]["level"], r["name"], r["shortDescription"]["text"])
              for r in rules]

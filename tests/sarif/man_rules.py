@@ -14,14 +14,11 @@ import re
 import sys
 import textwrap
 
+from rule_list import read_rules
+
 update = sys.argv[1] == "--update"
 rules_path, man_path = sys.argv[2:4] if update else sys.argv[1:3]
-rules = []
-for line in open(rules_path, encoding="utf-8").read().splitlines():
-    m = re.fullmatch(r"(PFX\d{4})  +(error|warning|note)  +([a-z0-9-]+)  +(\S.*)", line)
-    if not m:
-        sys.exit(f"--list-rules line does not parse: {line!r}")
-    rules.append(m.groups())
+rules = read_rules(rules_path)
 if not rules:
     sys.exit("--list-rules printed no rules")
 
