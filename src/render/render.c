@@ -539,8 +539,7 @@ static void draw_chunks(pfx_renderer *r, const pfx_view *v, const pfx_render_set
                         size_t *k, GLsync fences[2], pfx_bounds *b) {
     for (size_t first = 0; first < n; first += PFX_RENDER_CHUNK, ++*k) {
         const size_t m = n - first < PFX_RENDER_CHUNK ? n - first : PFX_RENDER_CHUNK;
-        pfx_sort_make(r, src, order ? order + first : NULL, order ? 0 : first,
-                      order ? m : first + m, r->chunk);
+        pfx_sort_make(r, src, order, first, first + m, r->chunk);
         pfx_bounds chunk = pfx_bounds_empty();
         pfx_bounds_sprites(r, v, r->chunk, m, &chunk);
         pfx_bounds_merge(b, &chunk);
