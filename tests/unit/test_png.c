@@ -621,43 +621,43 @@ static void test_queue_converts(void) {
 }
 
 /* ---- The float-to-byte conversion against its formula ----
- * render/convert.c converts four pixels at a time in vector lanes; its
+ * render/convert.c converts eight pixels at a time in vector lanes; its
  * contract (the comment at its top) is restated here one pixel at a time,
  * plainly, and the two must give the same bytes on values of every kind:
  * zero and -0, NaN and infinities, negatives, above 1, random bit patterns,
  * pixels equal to the background, boxes of every width (so runs end at any
  * lane), every tone curve, both alpha modes, dither on and off. */
-static double spec_curve(const pfx_tone *t, double x) {
-    x *= exp2(t->exposure);
+static float spec_curve(const pfx_tone *t, float x) {
+    x *= (float)exp2(t->exposure);
     if (t->tonemap == PFX_TONEMAP_REINHARD)
-        return x > 0 ? x / (1 + x) : 0;
+        return x > 0 ? (x < INFINITY ? x / (1 + x) : 1) : 0;
     if (t->tonemap == PFX_TONEMAP_ACES) {
         if (!(x > 0))
             return 0;
-        double y = x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14);
+        float y = x * (2.51f * x + 0.03f) / (x * (2.43f * x + 0.59f) + 0.14f);
         return y < 1 ? y : 1;
     }
     return x;
 }
 
-static int spec_byte(double x) {
+static int spec_byte(float x) {
     if (!(x > 0))
         return 0;
     if (x >= 1)
         return 255;
-    double y = 255.0 * x;
+    float y = 255.0f * x;
     int t = (int)y;
-    return y - t >= 0.5 ? t + 1 : t; /* lround(255 x): half away from zero */
+    return y - (float)t >= 0.5f ? t + 1 : t; /* lround(255 x): half away from zero */
 }
 
-static double spec_dither(int x, int y, int c) {
+static float spec_dither(int x, int y, int c) {
     uint32_t h = (uint32_t)x * 0x8da6b343u ^ (uint32_t)y * 0xd8163841u ^ (uint32_t)c * 0xcb1ab31fu;
     h ^= h >> 15;
     h *= 0x2c1b3c6du;
     h ^= h >> 12;
     h *= 0x297a2d39u;
     h ^= h >> 15;
-    return ((double)(h >> 8) / 16777216.0 - 0.5) / 255.0;
+    return ((float)(h >> 8) / 16777216.0f - 0.5f) / 255.0f;
 }
 
 static void spec_pixel(const pfx_tone *t, const float src[4], const float clear[4], int x, int y,
@@ -668,11 +668,11 @@ static void spec_pixel(const pfx_tone *t, const float src[4], const float clear[
     if ((bits[0] | bits[1] | bits[2] | bits[3]) == 0)
         return;
     const bool plain = t->exposure == 0 && t->tonemap == PFX_TONEMAP_NONE;
-    double p[4] = {src[0], src[1], src[2], src[3]};
+    float p[4] = {src[0], src[1], src[2], src[3]};
     for (int c = 0; c < 3 && !plain; c++)
         p[c] = spec_curve(t, p[c]);
     if (t->alpha == PFX_ALPHA_STRAIGHT) {
-        double ap = p[3];
+        float ap = p[3];
         for (int c = 0; c < 3; c++)
             ap = (p[c] > ap || ap != ap) ? p[c] : ap; /* max, NaN giving way */
         ap = ap > 1 ? 1 : ap;
