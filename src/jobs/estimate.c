@@ -90,7 +90,8 @@ static void estimate_drawing(const pfx_effect *e, unsigned what, double image, p
      * encoders convert them, so each costs 16 bytes a pixel, four times
      * the RGBA8 frame it becomes), its own buffer (the format is not
      * known here, so the larger, EXR's) and the deflate scratch it keeps
-     * (output/png_write.c). */
+     * (output/png_write.c); and the drawing thread's buffer and scratch,
+     * for the frames it encodes itself. */
     out->bytes[PFX_MEMORY_FRAMEBUFFER] = (e->blur_samples > 1 ? 3 : 2) * image * 16;
     /* --motion-vectors: the pass's own RGBA32F target and its float
      * read-back (render/motion_vectors.c, 16 bytes a pixel each), the
@@ -100,9 +101,14 @@ static void estimate_drawing(const pfx_effect *e, unsigned what, double image, p
     if (what & PFX_ESTIMATE_MOTION_VECTORS)
         out->bytes[PFX_MEMORY_MOTION_VECTORS] = image * (16 + 16 + 12 + 8);
     out->threads = pfx_frame_encoder_count(e->threads);
-    out->per_thread_bytes = pfx_frame_queue_bytes(e->width, e->height, 1, PFX_FRAME_EXR) +
-                            (double)pfx_png_encoder_scratch_bytes(e->width, e->height);
-    out->bytes[PFX_MEMORY_ENCODER] = out->threads * out->per_thread_bytes;
+    const double scratch = (double)pfx_png_encoder_scratch_bytes(e->width, e->height);
+    out->per_thread_bytes = pfx_frame_queue_bytes(e->width, e->height, 1, PFX_FRAME_EXR) + scratch;
+    /* The drawing thread encodes too while every frame is queued, with a
+     * buffer and a deflate scratch of its own. */
+    const double caller =
+        pfx_frame_queue_caller_bytes(e->width, e->height, PFX_FRAME_EXR) + scratch;
+    out->bytes[PFX_MEMORY_ENCODER] = out->threads * out->per_thread_bytes + caller;
+    *fixed += caller;
     for (size_t i = 0; i < e->emitter_count; i++)
         if (e->emitters[i].look.texture || e->emitters[i].look.normal_map) {
             out->bytes[PFX_MEMORY_DRIVER] += PFX_RENDER_DRIVER_BYTES_PER_TEXTURED;

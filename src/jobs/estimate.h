@@ -57,7 +57,8 @@ typedef struct pfx_estimate {
      * drawing thread and one per encoder thread. fixed_bytes is what does
      * not grow with the particles: the sprite chunk and its GL stores, the
      * driver's chunks in flight and its shaders for textures, the float
-     * framebuffers and the textures (it grows with the image, as the
+     * framebuffers, the textures and the drawing thread's own encoding
+     * buffer and deflate scratch (it grows with the image, as the
      * encoders' frames do). per_thread_bytes is what each encoder thread
      * holds (its two frames and its deflate scratch). bound_bytes = 2 x
      * pools + fixed_bytes + threads x per_thread_bytes. What falls outside

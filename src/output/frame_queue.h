@@ -44,6 +44,9 @@ int pfx_frame_encoder_count(int wanted);
  * and per encoder, for PNG the 8-bit frame it converts into (4 bytes a
  * pixel), for EXR the file it builds in memory (at most 8). */
 double pfx_frame_queue_bytes(int width, int height, int encoders, pfx_frame_format f);
+/* And the caller's own, for the frames it encodes while every frame is
+ * queued (pfx_frame_queue_buffer): what one encoder converts into. */
+double pfx_frame_queue_caller_bytes(int width, int height, pfx_frame_format f);
 
 /* Creates a queue for frames of width x height written as `format` with
  * `threads` encoders (1 to PFX_FRAME_MAX_ENCODERS; 2 x threads float frame
@@ -55,14 +58,19 @@ pfx_frame_queue *pfx_frame_queue_create(int width, int height, int threads, pfx_
                                         const pfx_tone *tone);
 /* A frame to render the next frame into: its pixels have room for width x
  * height x 4 floats; the caller fills every field (as
- * pfx_renderer_draw_float does). Blocks while every frame is queued or
- * being encoded. */
+ * pfx_renderer_draw_float does). While every frame is queued or being
+ * encoded, the caller encodes the oldest queued one itself, or waits when
+ * none is left to take. */
 pfx_float_image *pfx_frame_queue_buffer(pfx_frame_queue *q);
 /* Hands the frame last returned by pfx_frame_queue_buffer to the encoders
  * to be written to `path` (copied). Encoders take frames in submission
  * order; each file's bytes do not depend on the number of encoders. After
  * the first failure later frames are not written. */
 void pfx_frame_queue_submit(pfx_frame_queue *q, const char *path);
+/* For tests: while hold is true the encoder threads take no frame, so the
+ * caller encodes every frame that pfx_frame_queue_buffer must free, and
+ * finish lets them take the rest. */
+void pfx_frame_queue_hold_encoders(pfx_frame_queue *q, bool hold);
 /* True once a frame has failed; later frames are dropped, so the caller
  * may stop rendering early. The error itself comes from finish. */
 bool pfx_frame_queue_failed(pfx_frame_queue *q);

@@ -486,12 +486,15 @@ static void fill_frame(pfx_float_image *img, const uint8_t *rgba, int w, int h) 
 
 /* Every frame arrives whole at its own path, with one encoder or several
  * (frames then finish in any order; the files are the same). */
-static void queue_frames(int encoders) {
+/* held: the encoders take nothing until finish, so the caller encodes
+ * every frame it needs a slot back from (all but the last 2 x encoders). */
+static void queue_frames(int encoders, bool held) {
     enum { frames = 7, w = 48, h = 32 };
     pfx_frame_queue *q = pfx_frame_queue_create(w, h, encoders, PFX_FRAME_PNG, &exact);
     CHECK(q != NULL);
     if (q == NULL)
         return;
+    pfx_frame_queue_hold_encoders(q, held);
     uint8_t *sent[frames];
     char path[frames][512];
     for (int i = 0; i < frames; i++) {
@@ -515,13 +518,17 @@ static void queue_frames(int encoders) {
 }
 
 static void test_queue_order(void) {
-    queue_frames(1);
-    queue_frames(3);
+    queue_frames(1, false);
+    queue_frames(3, false);
+    queue_frames(1, true);
+    queue_frames(3, true);
 }
 
 /* The first error is the one reported, and frames after it are dropped
- * (with one encoder, which takes frames strictly one after another). */
-static void test_queue_first_error(void) {
+ * (with one encoder, which takes frames strictly one after another). held:
+ * the caller encodes the first two frames and meets the error; the encoder,
+ * let go at finish, drops the other two. */
+static void queue_first_error(bool held) {
     enum { w = 8, h = 8 };
     char good[512], bad1[512], bad2[512], after[512];
     path_in(good, sizeof good, "q_good.png");
@@ -533,6 +540,7 @@ static void test_queue_first_error(void) {
     CHECK(q != NULL);
     if (q == NULL)
         return;
+    pfx_frame_queue_hold_encoders(q, held);
     for (int i = 0; i < 4; i++) {
         pfx_float_image *img = pfx_frame_queue_buffer(q);
         img->x0 = img->y0 = img->x1 = img->y1 = 0; /* background alone */
@@ -549,6 +557,11 @@ static void test_queue_first_error(void) {
     CHECK(!file_exists(after));
     unlink(good);
     check_entries(test_dir, 0);
+}
+
+static void test_queue_first_error(void) {
+    queue_first_error(false);
+    queue_first_error(true);
 }
 
 /* Finishing with nothing submitted, or with a buffer taken but never
