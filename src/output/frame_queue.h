@@ -65,7 +65,7 @@ pfx_float_image *pfx_frame_queue_buffer(pfx_frame_queue *q);
 /* Hands the frame last returned by pfx_frame_queue_buffer to the encoders
  * to be written to `path` (copied). Encoders take frames in submission
  * order; each file's bytes do not depend on the number of encoders. After
- * the first failure later frames are not written. */
+ * a failure the frames after the failed one are not written. */
 void pfx_frame_queue_submit(pfx_frame_queue *q, const char *path);
 /* For tests: while hold is true the encoder threads take no frame, so the
  * caller encodes every frame that pfx_frame_queue_buffer must free, and
@@ -76,7 +76,8 @@ void pfx_frame_queue_hold_encoders(pfx_frame_queue *q, bool hold);
 bool pfx_frame_queue_failed(pfx_frame_queue *q);
 /* Waits for every submitted frame, syncs their directory (each frame was
  * synced before its rename), stops the threads and frees the queue.
- * Returns false with the first write error added to d (may be NULL). */
+ * Returns false with the error of the earliest frame that failed added to
+ * d (may be NULL). */
 bool pfx_frame_queue_finish(pfx_frame_queue *q, pfx_diags *d);
 
 #endif
