@@ -17,6 +17,7 @@
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 /* The writer reports into a diagnostics list; the tests read its first
@@ -564,6 +565,55 @@ static void test_queue_first_error(void) {
     queue_first_error(true);
 }
 
+/* The encoders give way to drawing: each thread's nice value is the
+ * process's plus 10 (Linux keeps one per thread; /proc/self/task lists
+ * them), while this thread keeps its own. */
+static int threads_at_nice(int nice) {
+    int count = 0;
+    DIR *dir = opendir("/proc/self/task");
+    struct dirent *ent;
+    while (dir && (ent = readdir(dir)) != NULL) {
+        char path[300], buf[1024];
+        snprintf(path, sizeof path, "/proc/self/task/%s/stat", ent->d_name);
+        FILE *f = ent->d_name[0] != '.' ? fopen(path, "r") : NULL;
+        size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
+        if (f)
+            fclose(f);
+        buf[n] = '\0';
+        /* After the command's closing parenthesis: state is field 3, nice 19. */
+        const char *p = strrchr(buf, ')');
+        int field = 2, value = 0;
+        for (; p && *p && field < 19; p++)
+            if (*p == ' ' && ++field == 19)
+                value = atoi(p + 1), count += value == nice;
+    }
+    if (dir)
+        closedir(dir);
+    return count;
+}
+
+static void test_queue_encoders_give_way(void) {
+#if defined(__linux__)
+    errno = 0;
+    const int base = getpriority(PRIO_PROCESS, 0);
+    if (errno != 0 || base > 9) {
+        fprintf(stderr, "  skipped: this process runs at nice %d\n", base);
+        return;
+    }
+    pfx_frame_queue *q = pfx_frame_queue_create(8, 8, 3, PFX_FRAME_PNG, &exact);
+    CHECK(q != NULL);
+    if (q == NULL)
+        return;
+    /* The encoders lower theirs as they start: wait for them (2 s at most). */
+    int lowered = 0;
+    for (int tries = 0; tries < 200 && (lowered = threads_at_nice(base + 10)) < 3; tries++)
+        nanosleep(&(struct timespec){0, 10000000}, NULL);
+    CHECK(lowered == 3);
+    CHECK(getpriority(PRIO_PROCESS, 0) == base);
+    CHECK(pfx_frame_queue_finish(q, NULL));
+#endif
+}
+
 /* Finishing with nothing submitted, or with a buffer taken but never
  * submitted, succeeds and frees everything. */
 static void test_queue_empty(void) {
@@ -794,6 +844,7 @@ int main(void) {
     RUN(test_queue_order);
     RUN(test_queue_first_error);
     RUN(test_queue_empty);
+    RUN(test_queue_encoders_give_way);
     RUN(test_queue_converts);
     RUN(test_conversion_formula);
     remove_dir(test_dir);
