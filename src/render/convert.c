@@ -195,10 +195,6 @@ static inline __attribute__((always_inline)) void convert8(const tone *t, const 
     memcpy(dst, &word, sizeof word);
 }
 
-/* Pixels [from, to) of row y (top first) from src, the box's row, eight at
- * a time; eight all-zero pixels, most of a particle frame's box, are
- * written as zero at once. PFX_CLONES: an AVX2 copy beside the baseline
- * one, the same bytes. */
 /* Eight pixels at column x of row y from src into dst, or zero when all
  * 128 bytes are. */
 static inline __attribute__((always_inline)) void convert_octet(const tone *t, const float *src,

@@ -582,10 +582,9 @@ static int threads_at_nice(int nice) {
         buf[n] = '\0';
         /* After the command's closing parenthesis: state is field 3, nice 19. */
         const char *p = strrchr(buf, ')');
-        int field = 2, value = 0;
-        for (; p && *p && field < 19; p++)
+        for (int field = 2; p && *p && field < 19; p++)
             if (*p == ' ' && ++field == 19)
-                value = atoi(p + 1), count += value == nice;
+                count += atoi(p + 1) == nice;
     }
     if (dir)
         closedir(dir);
