@@ -12,6 +12,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "base/clones.h"
+
 bool pfx_deflector_affects(const pfx_deflector *d, uint32_t id) {
     if (d->chance >= 1)
         return true;
@@ -45,8 +47,9 @@ enum { BROAD_CHUNK = 256 };
 
 /* reach[j]: how far particle j can get this step (the sweep bound), grown
  * by the margin; the same bound as the exact test's, in float. */
-static void broad_reach(const pfx_collide_pool *pool, uint32_t i0, uint32_t m, float dt,
-                        float *restrict reach) {
+static inline __attribute__((always_inline)) void broad_reach(const pfx_collide_pool *pool,
+                                                              uint32_t i0, uint32_t m, float dt,
+                                                              float *restrict reach) {
     const float *restrict x0 = pool->px0 + i0, *restrict y0 = pool->py0 + i0,
                           *restrict z0 = pool->pz0 + i0;
     const float *restrict u0 = pool->vx0 + i0, *restrict v0 = pool->vy0 + i0,
@@ -70,8 +73,9 @@ static void broad_reach(const pfx_collide_pool *pool, uint32_t i0, uint32_t m, f
 
 /* mark[j] |= particle j is within reach[j] (plus the deflector's own
  * margin) of deflector p's surface. */
-static void broad_mark(const prep *p, const pfx_collide_pool *pool, uint32_t i0, uint32_t m,
-                       const float *restrict reach, uint8_t *restrict mark) {
+static inline __attribute__((always_inline)) void
+broad_mark(const prep *p, const pfx_collide_pool *pool, uint32_t i0, uint32_t m,
+           const float *restrict reach, uint8_t *restrict mark) {
     const float *restrict x = pool->px0 + i0, *restrict y = pool->py0 + i0,
                           *restrict z = pool->pz0 + i0;
     const float px = (float)p->p[0], py = (float)p->p[1], pz = (float)p->p[2];
@@ -117,13 +121,40 @@ static void broad_mark(const prep *p, const pfx_collide_pool *pool, uint32_t i0,
     }
 }
 
-/* The broad phase of the m particles from i0: mark[j] when particle i0 + j
- * may touch a deflector this step. */
-static void broad_phase(const ctx *c, uint32_t i0, uint32_t m, float *reach, uint8_t *mark) {
-    broad_reach(c->pool, i0, m, (float)c->dt, reach);
-    memset(mark, 0, m);
-    for (size_t k = 0; k < c->nd; k++)
-        broad_mark(&c->pr[k], c->pool, i0, m, reach, mark);
+/* The broad phase of the m particles from i0: near[j] when particle i0 + j
+ * may touch a deflector this step, or is stuck (held in place by
+ * pfx_collide). An AVX2 clone does eight particles at a time, with the same
+ * bits. Whether any is. */
+PFX_CLONES static bool broad_phase(const prep *pr, size_t nd, float dt,
+                                   const pfx_collide_pool *pool, uint32_t i0, uint32_t m,
+                                   float *reach, uint8_t *near) {
+    broad_reach(pool, i0, m, dt, reach);
+    if (pool->stuck)
+        memcpy(near, pool->stuck + i0, m);
+    else
+        memset(near, 0, m);
+    for (size_t k = 0; k < nd; k++)
+        broad_mark(&pr[k], pool, i0, m, reach, near);
+    uint8_t any = 0;
+    for (uint32_t j = 0; j < m; j++)
+        any |= near[j];
+    return any;
+}
+
+bool pfx_collide_near(const pfx_deflector *defl, size_t n_defl, double dt,
+                      const pfx_collide_pool *pool, uint8_t *near) {
+    assert(n_defl <= PFX_COLLIDE_MAX_DEFLECTORS);
+    prep pr[PFX_COLLIDE_MAX_DEFLECTORS];
+    for (size_t k = 0; k < n_defl; k++)
+        pfx_collide_prepare(&defl[k], &pr[k]);
+    float reach[BROAD_CHUNK];
+    bool any = false;
+    for (uint32_t i0 = 0; i0 < pool->count; i0 += BROAD_CHUNK) {
+        const uint32_t m =
+            pool->count - i0 < BROAD_CHUNK ? pool->count - i0 : (uint32_t)BROAD_CHUNK;
+        any |= broad_phase(pr, n_defl, (float)dt, pool, i0, m, reach, near + i0);
+    }
+    return any;
 }
 
 /* Sets b's side of each deflector (0 for one whose chance says pass, see
@@ -204,8 +235,37 @@ static void collide_one(const ctx *c, uint32_t i, body *b) {
     pfx_collide_store(c, b);
 }
 
+/* The exact pass over particles [i0, i0 + m) where near (indexed from i0)
+ * marks them near a surface or stuck, in index order: the hits draw from
+ * one stream. */
+static void exact_pass(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *near) {
+    const pfx_collide_pool *pool = c->pool;
+    body b;
+    /* Eight marks at a time: most particles are far from every surface and
+     * untouched, as in collide_one, so most words are zero. */
+    for (uint32_t j0 = 0; j0 < m; j0 += 8) {
+        const uint32_t end = m - j0 < 8 ? m : j0 + 8;
+        uint64_t word = 0;
+        memcpy(&word, near + j0, end - j0);
+        for (uint32_t j = j0; word && j < end; j++) {
+            if (!near[j])
+                continue;
+            const uint32_t i = i0 + j;
+            if (pool->stuck && pool->stuck[i]) { /* held where it stuck */
+                pool->px[i] = pool->px0[i], pool->py[i] = pool->py0[i], pool->pz[i] = pool->pz0[i];
+                pool->vx[i] = pool->vy[i] = pool->vz[i] = 0;
+                if (pool->ax)
+                    pool->ax[i] = NAN;
+                continue;
+            }
+            collide_one(c, i, &b);
+        }
+    }
+}
+
 void pfx_collide(const pfx_deflector *defl, size_t n_defl, double dt, const pfx_collide_pool *pool,
-                 pfx_rng *rng, pfx_hit_fn on_hit, void *user, pfx_collide_stats *stats) {
+                 const uint8_t *near, pfx_rng *rng, pfx_hit_fn on_hit, void *user,
+                 pfx_collide_stats *stats) {
     assert(n_defl <= PFX_COLLIDE_MAX_DEFLECTORS);
     if (!(dt > 0) || n_defl == 0)
         return;
@@ -213,25 +273,18 @@ void pfx_collide(const pfx_deflector *defl, size_t n_defl, double dt, const pfx_
     for (size_t k = 0; k < n_defl; k++)
         pfx_collide_prepare(&defl[k], &pr[k]);
     ctx c = {defl, pr, n_defl, dt, pool, rng, on_hit, user, stats};
-    body b;
-    float reach[BROAD_CHUNK];
+    if (near) {
+        exact_pass(&c, 0, pool->count, near);
+        return;
+    }
+    /* No marks given: the broad phase a chunk at a time, then the chunk's
+     * exact pass. */
     uint8_t mark[BROAD_CHUNK];
-    for (uint32_t i = 0; i < pool->count; i++) {
-        const uint32_t j = i % BROAD_CHUNK;
-        if (j == 0) { /* the next chunk's broad phase */
-            const uint32_t m =
-                pool->count - i < BROAD_CHUNK ? pool->count - i : (uint32_t)BROAD_CHUNK;
-            broad_phase(&c, i, m, reach, mark);
-        }
-        if (!mark[j] && !(pool->stuck && pool->stuck[i]))
-            continue; /* far from every surface: untouched, as in collide_one */
-        if (pool->stuck && pool->stuck[i]) { /* held where it stuck, whatever the integrator did */
-            pool->px[i] = pool->px0[i], pool->py[i] = pool->py0[i], pool->pz[i] = pool->pz0[i];
-            pool->vx[i] = pool->vy[i] = pool->vz[i] = 0;
-            if (pool->ax)
-                pool->ax[i] = NAN;
-            continue;
-        }
-        collide_one(&c, i, &b);
+    float reach[BROAD_CHUNK];
+    for (uint32_t i0 = 0; i0 < pool->count; i0 += BROAD_CHUNK) {
+        const uint32_t m =
+            pool->count - i0 < BROAD_CHUNK ? pool->count - i0 : (uint32_t)BROAD_CHUNK;
+        if (broad_phase(pr, n_defl, (float)dt, pool, i0, m, reach, mark))
+            exact_pass(&c, i0, m, mark);
     }
 }

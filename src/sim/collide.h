@@ -57,9 +57,10 @@ typedef struct pfx_collide_stats {
  * step is the parabola x0 + v0 t + a t^2 / 2, a = (v1 - v0) / dt; the
  * earliest hit wins, the response applies at its time and the rest of the
  * step follows the new parabola, up to PFX_COLLIDE_MAX_HITS times. Particles
- * that touch nothing keep the integrator's state bit for bit. Random
- * resilience and friction draw from `rng` (in particle order); on_hit and
- * stats may be NULL; stats are added to. Never allocates.
+ * that touch nothing keep the integrator's state bit for bit. `near`: the
+ * marks of pfx_collide_near for this pool and dt, or NULL to find them
+ * here. Random resilience and friction draw from `rng` (in particle order);
+ * on_hit and stats may be NULL; stats are added to. Never allocates.
  * The caller must: run its kill pass afterwards (a killed particle has
  * lifetime == PFX_KILLED); keep `stuck` (when given) as a pool column, 0 at birth and
  * moved by swap-remove — a stuck particle is put back at x0 with v = 0 each
@@ -68,7 +69,19 @@ typedef struct pfx_collide_stats {
  * particles need nothing: each step they are found in contact again and held
  * exactly on the surface. */
 void pfx_collide(const pfx_deflector *defl, size_t n_defl, double dt, const pfx_collide_pool *pool,
-                 pfx_rng *rng, pfx_hit_fn on_hit, void *user, pfx_collide_stats *stats);
+                 const uint8_t *near, pfx_rng *rng, pfx_hit_fn on_hit, void *user,
+                 pfx_collide_stats *stats);
+
+/* The broad phase of pfx_collide on its own: near[i] (pool->count bytes)
+ * becomes non-zero where particle i may touch one of defl this step (is
+ * within its sweep bound of a surface, with a margin) or is stuck, zero
+ * elsewhere; whether any is. A conservative float test whose marks give
+ * pfx_collide exactly the result of its own broad phase. It reads the pool
+ * only, so threads may run it on disjoint ranges while the particles are
+ * still in their caches, and pass the marks (the same pool and dt) to
+ * pfx_collide, which then visits the marked particles only. */
+bool pfx_collide_near(const pfx_deflector *defl, size_t n_defl, double dt,
+                      const pfx_collide_pool *pool, uint8_t *near);
 
 /* Whether deflector d affects the particle with this id: a fixed hash of
  * (id, d->seed) to [0, 1) compared with d->chance, so a particle always hits,

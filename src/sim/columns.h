@@ -51,6 +51,8 @@
     X(start_pz, float, SCRATCH, em->deflector_count > 0, "")                                       \
     X(start_vx, float, SCRATCH, em->deflector_count > 0, "")                                       \
     X(start_vy, float, SCRATCH, em->deflector_count > 0, "")                                       \
-    X(start_vz, float, SCRATCH, em->deflector_count > 0, "")
+    X(start_vz, float, SCRATCH, em->deflector_count > 0, "")                                       \
+    X(near, uint8_t, SCRATCH, em->deflector_count > 0,                                             \
+      "the move pass's mark: may touch a deflector this step, or stuck")
 
 #endif

@@ -123,16 +123,17 @@ static void advance(pfx_sim *s, double t1) {
         const pfx_emitter *em = &e->emitters[i];
         pfx_pool *p = &s->pools[i];
         if (dt > 0) {
-            /* Deflectors (lifetime_loss, kill) and kill rules change
-             * lifetimes after the move; without them the move pass finds
-             * the deaths, in parallel. */
-            const bool scan = !em->deflector_count && !em->kill;
+            /* Kill rules change lifetimes after the move; without them
+             * the move pass finds the deaths, in parallel (the collide
+             * pass notes the blocks where a deflector may have killed or
+             * shortened a life). */
+            const bool scan = !em->kill;
             uint32_t alarm = pfx_step_move(s, i, t0, t1, scan);
             p->time = t1;
             if (alarm < p->count)
                 pfx_step_check_state(s, i, alarm, t1);
             if (em->deflector_count)
-                pfx_step_collide(s, i, 0, p->count, t0, dt);
+                pfx_step_collide_moved(s, i, t0, dt);
             if (em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_TRAIL))
                 pfx_spawn_trails(s, i, 0, p->count, t0, t1);
             if (em->kill) {

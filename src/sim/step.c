@@ -126,6 +126,27 @@ void pfx_step_check_state(pfx_sim *s, size_t i, uint32_t first, double t) {
                    t, cause);
 }
 
+/* The collide pass's view of particles [first, first + n) of p. */
+static pfx_collide_pool collide_view(const pfx_pool *p, uint32_t first, uint32_t n) {
+    return (pfx_collide_pool){.count = n,
+                              .px0 = p->start_px + first,
+                              .py0 = p->start_py + first,
+                              .pz0 = p->start_pz + first,
+                              .vx0 = p->start_vx + first,
+                              .vy0 = p->start_vy + first,
+                              .vz0 = p->start_vz + first,
+                              .px = p->px + first,
+                              .py = p->py + first,
+                              .pz = p->pz + first,
+                              .vx = p->vx + first,
+                              .vy = p->vy + first,
+                              .vz = p->vz + first,
+                              .lifetime = p->lifetime + first,
+                              .id = p->id + first,
+                              .stuck = p->stuck ? p->stuck + first : NULL,
+                              .ax = p->ax ? p->ax + first : NULL};
+}
+
 /* One block of the motion pass: the start state the deflectors sweep from,
  * the step (the gravity kernel, or the emitter's motion plan: a view's
  * remainder runs the same scheme in substeps no longer than the prepared
@@ -181,10 +202,20 @@ static void move_block(void *arg, size_t b) {
     } else {
         bad = step_gravity(em, p, first, n, (float)j->span);
     }
+    /* The deflectors' broad phase while the block is in this core's
+     * caches; the serial collide pass visits only what it marks. With the
+     * step's dt as the collide pass has it, a float. */
+    bool near = false;
+    if (em->deflector_count) {
+        const pfx_collide_pool view = collide_view(p, first, n);
+        near = pfx_collide_near(em->deflectors, em->deflector_count, (float)j->span, &view,
+                                p->near + first);
+    }
     /* Without the scan every block counts as holding a death, and the
      * serial pass looks at all of them. */
     const bool death = !j->scan_deaths || block_has_death(p, first, n, j->t1);
-    s->block_flags[b] = (uint8_t)((bad ? PFX_BLOCK_BAD : 0) | (death ? PFX_BLOCK_DEATH : 0));
+    s->block_flags[b] = (uint8_t)((bad ? PFX_BLOCK_BAD : 0) | (death ? PFX_BLOCK_DEATH : 0) |
+                                  (near ? PFX_BLOCK_NEAR : 0));
 }
 
 uint32_t pfx_step_move(pfx_sim *s, size_t i, double t0, double t1, bool scan_deaths) {
@@ -219,32 +250,34 @@ static void on_hit(void *user, uint32_t index, size_t deflector, const double po
 
 /* Deflectors for particles [first, first + n) over the step of length dt
  * just integrated: each path is swept from its start state, so nothing
- * tunnels, and hits are resolved at their exact times (src/sim/collide.c). */
-void pfx_step_collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double dt) {
+ * tunnels, and hits are resolved at their exact times (src/sim/collide.c).
+ * near: the move pass's marks, or NULL. */
+static void collide_range(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double dt,
+                          const uint8_t *near) {
     const pfx_emitter *em = &s->effect->emitters[i];
-    pfx_pool *p = &s->pools[i];
     pfx_emitter_state *st = &s->emitters[i];
-    pfx_collide_pool view = {.count = n,
-                             .px0 = p->start_px + first,
-                             .py0 = p->start_py + first,
-                             .pz0 = p->start_pz + first,
-                             .vx0 = p->start_vx + first,
-                             .vy0 = p->start_vy + first,
-                             .vz0 = p->start_vz + first,
-                             .px = p->px + first,
-                             .py = p->py + first,
-                             .pz = p->pz + first,
-                             .vx = p->vx + first,
-                             .vy = p->vy + first,
-                             .vz = p->vz + first,
-                             .lifetime = p->lifetime + first,
-                             .id = p->id + first,
-                             .stuck = p->stuck ? p->stuck + first : NULL,
-                             .ax = p->ax ? p->ax + first : NULL};
+    const pfx_collide_pool view = collide_view(&s->pools[i], first, n);
     hit_context hc = {s, i, first, t0};
     bool hits = em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_HIT);
-    pfx_collide(em->deflectors, em->deflector_count, dt, &view, &st->collide_rng,
+    pfx_collide(em->deflectors, em->deflector_count, dt, &view, near, &st->collide_rng,
                 hits ? on_hit : NULL, &hc, &st->collisions);
+}
+
+void pfx_step_collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double dt) {
+    collide_range(s, i, first, n, t0, dt, NULL);
+}
+
+void pfx_step_collide_moved(pfx_sim *s, size_t i, double t0, double dt) {
+    const pfx_pool *p = &s->pools[i];
+    const size_t blocks = ((size_t)p->count + PFX_SIM_BLOCK - 1) / PFX_SIM_BLOCK;
+    for (size_t b = 0; b < blocks; b++) {
+        if (!(s->block_flags[b] & PFX_BLOCK_NEAR))
+            continue;
+        const uint32_t first = (uint32_t)(b * PFX_SIM_BLOCK);
+        const uint32_t n = p->count - first < PFX_SIM_BLOCK ? p->count - first : PFX_SIM_BLOCK;
+        collide_range(s, i, first, n, t0, dt, p->near + first);
+        s->block_flags[b] |= PFX_BLOCK_DEATH;
+    }
 }
 
 /* Death at age >= lifetime in particles [i, until); the last live particle
@@ -255,17 +288,14 @@ static void kill_range(pfx_sim *s, size_t emitter, double t1, uint32_t i, uint32
     const bool deaths = pfx_spawn_has(&s->effect->emitters[emitter], PFX_SPAWN_DEATH);
     const double *birth = p->birth;
     const float *lifetime = p->lifetime;
-    /* Most blocks hold no death: a branch-free scan (vectorised) skips them,
+    /* Most blocks hold no death: block_has_death (vectorised) skips them,
      * and only a block with a death runs the swap-remove loop. */
     enum { BLOCK = 64 };
     while (i < p->count && i < until) {
         uint32_t end = p->count - i > BLOCK ? i + BLOCK : p->count;
         if (end > until)
             end = until;
-        int dead = 0;
-        for (uint32_t j = i; j < end; j++)
-            dead |= t1 - birth[j] >= lifetime[j];
-        if (!dead) {
+        if (!block_has_death(p, i, end - i, t1)) {
             i = end;
             continue;
         }

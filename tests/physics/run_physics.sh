@@ -179,6 +179,36 @@ emitters:
 EOF
 bake chance && check chance chance N=20000 chance=0.3 frame=4
 
+# A kill plane removes what it kills in the step of the hit, not the next:
+# 20,000 particles (three blocks of the threaded passes) fall at 5 m/s from
+# y = 1.04 and cross y = 0 at t = 0.208 s, inside the 13th step of 1/60 s.
+# Frame 12 (t = 0.2) holds all of them, frame 13 (t = 0.2167) none.
+cat >"$work/kill_step.yaml" <<'EOF'
+pfx: 1
+duration: 0.25
+fps: 60
+sim: { rate: 60 }
+deflectors:
+  net: { type: plane, point: [0, 0, 0], normal: [0, 1, 0], response: kill }
+emitters:
+  rain:
+    shape: { type: rect, size: [4, 4] }
+    position: [0, 1.04, 0]
+    bursts: [{ time: 0, count: 20000 }]
+    direction: [0, -1, 0]
+    speed: 5
+    lifetime: 100
+EOF
+if bake kill_step; then
+    rows=$(awk -F, 'NR > 1 && ($1 == 12 || $1 == 13) { n[$1]++ }
+        END { printf "%d %d", n[12], n[13] }' "$work/kill_step.csv")
+    if [ "$rows" = "20000 0" ]; then
+        pass "kill_step: 20000 particles at frame 12, none at frame 13"
+    else
+        fail "kill_step: particles at frames 12 and 13: $rows, not 20000 0"
+    fi
+fi
+
 # ---------------------------------------------------------------------------
 # 6. Resting contact. A drop with resilience 0.5 onto a plane at y = 0.25
 # with friction comes to rest; from then on y is exactly 0.25 and vy exactly

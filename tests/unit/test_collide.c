@@ -79,7 +79,7 @@ static void step(tpool *p, const double g[3], double dt, const pfx_deflector *d,
             p->x[3 + j][i] += (float)g[j] * fdt;
         }
     }
-    pfx_collide(d, nd, dt, &p->view, rng, fn, user, st);
+    pfx_collide(d, nd, dt, &p->view, NULL, rng, fn, user, st);
 }
 
 static pfx_deflector plane(double px, double py, double pz, double nx, double ny, double nz) {
@@ -410,7 +410,7 @@ static void test_untouched_and_fallback(void) {
     float before[6][100];
     for (int c = 0; c < 6; c++)
         memcpy(before[c], p->x[c], sizeof before[c]);
-    pfx_collide(d, 2, dt, &p->view, &rng, NULL, NULL, NULL);
+    pfx_collide(d, 2, dt, &p->view, NULL, &rng, NULL, NULL, NULL);
     for (int c = 0; c < 6; c++)
         CHECK(memcmp(before[c], p->x[c], sizeof before[c]) == 0);
 
@@ -422,7 +422,7 @@ static void test_untouched_and_fallback(void) {
         p->x0[c][0] = p->x[c][0];
     p->x[1][0] = -0.1f;
     pfx_collide_stats st = {0};
-    pfx_collide(&f, 1, dt, &p->view, &rng, NULL, NULL, &st);
+    pfx_collide(&f, 1, dt, &p->view, NULL, &rng, NULL, NULL, &st);
     CHECK(st.fallbacks == 1 && st.impacts + st.contacts == 1 && p->x[1][0] >= 0);
     tpool_free(p);
 }
