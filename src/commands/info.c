@@ -98,7 +98,8 @@ static void print_emitter(const pfx_effect *e, const pfx_emitter *em, size_t bpp
         printf("      deflectors:");
         for (size_t d = 0; d < em->deflector_count; d++)
             printf(" %s", em->deflectors[d].name);
-        printf(" (swept exact hits; 24 scratch bytes per particle)\n");
+        printf(" (swept exact hits; %zu scratch bytes per particle)\n",
+               pfx_sim_scratch_bytes_per_particle(e, (size_t)(em - e->emitters)));
     }
     for (size_t k = 0; k < em->spawn_count; k++)
         printf("      %s -> %s\n", pfx_kind_name(pfx_spawn_event_names, (int)em->spawns[k].event),

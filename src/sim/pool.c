@@ -25,6 +25,16 @@ size_t pfx_pool_bytes_per_particle(const pfx_emitter *em) {
     return bytes;
 }
 
+size_t pfx_pool_scratch_bytes_per_particle(const pfx_emitter *em) {
+    size_t bytes = 0;
+#define ADD_SCRATCH(name, type, role, needed, what)                                                \
+    if (role == SCRATCH && (needed))                                                               \
+        bytes += sizeof(type);
+    PFX_POOL_COLUMNS(ADD_SCRATCH)
+#undef ADD_SCRATCH
+    return bytes;
+}
+
 /* Bytes of a pool of n particles, rounded up to 8 so the next pool's
  * 8-byte columns stay aligned. */
 size_t pfx_pool_bytes(const pfx_emitter *em, uint32_t n) {

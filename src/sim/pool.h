@@ -8,6 +8,8 @@
 
 /* Bytes one particle of em takes: the columns it keeps, state and scratch. */
 size_t pfx_pool_bytes_per_particle(const pfx_emitter *em);
+/* Of those, the step's own scratch (the SCRATCH columns). */
+size_t pfx_pool_scratch_bytes_per_particle(const pfx_emitter *em);
 /* Bytes of a pool of n particles, a multiple of 8. */
 size_t pfx_pool_bytes(const pfx_emitter *em, uint32_t n);
 /* Points p's columns into block (8-byte aligned, pfx_pool_bytes long) for

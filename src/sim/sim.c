@@ -25,6 +25,10 @@ size_t pfx_sim_bytes_per_particle(const pfx_effect *e, size_t i) {
     return pfx_pool_bytes_per_particle(&e->emitters[i]);
 }
 
+size_t pfx_sim_scratch_bytes_per_particle(const pfx_effect *e, size_t i) {
+    return pfx_pool_scratch_bytes_per_particle(&e->emitters[i]);
+}
+
 /* Seeds every emitter's streams and schedule: the state at time 0. */
 static void init_emitters(pfx_sim *s) {
     const pfx_effect *e = s->effect;

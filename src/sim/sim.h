@@ -20,6 +20,9 @@ void pfx_sim_destroy(pfx_sim *s);
 
 /* Bytes each particle of emitter i occupies (the columns it keeps). */
 size_t pfx_sim_bytes_per_particle(const pfx_effect *e, size_t i);
+/* Of those, the step's own scratch (the deflectors' start state and
+ * marks). */
+size_t pfx_sim_scratch_bytes_per_particle(const pfx_effect *e, size_t i);
 
 /* Advances by one fixed step. Never allocates. After a step that left a
  * non-finite or exploding state, s->failed is set, the failure is in the

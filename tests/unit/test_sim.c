@@ -487,9 +487,9 @@ static void test_pool_saturation(void) {
 
 /* Bytes one particle of pool p takes in the columns pfx_sim_create laid out
  * (an emitter's unused columns are NULL): the 8-byte birth time, 4 per float
- * or id column, 1 for the stuck flag. Counted here from the pool itself, not
- * from pfx_sim_bytes_per_particle, so a column added to the layout and not
- * to the reported size (or the reverse) shows. */
+ * or id column, 1 for the stuck flag and 1 for the deflectors' mark. Counted here from the pool
+ * itself, not from pfx_sim_bytes_per_particle, so a column added to the layout and not to the
+ * reported size (or the reverse) shows. */
 static size_t pool_particle_bytes(const pfx_pool *p) {
     const void *four[] = {p->px,         p->py,       p->pz,
                           p->vx,         p->vy,       p->vz,
@@ -505,7 +505,7 @@ static size_t pool_particle_bytes(const pfx_pool *p) {
     size_t bytes = p->birth ? 8 : 0;
     for (size_t k = 0; k < sizeof four / sizeof *four; k++)
         bytes += four[k] ? 4 : 0;
-    return bytes + (p->stuck ? 1 : 0);
+    return bytes + (p->stuck ? 1 : 0) + (p->near ? 1 : 0);
 }
 
 /* effects/fire.yaml, the example the README draws, keeps every emitter at
@@ -549,6 +549,32 @@ static void test_footprint(void) {
     }
     if (s)
         CHECK(s->bytes >= total && s->bytes <= total + 8 * c.e->emitter_count);
+    pfx_sim_destroy(s);
+    compiled_free(&c);
+}
+
+/* An emitter with a deflector keeps the step's scratch for it: the start
+ * state (six floats) and the broad phase's one-byte mark, 25 bytes, which
+ * pfx info reports; one without keeps none. */
+static void test_scratch_footprint(void) {
+    compiled c;
+    if (!compile_text(&c, "pfx: 1\nforces:\n  g: { type: gravity }\n"
+                          "deflectors:\n  floor: { type: plane }\n"
+                          "emitters:\n  a:\n    rate: 10\n    lifetime: 1\n"
+                          "  b:\n    rate: 10\n    lifetime: 1\n    deflectors: []\n")) {
+        compiled_free(&c);
+        return;
+    }
+    pfx_sim *s = pfx_sim_create(c.e, NULL);
+    CHECK(s != NULL);
+    CHECK(c.e->emitters[0].deflector_count == 1 && c.e->emitters[1].deflector_count == 0);
+    CHECK(pfx_sim_scratch_bytes_per_particle(c.e, 0) == 25);
+    CHECK(pfx_sim_scratch_bytes_per_particle(c.e, 1) == 0);
+    if (s) {
+        CHECK(s->pools[0].near != NULL && s->pools[0].start_vz != NULL);
+        CHECK(s->pools[1].near == NULL && s->pools[1].start_px == NULL);
+        CHECK(pfx_sim_bytes_per_particle(c.e, 0) == pool_particle_bytes(&s->pools[0]));
+    }
     pfx_sim_destroy(s);
     compiled_free(&c);
 }
@@ -874,6 +900,7 @@ int main(void) {
     RUN(test_pool_sizing);
     RUN(test_pool_saturation);
     RUN(test_footprint);
+    RUN(test_scratch_footprint);
     RUN(test_carried_accel);
     RUN(test_emitter_independence);
     RUN(test_determinism);
