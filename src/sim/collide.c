@@ -46,7 +46,8 @@ static int8_t start_side(const prep *p, const body *b) {
 enum { BROAD_CHUNK = 256 };
 
 /* reach[j]: how far particle j can get this step (the sweep bound), grown
- * by the margin; the same bound as the exact test's, in float. */
+ * by the margin; the same bound as the exact test's, in float. Inlined, as
+ * broad_mark is, so that broad_phase's AVX2 clone runs them at its width. */
 static inline __attribute__((always_inline)) void broad_reach(const pfx_collide_pool *pool,
                                                               uint32_t i0, uint32_t m, float dt,
                                                               float *restrict reach) {
@@ -124,7 +125,7 @@ broad_mark(const prep *p, const pfx_collide_pool *pool, uint32_t i0, uint32_t m,
 /* The broad phase of the m particles from i0: near[j] when particle i0 + j
  * may touch a deflector this step, or is stuck (held in place by
  * pfx_collide). An AVX2 clone does eight particles at a time, with the same
- * bits. Whether any is. */
+ * bits. Returns whether any is. */
 PFX_CLONES static bool broad_phase(const prep *pr, size_t nd, float dt,
                                    const pfx_collide_pool *pool, uint32_t i0, uint32_t m,
                                    float *reach, uint8_t *near) {

@@ -158,7 +158,7 @@ typedef struct move_job {
     size_t emitter;
     double t0, span;
     double t1;        /* the step's end, for the death scan */
-    bool scan_deaths; /* no later pass of the step changes a lifetime */
+    bool scan_deaths; /* no later pass changes a lifetime outside the blocks it notes */
 } move_job;
 
 /* Whether particles [first, first + n) hold one dead at t1 (age >=
@@ -205,17 +205,17 @@ static void move_block(void *arg, size_t b) {
     /* The deflectors' broad phase while the block is in this core's
      * caches; the serial collide pass visits only what it marks. With the
      * step's dt as the collide pass has it, a float. */
-    bool near = false;
+    bool any_near = false;
     if (em->deflector_count) {
         const pfx_collide_pool view = collide_view(p, first, n);
-        near = pfx_collide_near(em->deflectors, em->deflector_count, (float)j->span, &view,
-                                p->near + first);
+        any_near = pfx_collide_near(em->deflectors, em->deflector_count, (float)j->span, &view,
+                                    p->near + first);
     }
     /* Without the scan every block counts as holding a death, and the
      * serial pass looks at all of them. */
     const bool death = !j->scan_deaths || block_has_death(p, first, n, j->t1);
     s->block_flags[b] = (uint8_t)((bad ? PFX_BLOCK_BAD : 0) | (death ? PFX_BLOCK_DEATH : 0) |
-                                  (near ? PFX_BLOCK_NEAR : 0));
+                                  (any_near ? PFX_BLOCK_NEAR : 0));
 }
 
 uint32_t pfx_step_move(pfx_sim *s, size_t i, double t0, double t1, bool scan_deaths) {
@@ -325,8 +325,9 @@ void pfx_step_kill_expired(pfx_sim *s, size_t emitter, double t1) {
 }
 
 /* A block that held no death when the move pass scanned it holds none now:
- * nothing changed a lifetime since, and a swap-remove only fills the hole
- * being scanned. So skipping those blocks removes exactly the particles, in
+ * nothing changed a lifetime since outside the blocks the collide pass
+ * visited (it flags them as holding a death), and a swap-remove only fills
+ * the hole being scanned. So skipping those blocks removes exactly the particles, in
  * exactly the order, of the scan over every particle. */
 void pfx_step_kill_flagged(pfx_sim *s, size_t emitter, double t1) {
     const pfx_pool *p = &s->pools[emitter];

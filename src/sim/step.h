@@ -5,8 +5,10 @@
 
 #include "sim/state.h"
 
-/* What the move pass found in a block (pfx_sim.block_flags): a state that
- * may be bad, a death, a particle a deflector may touch (or a stuck one). */
+/* What the passes of a step know of a block (pfx_sim.block_flags), set by
+ * the move pass: a state that may be bad, a death, a particle a deflector
+ * may touch (or a stuck one); the collide pass adds a death to the blocks
+ * it visits. */
 enum { PFX_BLOCK_BAD = 1, PFX_BLOCK_DEATH = 2, PFX_BLOCK_NEAR = 4 };
 
 /* Emitter i's live particles moved from t0 to t1 (the gravity kernel or
@@ -16,9 +18,9 @@ enum { PFX_BLOCK_BAD = 1, PFX_BLOCK_DEATH = 2, PFX_BLOCK_NEAR = 4 };
  * may touch (the broad phase, for pfx_step_collide_moved). With
  * scan_deaths each block also notes whether it holds a particle dead at t1
  * (for pfx_step_kill_flagged), so that the serial death pass reads only
- * those blocks; without it every block is noted. Returns the first index of the first block that
- * may hold a non-finite or runaway particle (for pfx_step_check_state to confirm and name), or the
- * count when none. */
+ * those blocks; without it every block is noted. Returns the first index
+ * of the first block that may hold a non-finite or runaway particle (for
+ * pfx_step_check_state to confirm and name), or the count when none. */
 uint32_t pfx_step_move(pfx_sim *s, size_t i, double t0, double t1, bool scan_deaths);
 /* Whether a newborn of a gravity-only emitter at (x, v) under acceleration
  * a, living `life` more seconds, could ever trip the state check. */
@@ -33,7 +35,7 @@ void pfx_step_check_state(pfx_sim *s, size_t i, uint32_t first, double t);
  * length dt from t0 just integrated (on_hit events queued). */
 void pfx_step_collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double dt);
 /* Deflectors for every particle of emitter i after pfx_step_move(s, i, t0,
- * t0 + dt), from the marks it left: only the blocks it noted near a
+ * t1), dt the step's length as a float, from the marks it left: only the blocks it noted near a
  * surface, which are noted as holding a death too (a deflector may kill
  * or shorten a life), so pfx_step_kill_flagged stays exact. */
 void pfx_step_collide_moved(pfx_sim *s, size_t i, double t0, double dt);
@@ -41,7 +43,8 @@ void pfx_step_collide_moved(pfx_sim *s, size_t i, double t0, double dt);
  * particle fills each hole. */
 void pfx_step_kill_expired(pfx_sim *s, size_t i, double t1);
 /* pfx_step_kill_expired over the blocks the last pfx_step_move noted, with
- * the same result: valid while no lifetime changed since that pass. */
+ * the same result: valid while no lifetime changed since that pass outside
+ * the blocks pfx_step_collide_moved noted. */
 void pfx_step_kill_flagged(pfx_sim *s, size_t i, double t1);
 
 #endif
