@@ -59,8 +59,10 @@ typedef struct pfx_collide_stats {
  * step follows the new parabola, up to PFX_COLLIDE_MAX_HITS times. Particles
  * that touch nothing keep the integrator's state bit for bit. `near`: the
  * marks of pfx_collide_near for this pool and dt, or NULL to find them
- * here. Random resilience and friction draw from `rng` (in particle order);
- * on_hit and stats may be NULL; stats are added to. Never allocates.
+ * here. Random resilience and friction draw from `rng` (in particle order;
+ * NULL is allowed where every deflector's ranges are constants, which draw
+ * nothing); on_hit and stats may be NULL; stats are added to. Never
+ * allocates.
  * The caller must: run its kill pass afterwards (a killed particle has
  * lifetime == PFX_KILLED); keep `stuck` (when given) as a pool column, 0 at birth and
  * moved by swap-remove — a stuck particle is put back at x0 with v = 0 each

@@ -4,10 +4,16 @@
  * final store as floats on the right side of every surface. */
 #include "sim/collide_internal.h"
 
+#include <assert.h>
 #include <string.h>
 
+/* A constant range draws nothing (a parallel collide pass passes no
+ * generator: sim/step.c). */
 static double draw(pfx_rng *rng, const double range[2]) {
-    return range[0] == range[1] ? range[0] : pfx_rng_range(rng, range[0], range[1]);
+    if (range[0] == range[1])
+        return range[0];
+    assert(rng);
+    return pfx_rng_range(rng, range[0], range[1]);
 }
 
 /* Rests b on the surface of deflector k with normal n (its velocity's normal

@@ -66,6 +66,7 @@ pfx_sim *pfx_sim_create(const pfx_effect *e, pfx_diags *d) {
             largest = e->emitters[i].capacity;
     }
     s->block_flags = calloc(largest / PFX_SIM_BLOCK + 1, 1);
+    s->block_stats = calloc(largest / PFX_SIM_BLOCK + 1, sizeof *s->block_stats);
     /* More threads than blocks of the largest pool would only sleep. */
     int threads = e->threads > 0 ? e->threads : pfx_workers_cores();
     if ((size_t)threads > largest / PFX_SIM_BLOCK + 1)
@@ -73,8 +74,8 @@ pfx_sim *pfx_sim_create(const pfx_effect *e, pfx_diags *d) {
     s->workers = pfx_workers_create(threads);
     /* One block behind every pool; malloc aligns it for any column. */
     s->storage = malloc(bytes ? bytes : 1);
-    if (!s->pools || !s->emitters || !s->plans || !s->storage || !s->block_flags || !s->workers ||
-        !pfx_spawn_queues_create(s)) {
+    if (!s->pools || !s->emitters || !s->plans || !s->storage || !s->block_flags ||
+        !s->block_stats || !s->workers || !pfx_spawn_queues_create(s)) {
         pfx_sim_destroy(s);
         return NULL;
     }
@@ -109,6 +110,7 @@ void pfx_sim_destroy(pfx_sim *s) {
     free(s->emitters);
     free(s->plans);
     free(s->block_flags);
+    free(s->block_stats);
     pfx_workers_destroy(s->workers);
     pfx_spawn_queues_destroy(s);
     pfx_sim_destroy(s->loop_start);

@@ -267,10 +267,61 @@ void pfx_step_collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t
     collide_range(s, i, first, n, t0, dt, NULL);
 }
 
+/* Whether emitter em's collide pass may run its blocks on any thread: no
+ * response draws a random number (every resilience and friction is a
+ * constant) and no hit starts a particle, so each particle's result
+ * depends on its own state alone, and the counters are sums. */
+static bool collide_order_free(const pfx_emitter *em) {
+    if (em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_HIT))
+        return false;
+    for (size_t k = 0; k < em->deflector_count; k++) {
+        const pfx_deflector *d = &em->deflectors[k];
+        if (d->resilience[0] != d->resilience[1] || d->friction[0] != d->friction[1])
+            return false;
+    }
+    return true;
+}
+
+typedef struct collide_job {
+    pfx_sim *s;
+    size_t emitter;
+    double dt;
+} collide_job;
+
+/* One noted block of an order-free collide pass, with its own counters. */
+static void collide_block(void *arg, size_t b) {
+    const collide_job *j = arg;
+    pfx_sim *s = j->s;
+    const pfx_emitter *em = &s->effect->emitters[j->emitter];
+    const pfx_pool *p = &s->pools[j->emitter];
+    s->block_stats[b] = (pfx_collide_stats){0};
+    if (!(s->block_flags[b] & PFX_BLOCK_NEAR))
+        return;
+    const uint32_t first = (uint32_t)(b * PFX_SIM_BLOCK);
+    const uint32_t n = p->count - first < PFX_SIM_BLOCK ? p->count - first : PFX_SIM_BLOCK;
+    const pfx_collide_pool view = collide_view(p, first, n);
+    pfx_collide(em->deflectors, em->deflector_count, j->dt, &view, p->near + first, NULL, NULL,
+                NULL, &s->block_stats[b]);
+    s->block_flags[b] |= PFX_BLOCK_DEATH;
+}
+
+static void add_stats(pfx_collide_stats *to, const pfx_collide_stats *from) {
+    to->impacts += from->impacts, to->contacts += from->contacts;
+    to->kills += from->kills, to->sticks += from->sticks;
+    to->capped += from->capped, to->fallbacks += from->fallbacks;
+}
+
 void pfx_step_collide_moved(pfx_sim *s, size_t i, double t0, double dt) {
     const pfx_pool *p = &s->pools[i];
     const size_t blocks = ((size_t)p->count + PFX_SIM_BLOCK - 1) / PFX_SIM_BLOCK;
-    for (size_t b = 0; b < blocks; b++) {
+    if (collide_order_free(&s->effect->emitters[i])) {
+        collide_job job = {s, i, dt};
+        pfx_workers_run(s->workers, blocks, collide_block, &job);
+        for (size_t b = 0; b < blocks; b++)
+            add_stats(&s->emitters[i].collisions, &s->block_stats[b]);
+        return;
+    }
+    for (size_t b = 0; b < blocks; b++) { /* in pool order: one random stream, events */
         if (!(s->block_flags[b] & PFX_BLOCK_NEAR))
             continue;
         const uint32_t first = (uint32_t)(b * PFX_SIM_BLOCK);

@@ -35,9 +35,11 @@ void pfx_step_check_state(pfx_sim *s, size_t i, uint32_t first, double t);
  * length dt from t0 just integrated (on_hit events queued). */
 void pfx_step_collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double dt);
 /* Deflectors for every particle of emitter i after pfx_step_move(s, i, t0,
- * t1), dt the step's length as a float, from the marks it left: only the blocks it noted near a
- * surface, which are noted as holding a death too (a deflector may kill
- * or shorten a life), so pfx_step_kill_flagged stays exact. */
+ * t1), dt the step's length as a float, from the marks it left: only the
+ * blocks it noted near a surface, which are noted as holding a death too
+ * (a deflector may kill or shorten a life), so pfx_step_kill_flagged stays
+ * exact. Spread over the threads where no response is random and no hit
+ * starts a particle; otherwise in pool order on this one. */
 void pfx_step_collide_moved(pfx_sim *s, size_t i, double t0, double dt);
 /* Deaths at age >= lifetime at t1 (on_death events queued); the last live
  * particle fills each hole. */
