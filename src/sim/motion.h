@@ -97,9 +97,12 @@ void pfx_motion_advance_d(const pfx_motion_plan *m, pfx_motion_pool_d *pool, dou
 /* The simulation's step from t0 to t1 (span t1 - t0): as advance, with the
  * last kick evaluated at t1 itself, the next step's t0, and with the plan's
  * carry_accel the pool's ax, ay, az read (where no particle of a block has
- * NaN there) for the first kick and written by the last. */
-void pfx_motion_move_f(const pfx_motion_plan *m, pfx_motion_pool_f *pool, double t0, double t1);
-void pfx_motion_move_d(const pfx_motion_plan *m, pfx_motion_pool_d *pool, double t0, double t1);
+ * NaN there) for the first kick and written by the last. Returns whether a
+ * particle may have ended in a bad state: the quick, conservative test of
+ * pfx_motion_find_bad, run on each block of PFX_MOTION_BLOCK as it is
+ * done; pfx_motion_find_bad says which. */
+bool pfx_motion_move_f(const pfx_motion_plan *m, pfx_motion_pool_f *pool, double t0, double t1);
+bool pfx_motion_move_d(const pfx_motion_plan *m, pfx_motion_pool_d *pool, double t0, double t1);
 
 /* Acceleration of the n particles starting at pool index i0, at state
  * (x, v) given in block arrays, time t, from the ODE forces (all but the

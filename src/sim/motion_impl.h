@@ -703,10 +703,25 @@ static void FN(run_block)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0
 
 #include "sim/motion_levels_impl.h"
 
+/* Whether n particles may hold a bad state: the quick test of
+ * pfx_motion_find_bad (non-finite, |v_c| above the speed limit / sqrt(3) or
+ * |x_c| above the position limit: every bad state trips one of these),
+ * branch-free, run on a block while it is in the first-level cache. */
+CLONES static int FN(may_be_bad)(size_t n, const R *X, const R *Y, const R *Z, const R *U,
+                                 const R *V, const R *W) {
+    const R xmax = (R)PFX_MOTION_MAX_POSITION, vc = (R)(PFX_MOTION_MAX_SPEED * 0.57);
+    int alarm = 0;
+    for (size_t j = 0; j < n; j++)
+        alarm |= !(fabs(U[j]) <= vc) | !(fabs(V[j]) <= vc) | !(fabs(W[j]) <= vc) |
+                 !(fabs(X[j]) <= xmax) | !(fabs(Y[j]) <= xmax) | !(fabs(Z[j]) <= xmax);
+    return alarm;
+}
+
 /* From t by span, the last substep ending at t_end (t + span, or the
- * caller's own end time of the step). */
+ * caller's own end time of the step). With `alarm`, also whether a
+ * particle may have ended in a bad state (FN(may_be_bad) of each block). */
 static void FN(advance_to)(const pfx_motion_plan *m, PFX_POOL *p, double t, double span,
-                           double t_end) {
+                           double t_end, int *alarm) {
     const int steps = pfx_motion_substeps_for(&m->model->choice, span);
     const double h = span / steps;
     /* per particle for a full step only: other spans take the count for
@@ -721,15 +736,19 @@ static void FN(advance_to)(const pfx_motion_plan *m, PFX_POOL *p, double t, doub
             FN(advance_by_radius)(m, p, i0, n, X, Y, Z, U, V, W, t, span, steps, t_end);
         else
             FN(run_block)(m, p, i0, n, X, Y, Z, U, V, W, t, h, steps, t_end);
+        if (alarm)
+            *alarm |= FN(may_be_bad)(n, X, Y, Z, U, V, W);
     }
 }
 
 void FN(pfx_motion_advance)(const pfx_motion_plan *m, PFX_POOL *p, double t, double span) {
-    FN(advance_to)(m, p, t, span, t + span);
+    FN(advance_to)(m, p, t, span, t + span, NULL);
 }
 
-void FN(pfx_motion_move)(const pfx_motion_plan *m, PFX_POOL *p, double t0, double t1) {
-    FN(advance_to)(m, p, t0, t1 - t0, t1);
+bool FN(pfx_motion_move)(const pfx_motion_plan *m, PFX_POOL *p, double t0, double t1) {
+    int alarm = 0;
+    FN(advance_to)(m, p, t0, t1 - t0, t1, &alarm);
+    return alarm != 0;
 }
 
 void FN(pfx_motion_step)(const pfx_motion_plan *m, PFX_POOL *p, double t) {

@@ -196,9 +196,9 @@ static void move_block(void *arg, size_t b) {
         if (p->ax) { /* the carried accelerations: a full step, ending at t1 */
             view.ax = p->ax + first, view.ay = p->ay + first, view.az = p->az + first;
         }
-        pfx_motion_move_f(&s->plans[j->emitter], &view, j->t0, j->t1);
-        pfx_bad_kind why;
-        bad = pfx_motion_find_bad_f(&view, &why) != n;
+        /* (its quick test of each motion block: pfx_step_check_state
+         * confirms and names a bad particle) */
+        bad = pfx_motion_move_f(&s->plans[j->emitter], &view, j->t0, j->t1);
     } else {
         bad = step_gravity(em, p, first, n, (float)j->span);
     }
