@@ -331,14 +331,13 @@ void pfx_curl_noise_f(size_t n, const float *x, const float *y, const float *z, 
  * block is searched particle by particle. */
 #define FIND_BAD(T, ABS)                                                                           \
     const T vmax2 = (T)(PFX_MOTION_MAX_SPEED * PFX_MOTION_MAX_SPEED);                              \
-    const T xmax = (T)PFX_MOTION_MAX_POSITION, vc = (T)(PFX_MOTION_MAX_SPEED * 0.57);              \
+    const T xmax = (T)PFX_MOTION_MAX_POSITION;                                                     \
     for (size_t i0 = 0; i0 < p->count; i0 += 64) {                                                 \
         const size_t end = p->count - i0 < 64 ? p->count : i0 + 64;                                \
         int alarm = 0;                                                                             \
         for (size_t i = i0; i < end; i++)                                                          \
-            alarm |= !(ABS(p->vx[i]) <= vc) | !(ABS(p->vy[i]) <= vc) | !(ABS(p->vz[i]) <= vc) |    \
-                     !(ABS(p->px[i]) <= xmax) | !(ABS(p->py[i]) <= xmax) |                         \
-                     !(ABS(p->pz[i]) <= xmax);                                                     \
+            alarm |= PFX_MOTION_MAY_BE_BAD(T, ABS, p->px[i], p->py[i], p->pz[i], p->vx[i],         \
+                                           p->vy[i], p->vz[i]);                                    \
         if (!alarm)                                                                                \
             continue;                                                                              \
         for (size_t i = i0; i < end; i++) {                                                        \

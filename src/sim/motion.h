@@ -127,6 +127,18 @@ void pfx_curl_noise_f(size_t n, const float *x, const float *y, const float *z, 
 #define PFX_MOTION_MAX_POSITION 1e7 /* m */
 typedef enum { PFX_BAD_NONE = 0, PFX_BAD_NONFINITE, PFX_BAD_SPEED, PFX_BAD_POSITION } pfx_bad_kind;
 
+/* The quick test of a bad state, branch-free so that loops of it
+ * vectorise: 1 when the position (x, y, z) or velocity (u, v, w), of type
+ * T, is non-finite, has a velocity component above the speed limit /
+ * sqrt(3) or a coordinate above the position limit. Every bad state trips
+ * it; pfx_motion_find_bad then looks at the particles one by one. ABS:
+ * fabsf or fabs. */
+#define PFX_MOTION_MAY_BE_BAD(T, ABS, x, y, z, u, v, w)                                            \
+    (!(ABS(u) <= (T)(PFX_MOTION_MAX_SPEED * 0.57)) |                                               \
+     !(ABS(v) <= (T)(PFX_MOTION_MAX_SPEED * 0.57)) |                                               \
+     !(ABS(w) <= (T)(PFX_MOTION_MAX_SPEED * 0.57)) | !(ABS(x) <= (T)PFX_MOTION_MAX_POSITION) |     \
+     !(ABS(y) <= (T)PFX_MOTION_MAX_POSITION) | !(ABS(z) <= (T)PFX_MOTION_MAX_POSITION))
+
 /* First index in [0, pool->count) whose state is NaN/Inf, faster than
  * PFX_MOTION_MAX_SPEED or farther than PFX_MOTION_MAX_POSITION; returns
  * pool->count when none is and sets *why. */

@@ -703,17 +703,13 @@ static void FN(run_block)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0
 
 #include "sim/motion_levels_impl.h"
 
-/* Whether n particles may hold a bad state: the quick test of
- * pfx_motion_find_bad (non-finite, |v_c| above the speed limit / sqrt(3) or
- * |x_c| above the position limit: every bad state trips one of these),
- * branch-free, run on a block while it is in the first-level cache. */
+/* Whether n particles may hold a bad state (PFX_MOTION_MAY_BE_BAD), run
+ * on a block while it is in the first-level cache. */
 CLONES static int FN(may_be_bad)(size_t n, const R *X, const R *Y, const R *Z, const R *U,
                                  const R *V, const R *W) {
-    const R xmax = (R)PFX_MOTION_MAX_POSITION, vc = (R)(PFX_MOTION_MAX_SPEED * 0.57);
     int alarm = 0;
     for (size_t j = 0; j < n; j++)
-        alarm |= !(fabs(U[j]) <= vc) | !(fabs(V[j]) <= vc) | !(fabs(W[j]) <= vc) |
-                 !(fabs(X[j]) <= xmax) | !(fabs(Y[j]) <= xmax) | !(fabs(Z[j]) <= xmax);
+        alarm |= PFX_MOTION_MAY_BE_BAD(R, fabs, X[j], Y[j], Z[j], U[j], V[j], W[j]);
     return alarm;
 }
 

@@ -126,6 +126,13 @@ void pfx_step_check_state(pfx_sim *s, size_t i, uint32_t first, double t) {
                    t, cause);
 }
 
+/* Particles in block b of p's blocks of PFX_SIM_BLOCK (the last may be
+ * short). */
+static uint32_t block_size(const pfx_pool *p, size_t b) {
+    const uint32_t first = (uint32_t)(b * PFX_SIM_BLOCK);
+    return p->count - first < PFX_SIM_BLOCK ? p->count - first : PFX_SIM_BLOCK;
+}
+
 /* The collide pass's view of particles [first, first + n) of p. */
 static pfx_collide_pool collide_view(const pfx_pool *p, uint32_t first, uint32_t n) {
     return (pfx_collide_pool){.count = n,
@@ -179,8 +186,7 @@ static void move_block(void *arg, size_t b) {
     pfx_sim *s = j->s;
     const pfx_emitter *em = &s->effect->emitters[j->emitter];
     pfx_pool *p = &s->pools[j->emitter];
-    const uint32_t first = (uint32_t)(b * PFX_SIM_BLOCK);
-    const uint32_t n = p->count - first < PFX_SIM_BLOCK ? p->count - first : PFX_SIM_BLOCK;
+    const uint32_t first = (uint32_t)(b * PFX_SIM_BLOCK), n = block_size(p, b);
     if (em->deflector_count) {
         const size_t bytes = n * sizeof(float);
         memcpy(p->start_px + first, p->px + first, bytes);
@@ -251,20 +257,21 @@ static void on_hit(void *user, uint32_t index, size_t deflector, const double po
 /* Deflectors for particles [first, first + n) over the step of length dt
  * just integrated: each path is swept from its start state, so nothing
  * tunnels, and hits are resolved at their exact times (src/sim/collide.c).
- * near: the move pass's marks, or NULL. */
+ * near: the move pass's marks, or NULL; rng: the emitter's stream, or
+ * NULL where no response draws from it; the counters go to stats. */
 static void collide_range(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double dt,
-                          const uint8_t *near) {
+                          const uint8_t *near, pfx_rng *rng, pfx_collide_stats *stats) {
     const pfx_emitter *em = &s->effect->emitters[i];
-    pfx_emitter_state *st = &s->emitters[i];
     const pfx_collide_pool view = collide_view(&s->pools[i], first, n);
     hit_context hc = {s, i, first, t0};
     bool hits = em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_HIT);
-    pfx_collide(em->deflectors, em->deflector_count, dt, &view, near, &st->collide_rng,
-                hits ? on_hit : NULL, &hc, &st->collisions);
+    pfx_collide(em->deflectors, em->deflector_count, dt, &view, near, rng, hits ? on_hit : NULL,
+                &hc, stats);
 }
 
 void pfx_step_collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double dt) {
-    collide_range(s, i, first, n, t0, dt, NULL);
+    pfx_emitter_state *st = &s->emitters[i];
+    collide_range(s, i, first, n, t0, dt, NULL, &st->collide_rng, &st->collisions);
 }
 
 /* Whether emitter em's collide pass may run its blocks on any thread: no
@@ -285,49 +292,44 @@ static bool collide_order_free(const pfx_emitter *em) {
 typedef struct collide_job {
     pfx_sim *s;
     size_t emitter;
-    double dt;
+    double t0, dt;
+    bool ordered; /* in pool order, on one thread: the emitter's stream and counters */
 } collide_job;
 
-/* One noted block of an order-free collide pass, with its own counters. */
+/* Block b of the collide pass, when the move pass noted it near a
+ * surface; noted as holding a death after (a deflector may kill or shorten
+ * a life). Unordered, with no stream and the block's own counters. */
 static void collide_block(void *arg, size_t b) {
     const collide_job *j = arg;
     pfx_sim *s = j->s;
-    const pfx_emitter *em = &s->effect->emitters[j->emitter];
-    const pfx_pool *p = &s->pools[j->emitter];
-    s->block_stats[b] = (pfx_collide_stats){0};
+    pfx_emitter_state *st = &s->emitters[j->emitter];
+    pfx_collide_stats *stats = j->ordered ? &st->collisions : &s->block_stats[b];
+    if (!j->ordered)
+        *stats = (pfx_collide_stats){0};
     if (!(s->block_flags[b] & PFX_BLOCK_NEAR))
         return;
+    const pfx_pool *p = &s->pools[j->emitter];
     const uint32_t first = (uint32_t)(b * PFX_SIM_BLOCK);
-    const uint32_t n = p->count - first < PFX_SIM_BLOCK ? p->count - first : PFX_SIM_BLOCK;
-    const pfx_collide_pool view = collide_view(p, first, n);
-    pfx_collide(em->deflectors, em->deflector_count, j->dt, &view, p->near + first, NULL, NULL,
-                NULL, &s->block_stats[b]);
+    collide_range(s, j->emitter, first, block_size(p, b), j->t0, j->dt, p->near + first,
+                  j->ordered ? &st->collide_rng : NULL, stats);
     s->block_flags[b] |= PFX_BLOCK_DEATH;
 }
 
-static void add_stats(pfx_collide_stats *to, const pfx_collide_stats *from) {
-    to->impacts += from->impacts, to->contacts += from->contacts;
-    to->kills += from->kills, to->sticks += from->sticks;
-    to->capped += from->capped, to->fallbacks += from->fallbacks;
-}
-
 void pfx_step_collide_moved(pfx_sim *s, size_t i, double t0, double dt) {
-    const pfx_pool *p = &s->pools[i];
-    const size_t blocks = ((size_t)p->count + PFX_SIM_BLOCK - 1) / PFX_SIM_BLOCK;
-    if (collide_order_free(&s->effect->emitters[i])) {
-        collide_job job = {s, i, dt};
-        pfx_workers_run(s->workers, blocks, collide_block, &job);
+    const size_t blocks = ((size_t)s->pools[i].count + PFX_SIM_BLOCK - 1) / PFX_SIM_BLOCK;
+    collide_job job = {s, i, t0, dt, !collide_order_free(&s->effect->emitters[i])};
+    if (job.ordered) {
         for (size_t b = 0; b < blocks; b++)
-            add_stats(&s->emitters[i].collisions, &s->block_stats[b]);
+            collide_block(&job, b);
         return;
     }
-    for (size_t b = 0; b < blocks; b++) { /* in pool order: one random stream, events */
-        if (!(s->block_flags[b] & PFX_BLOCK_NEAR))
-            continue;
-        const uint32_t first = (uint32_t)(b * PFX_SIM_BLOCK);
-        const uint32_t n = p->count - first < PFX_SIM_BLOCK ? p->count - first : PFX_SIM_BLOCK;
-        collide_range(s, i, first, n, t0, dt, p->near + first);
-        s->block_flags[b] |= PFX_BLOCK_DEATH;
+    pfx_workers_run(s->workers, blocks, collide_block, &job);
+    pfx_collide_stats *sum = &s->emitters[i].collisions;
+    for (size_t b = 0; b < blocks; b++) {
+        const pfx_collide_stats *c = &s->block_stats[b];
+        sum->impacts += c->impacts, sum->contacts += c->contacts;
+        sum->kills += c->kills, sum->sticks += c->sticks;
+        sum->capped += c->capped, sum->fallbacks += c->fallbacks;
     }
 }
 
@@ -378,8 +380,8 @@ void pfx_step_kill_expired(pfx_sim *s, size_t emitter, double t1) {
 /* A block that held no death when the move pass scanned it holds none now:
  * nothing changed a lifetime since outside the blocks the collide pass
  * visited (it flags them as holding a death), and a swap-remove only fills
- * the hole being scanned. So skipping those blocks removes exactly the particles, in
- * exactly the order, of the scan over every particle. */
+ * the hole being scanned. So skipping those blocks removes exactly the
+ * particles, in exactly the order, of the scan over every particle. */
 void pfx_step_kill_flagged(pfx_sim *s, size_t emitter, double t1) {
     const pfx_pool *p = &s->pools[emitter];
     const size_t blocks = ((size_t)p->count + PFX_SIM_BLOCK - 1) / PFX_SIM_BLOCK;
