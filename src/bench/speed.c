@@ -336,7 +336,7 @@ static void bench_forces(report *r) {
             w = alone ? gravity : timed_window(&t);
             rate = w > rate ? w : rate;
         }
-        const pfx_emitter *em = &(alone ? g : l).effect->emitters[0];
+        const pfx_emitter *em = &(alone ? g.effect : l.effect)->emitters[0];
         json_array_append_new(r->forces,
                               json_pack("{s:s, s:i, s:f, s:f}", "name", cases[k].name, "threads", 1,
                                         "steps_per_s", rate, "gravity_steps_per_s", gravity));
