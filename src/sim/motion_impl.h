@@ -720,10 +720,9 @@ static void FN(advance_to)(const pfx_motion_plan *m, PFX_POOL *p, double t, doub
                            double t_end, int *alarm) {
     const int steps = pfx_motion_substeps_for(&m->model->choice, span);
     const double h = span / steps;
-    /* per particle for a full step only: other spans take the count for
-     * the span, so that a particle's substeps stay a function of its own
-     * state and the span */
-    const bool by_radius = m->radius_top > 0 && fabs(span - m->dt) <= 1e-9 * m->dt;
+    /* per particle for a full step or a part of one (a newborn's): a
+     * longer span takes the count for the span */
+    const bool by_radius = m->radius_top > 0 && span <= m->dt * (1 + 1e-9);
     for (size_t i0 = 0; i0 < p->count; i0 += BLK) {
         size_t n = p->count - i0 < BLK ? p->count - i0 : BLK;
         R *X = p->px + i0, *Y = p->py + i0, *Z = p->pz + i0;

@@ -53,18 +53,32 @@ CLONES static bool FN(radius_levels)(const pfx_motion_plan *m, const PFX_POOL *p
     return true;
 }
 
+/* The substeps of level k over a span of at most dt: no longer than the
+ * full step's at that level, dt / 2^k (the top level: the count for the
+ * span, `steps`). A full step gets 2^k; a newborn's part of a step as few
+ * as its part needs, so that one far from the attractor takes one. */
+static int FN(level_substeps)(const pfx_motion_plan *m, int k, double span, int steps) {
+    if (k >= m->radius_top)
+        return steps;
+    const double n = ceil((double)(1 << k) * span / m->dt * (1 - 1e-12));
+    return n < 1 ? 1 : (int)n;
+}
+
 /* Substeps per particle (choice.radius): the block runs in place at its
  * lowest level; the particles that need more are saved first, then run
  * again from their start at their own level and written back. Each
- * particle's result depends on its own state alone, whatever block or
- * thread it is in. */
+ * particle's result depends on its own state and the span alone, whatever
+ * block or thread it is in. The levels are those of a full step (its reach
+ * and radii), which hold a fortiori over a shorter span with substeps no
+ * longer than the full step's. */
 static void FN(advance_by_radius)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0, size_t n,
                                   R *X, R *Y, R *Z, R *U, R *V, R *W, double t, double span,
                                   int steps, double t_end) {
     unsigned char lv[BLK];
     const int top = m->radius_top;
     if (!FN(radius_levels)(m, p, i0, n, X, Y, Z, U, V, W, lv)) { /* all at level 0 */
-        FN(run_split)(m, p, i0, n, X, Y, Z, U, V, W, t, span, 1, t_end);
+        const int n0 = FN(level_substeps)(m, 0, span, steps);
+        FN(run_split)(m, p, i0, n, X, Y, Z, U, V, W, t, span / n0, n0, t_end);
         return;
     }
     int lo = top, hi = 0;
@@ -85,7 +99,7 @@ static void FN(advance_by_radius)(const pfx_motion_plan *m, const PFX_POOL *p, s
             sv[6][saved] = gs ? gs[j] : (R)1;
             at[saved++] = (unsigned short)j;
         }
-    const int n_lo = lo < top ? 1 << lo : steps;
+    const int n_lo = FN(level_substeps)(m, lo, span, steps);
     FN(run_split)(m, p, i0, n, X, Y, Z, U, V, W, t, span / n_lo, n_lo, t_end);
     for (int k = lo + 1; k <= hi; k++) {
         size_t cnt = 0;
@@ -99,7 +113,7 @@ static void FN(advance_by_radius)(const pfx_motion_plan *m, const PFX_POOL *p, s
         if (!cnt)
             continue;
         PFX_POOL one = {.count = cnt, .gravity_scale = gs ? q[6] : NULL};
-        const int nk = k < top ? 1 << k : steps;
+        const int nk = FN(level_substeps)(m, k, span, steps);
         FN(run_split)(m, &one, 0, cnt, q[0], q[1], q[2], q[3], q[4], q[5], t, span / nk, nk, t_end);
         for (size_t s = 0; s < cnt; s++)
             for (int c = 0; c < 6; c++)
