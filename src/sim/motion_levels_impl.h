@@ -60,6 +60,8 @@ CLONES static bool FN(radius_levels)(const pfx_motion_plan *m, const PFX_POOL *p
 static int FN(level_substeps)(const pfx_motion_plan *m, int k, double span, int steps) {
     if (k >= m->radius_top)
         return steps;
+    if (fabs(span - m->dt) <= 1e-9 * m->dt) /* the full step (pfx_motion_substeps_for) */
+        return 1 << k;
     const double n = ceil((double)(1 << k) * span / m->dt * (1 - 1e-12));
     return n < 1 ? 1 : (int)n;
 }
