@@ -90,7 +90,10 @@ void pfx_motion_step_d(const pfx_motion_plan *m, pfx_motion_pool_d *pool, double
  * pfx_motion_substeps_for(span) equal substeps: never longer than the
  * planned substep dt/steps, so a newborn's partial step or a frame's
  * remainder is integrated exactly as a particle started alone at t and
- * stepped at that span would be. pfx_motion_step_* is span = dt. */
+ * stepped at that span would be. Under the rule per particle (radius_top >
+ * 0) and a span up to dt, each particle takes instead its level's count for
+ * the span (ceil(2^k span / dt), 2^k for a full step).
+ * pfx_motion_step_* is span = dt. */
 void pfx_motion_advance_f(const pfx_motion_plan *m, pfx_motion_pool_f *pool, double t, double span);
 void pfx_motion_advance_d(const pfx_motion_plan *m, pfx_motion_pool_d *pool, double t, double span);
 

@@ -154,6 +154,46 @@ static void test_rule_per_particle(void) {
     CHECK(!mm.choice.radius.on && plan.radius_top == 0);
 }
 
+/* A span shorter than dt, or within 1e-9 of it, runs each particle at
+ * its level with ceil(2^k span / dt) substeps (2^k for a full step; the
+ * top level the emitter's count for the span): the same bits as a plan
+ * that asks for 2^k substeps (or 8) for everyone, whose count for a span
+ * is that very formula. Particles on circular orbits at 1.5, 0.52, 0.35
+ * and 0.15 m sit at levels 0, 1, 2 and the top; the spans are a full
+ * step, dt (1 +- 1e-10), which a long run's t1 - t0 reaches by rounding,
+ * and a newborn's 0.3 dt. */
+static void test_levels_over_a_span(void) {
+    const double dt = 1.0 / 120;
+    const double radius[4] = {1.5, 0.52, 0.35, 0.15};
+    const int count[4] = {1, 2, 4, 8};
+    const double spans[4] = {dt, dt * (1 + 1e-10), dt * (1 - 1e-10), 0.3 * dt};
+    pfx_motion m = bench_model();
+    pfx_motion_plan plan;
+    pfx_motion_plan_prepare(&plan, &m, dt);
+    CHECK(plan.radius_top == 3);
+    for (int k = 0; k < 4; k++) {
+        pfx_motion fixed = bench_model();
+        fixed.substeps = count[k];
+        pfx_motion_plan ref;
+        pfx_motion_plan_prepare(&ref, &fixed, dt);
+        CHECK(ref.radius_top == 0 && ref.scheme == plan.scheme);
+        for (int i = 0; i < 4; i++) {
+            const double v = circular_speed(radius[k]);
+            st a = {radius[k], 0, 0, 0, 0, v}, b = a;
+            pfx_motion_pool_d pa = {
+                .count = 1, .px = &a.x, .py = &a.y, .pz = &a.z, .vx = &a.u, .vy = &a.v, .vz = &a.w};
+            pfx_motion_pool_d pb = {
+                .count = 1, .px = &b.x, .py = &b.y, .pz = &b.z, .vx = &b.u, .vy = &b.v, .vz = &b.w};
+            pfx_motion_advance_d(&plan, &pa, 1.0, spans[i]);
+            pfx_motion_advance_d(&ref, &pb, 1.0, spans[i]);
+            if (memcmp(&a, &b, sizeof a) != 0)
+                fprintf(stderr, "  r = %g, span %.17g dt: not as a plan of %d substeps a step\n",
+                        radius[k], spans[i] / dt, count[k]);
+            CHECK(memcmp(&a, &b, sizeof a) == 0);
+        }
+    }
+}
+
 /* A circular orbit of radius 1 m about the bench's attractor through
  * emission, in the float pool at 120 steps/s for 10 orbits (46 s): the
  * rule keeps the position within 1e-3 m/s t of the exact motion, float
@@ -238,6 +278,7 @@ static void test_pinned_hash(void) {
 int main(void) {
     RUN(test_kernel);
     RUN(test_rule_per_particle);
+    RUN(test_levels_over_a_span);
     RUN(test_orbit_through_emission);
     RUN(test_pinned_hash);
     return TEST_EXIT();
