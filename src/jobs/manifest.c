@@ -1,8 +1,9 @@
 /* Manifests (jobs/manifest.h) as jansson objects: built up by the command,
  * written atomically, read back to decide whether a run has anything to do
  * and which files of the previous run are stale. The bake key is the
- * SHA-256 of a canonical dump (sorted keys, compact) of the version,
- * command, settings and inputs: never of the outputs, which it predicts. */
+ * SHA-256 of a canonical dump (sorted keys, compact) of the version, the
+ * results revision, the command, settings and inputs: never of the
+ * outputs, which it predicts. */
 #include "jobs/manifest.h"
 
 #include <errno.h>
@@ -17,7 +18,8 @@
 #define MANIFEST_FORMAT 1
 
 struct pfx_manifest {
-    json_t *root; /* format, pfx_version, command, settings, inputs, bake_key, outputs */
+    json_t *root; /* format, pfx_version, pfx_results, command, settings, inputs, bake_key,
+                     outputs */
     char key[PFX_SHA256_HEX];
 };
 
@@ -27,9 +29,9 @@ pfx_manifest *pfx_manifest_create(const char *command) {
     pfx_manifest *m = calloc(1, sizeof *m);
     if (!m)
         return NULL;
-    m->root =
-        json_pack("{s:i, s:s, s:s, s:{}, s:[], s:[]}", "pfx_manifest", MANIFEST_FORMAT,
-                  "pfx_version", PFX_VERSION, "command", command, "settings", "inputs", "outputs");
+    m->root = json_pack("{s:i, s:s, s:i, s:s, s:{}, s:[], s:[]}", "pfx_manifest", MANIFEST_FORMAT,
+                        "pfx_version", PFX_VERSION, "pfx_results", PFX_RESULTS, "command", command,
+                        "settings", "inputs", "outputs");
     if (!m->root) {
         free(m);
         return NULL;
@@ -115,9 +117,10 @@ const char *pfx_manifest_input(const pfx_manifest *m, size_t i) {
 }
 
 const char *pfx_manifest_key(pfx_manifest *m) {
-    json_t *keyed = json_pack("{s:O, s:O, s:O, s:O}", "pfx_version", member(m, "pfx_version"),
-                              "command", member(m, "command"), "settings", member(m, "settings"),
-                              "inputs", member(m, "inputs"));
+    json_t *keyed =
+        json_pack("{s:O, s:O, s:O, s:O, s:O}", "pfx_version", member(m, "pfx_version"),
+                  "pfx_results", member(m, "pfx_results"), "command", member(m, "command"),
+                  "settings", member(m, "settings"), "inputs", member(m, "inputs"));
     char *text = keyed ? json_dumps(keyed, JSON_SORT_KEYS | JSON_COMPACT) : NULL;
     json_decref(keyed);
     if (!text)
@@ -277,6 +280,21 @@ static json_t *settings_but_frames(const pfx_manifest *m) {
     return s;
 }
 
+/* Whether a and b record the same member k (both without it counts). */
+static bool same_member(const pfx_manifest *a, const pfx_manifest *b, const char *k) {
+    const json_t *x = member(a, k), *y = member(b, k);
+    return (!x && !y) || (x && y && json_equal(x, y));
+}
+
+/* dst's member k as src records it, or none where src has none. */
+static void copy_member(pfx_manifest *dst, const pfx_manifest *src, const char *k) {
+    json_t *v = member(src, k);
+    if (v)
+        json_object_set(dst->root, k, v);
+    else
+        json_object_del(dst->root, k);
+}
+
 static int by_path(const void *a, const void *b) {
     const char *x = json_string_value(json_object_get(*(json_t *const *)a, "path"));
     const char *y = json_string_value(json_object_get(*(json_t *const *)b, "path"));
@@ -309,6 +327,9 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
             json_object_set_new(out->root, "settings",
                                 json_deep_copy(member(parts[k], "settings")));
             json_object_set(out->root, "inputs", member(parts[k], "inputs"));
+            /* the build that made the frames, not the one that gathers them */
+            copy_member(out, parts[k], "pfx_version");
+            copy_member(out, parts[k], "pfx_results");
         } else {
             bool same = json_equal(ref, s) && count == c0 && f0 == a0 && f1 == b0 &&
                         json_equal(member(parts[k], "inputs"), member(out, "inputs"));
@@ -317,6 +338,14 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
                 pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
                                "'%s' is a slice of another render than '%s' (other inputs, "
                                "settings or slice count)",
+                               names[k], names[0]);
+                continue;
+            }
+            if (!same_member(parts[k], out, "pfx_version") ||
+                !same_member(parts[k], out, "pfx_results")) {
+                pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                               "'%s' was rendered by another build of pfx than '%s' (other "
+                               "pfx_version or pfx_results): its frames may differ",
                                names[k], names[0]);
                 continue;
             }

@@ -1,5 +1,5 @@
 /* Manifests: what a render or bake read and wrote, beside its outputs as
- * JSON (through jansson). The pfx version, the command, the resolved
+ * JSON (through jansson). The pfx version and results revision, the command, the resolved
  * settings, the SHA-256 of every input (the effect, its meshes) and of every
  * output, and a bake key: the SHA-256 of everything that decides the
  * outputs. A re-run whose key and outputs match the previous manifest has
@@ -14,6 +14,15 @@
 #include "base/diag.h"
 #include "base/sha256.h"
 #include "model/effect.h"
+
+/* The revision of the bytes pfx writes for a given input and settings,
+ * raised by every change that alters some output (a re-pinned state hash,
+ * a frame that changed), so that a bake key recorded by an earlier build
+ * of the same version never vouches for this one's outputs: it is part of
+ * the key, and each manifest records it as "pfx_results".
+ *   1  0.1.0 up to the newborns' substep levels
+ *   2  a newborn's part of a step at the attractor's substep levels */
+#define PFX_RESULTS 2
 
 typedef struct pfx_manifest pfx_manifest;
 
@@ -36,7 +45,8 @@ bool pfx_manifest_add_effect(pfx_manifest *m, const pfx_effect *e, pfx_diags *d)
 size_t pfx_manifest_input_count(const pfx_manifest *m);
 const char *pfx_manifest_input(const pfx_manifest *m, size_t i);
 
-/* The bake key over the version, command, settings and inputs so far, as
+/* The bake key over the version, the results revision, the command, the
+ * settings and the inputs so far, as
  * 64 hex digits (owned by m, valid until the next change). */
 const char *pfx_manifest_key(pfx_manifest *m);
 

@@ -25,7 +25,7 @@ man, d = sys.argv[1], sys.argv[2]
 sha = lambda p: hashlib.sha256(open(p, "rb").read()).hexdigest()
 m = json.load(open(man))
 bad = []
-for k in ("pfx_version", "command", "settings", "inputs", "outputs", "bake_key"):
+for k in ("pfx_version", "pfx_results", "command", "settings", "inputs", "outputs", "bake_key"):
     if k not in m:
         bad.append("no " + k)
 for i in m.get("inputs", []):
@@ -79,6 +79,37 @@ want_status 0
 stderr_has "rendered"
 end
 tally "$(check_manifest frames/mesh_emitter.manifest.json frames)"
+
+# The key as the man page defines it: the SHA-256 of the sorted, compact
+# JSON of pfx_version, pfx_results, command, settings and inputs. With
+# `older`, the manifest is rewritten as a build of the revision before
+# would have written it (key included).
+rekey() {
+    "$py" - "$@" <<'PY'
+import hashlib, json, sys
+path = sys.argv[1]
+m = json.load(open(path))
+if len(sys.argv) > 2:
+    m["pfx_results"] -= 1
+keyed = {k: m[k] for k in ("pfx_version", "pfx_results", "command", "settings", "inputs")}
+text = json.dumps(keyed, sort_keys=True, separators=(",", ":"), ensure_ascii=False)
+key = hashlib.sha256(text.encode()).hexdigest()
+if len(sys.argv) > 2:
+    m["bake_key"] = key
+    json.dump(m, open(path, "w"))
+print(key)
+PY
+}
+
+begin "the key covers the results revision; another revision's outputs are redone"
+[ "$(rekey frames/mesh_emitter.manifest.json)" = "$(key frames/mesh_emitter.manifest.json)" ] ||
+    flunk "the key is not the SHA-256 of version, results, command, settings and inputs"
+rekey frames/mesh_emitter.manifest.json older >/dev/null
+pfx_run render "$E" -o frames --frames 0:5 "${R[@]}"
+want_status 0
+stderr_has "rendered"
+[ "$(key frames/mesh_emitter.manifest.json)" = "$key1" ] || flunk "the key changed"
+end
 
 begin "a changed setting changes the key"
 pfx_run render "$E" -o frames --frames 0:5 "${R[@]}" --seed 6

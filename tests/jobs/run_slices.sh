@@ -116,6 +116,20 @@ want_status 1
 stderr_has "is a slice of another render"
 end
 
+begin "slices from another build of pfx do not mix"
+cp -r s2 s2-older
+"$py" - s2-older/fire.slice-0002-of-0004.manifest.json <<'PY'
+import json, sys
+m = json.load(open(sys.argv[1]))
+m["pfx_results"] -= 1  # as a build before the last change to pfx's output wrote it
+json.dump(m, open(sys.argv[1], "w"))
+PY
+pfx_run assemble s0 s1 s2-older s3 -o older
+want_status 1
+stderr_has "s2-older/fire.slice-0002-of-0004.manifest.json' was rendered by another build of pfx than"
+[ ! -e older/fire.manifest.json ] || flunk "a manifest was written"
+end
+
 usage() {
     begin "$1"
     shift

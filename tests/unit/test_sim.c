@@ -728,7 +728,8 @@ static void test_emitter_independence(void) {
 /* The hash of this effect's state after 500 steps (about 4.2 s). A change to
  * EXPECTED_HASH means the simulation's results changed: the commit that
  * changes it must say why (a deliberate change to sampling, the draw order,
- * the integration or the pool order), never just update the number. */
+ * the integration or the pool order) and raise PFX_RESULTS
+ * (src/jobs/manifest.h), never just update the number. */
 #define EXPECTED_HASH 0x61355b4e08f3cf96ULL
 static const char determinism_effect[] =
     "pfx: 1\nseed: 20240611\nsim: { rate: 120 }\n"
