@@ -116,10 +116,17 @@ const char *pfx_manifest_input(const pfx_manifest *m, size_t i) {
     return json_string_value(json_object_get(json_array_get(member(m, "inputs"), i), "path"));
 }
 
+/* Member k, or null where m has none (an assembled manifest whose slices
+ * came from a build that recorded no pfx_results). */
+static json_t *member_or_null(const pfx_manifest *m, const char *k) {
+    json_t *v = member(m, k);
+    return v ? v : json_null();
+}
+
 const char *pfx_manifest_key(pfx_manifest *m) {
     json_t *keyed =
-        json_pack("{s:O, s:O, s:O, s:O, s:O}", "pfx_version", member(m, "pfx_version"),
-                  "pfx_results", member(m, "pfx_results"), "command", member(m, "command"),
+        json_pack("{s:O, s:O, s:O, s:O, s:O}", "pfx_version", member_or_null(m, "pfx_version"),
+                  "pfx_results", member_or_null(m, "pfx_results"), "command", member(m, "command"),
                   "settings", member(m, "settings"), "inputs", member(m, "inputs"));
     char *text = keyed ? json_dumps(keyed, JSON_SORT_KEYS | JSON_COMPACT) : NULL;
     json_decref(keyed);

@@ -130,6 +130,25 @@ stderr_has "s2-older/fire.slice-0002-of-0004.manifest.json' was rendered by anot
 [ ! -e older/fire.manifest.json ] || flunk "a manifest was written"
 end
 
+begin "slices of a build that recorded no pfx_results: a key, not this build's"
+for i in 0 1 2 3; do cp -r s$i o$i; done
+"$py" - o?/fire.slice-*.manifest.json <<'PY'
+import json, sys
+for path in sys.argv[1:]:
+    m = json.load(open(path))
+    del m["pfx_results"]
+    json.dump(m, open(path, "w"))
+PY
+pfx_run assemble o0 o1 o2 o3 -o old-all
+want_status 0
+"$py" -c 'import json,sys; m = json.load(open(sys.argv[1])); sys.exit(len(m.get("bake_key", "")) != 64 or "pfx_results" in m)' old-all/fire.manifest.json ||
+    flunk "the assembled manifest has no key, or a pfx_results its slices did not record"
+pfx_run render "$FIRE" -o old-all "${A[@]}"
+want_status 0
+"$py" -c 'import json,sys; sys.exit("pfx_results" not in json.load(open(sys.argv[1])))' old-all/fire.manifest.json ||
+    flunk "this build took the old slices' key for its own (no new manifest)"
+end
+
 usage() {
     begin "$1"
     shift
