@@ -403,13 +403,17 @@ void pfx_motion_choose(pfx_motion *m, double dt) {
     }
 }
 
-int pfx_motion_substeps_for(const pfx_motion_choice *c, double span) {
-    const int steps = c->steps > 0 ? c->steps : 1;
-    /* The full step (up to the last bits of t1 - t0) keeps its count. */
-    if (fabs(span - c->dt) <= 1e-9 * c->dt)
+bool pfx_motion_full_step(double dt, double span) { return fabs(span - dt) <= 1e-9 * dt; }
+
+int pfx_motion_substeps_over(int steps, double dt, double span) {
+    if (pfx_motion_full_step(dt, span)) /* it keeps its count */
         return steps;
-    double n = ceil(span * steps / c->dt * (1 - 1e-12));
+    double n = ceil(span * steps / dt * (1 - 1e-12));
     return n < 1 ? 1 : n > 1e6 ? 1000000 : (int)n;
+}
+
+int pfx_motion_substeps_for(const pfx_motion_choice *c, double span) {
+    return pfx_motion_substeps_over(c->steps > 0 ? c->steps : 1, c->dt, span);
 }
 
 int pfx_motion_evals_per_step(const pfx_motion *m) {

@@ -215,8 +215,12 @@ enum {
 };
 unsigned pfx_motion_columns(const pfx_motion *m);
 
-/* Substeps of a span: the choice's steps for the full step, else the
- * fewest whose length is at most dt/steps (at least 1). */
+/* Whether span is the full step dt (up to the last bits of t1 - t0). */
+bool pfx_motion_full_step(double dt, double span);
+/* Substeps of a span for `steps` a step: `steps` for the full step, else
+ * the fewest whose length is at most dt/steps (at least 1). */
+int pfx_motion_substeps_over(int steps, double dt, double span);
+/* pfx_motion_substeps_over for the choice's steps and dt. */
 int pfx_motion_substeps_for(const pfx_motion_choice *c, double span);
 
 /* Whether the split step integrates force f exactly in its drift (an

@@ -723,7 +723,7 @@ static void FN(advance_to)(const pfx_motion_plan *m, PFX_POOL *p, double t, doub
     /* per particle for a full step or a part of one (a newborn's): a
      * longer span takes the count for the span */
     const bool by_radius =
-        m->radius_top > 0 && (span <= m->dt || fabs(span - m->dt) <= 1e-9 * m->dt);
+        m->radius_top > 0 && (span <= m->dt || pfx_motion_full_step(m->dt, span));
     for (size_t i0 = 0; i0 < p->count; i0 += BLK) {
         size_t n = p->count - i0 < BLK ? p->count - i0 : BLK;
         R *X = p->px + i0, *Y = p->py + i0, *Z = p->pz + i0;

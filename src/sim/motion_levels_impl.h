@@ -58,12 +58,7 @@ CLONES static bool FN(radius_levels)(const pfx_motion_plan *m, const PFX_POOL *p
  * span, `steps`). A full step gets 2^k; a newborn's part of a step as few
  * as its part needs, so that one far from the attractor takes one. */
 static int FN(level_substeps)(const pfx_motion_plan *m, int k, double span, int steps) {
-    if (k >= m->radius_top)
-        return steps;
-    if (fabs(span - m->dt) <= 1e-9 * m->dt) /* the full step (pfx_motion_substeps_for) */
-        return 1 << k;
-    const double n = ceil((double)(1 << k) * span / m->dt * (1 - 1e-12));
-    return n < 1 ? 1 : (int)n;
+    return k < m->radius_top ? pfx_motion_substeps_over(1 << k, m->dt, span) : steps;
 }
 
 /* Substeps per particle (choice.radius): the block runs in place at its

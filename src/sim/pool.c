@@ -15,25 +15,20 @@
 /* Bytes per particle of one element type, for the alignment classes. */
 #define COLUMN_BYTES(type) sizeof(type)
 
-size_t pfx_pool_bytes_per_particle(const pfx_emitter *em) {
+/* Bytes per particle of the columns em keeps, or of its SCRATCH ones. */
+static size_t kept_bytes(const pfx_emitter *em, bool scratch_only) {
     size_t bytes = 0;
 #define ADD_BYTES(name, type, role, needed, what)                                                  \
-    if (needed)                                                                                    \
+    if ((!scratch_only || role == SCRATCH) && (needed))                                            \
         bytes += sizeof(type);
     PFX_POOL_COLUMNS(ADD_BYTES)
 #undef ADD_BYTES
     return bytes;
 }
 
-size_t pfx_pool_scratch_bytes_per_particle(const pfx_emitter *em) {
-    size_t bytes = 0;
-#define ADD_SCRATCH(name, type, role, needed, what)                                                \
-    if (role == SCRATCH && (needed))                                                               \
-        bytes += sizeof(type);
-    PFX_POOL_COLUMNS(ADD_SCRATCH)
-#undef ADD_SCRATCH
-    return bytes;
-}
+size_t pfx_pool_bytes_per_particle(const pfx_emitter *em) { return kept_bytes(em, false); }
+
+size_t pfx_pool_scratch_bytes_per_particle(const pfx_emitter *em) { return kept_bytes(em, true); }
 
 /* Bytes of a pool of n particles, rounded up to 8 so the next pool's
  * 8-byte columns stay aligned. */

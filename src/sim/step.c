@@ -126,8 +126,12 @@ void pfx_step_check_state(pfx_sim *s, size_t i, uint32_t first, double t) {
                    t, cause);
 }
 
-/* Particles in block b of p's blocks of PFX_SIM_BLOCK (the last may be
- * short). */
+/* p's blocks of PFX_SIM_BLOCK particles, the last maybe short. */
+static size_t block_count(const pfx_pool *p) {
+    return ((size_t)p->count + PFX_SIM_BLOCK - 1) / PFX_SIM_BLOCK;
+}
+
+/* Particles in block b of p's blocks. */
 static uint32_t block_size(const pfx_pool *p, size_t b) {
     const uint32_t first = (uint32_t)(b * PFX_SIM_BLOCK);
     return p->count - first < PFX_SIM_BLOCK ? p->count - first : PFX_SIM_BLOCK;
@@ -226,7 +230,7 @@ static void move_block(void *arg, size_t b) {
 
 uint32_t pfx_step_move(pfx_sim *s, size_t i, double t0, double t1, bool scan_deaths) {
     pfx_pool *p = &s->pools[i];
-    const size_t blocks = ((size_t)p->count + PFX_SIM_BLOCK - 1) / PFX_SIM_BLOCK;
+    const size_t blocks = block_count(p);
     move_job job = {s, i, t0, t1 - t0, t1, scan_deaths};
     pfx_workers_run(s->workers, blocks, move_block, &job);
     for (size_t b = 0; b < blocks; b++)
@@ -316,7 +320,7 @@ static void collide_block(void *arg, size_t b) {
 }
 
 void pfx_step_collide_moved(pfx_sim *s, size_t i, double t0, double dt) {
-    const size_t blocks = ((size_t)s->pools[i].count + PFX_SIM_BLOCK - 1) / PFX_SIM_BLOCK;
+    const size_t blocks = block_count(&s->pools[i]);
     collide_job job = {s, i, t0, dt, !collide_order_free(&s->effect->emitters[i])};
     if (job.ordered) {
         for (size_t b = 0; b < blocks; b++)
@@ -384,7 +388,7 @@ void pfx_step_kill_expired(pfx_sim *s, size_t emitter, double t1) {
  * particles, in exactly the order, of the scan over every particle. */
 void pfx_step_kill_flagged(pfx_sim *s, size_t emitter, double t1) {
     const pfx_pool *p = &s->pools[emitter];
-    const size_t blocks = ((size_t)p->count + PFX_SIM_BLOCK - 1) / PFX_SIM_BLOCK;
+    const size_t blocks = block_count(p);
     for (size_t b = 0; b < blocks && b * PFX_SIM_BLOCK < p->count; b++)
         if (s->block_flags[b] & PFX_BLOCK_DEATH)
             kill_range(s, emitter, t1, (uint32_t)(b * PFX_SIM_BLOCK),
