@@ -3,9 +3,15 @@
  * steps) is the same for 1, 2, 3 and 7 threads, on effects whose pools
  * span many blocks of the threaded passes. The bake and render comparison
  * of the same property is tests/threads/run_threads.sh. */
+#ifndef _POSIX_C_SOURCE
+#define _POSIX_C_SOURCE 200809L
+#endif
+
 #include "base/workers.h"
 #include "sim/sim.h"
 #include "test_compile.h"
+
+#include <time.h>
 
 /* Gravity only (the exact kernel), a split-step force set with operators,
  * and a deflector with random response, on_hit and on_death births. */
@@ -81,7 +87,11 @@ static void test_thread_counts(void) {
 }
 
 /* The thread set itself: every block runs exactly once, for any count of
- * blocks and threads, job after job. */
+ * blocks and threads, job after job. Every other job is posted after a
+ * pause longer than the set's poll (50 us), so that the helpers have gone
+ * to sleep and must be woken, and the others back to back, taken by
+ * helpers still polling; a block's result must be seen by the caller
+ * either way. */
 typedef struct tally {
     int *runs;
 } tally;
@@ -96,6 +106,10 @@ static void test_workers(void) {
         for (size_t blocks = 0; blocks < 1000; blocks += 37) {
             memset(runs, 0, sizeof runs);
             tally t = {runs};
+            if (blocks % 2) {
+                const struct timespec pause = {0, 300000};
+                nanosleep(&pause, NULL);
+            }
             pfx_workers_run(w, blocks, count_block, &t);
             int wrong = 0;
             for (size_t b = 0; b < 1000; b++)
