@@ -220,16 +220,18 @@ static bool sim_rows(double n, const int *threads, int rows, double rate[SIM_ROW
     pfx_loaded l[SIM_ROWS];
     timed_sim t[SIM_ROWS] = {{NULL, 0}};
     bool ok = true;
-    for (int c = 0; c < rows; c++) {
+    for (int c = 0; c < rows && ok; c++) {
         rate[c] = 0;
-        ok = ok && fountain(&l[c], n, "", "", true, threads[c]) &&
-             timed_start(&t[c], l[c].effect, 1, true);
+        ok = fountain(&l[c], n, "", "", true, threads[c]);
         if (!ok)
-            rows = c + 1;
+            rows = c + 1; /* l[c] is still freed below */
+        else if (!timed_start(&t[c], l[c].effect, 1, true))
+            fprintf(stderr, "pfx bench: out of memory for %.0f particles on %d threads\n", n,
+                    threads[c]); /* its row reads 0 */
     }
     for (int window = 0; ok && window < 3; window++)
         for (int c = 0; c < rows; c++) {
-            const double w = timed_window(&t[c]);
+            const double w = t[c].s ? timed_window(&t[c]) : 0;
             rate[c] = w > rate[c] ? w : rate[c];
         }
     for (int c = 0; c < rows; c++) {
