@@ -30,14 +30,3 @@
 #undef PFX_REAL
 #undef PFX_SUFFIX
 #undef PFX_POOL
-
-void pfx_motion_accel_d(const pfx_motion_plan *m, const pfx_motion_pool_d *pool, size_t i0,
-                        size_t n, const double *x, const double *y, const double *z,
-                        const double *vx, const double *vy, const double *vz, double t, double *ax,
-                        double *ay, double *az) {
-    for (size_t b = 0; b < n; b += PFX_MOTION_BLOCK) {
-        size_t nb = n - b < PFX_MOTION_BLOCK ? n - b : PFX_MOTION_BLOCK;
-        accel_d(m, pool, i0 + b, nb, x + b, y + b, z + b, vx + b, vy + b, vz + b, t, 0, ax + b,
-                ay + b, az + b);
-    }
-}

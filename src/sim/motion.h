@@ -107,14 +107,6 @@ void pfx_motion_advance_d(const pfx_motion_plan *m, pfx_motion_pool_d *pool, dou
 bool pfx_motion_move_f(const pfx_motion_plan *m, pfx_motion_pool_f *pool, double t0, double t1);
 bool pfx_motion_move_d(const pfx_motion_plan *m, pfx_motion_pool_d *pool, double t0, double t1);
 
-/* Acceleration of the n particles starting at pool index i0, at state
- * (x, v) given in block arrays, time t, from the ODE forces (all but the
- * operators vortex, spiral, speed_limit). Writes a[0..n). n <= any. */
-void pfx_motion_accel_d(const pfx_motion_plan *m, const pfx_motion_pool_d *pool, size_t i0,
-                        size_t n, const double *x, const double *y, const double *z,
-                        const double *vx, const double *vy, const double *vz, double t, double *ax,
-                        double *ay, double *az);
-
 /* Divergence-free noise at n points (x, y, z)[j] in metres: (ox, oy,
  * oz)[j] = the curl of a three-component value-noise potential of
  * `octaves` octaves (each half the amplitude of the last) at position
