@@ -52,6 +52,11 @@ struct pfx_workers {
     int64_t poll_ns;             /* PFX_WORKERS_SPIN_NS, or 0 when oversubscribed */
 };
 
+/* The ticket's halves: the job it belongs to (the low 32 bits of the
+ * generation) and the next block to take. */
+static uint_fast64_t ticket_job(uint64_t gen) { return gen & 0xffffffffu; }
+static uint_fast64_t ticket_block(uint_fast64_t t) { return t & 0xffffffffu; }
+
 int pfx_workers_cores(void) {
     long n = sysconf(_SC_NPROCESSORS_ONLN);
     return n > 0 ? (int)(n < 1024 ? n : 1024) : 1;
@@ -62,12 +67,12 @@ int pfx_workers_cores(void) {
 static void drain(pfx_workers *w, uint64_t gen, pfx_block_fn fn, void *ctx, size_t blocks) {
     uint_fast64_t t = atomic_load_explicit(&w->ticket, memory_order_acquire);
     for (;;) {
-        if (t >> 32 != (gen & 0xffffffffu) || (t & 0xffffffffu) >= blocks)
+        if (t >> 32 != ticket_job(gen) || ticket_block(t) >= blocks)
             return;
         if (!atomic_compare_exchange_weak_explicit(&w->ticket, &t, t + 1, memory_order_acq_rel,
                                                    memory_order_acquire))
             continue;
-        fn(ctx, (size_t)(t & 0xffffffffu));
+        fn(ctx, (size_t)ticket_block(t));
         if (atomic_fetch_add_explicit(&w->done, 1, memory_order_acq_rel) + 1 == blocks) {
             pthread_mutex_lock(&w->lock);
             pthread_cond_signal(&w->finished);
@@ -112,7 +117,7 @@ static bool spin_until(const pfx_workers *w, bool (*done)(const pfx_workers *, u
 /* Whether a job after `seen` was posted: the ticket's high half. */
 static bool job_posted(const pfx_workers *w, uint64_t seen) {
     const uint_fast64_t t = atomic_load_explicit(&w->ticket, memory_order_acquire);
-    return t >> 32 != (seen & 0xffffffffu);
+    return t >> 32 != ticket_job(seen);
 }
 
 /* Whether every one of the current job's `blocks` is done. */
@@ -207,8 +212,7 @@ void pfx_workers_run(pfx_workers *w, size_t blocks, pfx_block_fn fn, void *ctx) 
     w->generation++;
     const uint64_t gen = w->generation;
     atomic_store_explicit(&w->done, 0, memory_order_relaxed);
-    atomic_store_explicit(&w->ticket, (uint_fast64_t)(gen & 0xffffffffu) << 32,
-                          memory_order_release);
+    atomic_store_explicit(&w->ticket, ticket_job(gen) << 32, memory_order_release);
     pthread_cond_broadcast(&w->posted);
     pthread_mutex_unlock(&w->lock);
     drain(w, gen, fn, ctx, blocks);

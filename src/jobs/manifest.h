@@ -1,10 +1,10 @@
 /* Manifests: what a render or bake read and wrote, beside its outputs as
- * JSON (through jansson). The pfx version and results revision, the command, the resolved
- * settings, the SHA-256 of every input (the effect, its meshes) and of every
- * output, and a bake key: the SHA-256 of everything that decides the
- * outputs. A re-run whose key and outputs match the previous manifest has
- * nothing to do; files the previous manifest listed and the new one does
- * not are stale and removed. */
+ * JSON (through jansson). The pfx version and results revision, the
+ * command, the resolved settings, the SHA-256 of every input (the effect,
+ * its meshes) and of every output, and a bake key: the SHA-256 of
+ * everything that decides the outputs. A re-run whose key and outputs
+ * match the previous manifest has nothing to do; files the previous
+ * manifest listed and the new one does not are stale and removed. */
 #ifndef PFX_JOBS_MANIFEST_H
 #define PFX_JOBS_MANIFEST_H
 
@@ -46,8 +46,8 @@ size_t pfx_manifest_input_count(const pfx_manifest *m);
 const char *pfx_manifest_input(const pfx_manifest *m, size_t i);
 
 /* The bake key over the version, the results revision, the command, the
- * settings and the inputs so far, as
- * 64 hex digits (owned by m, valid until the next change). */
+ * settings and the inputs so far, as 64 hex digits (owned by m, valid
+ * until the next change). */
 const char *pfx_manifest_key(pfx_manifest *m);
 
 /* Hashes dir/name and lists it as an output by its name (relative to the

@@ -80,15 +80,6 @@ static void FN(life_force)(const pfx_motion_force *F, const PFX_POOL *p, size_t 
     }
 }
 
-/* A spring's pull on one particle at d = x - anchor moving at v, weighted
- * by w: a -= (k d + c v) w. */
-static inline void FN(spring_pull)(R k, R c, R w, R dx, R dy, R dz, R vx, R vy, R vz, R *ax, R *ay,
-                                   R *az) {
-    *ax -= (k * dx + c * vx) * w;
-    *ay -= (k * dy + c * vy) * w;
-    *az -= (k * dz + c * vz) * w;
-}
-
 /* a = sum of the ODE forces at (x, v, t) for pool particles i0 .. i0+n-1
  * (n <= BLK). split: leave out what the split step handles itself (the
  * folded linear parts, which its drift integrates exactly, and q v x B,
@@ -130,7 +121,7 @@ CLONES static void FN(accel)(const pfx_motion_plan *m, const PFX_POOL *p, size_t
             const R gx = (R)F->accel[0], gy = (R)F->accel[1], gz = (R)F->accel[2];
             /* The scale folded into the weight first: a load under a
              * condition inside the loop below kept it from vectorising
-             * (likewise the spring's anchors and the magnetic q/m). */
+             * (likewise the magnetic q/m, and the spring's anchors). */
             if (p->gravity_scale) {
                 const R *gs = p->gravity_scale + i0;
                 for (size_t j = 0; j < n; j++)
@@ -215,20 +206,21 @@ CLONES static void FN(accel)(const pfx_motion_plan *m, const PFX_POOL *p, size_t
             FN(region_weight)(&F->region, n, x, y, z, w);
             const R k = (R)F->k, cd = folded ? (R)0 : (R)(2.0 * F->zeta * sqrt(F->k));
             const R cx = (R)F->center[0], cy = (R)F->center[1], cz = (R)F->center[2];
-            /* Two loops, not one choosing its anchor per particle: a
-             * load from the birth columns under a condition kept the loop
-             * from vectorising (16-18 ns a particle-step in the bench). */
+            /* The anchors as columns, the birth places or the point
+             * repeated: choosing one per particle inside the loop (a load
+             * under a condition) kept it from vectorising. */
+            R px[BLK], py[BLK], pz[BLK];
+            const R *qx = px, *qy = py, *qz = pz;
             if (F->use_birth) {
-                const R *bx = p->bx + i0, *by = p->by + i0, *bz = p->bz + i0;
-                for (size_t j = 0; j < n; j++)
-                    FN(spring_pull)
-                (k, cd, w[j], x[j] - bx[j], y[j] - by[j], z[j] - bz[j], vx[j], vy[j], vz[j], &ax[j],
-                 &ay[j], &az[j]);
+                qx = p->bx + i0, qy = p->by + i0, qz = p->bz + i0;
             } else {
                 for (size_t j = 0; j < n; j++)
-                    FN(spring_pull)
-                (k, cd, w[j], x[j] - cx, y[j] - cy, z[j] - cz, vx[j], vy[j], vz[j], &ax[j], &ay[j],
-                 &az[j]);
+                    px[j] = cx, py[j] = cy, pz[j] = cz;
+            }
+            for (size_t j = 0; j < n; j++) {
+                ax[j] -= (k * (x[j] - qx[j]) + cd * vx[j]) * w[j];
+                ay[j] -= (k * (y[j] - qy[j]) + cd * vy[j]) * w[j];
+                az[j] -= (k * (z[j] - qz[j]) + cd * vz[j]) * w[j];
             }
             break;
         }
