@@ -4,6 +4,7 @@
 
 #include <string.h>
 
+#include "jobs/bake_view.h"
 #include "output/bake.h"
 
 /* The bake's format: --format, else the output's extension (.ply, .pcache),
@@ -46,6 +47,7 @@ static bool bake_frames(const pfx_effect *e, const pfx_cli *o, pfx_bake_format f
     const bool to_stdout = !strcmp(o->output, "-");
     pfx_sim *sim = pfx_sim_create(e, run), *view = pfx_sim_create(e, run);
     pfx_bake *b = NULL;
+    pfx_bake_view rows = {0};
     bool ok = false;
     if (!sim || !view) {
         pfx_diag_error(run, PFX_RULE_OUT_OF_MEMORY, "out of memory");
@@ -64,7 +66,7 @@ static bool bake_frames(const pfx_effect *e, const pfx_cli *o, pfx_bake_format f
             break;
         }
         if ((f - first) % o->every == 0)
-            ok = pfx_bake_frame(b, state, f, pfx_sim_frame_time(e, f));
+            ok = pfx_bake_view_write(&rows, b, state, f, pfx_sim_frame_time(e, f));
     }
     if (!pfx_bake_close(b, ok, run) || !ok) {
         if (!run->errors)
@@ -75,6 +77,7 @@ static bool bake_frames(const pfx_effect *e, const pfx_cli *o, pfx_bake_format f
     if (!o->quiet)
         pfx_sim_note_dropped(sim, run);
 done:
+    pfx_bake_view_free(&rows);
     pfx_sim_destroy(view);
     pfx_sim_destroy(sim);
     return ok;

@@ -1,8 +1,7 @@
 /* The particle cache of bake.h: where it goes (an atomic file,
- * output/atomic_file.h, or standard output), the order of its rows (by emitter, then
- * birth id: the pool's order is an artefact of swap-remove), and which
- * format writes them. The formats themselves are bake_csv.c and
- * bake_ply.c. */
+ * output/atomic_file.h, or standard output) and which format writes its
+ * rows. The rows come made and ordered (jobs/bake_view.c); the formats
+ * themselves are bake_csv.c and bake_ply.c. */
 #include "output/bake.h"
 
 #include <errno.h>
@@ -12,7 +11,6 @@
 #include "model/kinds.h"
 #include "output/atomic_file.h"
 #include "output/bake_rows.h"
-#include "sim/appearance.h"
 
 static const char *const format_names[] = {
 #define PFX_BAKE_NAME(e, name) name,
@@ -31,12 +29,6 @@ bool pfx_bake_format_parse(const char *name, pfx_bake_format *out) {
     return f >= 0;
 }
 
-/* Rows are sorted by (id, pool index) pairs: qsort has no context argument
- * in C11, so the key travels with the index. */
-typedef struct id_index {
-    uint32_t id, index;
-} id_index;
-
 struct pfx_bake {
     pfx_bake_format format;
     const pfx_effect *effect;
@@ -45,8 +37,6 @@ struct pfx_bake {
     FILE *body;            /* PLY and pcache: the records, until the count is known */
     uint64_t records;      /* written to body */
     int error;             /* the errno of the first failed write, 0 if none */
-    id_index *order;
-    size_t order_cap;
 };
 
 /* Records the first failed write with its errno; false from then on. */
@@ -86,11 +76,6 @@ pfx_bake *pfx_bake_open(const char *path, pfx_bake_format format, const pfx_effe
     return b;
 }
 
-static int by_id(const void *a, const void *b) {
-    uint32_t x = ((const id_index *)a)->id, y = ((const id_index *)b)->id;
-    return x < y ? -1 : x > y;
-}
-
 static bool write_row(pfx_bake *b, const pfx_bake_row *row) {
     if (b->format == PFX_BAKE_CSV)
         return pfx_bake_csv_row(b->out, row);
@@ -100,43 +85,16 @@ static bool write_row(pfx_bake *b, const pfx_bake_row *row) {
     return fwrite(rec, sizeof rec, 1, b->body) == 1;
 }
 
-bool pfx_bake_frame(pfx_bake *b, const pfx_sim *s, long frame, double time) {
-    const pfx_effect *e = s->effect;
+bool pfx_bake_rows(pfx_bake *b, const pfx_bake_row *rows, size_t count) {
     if (b->error)
         return false;
-    bool ok = true;
-    for (size_t i = 0; i < e->emitter_count && ok; i++) {
-        const pfx_emitter *em = &e->emitters[i];
-        const pfx_pool *p = &s->pools[i];
-        if (p->count > b->order_cap) {
-            id_index *o = realloc(b->order, p->count * sizeof *o);
-            if (!o)
-                return write_failed(b, ENOMEM);
-            b->order = o;
-            b->order_cap = p->count;
-        }
-        for (uint32_t j = 0; j < p->count; j++)
-            b->order[j] = (id_index){p->id[j], j};
-        if (p->count > 1)
-            qsort(b->order, p->count, sizeof *b->order, by_id);
-        for (uint32_t k = 0; k < p->count && ok; k++) {
-            uint32_t j = b->order[k].index;
-            pfx_bake_row row = {.frame = frame,
-                                .time = time,
-                                .age = pfx_particle_age(p, j),
-                                .emitter = (uint32_t)i,
-                                .id = p->id[j],
-                                .emitter_name = em->name,
-                                .pos = {p->px[j], p->py[j], p->pz[j]},
-                                .vel = {p->vx[j], p->vy[j], p->vz[j]},
-                                .lifetime = p->lifetime[j],
-                                .size = pfx_particle_size(em, p, j)};
-            pfx_particle_color(em, p, j, row.color);
-            ok = write_row(b, &row) || write_failed(b, errno);
-        }
-    }
-    return ok && (!ferror(b->out) || write_failed(b, errno));
+    for (size_t k = 0; k < count; k++)
+        if (!write_row(b, &rows[k]))
+            return write_failed(b, errno);
+    return !ferror(b->out) || write_failed(b, errno);
 }
+
+bool pfx_bake_fail(pfx_bake *b, int errnum) { return write_failed(b, errnum); }
 
 /* PLY and pcache: the header, then the records copied from the scratch
  * file. */
@@ -175,7 +133,6 @@ bool pfx_bake_close(pfx_bake *b, bool commit, pfx_diags *d) {
     } else {
         pfx_atomic_abort(b->file);
     }
-    free(b->order);
     free(b);
     return ok || !commit;
 }

@@ -1,5 +1,5 @@
-/* The row of a particle cache that every format writes (output/bake_*.c),
- * and each format's writer. Internal to src/output/. */
+/* Each particle-cache format's writer of bake.h's rows (output/bake_*.c).
+ * Internal to src/output/. */
 #ifndef PFX_OUTPUT_BAKE_ROWS_H
 #define PFX_OUTPUT_BAKE_ROWS_H
 
@@ -7,17 +7,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
-#include "model/effect.h"
-
-typedef struct pfx_bake_row {
-    long frame;
-    double time, age;
-    uint32_t emitter, id;
-    const char *emitter_name;
-    float pos[3], vel[3];
-    float lifetime, size;
-    float color[4]; /* straight, 0..1 */
-} pfx_bake_row;
+#include "output/bake.h"
 
 /* CSV: the header at once, then one text line per row into `out`. */
 bool pfx_bake_csv_header(FILE *out);

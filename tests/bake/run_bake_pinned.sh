@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# The bytes of pfx bake, pinned: the SHA-256 of CSV, PLY and pcache bakes of
+# three effects (fire: three emitters; campfire: five; explosion: 1500
+# debris particles, more than one block of jobs/bake_view.c's rows),
+# recorded with the pfx of 954f29e, before the writers took plain rows
+# (output/bake.c read the sim pools itself then). The row view must hand
+# the writers the same rows in the same order, so every file is unchanged,
+# whether written to a file or to standard output. And output/ includes no
+# sim/ header.
+#
+# Like tests/unit/test_sim.c's EXPECTED_HASH, a change here means bakes
+# changed: a commit that changes the simulation on purpose updates these
+# and says why.
+#
+#   bash run_bake_pinned.sh PATH-TO-PFX SOURCE-DIR
+set -u
+source "$(dirname "${BASH_SOURCE[0]}")/../harness.sh" bake_pinned "$@"
+# The PLY and pcache headers name the effect's path as given: relative to
+# the source tree, so that the bytes do not depend on where it is checked
+# out.
+cd "$src" || exit 2
+
+# effect frames format sha256
+pinned=(
+    "fire 10:14 csv 72528f76b23e532dde604658a22bd2fc0a0866b660c1df3844a386ec94a688c1"
+    "fire 10:14 ply 3d46fc28200f0b346bfe62dadac74a46cf650bcf651342d25674b738cd768be0"
+    "fire 10:14 pcache ddf76ef9f2e2dab2460333d68e51cb4e27bbdf2f702adb58b7634aa1fa12fcbc"
+    "campfire 28:30 csv d03d712262a4fd9a03a85f1ce5c337e972cf3bbb0081b2093842624274496676"
+    "campfire 28:30 ply f574594b7ea026757105358ea6ff42ce612c0c3731465b650d64175d4b69e4de"
+    "campfire 28:30 pcache 0389306fd1c198fa4192cd69b91613dcb65996c3a6ae163487052e13ccddd635"
+    "explosion 6:8 csv da1e9bbb6bb73839bcd75d13c13599a03598f21089e81114fcace6d6ec203d8c"
+    "explosion 6:8 ply 9c5b84230e6b9511ec8e0406f1e91e1b88e310c7b98613976a99e57a33a98bde"
+    "explosion 6:8 pcache 314cb4ba92e7c9241abd2388d5c2594a40c2476272e0b02cf06bc4ecc80cd40e"
+)
+
+for p in "${pinned[@]}"; do
+    read -r effect frames format want <<<"$p"
+    begin "$effect --frames $frames as $format: the bytes pinned before the row view"
+    pfx_run bake "effects/$effect.yaml" -o "$work/$effect.$format" --frames "$frames" \
+        --seed 3 -q
+    if finished && want_status 0; then
+        got=$(sha256sum <"$work/$effect.$format" | cut -d' ' -f1)
+        [ "$got" = "$want" ] || flunk "sha256 $got"
+    fi
+    pfx_run bake "effects/$effect.yaml" -o - --format "$format" --frames "$frames" \
+        --seed 3 -q
+    if finished && want_status 0; then
+        cmp -s "$work/out" "$work/$effect.$format" || flunk "-o - differs from the file"
+    fi
+    end
+done
+
+# The arrow the row view ends: output/ writes rows and pixels and reads no
+# simulation (ARCHITECTURE.md), so none of its files includes a sim/ header.
+begin "src/output/ includes no sim/ header"
+hits=$(grep -n '#include "sim/' "$src"/src/output/*.[ch])
+[ -z "$hits" ] || flunk "$hits"
+end
+
+summary
