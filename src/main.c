@@ -14,89 +14,6 @@
 #include "output/atomic_file.h"
 #include "output/mp4.h"
 
-static const char usage_text[] =
-    "usage: pfx validate [--format text|json|sarif] [--werror] [--max-particles N]\n"
-    "                  [--max-memory SIZE] FILE...\n"
-    "       pfx validate --list-rules\n"
-    "       pfx render FILE... -o DIR [-j N] [--keep-going] [--frames A:B] [--size WxH]\n"
-    "                  [--fps N] [--seed N] [--max-particles N] [--max-memory SIZE]\n"
-    "                  [--renderer R] [--alpha MODE] [--threads N] [--force]\n"
-    "                  [--depfile FILE] [--progress json]\n"
-    "                  [--atlas[=CxR]] [--padding N] [--extrude N] [--crop]\n"
-    "                  [--preview OUT.webp|OUT.mp4] [--format png|exr] [-q]\n"
-    "                  [--motion-vectors [--mv-max PIXELS] [--mv-flip-y]]\n"
-    "                  [--slice I/N | --slice-env VAR --slice-count N]\n"
-    "       pfx bake FILE -o OUT [--format csv|ply|pcache] [--every N] [--frames A:B]\n"
-    "                  [--fps N] [--seed N] [--max-particles N] [--max-memory SIZE]\n"
-    "                  [--threads N] [--force] [--depfile FILE]\n"
-    "       pfx info FILE [--format text|json] [--seed N] [--max-particles N]\n"
-    "                  [--max-memory SIZE] [--threads N] [--motion-vectors]\n"
-    "       pfx bench [SECTION...] [--json] [--renderer R]\n"
-    "       pfx bench accuracy -o DIR\n"
-    "       pfx assemble DIR... -o OUT [--atlas[=CxR]] [--preview OUT.webp|OUT.mp4]\n"
-    "       pfx schema\n"
-    "\n"
-    "commands:\n"
-    "  validate   check effect files like a compiler; exit 1 if any has an error\n"
-    "  render     render to DIR/<name>_0000.png, ... (several FILEs: DIR/<name>/...)\n"
-    "  bake       write the particle state of every output frame: CSV, PLY or pcache\n"
-    "  info       show what the compiled effect holds\n"
-    "  bench      measure simulation and rendering speed (or integrator accuracy)\n"
-    "  assemble   gather the frames of slices (--slice) into OUT, checking each\n"
-    "  schema     print the JSON Schema of the effect format\n"
-    "\n"
-    "options:\n"
-    "  -o, --output PATH       output directory (render, bench accuracy) or file (bake;\n"
-    "                          - is standard output)\n"
-    "      --frames A:B        only frames A to B inclusive, numbered as in a full render\n"
-    "      --size WxH          image size in pixels, overriding image.size\n"
-    "      --fps N             output frames per second, overriding fps\n"
-    "      --seed N            random seed, overriding seed\n"
-    "      --max-particles N   particle budget over all emitters (default 1000000)\n"
-    "      --max-memory SIZE   refuse a run estimated to need more (K, M, G, T;\n"
-    "                          default half of physical memory)\n"
-    "      --every N           bake every Nth frame (default 1)\n"
-    "      --format FMT        diagnostics as 'text' (default) or 'json' lines, or for\n"
-    "                          validate one SARIF 2.1.0 log on stdout ('sarif'); for bake,\n"
-    "                          the cache: csv, ply or pcache (default: from the extension);\n"
-    "                          for render also the frames: png (default) or exr (linear\n"
-    "                          half-float RGBA, premultiplied, exposure but no tone curve)\n"
-    "      --list-rules        validate: print every diagnostic's rule id, severity, name\n"
-    "                          and meaning\n"
-    "  -j, --jobs N            render with N threads, each a contiguous part of the frames\n"
-    "      --keep-going        render the other FILEs after one fails\n"
-    "      --atlas[=CxR]       also pack the frames into <name>_atlas.png, a grid of C x R\n"
-    "                          (default: from the frame count), and <name>_atlas.json\n"
-    "      --padding N         atlas: pixels around each frame in its cell (default 2)\n"
-    "      --extrude N         atlas: of those, how many repeat the frame's edge (default 1)\n"
-    "      --crop              atlas: cut every frame to one box around all visible pixels\n"
-    "      --preview OUT.webp  also write the frames as a looping animated WebP (lossless)\n"
-    "      --preview OUT.mp4   or as an H.264 MP4, through the ffmpeg on the PATH\n"
-    "      --motion-vectors    also write <name>_mv_NNNN.png: 16-bit motion to the next\n"
-    "                          frame, R right, G up, 0.5 none (with --atlas: a sheet)\n"
-    "      --mv-max PIXELS     the displacement that encodes as 0 or 1 (default: the\n"
-    "                          largest in the sequence)\n"
-    "      --mv-flip-y         motion vectors with G = down (V down, as in Unreal)\n"
-    "      --werror            treat warnings in an effect as errors (exit status 1)\n"
-    "      --progress json     a JSON line on stderr per frame drawn, and one at the end\n"
-    "      --json              bench: the figures as one JSON object\n"
-    "      --threads N         simulation threads (default: PFX_THREADS, else the\n"
-    "                          machine's cores); the output is the same for any N\n"
-    "      --renderer R        how to get OpenGL (render, bench): auto (default: osmesa\n"
-    "                          where built, else egl-cpu), osmesa, egl-cpu, egl-gpu\n"
-    "      --force             render or bake even when DIR/<name>.manifest.json (or\n"
-    "                          OUT.manifest.json) says the outputs are up to date\n"
-    "      --depfile FILE      also write FILE: a Make rule naming every input read\n"
-    "      --slice I/N         render only slice I (from 0) of N contiguous frame ranges\n"
-    "      --slice-env VAR     the slice index from $VAR (SLURM_ARRAY_TASK_ID,\n"
-    "                          JOB_COMPLETION_INDEX, ...), with --slice-count N\n"
-    "      --slice-count N     the number of slices for --slice-env\n"
-    "      --alpha MODE        PNG alpha: straight or premultiplied, overriding\n"
-    "                          image.alpha\n"
-    "  -q, --quiet             no progress line and no notes\n"
-    "  -h, --help              show this help\n"
-    "      --version           show the version\n";
-
 static bool parse_ulong(const char *s, unsigned long long *out) {
     if (!s || !*s || *s == '-')
         return false;
@@ -148,8 +65,7 @@ static const char *option_word(char **argv, int opt) {
     return argv[optind - 1];
 }
 
-/* The long options, one row each; the values past 255 name the ones
- * without a short form. */
+/* The values past 255 name the long options without a short form. */
 enum {
     OPT_FRAMES = 256,
     OPT_SIZE,
@@ -182,40 +98,227 @@ enum {
     OPT_MV_FLIP_Y
 };
 
-static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
-                                         {"frames", required_argument, 0, OPT_FRAMES},
-                                         {"size", required_argument, 0, OPT_SIZE},
-                                         {"fps", required_argument, 0, OPT_FPS},
-                                         {"seed", required_argument, 0, OPT_SEED},
-                                         {"max-particles", required_argument, 0, OPT_MAX},
-                                         {"every", required_argument, 0, OPT_EVERY},
-                                         {"format", required_argument, 0, OPT_FORMAT},
-                                         {"renderer", required_argument, 0, OPT_RENDERER},
-                                         {"force", no_argument, 0, OPT_FORCE},
-                                         {"depfile", required_argument, 0, OPT_DEPFILE},
-                                         {"slice", required_argument, 0, OPT_SLICE},
-                                         {"slice-env", required_argument, 0, OPT_SLICE_ENV},
-                                         {"slice-count", required_argument, 0, OPT_SLICE_COUNT},
-                                         {"jobs", required_argument, 0, 'j'},
-                                         {"keep-going", no_argument, 0, OPT_KEEP_GOING},
-                                         {"progress", required_argument, 0, OPT_PROGRESS},
-                                         {"werror", no_argument, 0, OPT_WERROR},
-                                         {"list-rules", no_argument, 0, OPT_LIST_RULES},
-                                         {"atlas", optional_argument, 0, OPT_ATLAS},
-                                         {"padding", required_argument, 0, OPT_PADDING},
-                                         {"extrude", required_argument, 0, OPT_EXTRUDE},
-                                         {"crop", no_argument, 0, OPT_CROP},
-                                         {"preview", required_argument, 0, OPT_PREVIEW},
-                                         {"motion-vectors", no_argument, 0, OPT_MOTION_VECTORS},
-                                         {"mv-max", required_argument, 0, OPT_MV_MAX},
-                                         {"mv-flip-y", no_argument, 0, OPT_MV_FLIP_Y},
-                                         {"alpha", required_argument, 0, OPT_ALPHA},
-                                         {"max-memory", required_argument, 0, OPT_MAX_MEMORY},
-                                         {"threads", required_argument, 0, OPT_THREADS},
-                                         {"json", no_argument, 0, OPT_JSON},
-                                         {"quiet", no_argument, 0, 'q'},
-                                         {"help", no_argument, 0, 'h'},
-                                         {0, 0, 0, 0}};
+/* The commands, as bits: which take an option (and list it in their help). */
+enum {
+    CMD_VALIDATE = 1 << 0,
+    CMD_RENDER = 1 << 1,
+    CMD_BAKE = 1 << 2,
+    CMD_INFO = 1 << 3,
+    CMD_BENCH = 1 << 4,
+    CMD_ASSEMBLE = 1 << 5,
+    CMD_SCHEMA = 1 << 6,
+    CMD_ALL = (1 << 7) - 1,
+    CMD_NONE = 0 /* pfx alone: --version */
+};
+
+/* The options, one row each, in the order `pfx --help` lists them: getopt's
+ * table and every help text come from these rows. `shown` is the option as
+ * the help spells it; `help` its lines (joined by \n, each set in the
+ * column); `commands` the commands whose help lists it. */
+typedef struct option_row {
+    const char *name;
+    int has_arg, val; /* as in struct option; val 0: not one of getopt's */
+    const char *shown;
+    unsigned commands;
+    const char *help;
+} option_row;
+
+static const option_row option_rows[] = {
+    {"output", required_argument, 'o', "-o, --output PATH",
+     CMD_RENDER | CMD_BAKE | CMD_BENCH | CMD_ASSEMBLE,
+     "output directory (render, bench accuracy) or file (bake;\n- is standard output)"},
+    {"frames", required_argument, OPT_FRAMES, "    --frames A:B", CMD_RENDER | CMD_BAKE,
+     "only frames A to B inclusive, numbered as in a full render"},
+    {"size", required_argument, OPT_SIZE, "    --size WxH", CMD_RENDER,
+     "image size in pixels, overriding image.size"},
+    {"fps", required_argument, OPT_FPS, "    --fps N", CMD_RENDER | CMD_BAKE,
+     "output frames per second, overriding fps"},
+    {"seed", required_argument, OPT_SEED, "    --seed N", CMD_RENDER | CMD_BAKE | CMD_INFO,
+     "random seed, overriding seed"},
+    {"max-particles", required_argument, OPT_MAX, "    --max-particles N",
+     CMD_VALIDATE | CMD_RENDER | CMD_BAKE | CMD_INFO,
+     "particle budget over all emitters (default 1000000)"},
+    {"max-memory", required_argument, OPT_MAX_MEMORY, "    --max-memory SIZE",
+     CMD_VALIDATE | CMD_RENDER | CMD_BAKE | CMD_INFO,
+     "refuse a run estimated to need more (K, M, G, T;\ndefault half of physical memory)"},
+    {"every", required_argument, OPT_EVERY, "    --every N", CMD_BAKE,
+     "bake every Nth frame (default 1)"},
+    {"format", required_argument, OPT_FORMAT, "    --format FMT",
+     CMD_VALIDATE | CMD_RENDER | CMD_BAKE | CMD_INFO,
+     "diagnostics as 'text' (default) or 'json' lines, or for\n"
+     "validate one SARIF 2.1.0 log on stdout ('sarif'); for bake,\n"
+     "the cache: csv, ply or pcache (default: from the extension);\n"
+     "for render also the frames: png (default) or exr (linear\n"
+     "half-float RGBA, premultiplied, exposure but no tone curve)"},
+    {"list-rules", no_argument, OPT_LIST_RULES, "    --list-rules", CMD_VALIDATE,
+     "validate: print every diagnostic's rule id, severity, name\nand meaning"},
+    {"jobs", required_argument, 'j', "-j, --jobs N", CMD_RENDER,
+     "render with N threads, each a contiguous part of the frames"},
+    {"keep-going", no_argument, OPT_KEEP_GOING, "    --keep-going", CMD_RENDER,
+     "render the other FILEs after one fails"},
+    {"atlas", optional_argument, OPT_ATLAS, "    --atlas[=CxR]", CMD_RENDER | CMD_ASSEMBLE,
+     "also pack the frames into <name>_atlas.png, a grid of C x R\n"
+     "(default: from the frame count), and <name>_atlas.json"},
+    {"padding", required_argument, OPT_PADDING, "    --padding N", CMD_RENDER | CMD_ASSEMBLE,
+     "atlas: pixels around each frame in its cell (default 2)"},
+    {"extrude", required_argument, OPT_EXTRUDE, "    --extrude N", CMD_RENDER | CMD_ASSEMBLE,
+     "atlas: of those, how many repeat the frame's edge (default 1)"},
+    {"crop", no_argument, OPT_CROP, "    --crop", CMD_RENDER | CMD_ASSEMBLE,
+     "atlas: cut every frame to one box around all visible pixels"},
+    {"preview", required_argument, OPT_PREVIEW, "    --preview OUT", CMD_RENDER | CMD_ASSEMBLE,
+     "also write the frames as a looping animated WebP (lossless;\n"
+     "OUT.webp) or an H.264 MP4 (OUT.mp4, through the ffmpeg on\n"
+     "the PATH)"},
+    {"motion-vectors", no_argument, OPT_MOTION_VECTORS, "    --motion-vectors",
+     CMD_RENDER | CMD_INFO,
+     "also write <name>_mv_NNNN.png: 16-bit motion to the next\n"
+     "frame, R right, G up, 0.5 none (with --atlas: a sheet)"},
+    {"mv-max", required_argument, OPT_MV_MAX, "    --mv-max PIXELS", CMD_RENDER,
+     "the displacement that encodes as 0 or 1 (default: the\nlargest in the sequence)"},
+    {"mv-flip-y", no_argument, OPT_MV_FLIP_Y, "    --mv-flip-y", CMD_RENDER,
+     "motion vectors with G = down (V down, as in Unreal)"},
+    {"werror", no_argument, OPT_WERROR, "    --werror", CMD_VALIDATE,
+     "treat warnings in an effect as errors (exit status 1)"},
+    {"progress", required_argument, OPT_PROGRESS, "    --progress json", CMD_RENDER,
+     "a JSON line on stderr per frame drawn, and one at the end"},
+    {"json", no_argument, OPT_JSON, "    --json", CMD_BENCH,
+     "bench: the figures as one JSON object"},
+    {"threads", required_argument, OPT_THREADS, "    --threads N", CMD_RENDER | CMD_BAKE | CMD_INFO,
+     "simulation threads (default: PFX_THREADS, else the\n"
+     "machine's cores); the output is the same for any N"},
+    {"renderer", required_argument, OPT_RENDERER, "    --renderer R", CMD_RENDER | CMD_BENCH,
+     "how to get OpenGL (render, bench): auto (default: osmesa\n"
+     "where built, else egl-cpu), osmesa, egl-cpu, egl-gpu"},
+    {"force", no_argument, OPT_FORCE, "    --force", CMD_RENDER | CMD_BAKE,
+     "render or bake even when DIR/<name>.manifest.json (or\n"
+     "OUT.manifest.json) says the outputs are up to date"},
+    {"depfile", required_argument, OPT_DEPFILE, "    --depfile FILE", CMD_RENDER | CMD_BAKE,
+     "also write FILE: a Make rule naming every input read"},
+    {"slice", required_argument, OPT_SLICE, "    --slice I/N", CMD_RENDER,
+     "render only slice I (from 0) of N contiguous frame ranges"},
+    {"slice-env", required_argument, OPT_SLICE_ENV, "    --slice-env VAR", CMD_RENDER,
+     "the slice index from $VAR (SLURM_ARRAY_TASK_ID,\n"
+     "JOB_COMPLETION_INDEX, ...), with --slice-count N"},
+    {"slice-count", required_argument, OPT_SLICE_COUNT, "    --slice-count N", CMD_RENDER,
+     "the number of slices for --slice-env"},
+    {"alpha", required_argument, OPT_ALPHA, "    --alpha MODE", CMD_RENDER,
+     "PNG alpha: straight or premultiplied, overriding\nimage.alpha"},
+    {"quiet", no_argument, 'q', "-q, --quiet", CMD_ALL & ~CMD_SCHEMA,
+     "no progress line and no notes"},
+    {"help", no_argument, 'h', "-h, --help", CMD_ALL, "show this help"},
+    {"version", no_argument, 0, "    --version", CMD_NONE, "show the version"},
+};
+enum { OPTION_ROW_COUNT = sizeof option_rows / sizeof option_rows[0] };
+
+/* getopt's tables, made from the rows once (main): the long options, and
+ * the short ones as ":o:j:qh" (the leading colon: a missing value is ':'). */
+static struct option longopts[OPTION_ROW_COUNT + 1];
+static char shortopts[2 + 2 * OPTION_ROW_COUNT];
+
+static void make_getopt_tables(void) {
+    int n = 0, k = 0;
+    shortopts[k++] = ':';
+    for (int i = 0; i < OPTION_ROW_COUNT; i++) {
+        const option_row *r = &option_rows[i];
+        if (!r->val)
+            continue;
+        longopts[n++] = (struct option){r->name, r->has_arg, 0, r->val};
+        if (r->val < 256) {
+            shortopts[k++] = (char)r->val;
+            if (r->has_arg == required_argument)
+                shortopts[k++] = ':';
+        }
+    }
+}
+
+/* The commands, one row each: the name argv[1] gives, its bit in the
+ * option rows, its usage lines (after "usage: " or its indent), its line in
+ * `pfx --help`, and what runs it. The names also feed the suggestion for a
+ * mistyped command. */
+typedef int (*command_fn)(const char *const *operands, int count, const pfx_cli *o);
+typedef struct command_row {
+    const char *name;
+    unsigned bit;
+    const char *usage, *summary;
+    command_fn run;
+} command_row;
+
+static const command_row commands[] = {
+    {"validate", CMD_VALIDATE,
+     "pfx validate [--format text|json|sarif] [--werror] [--max-particles N]\n"
+     "           [--max-memory SIZE] FILE...\n"
+     "pfx validate --list-rules",
+     "check effect files like a compiler; exit 1 if any has an error", pfx_cmd_validate},
+    {"render", CMD_RENDER,
+     "pfx render FILE... -o DIR [-j N] [--keep-going] [--frames A:B] [--size WxH]\n"
+     "           [--fps N] [--seed N] [--max-particles N] [--max-memory SIZE]\n"
+     "           [--renderer R] [--alpha MODE] [--threads N] [--force]\n"
+     "           [--depfile FILE] [--progress json]\n"
+     "           [--atlas[=CxR]] [--padding N] [--extrude N] [--crop]\n"
+     "           [--preview OUT.webp|OUT.mp4] [--format png|exr] [-q]\n"
+     "           [--motion-vectors [--mv-max PIXELS] [--mv-flip-y]]\n"
+     "           [--slice I/N | --slice-env VAR --slice-count N]",
+     "render to DIR/<name>_0000.png, ... (several FILEs: DIR/<name>/...)", pfx_cmd_render},
+    {"bake", CMD_BAKE,
+     "pfx bake FILE -o OUT [--format csv|ply|pcache] [--every N] [--frames A:B]\n"
+     "           [--fps N] [--seed N] [--max-particles N] [--max-memory SIZE]\n"
+     "           [--threads N] [--force] [--depfile FILE]",
+     "write the particle state of every output frame: CSV, PLY or pcache", pfx_cmd_bake},
+    {"info", CMD_INFO,
+     "pfx info FILE [--format text|json] [--seed N] [--max-particles N]\n"
+     "           [--max-memory SIZE] [--threads N] [--motion-vectors]",
+     "show what the compiled effect holds", pfx_cmd_info},
+    {"bench", CMD_BENCH,
+     "pfx bench [SECTION...] [--json] [--renderer R]\n"
+     "pfx bench accuracy -o DIR",
+     "measure simulation and rendering speed (or integrator accuracy)", pfx_cmd_bench},
+    {"assemble", CMD_ASSEMBLE,
+     "pfx assemble DIR... -o OUT [--atlas[=CxR]] [--preview OUT.webp|OUT.mp4]",
+     "gather the frames of slices (--slice) into OUT, checking each", pfx_cmd_assemble},
+    {"schema", CMD_SCHEMA, "pfx schema", "print the JSON Schema of the effect format",
+     pfx_cmd_schema},
+};
+enum { COMMAND_COUNT = sizeof commands / sizeof commands[0] };
+
+/* `text`'s lines, the first after `first`, the others after `rest`. */
+static void print_lines(const char *first, const char *rest, const char *text) {
+    const char *lead = first;
+    for (const char *line = text; *line;) {
+        size_t n = strcspn(line, "\n");
+        printf("%s%.*s\n", lead, (int)n, line);
+        lead = rest;
+        line += n + (line[n] == '\n');
+    }
+}
+
+/* The help on stdout: `pfx --help` (cmd NULL or not a command) gives every
+ * command's usage, the commands and every option; `pfx COMMAND --help` its
+ * own usage and the options it takes, from the same rows. */
+static void print_help(const char *cmd) {
+    const command_row *only = NULL;
+    for (size_t i = 0; cmd && i < COMMAND_COUNT; i++)
+        if (!strcmp(cmd, commands[i].name))
+            only = &commands[i];
+    for (size_t i = 0; i < COMMAND_COUNT; i++)
+        if (!only || only == &commands[i])
+            print_lines(i == 0 || only ? "usage: " : "       ", "       ", commands[i].usage);
+    if (only) {
+        printf("\n%s\n", only->summary);
+    } else {
+        fputs("\ncommands:\n", stdout);
+        for (size_t i = 0; i < COMMAND_COUNT; i++)
+            printf("  %-10s %s\n", commands[i].name, commands[i].summary);
+    }
+    fputs("\noptions:\n", stdout);
+    for (int i = 0; i < OPTION_ROW_COUNT; i++) {
+        const option_row *r = &option_rows[i];
+        if (only ? !(r->commands & only->bit) : false)
+            continue;
+        char lead[64];
+        snprintf(lead, sizeof lead, "  %-22s  ", r->shown);
+        print_lines(lead, "                          ", r->help);
+    }
+}
 
 /* The defaults a command line starts from; PFX_THREADS sets --threads'
  * default. Returns -1, or the exit status of a usage error. */
@@ -322,7 +425,7 @@ static int parse_option(int c, int argc, char **argv, pfx_cli *o) {
         o->progress_json = true;
         break;
     case 'h':
-        fputs(usage_text, stdout);
+        print_help(argv[1]);
         return 0;
     case OPT_FRAMES:
         if (!parse_frames(optarg, o))
@@ -542,52 +645,22 @@ static int parse_options(int argc, char **argv, pfx_cli *o) {
     opterr = 0;
     optind = 2; /* argv[1] is the command */
     int c;
-    while ((c = getopt_long(argc, argv, ":o:j:qh", longopts, NULL)) != -1)
+    while ((c = getopt_long(argc, argv, shortopts, longopts, NULL)) != -1)
         if ((stop = parse_option(c, argc, argv, o)) >= 0)
             return stop;
     return check_options(argc, argv, o);
 }
 
-/* The commands, one row each: the name argv[1] gives and what runs it.
- * The names also feed the suggestion for a mistyped command. */
-typedef int (*command_fn)(const char *const *operands, int count, const pfx_cli *o);
-static const struct {
-    const char *name;
-    command_fn run;
-} commands[] = {
-    {"validate", pfx_cmd_validate}, {"render", pfx_cmd_render}, {"bake", pfx_cmd_bake},
-    {"info", pfx_cmd_info},         {"bench", pfx_cmd_bench},   {"schema", pfx_cmd_schema},
-    {"assemble", pfx_cmd_assemble},
-};
-enum { COMMAND_COUNT = sizeof commands / sizeof commands[0] };
-
-int main(int argc, char **argv) {
-    /* Before any thread starts: a signal removes the temporary files. */
-    pfx_atomic_guard_signals();
-    if (argc < 2)
-        return pfx_cli_usage_error("%s", "no command given");
-    const char *cmd = argv[1];
-    if (!strcmp(cmd, "-h") || !strcmp(cmd, "--help") || !strcmp(cmd, "help")) {
-        fputs(usage_text, stdout);
-        return 0;
-    }
-    if (!strcmp(cmd, "--version")) {
-        puts("pfx " PFX_VERSION);
-        return 0;
-    }
-    /* The command first: a mistyped one is named as such, not blamed on
-     * an option that only some commands take. */
-    size_t which = COMMAND_COUNT;
+/* The row of the command named `name`, or COMMAND_COUNT. */
+static size_t find_command(const char *name) {
     for (size_t i = 0; i < COMMAND_COUNT; i++)
-        if (!strcmp(cmd, commands[i].name))
-            which = i;
-    if (which < COMMAND_COUNT) {
-        pfx_cli o;
-        int stop = parse_options(argc, argv, &o);
-        if (stop >= 0)
-            return stop;
-        return commands[which].run((const char *const *)argv + optind, argc - optind, &o);
-    }
+        if (!strcmp(name, commands[i].name))
+            return i;
+    return COMMAND_COUNT;
+}
+
+/* A word that names no command: a usage error, with the nearest name. */
+static int unknown_command(const char *cmd) {
     const char *names[COMMAND_COUNT + 1] = {NULL};
     for (size_t i = 0; i < COMMAND_COUNT; i++)
         names[i] = commands[i].name;
@@ -598,4 +671,34 @@ int main(int argc, char **argv) {
         return EXIT_USAGE;
     }
     return pfx_cli_usage_error("unknown command '%s'", cmd);
+}
+
+int main(int argc, char **argv) {
+    /* Before any thread starts: a signal removes the temporary files. */
+    pfx_atomic_guard_signals();
+    if (argc < 2)
+        return pfx_cli_usage_error("%s", "no command given");
+    const char *cmd = argv[1];
+    make_getopt_tables();
+    if (!strcmp(cmd, "-h") || !strcmp(cmd, "--help") || !strcmp(cmd, "help")) {
+        /* pfx help COMMAND: that command's help, as pfx COMMAND --help. */
+        if (argc > 2 && find_command(argv[2]) == COMMAND_COUNT)
+            return unknown_command(argv[2]);
+        print_help(argc > 2 ? argv[2] : NULL);
+        return 0;
+    }
+    if (!strcmp(cmd, "--version")) {
+        puts("pfx " PFX_VERSION);
+        return 0;
+    }
+    /* The command first: a mistyped one is named as such, not blamed on
+     * an option that only some commands take. */
+    size_t which = find_command(cmd);
+    if (which == COMMAND_COUNT)
+        return unknown_command(cmd);
+    pfx_cli o;
+    int stop = parse_options(argc, argv, &o);
+    if (stop >= 0)
+        return stop;
+    return commands[which].run((const char *const *)argv + optind, argc - optind, &o);
 }

@@ -379,7 +379,7 @@ done
 begin "pfx render --help"
 pfx_run render --help
 want_status 0
-stdout_has "usage: pfx validate"
+stdout_has "usage: pfx render" # its own help only: tests/cli/run_help.sh
 end
 begin "--version"
 pfx_run --version
