@@ -23,16 +23,23 @@ static bool parse_ulong(const char *s, unsigned long long *out) {
     return errno == 0 && *end == 0;
 }
 
-/* --frames: N (one frame), A:B, or A: (from A to the end, last = -1). */
+/* --frames: N (one frame), A:B, or A: (from A to the end, last = -1), each
+ * with an optional :S after it (A:B:S, A::S): every S-th frame from A. */
 static bool parse_frames(const char *arg, pfx_cli *o) {
     char buf[64];
-    unsigned long long a, b = 0;
+    unsigned long long a, b = 0, step = 0;
     if (strlen(arg) >= sizeof buf)
         return false;
     strcpy(buf, arg);
     char *colon = strchr(buf, ':');
     if (colon)
         *colon = 0;
+    char *colon2 = colon ? strchr(colon + 1, ':') : NULL;
+    if (colon2) {
+        *colon2 = 0;
+        if (!parse_ulong(colon2 + 1, &step) || step < 1 || step > 100000000)
+            return false;
+    }
     if (!parse_ulong(buf, &a) || a > 100000000)
         return false;
     bool to_end = colon && colon[1] == 0;
@@ -42,6 +49,7 @@ static bool parse_frames(const char *arg, pfx_cli *o) {
         return false;
     o->first = (long)a;
     o->last = to_end ? -1 : (long)b;
+    o->frames_step = (long)step;
     o->has_frames = true;
     return true;
 }
@@ -127,8 +135,9 @@ static const option_row option_rows[] = {
     {"output", required_argument, 'o', "-o, --output PATH",
      CMD_RENDER | CMD_BAKE | CMD_BENCH | CMD_ASSEMBLE,
      "output directory (render, bench accuracy) or file (bake;\n- is standard output)"},
-    {"frames", required_argument, OPT_FRAMES, "    --frames A:B", CMD_RENDER | CMD_BAKE,
-     "only frames A to B inclusive, numbered as in a full render"},
+    {"frames", required_argument, OPT_FRAMES, "    --frames A:B[:S]", CMD_RENDER | CMD_BAKE,
+     "only frames A to B inclusive (with S: every S-th from A),\n"
+     "numbered as in a full render"},
     {"size", required_argument, OPT_SIZE, "    --size WxH", CMD_RENDER,
      "image size in pixels, overriding image.size"},
     {"fps", required_argument, OPT_FPS, "    --fps N", CMD_RENDER | CMD_BAKE,
@@ -250,17 +259,17 @@ static const command_row commands[] = {
      "pfx validate --list-rules",
      "check effect files like a compiler; exit 1 if any has an error", pfx_cmd_validate},
     {"render", CMD_RENDER,
-     "pfx render FILE... -o DIR [-j N] [--keep-going] [--frames A:B] [--size WxH]\n"
-     "           [--fps N] [--seed N] [--max-particles N] [--max-memory SIZE]\n"
-     "           [--renderer R] [--alpha MODE] [--threads N] [--force]\n"
-     "           [--depfile FILE] [--progress json]\n"
+     "pfx render FILE... -o DIR [-j N] [--keep-going] [--frames A:B[:S]]\n"
+     "           [--size WxH] [--fps N] [--seed N] [--max-particles N]\n"
+     "           [--max-memory SIZE] [--renderer R] [--alpha MODE] [--threads N]\n"
+     "           [--force] [--depfile FILE] [--progress json]\n"
      "           [--atlas[=CxR]] [--padding N] [--extrude N] [--crop]\n"
      "           [--preview OUT.webp|OUT.mp4] [--format png|exr] [-q]\n"
      "           [--motion-vectors [--mv-max PIXELS] [--mv-flip-y]]\n"
      "           [--slice I/N | --slice-env VAR --slice-count N]",
      "render to DIR/<name>_0000.png, ... (several FILEs: DIR/<name>/...)", pfx_cmd_render},
     {"bake", CMD_BAKE,
-     "pfx bake FILE -o OUT [--format csv|ply|pcache] [--every N] [--frames A:B]\n"
+     "pfx bake FILE -o OUT [--format csv|ply|pcache] [--every N] [--frames A:B[:S]]\n"
      "           [--fps N] [--seed N] [--max-particles N] [--max-memory SIZE]\n"
      "           [--threads N] [--force] [--depfile FILE]",
      "write the particle state of every output frame: CSV, PLY or pcache", pfx_cmd_bake},
@@ -430,8 +439,8 @@ static int parse_option(int c, int argc, char **argv, pfx_cli *o) {
     case OPT_FRAMES:
         if (!parse_frames(optarg, o))
             return pfx_cli_usage_error(
-                "--frames takes N, A:B or A: (to the end) with 0 <= A <= B <= "
-                "100000000, got '%s'",
+                "--frames takes N, A:B or A: (to the end), then :S for every S-th frame, with "
+                "0 <= A <= B <= 100000000 and S >= 1, got '%s'",
                 optarg);
         break;
     case OPT_SIZE: {
@@ -614,6 +623,21 @@ static int check_options(int argc, char **argv, pfx_cli *o) {
                                        "--alpha straight cannot go with --format exr: EXR alpha "
                                        "is premultiplied by definition");
     }
+    /* --frames A:B:S and bake's --every N say the same thing. */
+    if (o->frames_step) {
+        if (o->every > 1 && o->every != o->frames_step)
+            return pfx_cli_usage_error("%s", "--every N and --frames A:B:S both choose every "
+                                             "S-th frame, and disagree: give one");
+        o->every = o->frames_step;
+    }
+    /* Sheets, previews and motion vectors are built from consecutive frames. */
+    if (o->every > 1 && !strcmp(argv[1], "render") && (o->atlas || o->preview || o->motion_vectors))
+        return pfx_cli_usage_error(
+            "%s cannot go with a --frames step: it is made of every frame of "
+            "the range",
+            o->atlas     ? "--atlas"
+            : o->preview ? "--preview"
+                         : "--motion-vectors");
     if (o->slices && strcmp(argv[1], "render"))
         return pfx_cli_usage_error("%s", "--slice and --slice-env are for render");
     /* --format: the diagnostics' form for every command but bake, whose

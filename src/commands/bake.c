@@ -135,8 +135,12 @@ int pfx_cmd_bake(const char *const *operands, int count, const pfx_cli *o) {
         (!pfx_manifest_add_output(dl.now, dir, name, &run) || !pfx_delivery_finish(&dl, &run)))
         goto done;
     if (!o->quiet) {
-        fprintf(stderr, "pfx: baked '%s': frames %ld to %ld as %s to '%s'\n", operands[0], first,
-                last, pfx_bake_format_name(format), to_stdout ? "standard output" : o->output);
+        char every[32] = "";
+        if (o->every > 1)
+            snprintf(every, sizeof every, ", every %ld", o->every);
+        fprintf(stderr, "pfx: baked '%s': frames %ld to %ld%s as %s to '%s'\n", operands[0], first,
+                last, every, pfx_bake_format_name(format),
+                to_stdout ? "standard output" : o->output);
     }
     status = 0;
 done:

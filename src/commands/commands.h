@@ -27,13 +27,14 @@ typedef struct pfx_cli {
     const char *output;
     long first, last; /* --frames; last < 0: to the end */
     bool has_frames;
+    long frames_step;   /* --frames A:B:S's S; 0: none given */
     const char *format; /* --format, as given; NULL: the command's default */
     bool json;          /* diagnostics as JSON lines (validate --format json) */
     bool sarif;         /* validate --format sarif: one SARIF log on stdout */
     bool list_rules;    /* validate --list-rules */
     bool bench_json;    /* bench --json */
     bool quiet;
-    long every;
+    long every; /* every Nth frame from the first (1: all): --every N or --frames A:B:N */
     pfx_renderer_kind renderer; /* --renderer */
     bool has_renderer;
     uint64_t max_memory; /* --max-memory, else half of physical memory */
@@ -85,8 +86,11 @@ bool pfx_cli_make_dirs(const char *path, pfx_diags *d);
 bool pfx_cli_make_parent_dirs(const char *path, pfx_diags *d);
 /* The file's name without directory and extension: out/fire_0000.png. */
 void pfx_cli_file_stem(const char *path, char *out, size_t size);
-/* Resolves --frames against the effect's frame count; false if outside. */
+/* Resolves --frames against the effect's frame count; false if outside.
+ * With a step (o->every > 1), *last is the last frame the step reaches. */
 bool pfx_cli_frame_range(const pfx_effect *e, const pfx_cli *o, long *first, long *last);
+/* The frames first, first + o->every, ... up to last: how many. */
+long pfx_cli_frame_count(const pfx_cli *o, long first, long last);
 /* Refuses, before anything is allocated, a run estimated to need more than
  * --max-memory (default half of physical memory), naming the biggest part. */
 bool pfx_cli_memory_fits(const pfx_effect *e, long first, long last, bool render, const pfx_cli *o,

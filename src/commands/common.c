@@ -130,15 +130,25 @@ bool pfx_cli_frame_range(const pfx_effect *e, const pfx_cli *o, long *first, lon
     *last = o->has_frames && o->last >= 0 ? o->last : n - 1;
     /* A looping effect's frames go on for ever: frame f is frame f mod n. */
     if ((*last >= n && !(e->loop && *last < 1000000)) || *first > *last) {
+        char step[32] = "";
+        if (o->frames_step)
+            snprintf(step, sizeof step, ":%ld", o->frames_step);
         if (o->last < 0)
-            fprintf(stderr, "pfx: --frames %ld: is outside the effect's frames 0:%ld\n", o->first,
-                    n - 1);
+            fprintf(stderr, "pfx: --frames %ld:%s is outside the effect's frames 0:%ld\n", o->first,
+                    step, n - 1);
         else
-            fprintf(stderr, "pfx: --frames %ld:%ld is outside the effect's frames 0:%ld\n",
-                    o->first, o->last, n - 1);
+            fprintf(stderr, "pfx: --frames %ld:%ld%s is outside the effect's frames 0:%ld\n",
+                    o->first, o->last, step, n - 1);
         return false;
     }
+    /* 0:20:5 and 0:22:5 are the same five frames: the range ends where the
+     * step lands, so manifests and messages name what is written. */
+    *last -= (*last - *first) % o->every;
     return true;
+}
+
+long pfx_cli_frame_count(const pfx_cli *o, long first, long last) {
+    return last < first ? 0 : (last - first) / o->every + 1;
 }
 
 /* Refuses, before anything is allocated, a run estimated to need more than

@@ -19,7 +19,8 @@ static void take_slice(const pfx_cli *o, pfx_render_job *job, char *manifest, si
     if (!o->slices)
         return;
     const long all_first = job->first, all_last = job->last;
-    pfx_slice_range(all_first, all_last, o->slice, o->slices, &job->first, &job->last);
+    pfx_slice_range_step(all_first, all_last, o->every, o->slice, o->slices, &job->first,
+                         &job->last);
     snprintf(manifest, size, "%s/%s.slice-%04ld-of-%04ld.manifest.json", job->dir, job->stem,
              o->slice, o->slices);
 }
@@ -33,6 +34,8 @@ static bool describe_render(const pfx_render_job *job, const pfx_cli *o, long al
     pfx_manifest_set_string(dl->now, "renderer", pfx_renderer_name(job->renderer));
     if (o->frames_as != PFX_FRAME_PNG) /* PNG, the default, keeps the keys it had */
         pfx_manifest_set_string(dl->now, "format", pfx_frame_format_name(o->frames_as));
+    if (o->every > 1) /* --frames A:B:S; every frame, the default, keeps the keys too */
+        pfx_manifest_set_number(dl->now, "step", (double)o->every);
     if (o->slices)
         pfx_manifest_set_slice(dl->now, o->slice, o->slices, all_first, all_last);
     if (o->atlas) {
@@ -60,7 +63,7 @@ static bool write_extras(const pfx_render_job *job, const pfx_cli *o, const char
                          pfx_delivery *dl, pfx_atlas_layout *atlas, const pfx_mv_meta *mv,
                          pfx_diags *run) {
     const char *dir = job->dir;
-    for (long f = job->first; f <= job->last; f++) {
+    for (long f = job->first; f <= job->last; f += o->every) {
         char name[300];
         snprintf(name, sizeof name, "%s_%04ld.%s", stem, f, pfx_frame_format_name(o->frames_as));
         if (!pfx_manifest_add_output(dl->now, dir, name, run))
@@ -88,7 +91,10 @@ static void say_rendered(const pfx_render_job *job, const pfx_cli *o, const char
     pfx_sim_note_dropped(job->sim, run);
     if (job->first > job->last)
         fprintf(stderr, "pfx: slice %ld of %ld of '%s' has no frames (%ld frames in all)", o->slice,
-                o->slices, path, all_last - all_first + 1);
+                o->slices, path, pfx_cli_frame_count(o, all_first, all_last));
+    else if (o->every > 1)
+        fprintf(stderr, "pfx: rendered '%s': %ld frames (%ld to %ld, every %ld) in '%s'", path,
+                job->frames_done, job->first, job->last, o->every, job->dir);
     else
         fprintf(stderr, "pfx: rendered '%s': %ld frames (%ld to %ld) in '%s'", path,
                 job->frames_done, job->first, job->last, job->dir);
@@ -120,6 +126,7 @@ static int render_one(const char *path, const char *dir, pfx_renderer_kind kind,
     pfx_render_job job = {.effect = e,
                           .dir = dir,
                           .stem = stem,
+                          .step = o->every,
                           .format = o->frames_as,
                           .progress = !o->quiet && !o->progress_json && isatty(2)};
     pfx_progress progress;
@@ -138,7 +145,7 @@ static int render_one(const char *path, const char *dir, pfx_renderer_kind kind,
     long all_first = job.first, all_last = job.last;
     take_slice(o, &job, manifest, sizeof manifest);
     if (o->progress_json) {
-        pfx_progress_init(&progress, stderr, path, job.last - job.first + 1);
+        pfx_progress_init(&progress, stderr, path, pfx_cli_frame_count(o, job.first, job.last));
         job.on_frame = pfx_progress_frame;
         job.on_frame_ctx = &progress;
         reporting = true;

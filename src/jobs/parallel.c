@@ -29,7 +29,8 @@ static void *run_chunk(void *arg) {
 
 bool pfx_render_job_run_parallel(pfx_render_job *job, pfx_renderer_kind kind, int threads,
                                  pfx_diags *d) {
-    long frames = job->last - job->first + 1;
+    const long step = job->step > 1 ? job->step : 1;
+    long frames = (job->last - job->first) / step + 1;
     if (threads > frames)
         threads = (int)frames;
     if (threads < 1)
@@ -59,7 +60,7 @@ bool pfx_render_job_run_parallel(pfx_render_job *job, pfx_renderer_kind kind, in
         c->job.renderer = NULL;
         c->kind = kind;
         pfx_diags_init_runtime(&c->d);
-        pfx_slice_range(job->first, job->last, i, threads, &c->job.first, &c->job.last);
+        pfx_slice_range_step(job->first, job->last, step, i, threads, &c->job.first, &c->job.last);
         started[i] = pthread_create(&ts[i], NULL, run_chunk, c) == 0;
         if (!started[i])
             run_chunk(c); /* no thread to be had: this one does the work */

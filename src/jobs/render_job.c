@@ -114,7 +114,8 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
      * frames are the same. */
     pfx_renderer_set_threads(job->renderer, e->threads, NULL);
     char name[4600];
-    for (long f = job->first; !failed && f <= job->last && !pfx_frame_queue_failed(q); f++) {
+    const long step = job->step > 1 ? job->step : 1;
+    for (long f = job->first; !failed && f <= job->last && !pfx_frame_queue_failed(q); f += step) {
         long drawn = draw_frame(job, f, &settings, sort, pfx_frame_queue_buffer(q), &mv, d);
         failed = drawn < 0;
         size_t n = failed ? 0 : (size_t)drawn;

@@ -21,6 +21,7 @@ typedef struct pfx_render_job {
     pfx_renderer *renderer; /* the caller's; a renderer that started */
     const char *dir, *stem;
     long first, last;
+    long step; /* every step-th frame from first (last - first a multiple); 0 or 1: all */
     pfx_frame_format format;
     bool progress; /* a "\rpfx: frame ..." line on stderr as frames go */
     /* Called after each frame is drawn and handed to the frame writer, from

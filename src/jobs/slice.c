@@ -12,6 +12,15 @@ bool pfx_slice_range(long first, long last, long index, long count, long *s_firs
     return *s_first <= *s_last;
 }
 
+bool pfx_slice_range_step(long first, long last, long step, long index, long count, long *s_first,
+                          long *s_last) {
+    long a, b;
+    bool any = pfx_slice_range(0, (last - first) / step, index, count, &a, &b);
+    *s_first = first + a * step;
+    *s_last = first + b * step;
+    return any;
+}
+
 bool pfx_slice_index_from_env(const char *name, long count, long *index) {
     const char *v = getenv(name);
     if (!v || !*v || *v == '-' || *v == '+')

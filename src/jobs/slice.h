@@ -13,6 +13,13 @@
  * (more slices than frames). */
 bool pfx_slice_range(long first, long last, long index, long count, long *s_first, long *s_last);
 
+/* The same cut of the frames first, first + step, ..., last (last - first
+ * a multiple of step; step 1: pfx_slice_range): by their count, so that
+ * each slice holds frames of the sequence and the slices together hold
+ * each once. */
+bool pfx_slice_range_step(long first, long last, long step, long index, long count, long *s_first,
+                          long *s_last);
+
 /* Reads a slice index from the environment variable `name`: a whole
  * number in [0, count). False when unset, empty or out of range. */
 bool pfx_slice_index_from_env(const char *name, long count, long *index);
