@@ -134,7 +134,9 @@ typedef struct option_row {
 static const option_row option_rows[] = {
     {"output", required_argument, 'o', "-o, --output PATH",
      CMD_RENDER | CMD_BAKE | CMD_BENCH | CMD_ASSEMBLE,
-     "output directory (render, bench accuracy) or file (bake;\n- is standard output)"},
+     "output directory (render, bench accuracy) or file (bake;\n"
+     "- is standard output; a run of # in its name, as in\n"
+     "cache_####.ply: one file a frame, # the frame number)"},
     {"frames", required_argument, OPT_FRAMES, "    --frames A:B[:S]", CMD_RENDER | CMD_BAKE,
      "only frames A to B inclusive (with S: every S-th from A),\n"
      "numbered as in a full render"},
