@@ -626,6 +626,9 @@ static int check_options(int argc, char **argv, pfx_cli *o) {
                                        "is premultiplied by definition");
     }
     /* --frames A:B:S and bake's --every N say the same thing. */
+    if (o->every > 1 && strcmp(argv[1], "bake"))
+        return pfx_cli_usage_error("%s", "--every is for bake; other commands take every S-th "
+                                         "frame with --frames A:B:S");
     if (o->frames_step) {
         if (o->every > 1 && o->every != o->frames_step)
             return pfx_cli_usage_error("%s", "--every N and --frames A:B:S both choose every "

@@ -128,6 +128,8 @@ usage_error "a step that is not a number" "--frames takes" render "$FIRE" -o "$w
     --frames 0:20:x
 usage_error "--every and a step that disagree" "--every N and --frames A:B:S" bake "$FIRE" \
     -o "$work/u.csv" --frames 0:20:5 --every 2
+usage_error "--every for render" "--every is for bake; other commands take every S-th frame" \
+    render "$FIRE" -o "$work/u" --frames 0:20 --every 5
 usage_error "--atlas with a step" "--atlas cannot go with a --frames step" render "$FIRE" \
     -o "$work/u" --frames 0:20:5 --atlas
 usage_error "--motion-vectors with a step" "--motion-vectors cannot go with a --frames step" \
