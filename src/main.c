@@ -323,7 +323,7 @@ static void print_help(const char *cmd) {
     fputs("\noptions:\n", stdout);
     for (int i = 0; i < OPTION_ROW_COUNT; i++) {
         const option_row *r = &option_rows[i];
-        if (only ? !(r->commands & only->bit) : false)
+        if (only && !(r->commands & only->bit))
             continue;
         char lead[64];
         snprintf(lead, sizeof lead, "  %-22s  ", r->shown);
