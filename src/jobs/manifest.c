@@ -79,8 +79,7 @@ static json_t *find_path(json_t *list, const char *path) {
 }
 
 bool pfx_manifest_add_input(pfx_manifest *m, const char *path, pfx_diags *d) {
-    json_t *inputs = member(m, "inputs");
-    if (find_path(inputs, path))
+    if (find_path(member(m, "inputs"), path))
         return true;
     char hex[PFX_SHA256_HEX];
     if (!pfx_sha256_file(path, hex)) {
@@ -88,8 +87,14 @@ bool pfx_manifest_add_input(pfx_manifest *m, const char *path, pfx_diags *d) {
                        strerror(errno));
         return false;
     }
-    json_array_append_new(inputs, json_pack("{s:s, s:s}", "path", path, "sha256", hex));
+    pfx_manifest_add_input_sha256(m, path, hex);
     return true;
+}
+
+void pfx_manifest_add_input_sha256(pfx_manifest *m, const char *path, const char *sha256) {
+    json_t *inputs = member(m, "inputs");
+    if (!find_path(inputs, path))
+        json_array_append_new(inputs, json_pack("{s:s, s:s}", "path", path, "sha256", sha256));
 }
 
 bool pfx_manifest_add_effect(pfx_manifest *m, const pfx_effect *e, pfx_diags *d) {
