@@ -159,4 +159,81 @@ want_status 0
 [ -f "long2/${long}_0001.png" ] && [ -f "long2/$long.manifest.json" ] || flunk "missing outputs"
 end
 
+# A file name that is not UTF-8 (Latin-1 'café'): every JSON pfx writes
+# stays valid, keeps the rest, and carries the exact bytes in
+# "<key>_base64" beside a readable form with U+FFFD.
+name=$(printf 'caf\xe9')
+mkdir -p latin && cp fountain.yaml "latin/$name.yaml"
+printf 'pfx: 1\nbogus: 1\n' >"latin/$name-bad.yaml"
+# check_json KIND FILE WANT: each JSON document (KIND lines: each line
+# that starts with '{'; doc: the whole file) is UTF-8 and parses, and the members named carry WANT's bytes.
+check_json() {
+    "$py" - "$@" <<'PY'
+import base64, json, sys
+kind, path, want = sys.argv[1], sys.argv[2], sys.argv[3].encode("utf-8", "surrogateescape")
+raw = open(path, "rb").read()
+try:
+    docs = [json.loads(l.decode("utf-8")) for l in raw.splitlines() if l.startswith(b"{")] \
+        if kind == "lines" else [json.loads(raw.decode("utf-8"))]
+except ValueError as e:
+    print("FAIL %s: not UTF-8 JSON: %s" % (path, e)); sys.exit()
+found = []
+def walk(v):
+    if isinstance(v, dict):
+        for k, x in v.items():
+            if k.endswith("_base64"):
+                found.append(base64.b64decode(x))
+            else:
+                walk(x)
+    elif isinstance(v, list):
+        for x in v: walk(x)
+for d in docs: walk(d)
+if not docs or not found or not all(want in f for f in found):
+    print("FAIL %s: %d documents, names %r, none with %r" % (path, len(docs), found[:3], want))
+else:
+    print("ok   %s: %d documents, %d names hold the exact bytes" % (path.rsplit("/", 1)[-1], len(docs), len(found)))
+PY
+}
+
+begin "validate --format json on a non-UTF-8 name"
+pfx_run validate --format json "latin/$name-bad.yaml"
+want_status 1
+grep -q '"rule":"PFX2001"' "$work/err" || flunk "the unknown key's line is missing"
+end
+tally "$(check_json lines "$work/err" "latin/$name-bad.yaml")"
+
+begin "render a non-UTF-8 name with --progress json, --atlas, --depfile"
+pfx_run render "latin/$name.yaml" -o latin/out $R --progress json --atlas --depfile "latin/$name.d"
+want_status 0
+[ "$(grep -c '"event":"frame"' "$work/err")" = 2 ] || flunk "not 2 frame lines"
+[ -f "latin/out/${name}_atlas.png" ] || flunk "no atlas"
+head -1 "latin/$name.d" | grep -qF "latin/out/$name.manifest.json:" || flunk "the depfile's target"
+grep -qxF "  latin/$name.yaml" "latin/$name.d" || flunk "the depfile lacks the effect: $(cat -v "latin/$name.d")"
+end
+tally "$(check_json lines "$work/err" "latin/$name.yaml")"
+tally "$(check_json doc "latin/out/$name.manifest.json" "$name")"
+tally "$(check_json doc "latin/out/${name}_atlas.json" "${name}_atlas.png")"
+
+begin "info --format json on a non-UTF-8 name"
+pfx_run info --format json "latin/$name.yaml"
+want_status 0
+end
+tally "$(check_json doc "$work/out" "latin/$name.yaml")"
+
+begin "the non-UTF-8 render is up to date the second time, its stale frame removed the third"
+pfx_run render "latin/$name.yaml" -o latin/out $R --atlas
+stderr_has "is up to date"
+pfx_run render "latin/$name.yaml" -o latin/out --frames 0:0 --size 16x16
+want_status 0
+stderr_has "stale removed"
+[ ! -e "latin/out/${name}_0001.png" ] || flunk "the stale frame is still there"
+end
+
+begin "make reads the non-UTF-8 name from the depfile"
+printf 'all: latin/out/%s.manifest.json\nlatin/out/%s.manifest.json:\n\t$(file >made,[$^])\ninclude latin/%s.d\n' \
+    "$name" "$name" "$name" >Makefile.latin
+make -s -f Makefile.latin -B >/dev/null 2>&1 || flunk "make failed"
+[ "$(cat made)" = "[latin/$name.yaml]" ] || flunk "make read $(cat -v made)"
+end
+
 summary
