@@ -87,6 +87,7 @@ static const char usage_text[] =
     "      --force             render or bake even when DIR/<name>.manifest.json (or\n"
     "                          OUT.manifest.json) says the outputs are up to date\n"
     "      --depfile FILE      also write FILE: a Make rule naming every input read\n"
+    "                          (a path make or ninja would misread is refused)\n"
     "      --slice I/N         render only slice I (from 0) of N contiguous frame ranges\n"
     "      --slice-env VAR     the slice index from $VAR (SLURM_ARRAY_TASK_ID,\n"
     "                          JOB_COMPLETION_INDEX, ...), with --slice-count N\n"
