@@ -204,7 +204,8 @@ static const option_row option_rows[] = {
      "render or bake even when DIR/<name>.manifest.json (or\n"
      "OUT.manifest.json) says the outputs are up to date"},
     {"depfile", required_argument, OPT_DEPFILE, "    --depfile FILE", CMD_RENDER | CMD_BAKE,
-     "also write FILE: a Make rule naming every input read"},
+     "also write FILE: a Make rule naming every input read\n"
+     "(a path make or ninja would misread is refused)"},
     {"slice", required_argument, OPT_SLICE, "    --slice I/N", CMD_RENDER,
      "render only slice I (from 0) of N contiguous frame ranges"},
     {"slice-env", required_argument, OPT_SLICE_ENV, "    --slice-env VAR", CMD_RENDER,

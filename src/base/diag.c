@@ -9,6 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/json_text.h"
+
 const pfx_rule_info pfx_rules[] = {
 #define PFX_RULE_ROW(num, id, name, sev, help) {PFX_RULE_##id, name, PFX_SEV_##sev, help},
     PFX_DIAG_RULES(PFX_RULE_ROW)
@@ -325,21 +327,24 @@ size_t *pfx_diags_order(const pfx_diags *d) {
 }
 
 /* One JSON line through jansson, keys in this order. Strings are taken
- * as they are (json_string_nocheck): a file that is not UTF-8 is refused
- * before any message quotes it, and a path is printed as the user gave it. */
+ * as they are (json_string_nocheck) and escaped for the dump: a file name
+ * that is not UTF-8 keeps its exact bytes in "file_base64" (and the
+ * message quoting it in "message_base64"; base/json_text.h). */
 static void print_json(const pfx_diags *d, const pfx_diag *g, FILE *out) {
     char id[16];
     json_t *o = json_object();
-    json_object_set_new(o, "file", d->file ? json_string_nocheck(d->file) : json_null());
+    json_object_set_new(o, "file", d->file ? pfx_json_bytes(d->file) : json_null());
     json_object_set_new(o, "line", json_integer(g->line));
     json_object_set_new(o, "column", json_integer(g->col));
     json_object_set_new(o, "severity", json_string(severity_name(g->severity)));
     json_object_set_new(o, "rule",
                         g->rule != PFX_RULE_NONE ? json_string(pfx_rule_id(g->rule, id, sizeof id))
                                                  : json_null());
-    json_object_set_new(o, "message", json_string_nocheck(g->message));
-    if (json_dumpf(o, out, JSON_COMPACT | JSON_PRESERVE_ORDER) == 0)
+    json_object_set_new(o, "message", pfx_json_bytes(g->message));
+    json_t *escaped = pfx_json_escaped(o);
+    if (escaped && json_dumpf(escaped, out, JSON_COMPACT | JSON_PRESERVE_ORDER) == 0)
         fputc('\n', out);
+    json_decref(escaped);
     json_decref(o);
 }
 

@@ -180,10 +180,16 @@ int pfx_cmd_bake(const char *const *operands, int count, const pfx_cli *o) {
     }
     if (!pfx_cli_memory_fits(e, first, last, false, o, &run))
         goto done;
-    if (!pfx_delivery_begin(&dl, "bake", &run) || !pfx_cli_describe_run(&dl, e, first, last, &run))
+    if (!pfx_delivery_begin(&dl, "bake", &run) || !pfx_cli_describe_run(&dl, &l, first, last, &run))
         goto done;
     pfx_manifest_set_string(dl.now, "format", pfx_bake_format_name(format));
     pfx_manifest_set_number(dl.now, "every", (double)o->every);
+    pfx_output_names names = {0};
+    pfx_output_names_add(&names, to_stdout ? NULL : o->output);
+    bool names_ok = pfx_cli_check_outputs(&dl, &names, &run);
+    pfx_output_names_free(&names);
+    if (!names_ok)
+        goto done;
     if (!to_stdout && pfx_delivery_up_to_date(&dl)) {
         if (pfx_delivery_skip(&dl, &run)) {
             pfx_cli_say_up_to_date(o, operands[0], o->output, &dl);

@@ -14,6 +14,7 @@
 #include "compile/compile.h"
 #include "jobs/delivery.h"
 #include "jobs/load.h"
+#include "jobs/output_names.h"
 #include "output/atlas.h"
 #include "output/frame_queue.h"
 #include "render/render.h"
@@ -96,9 +97,14 @@ long pfx_cli_frame_count(const pfx_cli *o, long first, long last);
 bool pfx_cli_memory_fits(const pfx_effect *e, long first, long last, bool render, const pfx_cli *o,
                          pfx_diags *run);
 /* The manifest's settings common to render and bake (the effect's values
- * after --fps, --size, --seed and --max-particles), and its inputs. */
-bool pfx_cli_describe_run(pfx_delivery *dl, const pfx_effect *e, long first, long last,
+ * after --fps, --size, --seed and --max-particles), and its inputs (the
+ * effect hashed as the bytes l parsed). */
+bool pfx_cli_describe_run(pfx_delivery *dl, const pfx_loaded *l, long first, long last,
                           pfx_diags *d);
+/* Adds dl's manifest and depfile to names, and checks every name before
+ * any work: each fits its directory, none is an input of dl->now, and the
+ * depfile can name every input. False with the reasons in d. */
+bool pfx_cli_check_outputs(const pfx_delivery *dl, pfx_output_names *names, pfx_diags *d);
 /* Says that there was nothing to do, with the key that proved it. */
 void pfx_cli_say_up_to_date(const pfx_cli *o, const char *path, const char *where,
                             pfx_delivery *dl);

@@ -7,6 +7,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "base/sha256.h"
+#include "jobs/depfile.h"
 #include "jobs/estimate.h"
 
 int pfx_cli_usage_error(const char *fmt, const char *arg) {
@@ -173,9 +175,16 @@ bool pfx_cli_memory_fits(const pfx_effect *e, long first, long last, bool render
 }
 
 /* The manifest's settings common to render and bake (the effect's values
- * after --fps, --size, --seed and --max-particles), and its inputs. */
-bool pfx_cli_describe_run(pfx_delivery *dl, const pfx_effect *e, long first, long last,
+ * after --fps, --size, --seed and --max-particles), and its inputs. The
+ * effect is hashed as the bytes that were parsed, never by opening it
+ * again: a pipe (/dev/stdin, <(...)) is drained by then and a named FIFO
+ * would wait for a second writer. */
+bool pfx_cli_describe_run(pfx_delivery *dl, const pfx_loaded *l, long first, long last,
                           pfx_diags *d) {
+    const pfx_effect *e = l->effect;
+    char hex[PFX_SHA256_HEX];
+    pfx_sha256_bytes(l->source, l->source_len, hex);
+    pfx_manifest_add_input_sha256(dl->now, e->path, hex);
     char seed[32];
     snprintf(seed, sizeof seed, "%llu", (unsigned long long)e->seed);
     pfx_manifest_set_range(dl->now, "frames", first, last);
@@ -186,6 +195,18 @@ bool pfx_cli_describe_run(pfx_delivery *dl, const pfx_effect *e, long first, lon
     pfx_manifest_set_number(dl->now, "max_particles", (double)e->max_particles);
     pfx_manifest_set_number(dl->now, "loop", e->loop);
     return pfx_manifest_add_effect(dl->now, e, d);
+}
+
+/* Lists the manifest and the depfile with the command's other outputs,
+ * then checks them all before any work: names that fit, no output that is
+ * an input, a depfile that make and ninja read right. */
+bool pfx_cli_check_outputs(const pfx_delivery *dl, pfx_output_names *names, pfx_diags *d) {
+    pfx_output_names_add(names, dl->manifest_path);
+    pfx_output_names_add(names, dl->depfile);
+    bool ok = pfx_output_names_check(names, dl->now, d);
+    if (dl->depfile && !pfx_depfile_check(dl->target, dl->now, d))
+        ok = false;
+    return ok;
 }
 
 /* Says that there was nothing to do, with the key that proved it. */

@@ -2,6 +2,7 @@
  * will cost, as text or one JSON object. */
 #include "commands/commands.h"
 
+#include "base/json_text.h"
 #include "jobs/estimate.h"
 #include "render/sprites.h"
 
@@ -52,10 +53,10 @@ static int print_info_json(const pfx_effect *e, const pfx_cli *o) {
     }
     pfx_estimate est;
     pfx_estimate_run(e, 0, pfx_effect_frame_count(e) - 1, estimate_flags(o), &est);
-    json_t *root = json_pack("{s:s, s:I, s:i, s:i, s:o, s:f, s:b}", "effect", e->path, "frames",
-                             (json_int_t)pfx_effect_frame_count(e), "width", e->width, "height",
-                             e->height, "emitters", emitters, "pool_bytes", bytes, "depth_sort",
-                             pfx_sprites_need_sort(e));
+    json_t *root = json_pack(
+        "{s:o, s:I, s:i, s:i, s:o, s:f, s:b}", "effect", pfx_json_bytes(e->path), "frames",
+        (json_int_t)pfx_effect_frame_count(e), "width", e->width, "height", e->height, "emitters",
+        emitters, "pool_bytes", bytes, "depth_sort", pfx_sprites_need_sort(e));
     json_t *estimate = pfx_estimate_json(&est);
     if (root && estimate) {
         json_object_update(root, estimate);
@@ -63,7 +64,10 @@ static int print_info_json(const pfx_effect *e, const pfx_cli *o) {
             json_object_set_new(root, "max_memory_bytes", json_real((double)o->max_memory));
     }
     json_decref(estimate);
-    char *text = root ? json_dumps(root, JSON_INDENT(2) | JSON_PRESERVE_ORDER) : NULL;
+    /* A path that is not UTF-8 keeps its bytes in "effect_base64". */
+    json_t *escaped = root ? pfx_json_escaped(root) : NULL;
+    char *text = escaped ? json_dumps(escaped, JSON_INDENT(2) | JSON_PRESERVE_ORDER) : NULL;
+    json_decref(escaped);
     json_decref(root);
     if (!text) {
         fprintf(stderr, "pfx: out of memory\n");

@@ -8,6 +8,7 @@
 
 #include "jobs/atlas_job.h"
 #include "jobs/motion_job.h"
+#include "jobs/output_names.h"
 #include "jobs/parallel.h"
 #include "jobs/preview.h"
 #include "jobs/progress.h"
@@ -54,6 +55,32 @@ static bool describe_render(const pfx_render_job *job, const pfx_cli *o, long al
     if (o->motion_vectors)
         pfx_mv_describe(mv, dl->now);
     return true;
+}
+
+/* Every file the run will write, as write_extras and the frame loop name
+ * them: checked before any work (jobs/output_names.h). */
+static bool check_outputs(const pfx_render_job *job, const pfx_cli *o, const pfx_delivery *dl,
+                          pfx_diags *run) {
+    pfx_output_names names = {0};
+    const char *dir = job->dir, *stem = job->stem;
+    char path[4600];
+    pfx_output_names_add_frames(&names, dir, stem, "_", job->first, job->last,
+                                pfx_frame_format_name(o->frames_as));
+    if (o->motion_vectors) {
+        pfx_output_names_add_frames(&names, dir, stem, "_mv_", job->first, job->last, "png");
+        snprintf(path, sizeof path, "%s/%s_mv%s", dir, stem, o->atlas ? "_atlas.png" : ".json");
+        pfx_output_names_add(&names, path);
+    }
+    if (o->atlas) {
+        snprintf(path, sizeof path, "%s/%s_atlas.png", dir, stem);
+        pfx_output_names_add(&names, path);
+        snprintf(path, sizeof path, "%s/%s_atlas.json", dir, stem);
+        pfx_output_names_add(&names, path);
+    }
+    pfx_output_names_add(&names, o->preview);
+    bool ok = pfx_cli_check_outputs(dl, &names, run);
+    pfx_output_names_free(&names);
+    return ok;
 }
 
 /* After the frames: each one listed in the manifest, then the motion
@@ -155,15 +182,16 @@ static int render_one(const char *path, const char *dir, pfx_renderer_kind kind,
     /* The renderer before the directory: one that cannot start writes
      * nothing. */
     job.renderer = pfx_renderer_create(kind, e->width, e->height, &run);
-    if (!job.renderer || !pfx_cli_make_dirs(dir, &run))
+    if (!job.renderer)
         goto done;
     if (!pfx_delivery_begin(&dl, "render", &run) ||
-        !pfx_cli_describe_run(&dl, e, job.first, job.last, &run))
+        !pfx_cli_describe_run(&dl, &l, job.first, job.last, &run))
         goto done;
     pfx_atlas_layout atlas = o->atlas_layout;
     pfx_mv_meta mv = {
         .max_px = o->mv_max, .max_given = o->mv_max > 0, .flip_y = o->mv_flip_y, .fps = e->fps};
-    if (!describe_render(&job, o, all_first, all_last, &dl, &atlas, &mv, &run))
+    if (!describe_render(&job, o, all_first, all_last, &dl, &atlas, &mv, &run) ||
+        !check_outputs(&job, o, &dl, &run) || !pfx_cli_make_dirs(dir, &run))
         goto done;
     if (pfx_delivery_up_to_date(&dl) && (!o->preview || access(o->preview, F_OK) == 0)) {
         if (pfx_delivery_skip(&dl, &run)) {
@@ -219,6 +247,20 @@ int pfx_cmd_render(const char *const *operands, int count, const pfx_cli *o) {
             if (!strcmp(a, b))
                 return pfx_cli_usage_error("two effects would render into '%s': rename one", a);
         }
+    /* A stem that is no file name ("..yaml" gives ".", "...yaml" gives
+     * "..") would put the outputs in OUT/. or OUT/..: refused before any
+     * file is rendered, whatever its place among the FILEs. */
+    for (int i = 0; i < count; i++) {
+        char stem[256];
+        pfx_cli_file_stem(operands[i], stem, sizeof stem);
+        if (!*stem || !strcmp(stem, ".") || !strcmp(stem, "..")) {
+            fprintf(stderr,
+                    "pfx: cannot render '%s': its outputs would be named after '%s', which "
+                    "is a directory's name; rename the file\n",
+                    operands[i], stem);
+            return EXIT_INVALID;
+        }
+    }
     pfx_renderer_kind kind;
     if (!pfx_cli_renderer_kind(o, &kind))
         return EXIT_USAGE;

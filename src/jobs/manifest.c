@@ -13,6 +13,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "base/json_text.h"
 #include "output/json_file.h"
 
 #define MANIFEST_FORMAT 1
@@ -47,7 +48,7 @@ void pfx_manifest_destroy(pfx_manifest *m) {
 }
 
 void pfx_manifest_set_string(pfx_manifest *m, const char *key, const char *value) {
-    json_object_set_new(member(m, "settings"), key, json_string(value));
+    json_object_set_new(member(m, "settings"), key, pfx_json_bytes(value));
 }
 
 /* Whole numbers as JSON integers, so that 30 reads as 30 and not 30.0. */
@@ -79,8 +80,7 @@ static json_t *find_path(json_t *list, const char *path) {
 }
 
 bool pfx_manifest_add_input(pfx_manifest *m, const char *path, pfx_diags *d) {
-    json_t *inputs = member(m, "inputs");
-    if (find_path(inputs, path))
+    if (find_path(member(m, "inputs"), path))
         return true;
     char hex[PFX_SHA256_HEX];
     if (!pfx_sha256_file(path, hex)) {
@@ -88,8 +88,15 @@ bool pfx_manifest_add_input(pfx_manifest *m, const char *path, pfx_diags *d) {
                        strerror(errno));
         return false;
     }
-    json_array_append_new(inputs, json_pack("{s:s, s:s}", "path", path, "sha256", hex));
+    pfx_manifest_add_input_sha256(m, path, hex);
     return true;
+}
+
+void pfx_manifest_add_input_sha256(pfx_manifest *m, const char *path, const char *sha256) {
+    json_t *inputs = member(m, "inputs");
+    if (!find_path(inputs, path))
+        json_array_append_new(
+            inputs, json_pack("{s:o, s:s}", "path", pfx_json_bytes(path), "sha256", sha256));
 }
 
 bool pfx_manifest_add_effect(pfx_manifest *m, const pfx_effect *e, pfx_diags *d) {
@@ -128,7 +135,9 @@ const char *pfx_manifest_key(pfx_manifest *m) {
         json_pack("{s:O, s:O, s:O, s:O, s:O}", "pfx_version", member_or_null(m, "pfx_version"),
                   "pfx_results", member_or_null(m, "pfx_results"), "command", member(m, "command"),
                   "settings", member(m, "settings"), "inputs", member(m, "inputs"));
-    char *text = keyed ? json_dumps(keyed, JSON_SORT_KEYS | JSON_COMPACT) : NULL;
+    json_t *escaped = keyed ? pfx_json_escaped(keyed) : NULL;
+    char *text = escaped ? json_dumps(escaped, JSON_SORT_KEYS | JSON_COMPACT) : NULL;
+    json_decref(escaped);
     json_decref(keyed);
     if (!text)
         return NULL;
@@ -154,7 +163,8 @@ bool pfx_manifest_add_output(pfx_manifest *m, const char *dir, const char *name,
     if (old)
         json_object_set_new(old, "sha256", json_string(hex));
     else
-        json_array_append_new(outputs, json_pack("{s:s, s:s}", "path", name, "sha256", hex));
+        json_array_append_new(outputs,
+                              json_pack("{s:o, s:s}", "path", pfx_json_bytes(name), "sha256", hex));
     return true;
 }
 
@@ -177,6 +187,7 @@ bool pfx_manifest_write(pfx_manifest *m, const char *path, pfx_diags *d) {
 
 pfx_manifest *pfx_manifest_read(const char *path) {
     json_t *root = json_load_file(path, 0, NULL);
+    pfx_json_unescape(root);
     json_t *format = json_object_get(root, "pfx_manifest");
     if (!json_is_integer(format) || json_integer_value(format) != MANIFEST_FORMAT ||
         !json_is_array(json_object_get(root, "outputs")) ||
@@ -414,7 +425,8 @@ static bool merge_outputs(pfx_manifest *dst, const pfx_manifest *src, pfx_diags 
             return false;
         }
         if (!old)
-            json_array_append_new(outputs, json_pack("{s:s, s:s}", "path", name, "sha256", sha));
+            json_array_append_new(
+                outputs, json_pack("{s:o, s:s}", "path", pfx_json_bytes(name), "sha256", sha));
     }
     return true;
 }

@@ -40,6 +40,10 @@ void pfx_manifest_set_range(pfx_manifest *m, const char *key, long first, long l
  * call with the same path does nothing. False, with the reason in d, when
  * it cannot be read. */
 bool pfx_manifest_add_input(pfx_manifest *m, const char *path, pfx_diags *d);
+/* Lists the input at path with the SHA-256 (hex) of the bytes the run
+ * read, where opening it again would not give them (a pipe); a second
+ * call with the same path does nothing. */
+void pfx_manifest_add_input_sha256(pfx_manifest *m, const char *path, const char *sha256);
 /* The effect file and every file it read (meshes, textures, normal maps). */
 bool pfx_manifest_add_effect(pfx_manifest *m, const pfx_effect *e, pfx_diags *d);
 size_t pfx_manifest_input_count(const pfx_manifest *m);

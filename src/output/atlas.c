@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/json_text.h"
 #include "output/json_file.h"
 #include "output/motion_vectors.h"
 
@@ -177,25 +178,25 @@ bool pfx_atlas_write_json(const char *path, const pfx_atlas_layout *l, const cha
     for (int k = 0; k < l->frames; k++) {
         int x = (k % l->columns) * l->cell_w + l->padding;
         int y = (k / l->columns) * l->cell_h + l->padding;
-        json_object_set_new(frames, names[k],
-                            json_pack("{s:o, s:b, s:b, s:o, s:{s:i, s:i}}", "frame",
-                                      rect(x, y, l->crop_w, l->crop_h), "rotated", 0, "trimmed",
-                                      l->crop, "spriteSourceSize",
-                                      rect(l->crop_x, l->crop_y, l->crop_w, l->crop_h),
-                                      "sourceSize", "w", l->frame_w, "h", l->frame_h));
+        json_object_set_new_nocheck(frames, names[k],
+                                    json_pack("{s:o, s:b, s:b, s:o, s:{s:i, s:i}}", "frame",
+                                              rect(x, y, l->crop_w, l->crop_h), "rotated", 0,
+                                              "trimmed", l->crop, "spriteSourceSize",
+                                              rect(l->crop_x, l->crop_y, l->crop_w, l->crop_h),
+                                              "sourceSize", "w", l->frame_w, "h", l->frame_h));
     }
     json_t *root = json_pack(
-        "{s:o, s:{s:s, s:s, s:s, s:s, s:{s:i, s:i}, s:s, s:s}, "
+        "{s:o, s:{s:s, s:s, s:o, s:s, s:{s:i, s:i}, s:s, s:s}, "
         "s:{s:i, s:i, s:i, s:f, s:b, s:{s:i, s:i}, s:i, s:i, s:b}, "
         "s:{s:i, s:i, s:i, s:f}, s:{s:i, s:i}, s:{s:i, s:i}}",
-        "frames", frames, "meta", "app", "pfx", "version", PFX_VERSION, "image", image, "format",
-        "RGBA8888", "size", "w", l->width, "h", l->height, "scale", "1", "alpha", "straight",
-        "grid", "columns", l->columns, "rows", l->rows, "frames", l->frames, "fps", fps, "loop",
-        loop, "cell", "w", l->cell_w, "h", l->cell_h, "padding", l->padding, "extrude",
-        l->extrude < l->padding ? l->extrude : l->padding, "crop", l->crop, "unity", "tiles_x",
-        l->columns, "tiles_y", l->rows, "frames", l->frames, "fps", fps, "unreal",
-        "sub_images_horizontal", l->columns, "sub_images_vertical", l->rows, "godot", "h_frames",
-        l->columns, "v_frames", l->rows);
+        "frames", frames, "meta", "app", "pfx", "version", PFX_VERSION, "image",
+        pfx_json_bytes(image), "format", "RGBA8888", "size", "w", l->width, "h", l->height, "scale",
+        "1", "alpha", "straight", "grid", "columns", l->columns, "rows", l->rows, "frames",
+        l->frames, "fps", fps, "loop", loop, "cell", "w", l->cell_w, "h", l->cell_h, "padding",
+        l->padding, "extrude", l->extrude < l->padding ? l->extrude : l->padding, "crop", l->crop,
+        "unity", "tiles_x", l->columns, "tiles_y", l->rows, "frames", l->frames, "fps", fps,
+        "unreal", "sub_images_horizontal", l->columns, "sub_images_vertical", l->rows, "godot",
+        "h_frames", l->columns, "v_frames", l->rows);
     if (root && l->motion)
         json_object_set_new(root, "motion_vectors", pfx_mv_json(l->motion, l, l->motion_image));
     bool ok = pfx_json_file_write(path, root, d);

@@ -3,6 +3,7 @@
 #include <errno.h>
 #include <stdio.h>
 
+#include "base/json_text.h"
 #include "output/atomic_file.h"
 
 bool pfx_json_file_write(const char *path, const json_t *root, pfx_diags *d) {
@@ -10,11 +11,20 @@ bool pfx_json_file_write(const char *path, const json_t *root, pfx_diags *d) {
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "cannot write '%s': out of memory", path);
         return false;
     }
-    pfx_atomic_file *a = pfx_atomic_open(path, d);
-    if (!a)
+    /* Names that are not UTF-8 keep their bytes (base/json_text.h). */
+    json_t *escaped = pfx_json_escaped(root);
+    if (!escaped) {
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "cannot write '%s': out of memory", path);
         return false;
+    }
+    pfx_atomic_file *a = pfx_atomic_open(path, d);
+    if (!a) {
+        json_decref(escaped);
+        return false;
+    }
     FILE *f = pfx_atomic_stream(a);
-    if (json_dumpf(root, f, JSON_INDENT(2) | JSON_PRESERVE_ORDER) != 0 || fputc('\n', f) == EOF)
+    if (json_dumpf(escaped, f, JSON_INDENT(2) | JSON_PRESERVE_ORDER) != 0 || fputc('\n', f) == EOF)
         pfx_atomic_failed(a, errno);
+    json_decref(escaped);
     return pfx_atomic_commit(a, true, d);
 }

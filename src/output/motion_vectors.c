@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/json_text.h"
 #include "output/json_file.h"
 
 /* round(v x 65535) of v clamped to [0, 1]: 0.5 is 32768. */
@@ -73,7 +74,7 @@ json_t *pfx_mv_json(const pfx_mv_meta *m, const pfx_atlas_layout *l, const char 
         /* An engine scales the decoded [-1, 1] by a strength in units of
          * one cell: max_px over the cell's side (padding included, since
          * the engine divides the sheet evenly). */
-        json_object_set_new(o, "image", json_string(image));
+        json_object_set_new(o, "image", pfx_json_bytes(image));
         json_object_set_new(
             o, "strength_cell",
             json_pack("{s:f, s:f}", "x", m->max_px / l->cell_w, "y", m->max_px / l->cell_h));
@@ -85,8 +86,8 @@ bool pfx_mv_write_sidecar(const char *path, const pfx_mv_meta *m, const char *pa
                           long last, pfx_diags *d) {
     json_t *mv = pfx_mv_json(m, NULL, NULL);
     json_t *root =
-        mv ? json_pack("{s:s, s:s, s:I, s:I, s:o}", "app", "pfx", "frames", pattern, "first",
-                       (json_int_t)first, "last", (json_int_t)last, "motion_vectors", mv)
+        mv ? json_pack("{s:s, s:o, s:I, s:I, s:o}", "app", "pfx", "frames", pfx_json_bytes(pattern),
+                       "first", (json_int_t)first, "last", (json_int_t)last, "motion_vectors", mv)
            : NULL;
     bool ok = pfx_json_file_write(path, root, d);
     json_decref(root);

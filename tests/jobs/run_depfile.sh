@@ -125,4 +125,40 @@ want_status 0
 stderr_has "rendered 'tex/fire.yaml'"
 end
 
+# Paths with ':', ' ', '#' and '$': escaped so that make and ninja both
+# read the very paths back; a newline or a tab, which neither can carry,
+# is refused before the run.
+odd='in: a #1 $x'
+mkdir -p "$odd" && cp "$src/effects/mesh_emitter.yaml" "$src/effects/torus.obj" "$odd/"
+begin "make reads back a depfile's paths with ':', ' ', '#' and '\$'"
+pfx_run bake "$odd/mesh_emitter.yaml" --frames 0:1 -o "odd:1 #\$.csv" --depfile odd.d
+want_status 0
+printf 'all: odd\\:1\\ \\#$$.csv\nodd\\:1\\ \\#$$.csv:\n\t$(file >made,[$^])\ninclude odd.d\n' >Makefile.odd
+make -s -f Makefile.odd -B >/dev/null 2>"$work/make.err" || flunk "make failed: $(cat "$work/make.err")"
+[ "$(cat made)" = "[$odd/mesh_emitter.yaml $odd/torus.obj]" ] || flunk "make read $(cat made 2>/dev/null)"
+end
+begin "ninja reads back the same paths"
+mkdir -p nodd && cat >nodd/build.ninja <<NJ
+rule bake
+  command = true
+  depfile = odd.d
+  deps = gcc
+build odd: bake
+NJ
+cp odd.d nodd/ && (cd nodd && ninja >/dev/null 2>&1) || flunk "ninja failed"
+(cd nodd && ninja -t deps odd) | sed -n 's/^    //p' >nodd/deps
+printf '%s\n' "$odd/mesh_emitter.yaml" "$odd/torus.obj" >nodd/want
+cmp -s nodd/deps nodd/want || flunk "ninja read: $(cat nodd/deps)"
+end
+for bad in $'new\nline' $'tab\there'; do
+    begin "a depfile input with a ${bad:0:3} in its path is refused before the run"
+    mkdir -p "$bad" && cp "$src/effects/mesh_emitter.yaml" "$src/effects/torus.obj" "$bad/"
+    rm -f bad.csv bad.d
+    pfx_run bake "$bad/mesh_emitter.yaml" --frames 0:1 -o bad.csv --depfile bad.d
+    want_status 1
+    stderr_has "in a depfile: make or ninja would misread its"
+    [ ! -e bad.csv ] && [ ! -e bad.d ] || flunk "the bake or the depfile was written"
+    end
+done
+
 summary

@@ -1,0 +1,171 @@
+/* The checks of jobs/output_names.h, made before a run does any work.
+ * Inputs and outputs are compared as files (device and inode), not as
+ * strings: "a.yaml", "./a.yaml" and a link to it are the same file. An
+ * output that does not exist yet cannot be an input. */
+#include "jobs/output_names.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static char *copy_of(const char *s) {
+    size_t n = strlen(s) + 1;
+    char *c = malloc(n);
+    return c ? memcpy(c, s, n) : NULL;
+}
+
+static void push(pfx_output_names *o, char *prefix, char *suffix, long first, long last) {
+    if (o->count == o->cap) {
+        size_t cap = o->cap ? 2 * o->cap : 16;
+        pfx_output_name *grown = realloc(o->items, cap * sizeof *grown);
+        if (!grown) {
+            o->failed = true;
+            free(prefix);
+            free(suffix);
+            return;
+        }
+        o->items = grown;
+        o->cap = cap;
+    }
+    if (!prefix) {
+        o->failed = true;
+        free(suffix);
+        return;
+    }
+    o->items[o->count++] = (pfx_output_name){prefix, suffix, first, last};
+}
+
+void pfx_output_names_add(pfx_output_names *o, const char *path) {
+    if (path)
+        push(o, copy_of(path), NULL, 0, 0);
+}
+
+void pfx_output_names_add_frames(pfx_output_names *o, const char *dir, const char *stem,
+                                 const char *infix, long first, long last, const char *ext) {
+    if (first > last)
+        return;
+    size_t n = strlen(dir) + strlen(stem) + strlen(infix) + 2;
+    char *prefix = malloc(n), *suffix = malloc(strlen(ext) + 2);
+    if (prefix)
+        snprintf(prefix, n, "%s/%s%s", dir, stem, infix);
+    if (suffix)
+        snprintf(suffix, strlen(ext) + 2, ".%s", ext);
+    if (!suffix) {
+        free(prefix);
+        prefix = NULL;
+    }
+    push(o, prefix, suffix, first, last);
+}
+
+/* The k'th path of item it (k = 0 for a single file) into buf; false
+ * when it does not fit PATH_MAX. */
+static bool path_of(const pfx_output_name *it, long frame, char *buf, size_t size) {
+    int n = it->suffix ? snprintf(buf, size, "%s%04ld%s", it->prefix, frame, it->suffix)
+                       : snprintf(buf, size, "%s", it->prefix);
+    return n >= 0 && (size_t)n < size;
+}
+
+/* The longest file name the directory of path takes; the usual NAME_MAX
+ * where the directory does not exist yet (pfx makes it). */
+static long name_max_of(const char *path) {
+    const char *slash = strrchr(path, '/');
+    char dir[PATH_MAX];
+    if (!slash)
+        snprintf(dir, sizeof dir, ".");
+    else
+        snprintf(dir, sizeof dir, "%.*s", slash == path ? 1 : (int)(slash - path), path);
+    long n = pathconf(dir, _PC_NAME_MAX);
+    return n > 0 ? n : NAME_MAX;
+}
+
+static bool fits(const char *path, pfx_diags *d) {
+    const char *slash = strrchr(path, '/');
+    const char *name = slash ? slash + 1 : path;
+    if ((long)strlen(name) <= name_max_of(path))
+        return true;
+    pfx_diag_error(d, PFX_RULE_TOO_LARGE, "cannot write '%s': %s (at most %ld bytes)", path,
+                   strerror(ENAMETOOLONG), name_max_of(path));
+    return false;
+}
+
+typedef struct input_id {
+    dev_t dev;
+    ino_t ino;
+    const char *path;
+} input_id;
+
+/* The input that path is, or NULL. */
+static const char *input_at(const char *path, const input_id *ids, size_t n) {
+    struct stat st;
+    if (n == 0 || stat(path, &st) != 0)
+        return NULL;
+    for (size_t i = 0; i < n; i++)
+        if (ids[i].dev == st.st_dev && ids[i].ino == st.st_ino)
+            return ids[i].path;
+    return NULL;
+}
+
+static bool not_input(const char *path, const input_id *ids, size_t n, pfx_diags *d) {
+    const char *in = input_at(path, ids, n);
+    if (!in)
+        return true;
+    pfx_diag_error(d, PFX_RULE_WRITE_FAILED,
+                   "cannot write '%s': it is the input '%s' of this run; choose another output",
+                   path, in);
+    return false;
+}
+
+bool pfx_output_names_check(const pfx_output_names *o, const pfx_manifest *m, pfx_diags *d) {
+    if (o->failed) {
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
+        return false;
+    }
+    size_t n_in = m ? pfx_manifest_input_count(m) : 0, n = 0;
+    input_id *ids = malloc((n_in + 1) * sizeof *ids);
+    if (!ids) {
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
+        return false;
+    }
+    for (size_t i = 0; i < n_in; i++) {
+        struct stat st;
+        const char *p = pfx_manifest_input(m, i);
+        if (p && stat(p, &st) == 0)
+            ids[n++] = (input_id){st.st_dev, st.st_ino, p};
+    }
+    bool ok = true;
+    char path[PATH_MAX];
+    for (size_t i = 0; i < o->count; i++) {
+        const pfx_output_name *it = &o->items[i];
+        /* A frame number's name is longest at the last frame. */
+        if (!path_of(it, it->last, path, sizeof path)) {
+            pfx_diag_error(d, PFX_RULE_TOO_LARGE, "cannot write '%s...': %s", it->prefix,
+                           strerror(ENAMETOOLONG));
+            ok = false;
+            continue;
+        }
+        if (!fits(path, d)) {
+            ok = false;
+            continue;
+        }
+        for (long f = it->first; f <= it->last; f++)
+            if (path_of(it, f, path, sizeof path) && !not_input(path, ids, n, d)) {
+                ok = false;
+                break;
+            }
+    }
+    free(ids);
+    return ok;
+}
+
+void pfx_output_names_free(pfx_output_names *o) {
+    for (size_t i = 0; i < o->count; i++) {
+        free(o->items[i].prefix);
+        free(o->items[i].suffix);
+    }
+    free(o->items);
+    *o = (pfx_output_names){0};
+}
