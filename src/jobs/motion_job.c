@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "jobs/motion_next.h"
 #include "output/png_write.h"
 #include "render/sprites.h"
 #include "sim/sim.h"
@@ -23,56 +24,60 @@ static bool reaches_frame(const pfx_effect *e, const pfx_sprite *sp, const doubl
     return c[0] + r > 0 && c[0] - r < e->width && c[1] + r > 0 && c[1] - r < e->height;
 }
 
-/* The largest displacement, in pixels over dt, of the sprites that reach
- * the frame. */
-static double most_moved(const pfx_effect *e, const pfx_sprite *sprites, size_t n, double dt,
-                         double most) {
-    for (size_t i = 0; i < n; i++) {
+/* The largest displacement, in pixels, of the n sprites to their ends
+ * among those that reach the frame. */
+static double most_moved(const pfx_effect *e, const pfx_sprite *sprites, const float *ends,
+                         size_t n, double most) {
+    for (size_t i = 0; i < n; i++, ends += 4) {
         const pfx_sprite *sp = &sprites[i];
-        const double p[3] = {sp->x, sp->y, sp->z},
-                     q[3] = {sp->x + sp->vx * dt, sp->y + sp->vy * dt, sp->z + sp->vz * dt};
+        const double p[3] = {sp->x, sp->y, sp->z}, q[3] = {ends[0], ends[1], ends[2]};
         double a[2], b[2], wa, wb;
         if (!pfx_camera_project(&e->camera, e->width, e->height, p, a, &wa) ||
             !pfx_camera_project(&e->camera, e->width, e->height, q, b, &wb) ||
             !reaches_frame(e, sp, a, wa))
             continue;
-        double dx = fabs(b[0] - a[0]), dy = fabs(b[1] - a[1]);
-        double m = dx > dy ? dx : dy;
+        double m = fmax(fabs(b[0] - a[0]), fabs(b[1] - a[1]));
         most = m > most ? m : most;
     }
     return most;
 }
 
-/* The sprites are made a chunk at a time, as the renderer makes them: the
- * pass holds no array of a frame's sprites. */
+/* The sprites and their ends are made a chunk at a time, as the renderer
+ * makes them: the pass holds no array of a frame's sprites. */
 bool pfx_mv_sequence_max(const pfx_effect *e, double *max_px, pfx_diags *d) {
     pfx_sim *sim = pfx_sim_create(e, d), *view = pfx_sim_create(e, d);
+    pfx_mv_next *next = pfx_mv_next_create(e, d);
     pfx_sprite *sprites = malloc(PFX_RENDER_CHUNK * sizeof *sprites);
+    float *ends = malloc(PFX_RENDER_CHUNK * 4 * sizeof *ends);
     pfx_sprite_feed feed = {NULL, NULL};
-    bool ok = sim && view && sprites && pfx_sprite_feed_init(&feed, e);
+    bool ok = sim && view && next && sprites && ends && pfx_sprite_feed_init(&feed, e);
     if (!ok)
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for %zu particles",
                        pfx_sprites_capacity(e));
-    const double dt = 1.0 / e->fps;
     double most = 0;
     const long frames = pfx_effect_frame_count(e);
     for (long f = 0; ok && f < frames; f++) {
         const pfx_sim *state = pfx_sim_frame(sim, view, f);
-        if (sim->failed || view->failed) {
-            ok = false;
+        if (sim->failed || view->failed)
             break;
-        }
         const pfx_sprite_source src = pfx_sprite_feed_source(&feed, state);
-        for (size_t at = 0; at < src.count; at += PFX_RENDER_CHUNK) {
-            size_t n = src.count - at < PFX_RENDER_CHUNK ? src.count - at : PFX_RENDER_CHUNK;
-            src.make(src.ctx, at, n, NULL, sprites);
-            most = most_moved(e, sprites, n, dt, most);
+        if (!(ok = pfx_mv_next_frame(next, &feed, f)))
+            break;
+        const pfx_sprite_ends at = pfx_mv_next_ends(next);
+        for (size_t first = 0; first < src.count; first += PFX_RENDER_CHUNK) {
+            size_t n = src.count - first < PFX_RENDER_CHUNK ? src.count - first : PFX_RENDER_CHUNK;
+            src.make(src.ctx, first, n, NULL, sprites);
+            at.make(at.ctx, first, n, ends);
+            most = most_moved(e, sprites, ends, n, most);
         }
     }
+    ok = ok && !sim->failed && !view->failed;
     pfx_sim_destroy(sim);
     pfx_sim_destroy(view);
+    pfx_mv_next_destroy(next);
     pfx_sprite_feed_free(&feed);
     free(sprites);
+    free(ends);
     *max_px = most > 0 && isfinite(most) ? most : 1.0;
     return ok;
 }
@@ -86,20 +91,26 @@ bool pfx_mv_frame_init(pfx_mv_frame *b, const pfx_effect *e, pfx_diags *d) {
                        e->width, e->height);
         return false;
     }
-    return true;
+    return (b->next = pfx_mv_next_create(e, d)) != NULL;
 }
 
 void pfx_mv_frame_free(pfx_mv_frame *b) {
     free(b->mv);
     free(b->samples);
+    pfx_mv_next_destroy(b->next);
     b->mv = NULL;
     b->samples = NULL;
+    b->next = NULL;
 }
 
 bool pfx_mv_frame_write(pfx_mv_frame *b, pfx_renderer *r, const pfx_effect *e,
                         const pfx_render_settings *s, const pfx_sprite_source *src,
-                        const pfx_mv_meta *m, const char *path, pfx_diags *d) {
-    if (!pfx_renderer_motion_vectors(r, &e->camera, s, src, 1.0 / e->fps, b->mv, d))
+                        const pfx_sprite_feed *feed, long f, const pfx_mv_meta *m, const char *path,
+                        pfx_diags *d) {
+    if (!pfx_mv_next_frame(b->next, feed, f))
+        return false; /* the simulation reported into d */
+    const pfx_sprite_ends ends = pfx_mv_next_ends(b->next);
+    if (!pfx_renderer_motion_vectors(r, &e->camera, s, src, &ends, b->mv, d))
         return false;
     pfx_mv_encode(b->mv, e->width, e->height, m, b->samples);
     return pfx_png_write16(path, b->samples, e->width, e->height, false, d);

@@ -1,8 +1,11 @@
 """Motion-vector frames with known answers, through `pfx render
 --motion-vectors`: single particles at a constant velocity under a
 perspective camera, whose displacement per frame is worked out here from
-the camera's fov and the image size; the encoding read back by a decoder
-of our own (tests/png16.py: Pillow reads 16-bit RGBA as 8-bit).
+the camera's fov and the image size; a particle turned by a vortex alone
+(no velocity), whose displacement is the chord of its circle; one dying
+between frames, extrapolated by its velocity. The encoding is read
+back by a decoder of our own (tests/png16.py: Pillow reads 16-bit RGBA as
+8-bit).
 
 usage: check_motion_vectors.py PFX WORKDIR SOURCE-DIR"""
 import json
@@ -50,18 +53,21 @@ ONE = """  {name}:
     size: 0.6
     color: "{color}"
     blend: {blend}
-    forces: []
+    forces: {forces}
 """
 
 
-def one(name="one", x=0.0, y=0.0, speed=1.2, d=(1, 0), color="#ffffffff", blend="alpha"):
-    return ONE.format(name=name, x=x, y=y, speed=speed, dx=d[0], dy=d[1], color=color, blend=blend)
+def one(name="one", x=0.0, y=0.0, speed=1.2, d=(1, 0), color="#ffffffff", blend="alpha",
+        forces="[]", lifetime=10, extra=""):
+    text = ONE.format(name=name, x=x, y=y, speed=speed, dx=d[0], dy=d[1], color=color,
+                      blend=blend, forces=forces)
+    return text.replace("lifetime: 10", f"lifetime: {lifetime}") + extra
 
 
-def render(name, emitters, *args):
+def render(name, emitters, *args, forces=""):
     path = os.path.join(WORK, name + ".yaml")
     with open(path, "w") as f:
-        f.write(HEAD + emitters)
+        f.write(HEAD.replace("emitters:\n", forces + "emitters:\n") + emitters)
     out = os.path.join(WORK, name)
     subprocess.run([PFX, "render", path, "-o", out, "-q", "--motion-vectors", *args], check=True)
     frames = [png16.decode(os.path.join(out, f"{name}_mv_{k:04d}.png")) for k in range(FPS)]
@@ -134,5 +140,49 @@ for blend in ("alpha", "add"):
     check(cov.sum() > 50 and np.abs(r - 32768).max() <= 1,
           f"two {blend} particles with opposite velocities over each other: R = 0.5 "
           f"(off by at most {np.abs(r - 32768).max()} of 65535)")
+
+
+# A vortex about the camera's axis turns a particle of no velocity 90
+# degrees a second (its radius 1e6 m: the falloff is 1 to 1e-12 at 0.5 m):
+# at fps 10 it goes 9 degrees a frame round a circle of 0.5 m, so from
+# frame k to k + 1 it moves by the chord (cos, sin)(9 (k + 1)) - (cos,
+# sin)(9 k) times 0.5 m, in pixels PX_PER_M a metre on the plane z = 0.
+SPIN = "forces:\n  spin: { type: vortex, center: [0, 0, 0], axis: [0, 0, 1], strength: 90, " \
+    "radius: 1000000 }\n"
+R_SPIN, TURN = 0.5, math.radians(90 / FPS)
+
+
+def chord(k):
+    return (PX_PER_M * R_SPIN * (math.cos(TURN * (k + 1)) - math.cos(TURN * k)),
+            PX_PER_M * R_SPIN * (math.sin(TURN * (k + 1)) - math.sin(TURN * k)))
+
+
+_, f = render("vortex", one(x=R_SPIN, speed=0, forces="[spin]"), "--mv-max", "4", forces=SPIN)
+bound = 2 * 2.0 * 4.0 / 65535  # two steps of the 16-bit encoding
+worst, covered = 0.0, 0
+for k, fr in enumerate(f):
+    cov = fr[..., 3] > 0
+    covered += int(cov.sum())
+    want = chord(k)
+    worst = max(worst, np.abs(decode(fr[..., 0][cov], 4.0) - want[0]).max(),
+                np.abs(decode(fr[..., 1][cov], 4.0) - want[1]).max())
+check(covered > FPS * 50 and worst <= bound,
+      f"vortex alone (no velocity): every frame encodes the chord of its circle, "
+      f"|d| = {math.hypot(*chord(0)):.4f} px, within {worst:.2e} px (bound {bound:.2e})")
+
+# The same vortex on a particle moving at 1.2 m/s that dies at 0.45 s,
+# between frames 4 and 5: frame 4 has no next position, so it encodes its
+# velocity over a frame, (STEP, 0), while frame 3 (turned by the vortex)
+# does not; frame 5 has nothing.
+_, f = render("dying", one(x=0.2, speed=1.2, forces="[spin]", lifetime=0.45), "--mv-max", "4",
+              forces=SPIN)
+cov = f[4][..., 3] > 0
+err = max(np.abs(decode(f[4][..., 0][cov], 4.0) - STEP).max(),
+          np.abs(decode(f[4][..., 1][cov], 4.0)).max()) if cov.any() else 1e9
+c3 = f[3][..., 3] > 0
+off3 = max(abs(decode(f[3][..., 0][c3], 4.0).mean() - STEP), abs(decode(f[3][..., 1][c3], 4.0).mean()))
+check(cov.sum() > 50 and err <= bound and off3 > 0.1 and not (f[5][..., 3] > 0).any(),
+      f"a particle dying between frames 4 and 5 encodes its velocity over a frame at frame 4 "
+      f"(off by {err:.2e} px), frame 3 the vortex's turn too (differs by {off3:.3f} px)")
 
 sys.exit(1 if failures else 0)
