@@ -75,7 +75,7 @@ static const char usage_text[] =
     "      --motion-vectors    also write <name>_mv_NNNN.png: 16-bit motion to the next\n"
     "                          frame, R right, G up, 0.5 none (with --atlas: a sheet)\n"
     "      --mv-max PIXELS     the displacement that encodes as 0 or 1 (default: the\n"
-    "                          largest in the sequence)\n"
+    "                          95th percentile of the sequence's covered pixels)\n"
     "      --mv-flip-y         motion vectors with G = down (V down, as in Unreal)\n"
     "      --werror            treat warnings in an effect as errors (exit status 1)\n"
     "      --progress json     a JSON line on stderr per frame drawn, and one at the end\n"

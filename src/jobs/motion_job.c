@@ -12,34 +12,79 @@
 #include "render/sprites.h"
 #include "sim/sim.h"
 
-/* Whether sprite sp, centred at pixel c (at depth w), can touch the frame:
- * its quad lies within its half-diagonal of its centre, widened by the
- * minimum footprint and 2 pixels, as render.c bounds what it reads back. */
-static bool reaches_frame(const pfx_effect *e, const pfx_sprite *sp, const double c[2], double w) {
+/* The scale's histogram: displacements from 2^-16 px (below it a sprite
+ * counts as still, and is left out) to 2^24 px (above it in the last bin),
+ * PFX_MV_BINS_PER_OCTAVE bins an octave, each holding the summed area of
+ * its samples and the largest of them. Fixed size, whatever the effect. */
+#define PFX_MV_BINS_PER_OCTAVE 1024
+#define PFX_MV_LOW_LOG2 (-16)
+#define PFX_MV_OCTAVES 40
+#define PFX_MV_BINS (PFX_MV_OCTAVES * PFX_MV_BINS_PER_OCTAVE)
+
+typedef struct mv_histogram {
+    double area[PFX_MV_BINS];
+    double most[PFX_MV_BINS];
+    double total;
+} mv_histogram;
+
+static void histogram_add(mv_histogram *h, double v, double area) {
+    if (!(v >= ldexp(1.0, PFX_MV_LOW_LOG2)) || !(area > 0) || !isfinite(v))
+        return;
+    double b = floor((log2(v) - PFX_MV_LOW_LOG2) * PFX_MV_BINS_PER_OCTAVE);
+    size_t k = b < 0 ? 0 : b >= PFX_MV_BINS ? PFX_MV_BINS - 1 : (size_t)b;
+    h->area[k] += area;
+    h->most[k] = v > h->most[k] ? v : h->most[k];
+    h->total += area;
+}
+
+/* The smallest sample v such that the samples up to v hold at least p of
+ * the area, rounded up to the largest sample of its bin (so within a
+ * factor 2^(1/1024), 0.07 %, above it); 0 when there is none. */
+static double histogram_percentile(const mv_histogram *h, double p) {
+    double below = 0;
+    for (size_t k = 0; k < PFX_MV_BINS; k++) {
+        below += h->area[k];
+        if (h->area[k] > 0 && below >= p * h->total)
+            return h->most[k];
+    }
+    return 0;
+}
+
+/* The pixels of the frame that sprite sp (of emitter em), centred at pixel
+ * c at depth w, covers: its size, and its length when stretched along its
+ * velocity, in pixels at that depth, each widened to the minimum
+ * footprint, as an upright rectangle clipped to the frame. */
+static double footprint_px(const pfx_effect *e, const pfx_emitter *em, const pfx_sprite *sp,
+                           const double c[2], double w) {
     const pfx_camera *cam = &e->camera;
     double px_per_m =
         cam->ortho ? e->height / cam->ortho_height : 0.5 * e->height / tan(0.5 * cam->fov) / w;
-    double side = sp->length > sp->size ? sp->length : sp->size;
-    double r = 0.5 * side * 1.4142136 * px_per_m + PFX_MIN_FOOTPRINT_PX + 2;
-    return c[0] + r > 0 && c[0] - r < e->width && c[1] + r > 0 && c[1] - r < e->height;
+    double sx = fmax(sp->size * px_per_m, PFX_MIN_FOOTPRINT_PX);
+    double sy = em->look.align == PFX_ALIGN_VELOCITY
+                    ? fmax(sp->length * px_per_m, PFX_MIN_FOOTPRINT_PX)
+                    : sx;
+    double x = fmin(c[0] + 0.5 * sx, e->width) - fmax(c[0] - 0.5 * sx, 0);
+    double y = fmin(c[1] + 0.5 * sy, e->height) - fmax(c[1] - 0.5 * sy, 0);
+    return x > 0 && y > 0 ? x * y : 0;
 }
 
-/* The largest displacement, in pixels, of the n sprites to their ends
- * among those that reach the frame. */
-static double most_moved(const pfx_effect *e, const pfx_sprite *sprites, const float *ends,
-                         size_t n, double most) {
+/* Adds the n sprites (and their ends) of a frame to h: each sprite's
+ * max(|dx|, |dy|) in pixels, weighted by its footprint. A sprite left out
+ * of the pass (weight 0) or whose centre or end is behind the camera adds
+ * nothing, as it draws nothing in the pass. */
+static void add_sprites(const pfx_effect *e, const pfx_sprite *sprites, const float *ends, size_t n,
+                        mv_histogram *h) {
     for (size_t i = 0; i < n; i++, ends += 4) {
         const pfx_sprite *sp = &sprites[i];
         const double p[3] = {sp->x, sp->y, sp->z}, q[3] = {ends[0], ends[1], ends[2]};
         double a[2], b[2], wa, wb;
-        if (!pfx_camera_project(&e->camera, e->width, e->height, p, a, &wa) ||
-            !pfx_camera_project(&e->camera, e->width, e->height, q, b, &wb) ||
-            !reaches_frame(e, sp, a, wa))
+        if (!(ends[3] > 0) || !pfx_camera_project(&e->camera, e->width, e->height, p, a, &wa) ||
+            !pfx_camera_project(&e->camera, e->width, e->height, q, b, &wb))
             continue;
-        double m = fmax(fabs(b[0] - a[0]), fabs(b[1] - a[1]));
-        most = m > most ? m : most;
+        const pfx_emitter *em = &e->emitters[(size_t)sp->material];
+        histogram_add(h, fmax(fabs(b[0] - a[0]), fabs(b[1] - a[1])),
+                      footprint_px(e, em, sp, a, wa));
     }
-    return most;
 }
 
 /* The sprites and their ends are made a chunk at a time, as the renderer
@@ -49,12 +94,12 @@ bool pfx_mv_sequence_max(const pfx_effect *e, double *max_px, pfx_diags *d) {
     pfx_mv_next *next = pfx_mv_next_create(e, d);
     pfx_sprite *sprites = malloc(PFX_RENDER_CHUNK * sizeof *sprites);
     float *ends = malloc(PFX_RENDER_CHUNK * 4 * sizeof *ends);
+    mv_histogram *h = calloc(1, sizeof *h);
     pfx_sprite_feed feed = {NULL, NULL};
-    bool ok = sim && view && next && sprites && ends && pfx_sprite_feed_init(&feed, e);
+    bool ok = sim && view && next && sprites && ends && h && pfx_sprite_feed_init(&feed, e);
     if (!ok)
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for %zu particles",
                        pfx_sprites_capacity(e));
-    double most = 0;
     const long frames = pfx_effect_frame_count(e);
     for (long f = 0; ok && f < frames; f++) {
         const pfx_sim *state = pfx_sim_frame(sim, view, f);
@@ -68,17 +113,19 @@ bool pfx_mv_sequence_max(const pfx_effect *e, double *max_px, pfx_diags *d) {
             size_t n = src.count - first < PFX_RENDER_CHUNK ? src.count - first : PFX_RENDER_CHUNK;
             src.make(src.ctx, first, n, NULL, sprites);
             at.make(at.ctx, first, n, ends);
-            most = most_moved(e, sprites, ends, n, most);
+            add_sprites(e, sprites, ends, n, h);
         }
     }
     ok = ok && !sim->failed && !view->failed;
+    double scale = h ? histogram_percentile(h, PFX_MV_PERCENTILE / 100.0) : 0;
     pfx_sim_destroy(sim);
     pfx_sim_destroy(view);
     pfx_mv_next_destroy(next);
     pfx_sprite_feed_free(&feed);
     free(sprites);
     free(ends);
-    *max_px = most > 0 && isfinite(most) ? most : 1.0;
+    free(h);
+    *max_px = scale > 0 && isfinite(scale) ? scale : 1.0;
     return ok;
 }
 

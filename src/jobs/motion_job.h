@@ -15,11 +15,13 @@
 #include "render/render.h"
 #include "render/sprites.h"
 
-/* The largest displacement to the next frame (jobs/motion_next.h),
- * max(|dx|, |dy|) in pixels, of any sprite that can be seen (its centre in
- * front of the camera at both ends and its quad reaching into the frame)
- * over every frame of the effect, 0 .. frame count - 1: a pass of the
- * simulation without drawing. Every frame and every slice of a render
+/* The scale of a render's motion vectors: the PFX_MV_PERCENTILE-th
+ * percentile of the displacements to the next frame (jobs/motion_next.h),
+ * max(|dx|, |dy|) in pixels, of the sprites drawn into the pass, each
+ * weighted by the pixels its footprint covers in the frame, over every
+ * frame of the effect, 0 .. frame count - 1: a pass of the simulation
+ * without drawing. Still sprites (under 2^-16 px) are left out; the value
+ * is rounded up to within 0.07 %. Every frame and every slice of a render
  * then shares one scale, so their bytes do not depend on the range
  * rendered. 1 when nothing moves. False (with the simulation's failure in
  * d) when the simulation fails. */
