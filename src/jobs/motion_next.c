@@ -123,7 +123,7 @@ bool pfx_mv_next_frame(pfx_mv_next *n, const pfx_sprite_feed *feed, long f) {
         return false;
     n->feed = feed;
     for (size_t i = 0; i < e->emitter_count; i++)
-        if (e->emitters[i].look.draw == PFX_DRAW_SPRITE)
+        if (e->emitters[i].look.draw == PFX_DRAW_SPRITE && e->emitters[i].motion_vectors)
             index_pool(n, i);
     return true;
 }
@@ -147,9 +147,10 @@ static void ends_make(const void *ctx, size_t first, size_t count, float *xyzw) 
     const float dt = (float)(1.0 / n->e->fps);
     for (size_t k = 0, i = count ? pfx_sprite_feed_emitter(feed, first) : 0; k < count; i++) {
         const pfx_pool *p = &feed->sim->pools[i], *q = &n->ahead->pools[i];
+        const bool drawn = n->e->emitters[i].motion_vectors;
         for (size_t m = first + k; m < feed->start[i + 1] && k < count; m++, k++) {
             const size_t j = m - feed->start[i];
-            const long a = find(n, i, p->id[j]);
+            const long a = drawn ? find(n, i, p->id[j]) : -1;
             float *out = xyzw + 4 * k;
             if (a >= 0) {
                 out[0] = q->px[a];
@@ -160,7 +161,7 @@ static void ends_make(const void *ctx, size_t first, size_t count, float *xyzw) 
                 out[1] = p->py[j] + p->vy[j] * dt;
                 out[2] = p->pz[j] + p->vz[j] * dt;
             }
-            out[3] = 1.0f;
+            out[3] = drawn ? 1.0f : 0.0f;
         }
     }
 }

@@ -37,8 +37,8 @@ bool pfx_mv_next_frame(pfx_mv_next *n, const pfx_sprite_feed *feed, long f);
  * the next frame (same emitter, same id) ends where the simulation puts
  * it, whatever moved it (velocity, the vortex and other operators,
  * collisions); one that dies before then ends at its position plus its
- * velocity over 1 / fps. Weight 1. Valid until the next
- * pfx_mv_next_frame. */
+ * velocity over 1 / fps. Weight 0 for emitters with motion_vectors:
+ * false, else 1. Valid until the next pfx_mv_next_frame. */
 pfx_sprite_ends pfx_mv_next_ends(const pfx_mv_next *n);
 
 #endif

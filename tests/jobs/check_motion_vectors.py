@@ -4,9 +4,10 @@ perspective camera, whose displacement per frame is worked out here from
 the camera's fov and the image size; a particle turned by a vortex alone
 (no velocity), whose displacement is the chord of its circle; one dying
 between frames, extrapolated by its velocity; the scale as the 95th
-percentile of the covered pixels with a few fast sparks over slow smoke.
-The encoding is read back by a decoder of our own (tests/png16.py: Pillow
-reads 16-bit RGBA as 8-bit).
+percentile of the covered pixels with a few fast sparks over slow smoke;
+an emitter left out with `motion_vectors: false`. The encoding is read
+back by a decoder of our own (tests/png16.py: Pillow reads 16-bit RGBA as
+8-bit).
 
 usage: check_motion_vectors.py PFX WORKDIR SOURCE-DIR"""
 import json
@@ -221,5 +222,28 @@ check(abs(meta["max_px"] - SMOKE_STEP) <= 1e-3 * SMOKE_STEP and
       "95th percentile" in meta["max_from"],
       f"smoke and sparks: max_px {meta['max_px']:.6f}, the smoke's {SMOKE_STEP:.6f} px, "
       f"not the sparks' {30 / FPS * PX_PER_M:.1f} px")
+
+# motion_vectors: false leaves an emitter out: a fast one at the top,
+# drawn in colour, is "no motion, no coverage" in the pass and out of the
+# scale, which is the other one's (moving up, at the bottom, below the
+# middle row until frame 4).
+both = one("left_out", y=0.8, speed=2.4, extra="    motion_vectors: false\n") + \
+    one("kept", y=-0.8, d=(0, 1))
+out, f = render("left_out", both)
+meta = json.load(open(os.path.join(out, "left_out_mv.json")))["motion_vectors"]
+from PIL import Image  # noqa: E402
+top_bad = top_lit = 0
+for k, fr in enumerate(f[:4]):
+    colour = np.asarray(Image.open(os.path.join(out, f"left_out_{k:04d}.png")).convert("RGBA"))
+    top_lit += int((colour[: H // 2, :, 3] > 0).sum())
+    top = fr[: H // 2]
+    top_bad += int(((top[..., 0] != 32768) | (top[..., 1] != 32768) | (top[..., 3] != 0)).sum())
+cov = f[2][H // 2:, :, 3] > 0
+up = decode(f[2][H // 2:, :, 1][cov], meta["max_px"])
+check(top_lit > 100 and top_bad == 0 and abs(meta["max_px"] - STEP) < 1e-3 * STEP and
+      cov.sum() > 50 and np.abs(up - STEP).max() <= 2 * 2 * STEP / 65535,
+      f"motion_vectors: false: drawn in colour ({top_lit} pixels), (0.5, 0.5, A = 0) in the "
+      f"pass ({top_bad} off), the scale the other emitter's ({meta['max_px']:.5f} px, "
+      f"formula {STEP:.5f})")
 
 sys.exit(1 if failures else 0)

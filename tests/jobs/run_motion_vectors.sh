@@ -2,9 +2,9 @@
 # --motion-vectors: known displacements read back by a decoder of our own
 # (check_motion_vectors.py: the camera formula, the encoding, the sign of
 # each axis, averaging under overlap, additive weights, a vortex, a death
-# between frames, the percentile scale); the same bytes for --threads 1
-# and 7, -j 1, 2 and 3 and a --frames range (fire, and the tornado, which a
-# vortex moves); the sheet in the colour atlas's cells; the manifest; the
+# between frames, the percentile scale, motion_vectors: false); the same
+# bytes for --threads 1 and 7, -j 1, 2 and 3 and a --frames range (fire,
+# and the tornado, which a vortex moves); the sheet in the colour atlas's cells; the manifest; the
 # usage errors; three slices assembled (with and without --atlas) equal to
 # a one-process render, file for file; the pass's memory in --max-memory.
 #
