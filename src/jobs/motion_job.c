@@ -97,7 +97,7 @@ bool pfx_mv_sequence_max(const pfx_effect *e, double *max_px, pfx_diags *d) {
     mv_histogram *h = calloc(1, sizeof *h);
     pfx_sprite_feed feed = {NULL, NULL};
     bool ok = sim && view && next && sprites && ends && h && pfx_sprite_feed_init(&feed, e);
-    if (!ok)
+    if (!ok && next) /* else pfx_mv_next_create said so */
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for %zu particles",
                        pfx_sprites_capacity(e));
     const long frames = pfx_effect_frame_count(e);
