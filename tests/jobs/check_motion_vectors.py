@@ -119,8 +119,9 @@ f = single("up_flipped", (0, 1), ["--mv-max", "4", "--mv-flip-y"], 4.0, sign_y=-
 cov = f[2][..., 3] > 0
 check((f[2][..., 1][cov] < 32768).all(), "moving up with --mv-flip-y: G < 0.5 (+G = down)")
 
-# The scale from the sequence: the largest displacement is the one
-# particle's, so R is 1 inside it and the sidecar says max_px = STEP.
+# The scale from the sequence: every covered pixel moves by the one
+# particle's displacement, so its percentile is that (the histogram returns
+# a real sample), R is 1 inside it and the sidecar says max_px = STEP.
 out, f = render("auto", one(x=-0.3))
 meta = json.load(open(os.path.join(out, "auto_mv.json")))["motion_vectors"]
 check(abs(meta["max_px"] - STEP) < 1e-6 * STEP and meta["g"].startswith("+y: up"),
