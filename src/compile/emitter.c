@@ -300,6 +300,9 @@ static const pfx_key emitter_keys[] = {
     {"blend", PFX_KEY_ENUM, .def = {0}, .offset = M(blend), .names = pfx_blend_names,
      .what = "blend mode",
      .doc = "add: light adds, hides nothing; alpha: covers what is behind, sorted back to front."},
+    {"motion_vectors", PFX_KEY_BOOL, .def = {1}, .offset = M(motion_vectors),
+     .doc = "false: leave this emitter out of the --motion-vectors pass (its pixels read no "
+            "motion) and out of the choice of its scale."},
 };
 const pfx_key_table pfx_emitter_table = {
     "emitter",

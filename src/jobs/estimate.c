@@ -11,6 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "jobs/motion_next.h"
 #include "output/frame_queue.h"
 #include "output/png_write.h"
 #include "render/render.h"
@@ -96,10 +97,13 @@ static void estimate_drawing(const pfx_effect *e, unsigned what, double image, p
     /* --motion-vectors: the pass's own RGBA32F target and its float
      * read-back (render/motion_vectors.c, 16 bytes a pixel each), the
      * (dx, dy, coverage) floats (12) and the RGBA16 samples (8) of
-     * jobs/motion_job.c. Its scale pass simulates before the render
-     * and frees its pools first, so it adds nothing to the peak. */
+     * jobs/motion_job.c; the sprites' ends, a chunk of (x, y, z, weight)
+     * and its GL buffer; the simulation one frame ahead and its index
+     * (jobs/motion_next.c). Its scale pass simulates before the render
+     * and frees as much first, so it adds nothing to the peak. */
     if (what & PFX_ESTIMATE_MOTION_VECTORS)
-        out->bytes[PFX_MEMORY_MOTION_VECTORS] = image * (16 + 16 + 12 + 8);
+        out->bytes[PFX_MEMORY_MOTION_VECTORS] =
+            image * (16 + 16 + 12 + 8) + 2.0 * PFX_RENDER_CHUNK * 16 + pfx_mv_next_bytes(e);
     out->threads = pfx_frame_encoder_count(e->threads);
     const double scratch = (double)pfx_png_encoder_scratch_bytes(e->width, e->height);
     out->per_thread_bytes = pfx_frame_queue_bytes(e->width, e->height, 1, PFX_FRAME_EXR) + scratch;

@@ -7,73 +7,125 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "jobs/motion_next.h"
 #include "output/png_write.h"
 #include "render/sprites.h"
 #include "sim/sim.h"
 
-/* Whether sprite sp, centred at pixel c (at depth w), can touch the frame:
- * its quad lies within its half-diagonal of its centre, widened by the
- * minimum footprint and 2 pixels, as render.c bounds what it reads back. */
-static bool reaches_frame(const pfx_effect *e, const pfx_sprite *sp, const double c[2], double w) {
+/* The scale's histogram: displacements from 2^-16 px (below it a sprite
+ * counts as still, and is left out) to 2^24 px (above it in the last bin),
+ * PFX_MV_BINS_PER_OCTAVE bins an octave, each holding the summed area of
+ * its samples and the largest of them. Fixed size, whatever the effect. */
+#define PFX_MV_BINS_PER_OCTAVE 1024
+#define PFX_MV_LOW_LOG2 (-16)
+#define PFX_MV_OCTAVES 40
+#define PFX_MV_BINS (PFX_MV_OCTAVES * PFX_MV_BINS_PER_OCTAVE)
+
+typedef struct mv_histogram {
+    double area[PFX_MV_BINS];
+    double most[PFX_MV_BINS];
+    double total;
+} mv_histogram;
+
+static void histogram_add(mv_histogram *h, double v, double area) {
+    if (!(v >= ldexp(1.0, PFX_MV_LOW_LOG2)) || !(area > 0) || !isfinite(v))
+        return;
+    double b = floor((log2(v) - PFX_MV_LOW_LOG2) * PFX_MV_BINS_PER_OCTAVE);
+    size_t k = b < 0 ? 0 : b >= PFX_MV_BINS ? PFX_MV_BINS - 1 : (size_t)b;
+    h->area[k] += area;
+    h->most[k] = v > h->most[k] ? v : h->most[k];
+    h->total += area;
+}
+
+/* The smallest sample v such that the samples up to v hold at least p of
+ * the area, rounded up to the largest sample of its bin (so within a
+ * factor 2^(1/1024), 0.07 %, above it); 0 when there is none. */
+static double histogram_percentile(const mv_histogram *h, double p) {
+    double below = 0;
+    for (size_t k = 0; k < PFX_MV_BINS; k++) {
+        below += h->area[k];
+        if (h->area[k] > 0 && below >= p * h->total)
+            return h->most[k];
+    }
+    return 0;
+}
+
+/* The pixels of the frame that sprite sp (of emitter em), centred at pixel
+ * c at depth w, covers: its size, and its length when stretched along its
+ * velocity, in pixels at that depth, each widened to the minimum
+ * footprint, as an upright rectangle clipped to the frame. */
+static double footprint_px(const pfx_effect *e, const pfx_emitter *em, const pfx_sprite *sp,
+                           const double c[2], double w) {
     const pfx_camera *cam = &e->camera;
     double px_per_m =
         cam->ortho ? e->height / cam->ortho_height : 0.5 * e->height / tan(0.5 * cam->fov) / w;
-    double side = sp->length > sp->size ? sp->length : sp->size;
-    double r = 0.5 * side * 1.4142136 * px_per_m + PFX_MIN_FOOTPRINT_PX + 2;
-    return c[0] + r > 0 && c[0] - r < e->width && c[1] + r > 0 && c[1] - r < e->height;
+    double sx = fmax(sp->size * px_per_m, PFX_MIN_FOOTPRINT_PX);
+    double sy = em->look.align == PFX_ALIGN_VELOCITY
+                    ? fmax(sp->length * px_per_m, PFX_MIN_FOOTPRINT_PX)
+                    : sx;
+    double x = fmin(c[0] + 0.5 * sx, e->width) - fmax(c[0] - 0.5 * sx, 0);
+    double y = fmin(c[1] + 0.5 * sy, e->height) - fmax(c[1] - 0.5 * sy, 0);
+    return x > 0 && y > 0 ? x * y : 0;
 }
 
-/* The largest displacement, in pixels over dt, of the sprites that reach
- * the frame. */
-static double most_moved(const pfx_effect *e, const pfx_sprite *sprites, size_t n, double dt,
-                         double most) {
-    for (size_t i = 0; i < n; i++) {
+/* Adds the n sprites (and their ends) of a frame to h: each sprite's
+ * max(|dx|, |dy|) in pixels, weighted by its footprint. A sprite left out
+ * of the pass (weight 0) or whose centre or end is behind the camera adds
+ * nothing, as it draws nothing in the pass. */
+static void add_sprites(const pfx_effect *e, const pfx_sprite *sprites, const float *ends, size_t n,
+                        mv_histogram *h) {
+    for (size_t i = 0; i < n; i++, ends += 4) {
         const pfx_sprite *sp = &sprites[i];
-        const double p[3] = {sp->x, sp->y, sp->z},
-                     q[3] = {sp->x + sp->vx * dt, sp->y + sp->vy * dt, sp->z + sp->vz * dt};
+        const double p[3] = {sp->x, sp->y, sp->z}, q[3] = {ends[0], ends[1], ends[2]};
         double a[2], b[2], wa, wb;
-        if (!pfx_camera_project(&e->camera, e->width, e->height, p, a, &wa) ||
-            !pfx_camera_project(&e->camera, e->width, e->height, q, b, &wb) ||
-            !reaches_frame(e, sp, a, wa))
+        if (!(ends[3] > 0) || !pfx_camera_project(&e->camera, e->width, e->height, p, a, &wa) ||
+            !pfx_camera_project(&e->camera, e->width, e->height, q, b, &wb))
             continue;
-        double dx = fabs(b[0] - a[0]), dy = fabs(b[1] - a[1]);
-        double m = dx > dy ? dx : dy;
-        most = m > most ? m : most;
+        const pfx_emitter *em = &e->emitters[(size_t)sp->material];
+        histogram_add(h, fmax(fabs(b[0] - a[0]), fabs(b[1] - a[1])),
+                      footprint_px(e, em, sp, a, wa));
     }
-    return most;
 }
 
-/* The sprites are made a chunk at a time, as the renderer makes them: the
- * pass holds no array of a frame's sprites. */
+/* The sprites and their ends are made a chunk at a time, as the renderer
+ * makes them: the pass holds no array of a frame's sprites. */
 bool pfx_mv_sequence_max(const pfx_effect *e, double *max_px, pfx_diags *d) {
     pfx_sim *sim = pfx_sim_create(e, d), *view = pfx_sim_create(e, d);
+    pfx_mv_next *next = pfx_mv_next_create(e, d);
     pfx_sprite *sprites = malloc(PFX_RENDER_CHUNK * sizeof *sprites);
+    float *ends = malloc(PFX_RENDER_CHUNK * 4 * sizeof *ends);
+    mv_histogram *h = calloc(1, sizeof *h);
     pfx_sprite_feed feed = {NULL, NULL};
-    bool ok = sim && view && sprites && pfx_sprite_feed_init(&feed, e);
-    if (!ok)
+    bool ok = sim && view && next && sprites && ends && h && pfx_sprite_feed_init(&feed, e);
+    if (!ok && next) /* else pfx_mv_next_create said so */
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for %zu particles",
                        pfx_sprites_capacity(e));
-    const double dt = 1.0 / e->fps;
-    double most = 0;
     const long frames = pfx_effect_frame_count(e);
     for (long f = 0; ok && f < frames; f++) {
         const pfx_sim *state = pfx_sim_frame(sim, view, f);
-        if (sim->failed || view->failed) {
-            ok = false;
+        if (sim->failed || view->failed)
             break;
-        }
         const pfx_sprite_source src = pfx_sprite_feed_source(&feed, state);
-        for (size_t at = 0; at < src.count; at += PFX_RENDER_CHUNK) {
-            size_t n = src.count - at < PFX_RENDER_CHUNK ? src.count - at : PFX_RENDER_CHUNK;
-            src.make(src.ctx, at, n, NULL, sprites);
-            most = most_moved(e, sprites, n, dt, most);
+        if (!(ok = pfx_mv_next_frame(next, &feed, f)))
+            break;
+        const pfx_sprite_ends at = pfx_mv_next_ends(next);
+        for (size_t first = 0; first < src.count; first += PFX_RENDER_CHUNK) {
+            size_t n = src.count - first < PFX_RENDER_CHUNK ? src.count - first : PFX_RENDER_CHUNK;
+            src.make(src.ctx, first, n, NULL, sprites);
+            at.make(at.ctx, first, n, ends);
+            add_sprites(e, sprites, ends, n, h);
         }
     }
+    ok = ok && !sim->failed && !view->failed;
+    double scale = h ? histogram_percentile(h, PFX_MV_PERCENTILE / 100.0) : 0;
     pfx_sim_destroy(sim);
     pfx_sim_destroy(view);
+    pfx_mv_next_destroy(next);
     pfx_sprite_feed_free(&feed);
     free(sprites);
-    *max_px = most > 0 && isfinite(most) ? most : 1.0;
+    free(ends);
+    free(h);
+    *max_px = scale > 0 && isfinite(scale) ? scale : 1.0;
     return ok;
 }
 
@@ -86,20 +138,26 @@ bool pfx_mv_frame_init(pfx_mv_frame *b, const pfx_effect *e, pfx_diags *d) {
                        e->width, e->height);
         return false;
     }
-    return true;
+    return (b->next = pfx_mv_next_create(e, d)) != NULL;
 }
 
 void pfx_mv_frame_free(pfx_mv_frame *b) {
     free(b->mv);
     free(b->samples);
+    pfx_mv_next_destroy(b->next);
     b->mv = NULL;
     b->samples = NULL;
+    b->next = NULL;
 }
 
 bool pfx_mv_frame_write(pfx_mv_frame *b, pfx_renderer *r, const pfx_effect *e,
                         const pfx_render_settings *s, const pfx_sprite_source *src,
-                        const pfx_mv_meta *m, const char *path, pfx_diags *d) {
-    if (!pfx_renderer_motion_vectors(r, &e->camera, s, src, 1.0 / e->fps, b->mv, d))
+                        const pfx_sprite_feed *feed, long f, const pfx_mv_meta *m, const char *path,
+                        pfx_diags *d) {
+    if (!pfx_mv_next_frame(b->next, feed, f))
+        return false; /* the simulation reported into d */
+    const pfx_sprite_ends ends = pfx_mv_next_ends(b->next);
+    if (!pfx_renderer_motion_vectors(r, &e->camera, s, src, &ends, b->mv, d))
         return false;
     pfx_mv_encode(b->mv, e->width, e->height, m, b->samples);
     return pfx_png_write16(path, b->samples, e->width, e->height, false, d);

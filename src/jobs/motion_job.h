@@ -13,32 +13,39 @@
 #include "output/atlas.h"
 #include "output/motion_vectors.h"
 #include "render/render.h"
+#include "render/sprites.h"
 
-/* The largest displacement to the next frame, max(|dx|, |dy|) in pixels,
- * of any sprite that can be seen (its centre in front of the camera at
- * both ends and its quad reaching into the frame) over every frame of the
- * effect, 0 .. frame count - 1: a pass of the simulation without drawing.
- * Every frame and every slice of a render then shares one scale, so their
- * bytes do not depend on the range rendered. 1 when nothing moves. False
- * (with the simulation's failure in d) when the simulation fails. */
+/* The scale of a render's motion vectors: the PFX_MV_PERCENTILE-th
+ * percentile of the displacements to the next frame (jobs/motion_next.h),
+ * max(|dx|, |dy|) in pixels, of the sprites drawn into the pass, each
+ * weighted by the pixels its footprint covers in the frame, over every
+ * frame of the effect, 0 .. frame count - 1: a pass of the simulation
+ * without drawing. Still sprites (under 2^-16 px) are left out; the value
+ * is rounded up to within 0.07 %. Every frame and every slice of a render
+ * then shares one scale, so their bytes do not depend on the range
+ * rendered. 1 when nothing moves. False (with the simulation's failure in
+ * d) when the simulation fails. */
 bool pfx_mv_sequence_max(const pfx_effect *e, double *max_px, pfx_diags *d);
 
 /* Scratch for one renderer's motion-vector frames. */
 typedef struct pfx_mv_frame {
-    float *mv;         /* width x height x 3 floats from the renderer */
-    uint16_t *samples; /* width x height x 4 encoded samples */
+    float *mv;                /* width x height x 3 floats from the renderer */
+    uint16_t *samples;        /* width x height x 4 encoded samples */
+    struct pfx_mv_next *next; /* the next frame's state */
 } pfx_mv_frame;
 
 /* Allocates the scratch; false (with the reason in d) when out of memory. */
 bool pfx_mv_frame_init(pfx_mv_frame *b, const pfx_effect *e, pfx_diags *d);
 void pfx_mv_frame_free(pfx_mv_frame *b);
 
-/* Draws the motion vectors of the source's sprites at the effect's camera
- * over 1 / fps and writes them to `path` (the directory synced by the
- * caller). False with the reason in d. */
+/* Draws the motion vectors of frame f's sprites (src, made by feed) at the
+ * effect's camera, to where each is at frame f + 1 (jobs/motion_next.h),
+ * and writes them to `path` (the directory synced by the caller). False
+ * with the reason in d. */
 bool pfx_mv_frame_write(pfx_mv_frame *b, pfx_renderer *r, const pfx_effect *e,
                         const pfx_render_settings *s, const pfx_sprite_source *src,
-                        const pfx_mv_meta *m, const char *path, pfx_diags *d);
+                        const pfx_sprite_feed *feed, long f, const pfx_mv_meta *m, const char *path,
+                        pfx_diags *d);
 
 /* dir/stem_mv_NNNN.png; false when it does not fit in size. */
 bool pfx_mv_frame_path(const char *dir, const char *stem, long frame, char *out, size_t size);

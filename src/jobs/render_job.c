@@ -41,7 +41,8 @@ static long draw_frame(pfx_render_job *job, long f, const pfx_render_settings *s
                        job->dir, job->stem, f);
         return -1;
     }
-    if (job->motion && !pfx_mv_frame_write(mv, job->renderer, e, s, &src, job->motion, path, d))
+    if (job->motion &&
+        !pfx_mv_frame_write(mv, job->renderer, e, s, &src, &job->feed, f, job->motion, path, d))
         return -1;
     if (e->blur_samples <= 1)
         return pfx_renderer_draw_float(job->renderer, &e->camera, s, &src, sort, ribbons, img, d)
@@ -105,7 +106,7 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
     bool failed = !pfx_renderer_set_materials(job->renderer, materials, e->emitter_count, d);
     free(materials);
     const bool sort = pfx_sprites_need_sort(e);
-    pfx_mv_frame mv = {NULL, NULL};
+    pfx_mv_frame mv = {NULL, NULL, NULL};
     if (!failed && job->motion)
         failed = !pfx_mv_frame_init(&mv, e, d);
     /* Making each chunk's sprites from the pools, and the depth sort, run

@@ -319,8 +319,9 @@ typedef struct pfx_emitter {
     pfx_blend blend;
     pfx_kill_rules *kill;                 /* kill rules and bounds; NULL: age alone kills */
     float alpha_at_age[PFX_GRADIENT_LUT]; /* alpha over life, for alpha_below */
-    uint32_t capacity; /* pool size: floor(rate * max_lifetime) + 1, budget-capped */
-    bool saturates;    /* capacity was cut by the particle budget */
+    uint32_t capacity;   /* pool size: floor(rate * max_lifetime) + 1, budget-capped */
+    bool saturates;      /* capacity was cut by the particle budget */
+    bool motion_vectors; /* drawn into --motion-vectors' pass and its scale (the default) */
 } pfx_emitter;
 
 typedef struct pfx_camera {

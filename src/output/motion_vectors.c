@@ -58,10 +58,13 @@ uint16_t *pfx_mv_atlas_compose(const pfx_atlas_layout *l, uint16_t *const *frame
 }
 
 json_t *pfx_mv_json(const pfx_mv_meta *m, const pfx_atlas_layout *l, const char *image) {
+    char from[120];
+    snprintf(from, sizeof from,
+             "the %dth percentile of the covered pixels' displacements in the sequence",
+             PFX_MV_PERCENTILE);
     json_t *o = json_pack(
         "{s:s, s:f, s:s, s:s, s:f, s:s, s:s, s:s, s:s, s:b, s:s}", "format", "RGBA16", "max_px",
-        m->max_px, "max_from", m->max_given ? "--mv-max" : "the largest in the sequence",
-        "encoding",
+        m->max_px, "max_from", m->max_given ? "--mv-max" : from, "encoding",
         "value = 0.5 + displacement_px / (2 * max_px), clamped to [0, 1]; 0.5 (32768) "
         "is no motion",
         "interval_s", 1.0 / m->fps, "units",

@@ -16,9 +16,13 @@
 #include "base/diag.h"
 #include "output/atlas.h"
 
+/* Without --mv-max, max_px is this percentile of the covered pixels'
+ * displacements over the sequence (jobs/motion_job.h). */
+#define PFX_MV_PERCENTILE 95
+
 typedef struct pfx_mv_meta {
     double max_px;  /* the displacement, in pixels of a frame, encoded as 0 or 1 (> 0) */
-    bool max_given; /* --mv-max; else the largest displacement of the sequence */
+    bool max_given; /* --mv-max; else PFX_MV_PERCENTILE of the sequence's displacements */
     bool flip_y;    /* --mv-flip-y: +G = down (image rows) instead of up */
     double fps;     /* the displacement spans 1 / fps seconds */
 } pfx_mv_meta;

@@ -1,8 +1,9 @@
 /* The motion-vector pass: the frame's sprites drawn once more, each writing
- * its own screen-space displacement over dt seconds (from its exact
- * velocity) weighted by its falloff, summed in a float target of its own
- * and divided by the summed weight. It does not encode or write anything
- * (output/motion_vectors.c does), and it is never run unless asked. */
+ * its own screen-space displacement to where the caller says it is at the
+ * next frame, weighted by its falloff, summed in a float target of its own
+ * and divided by the summed weight. It does not find the ends (the caller
+ * does, jobs/motion_next.c), encode or write anything (output/
+ * motion_vectors.c), and it is never run unless asked. */
 #include "render/render_internal.h"
 
 #include <stdlib.h>
@@ -13,11 +14,13 @@ static bool build_target(pfx_renderer *r, pfx_diags *d) {
     if (r->mv_fbo)
         return true;
     r->mv_pixels = malloc((size_t)r->width * (size_t)r->height * 4 * sizeof(float));
-    if (!r->mv_pixels) {
+    r->mv_ends = malloc(PFX_RENDER_CHUNK * 4 * sizeof(float));
+    if (!r->mv_pixels || !r->mv_ends) {
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for motion vectors at %dx%d",
                        r->width, r->height);
         return false;
     }
+    r->gl.GenBuffers(1, &r->mv_ends_vbo);
     r->gl.GenRenderbuffers(1, &r->mv_rb);
     r->gl.BindRenderbuffer(GL_RENDERBUFFER, r->mv_rb);
     r->gl.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA32F, r->width, r->height);
@@ -34,13 +37,23 @@ static bool build_target(pfx_renderer *r, pfx_diags *d) {
     return true;
 }
 
+/* The chunk's ends as instance attribute 5, from the chunk's instance
+ * `first` on; only the motion pass's programs read it, and only while it
+ * draws is the array enabled. */
+static void point_ends(pfx_renderer *r, size_t first) {
+    r->gl.BindBuffer(GL_ARRAY_BUFFER, r->mv_ends_vbo);
+    r->gl.VertexAttribPointer(5, 4, GL_FLOAT, GL_FALSE, 4 * sizeof(float),
+                              (const void *)(first * 4 * sizeof(float)));
+    r->gl.BindBuffer(GL_ARRAY_BUFFER, r->instance_vbo);
+}
+
 /* One instanced draw per run of one material, as the colour pass draws,
  * a chunk of the source at a time (at most two in flight, as there). The
  * blend sums (dx w, dy w, w) in RGB and keeps A = 1 - prod(1 - w), the
  * coverage of the sprites laid over each other; both are independent of
  * the drawing order but for rounding, and the order is the source's. */
 static bool draw_motion(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
-                        const pfx_sprite_source *src, double dt, pfx_diags *d) {
+                        const pfx_sprite_source *src, const pfx_sprite_ends *ends, pfx_diags *d) {
     r->gl.BindFramebuffer(GL_FRAMEBUFFER, r->mv_fbo);
     r->gl.Viewport(0, 0, r->width, r->height);
     r->gl.ClearColor(0, 0, 0, 0);
@@ -49,6 +62,8 @@ static bool draw_motion(pfx_renderer *r, const pfx_view *v, const pfx_render_set
         return true;
     r->gl.BlendFuncSeparate(GL_ONE, GL_ONE, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
     r->gl.BindVertexArray(r->vao);
+    r->gl.EnableVertexAttribArray(5);
+    r->gl.VertexAttribDivisor(5, 1);
     r->gl.BindBuffer(GL_ARRAY_BUFFER, r->instance_vbo);
     bool ok = true;
     GLsync fences[2] = {NULL, NULL};
@@ -60,14 +75,20 @@ static bool draw_motion(pfx_renderer *r, const pfx_view *v, const pfx_render_set
         pfx_sort_make(r, src, NULL, at, at + n, r->chunk);
         r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(n * sizeof *sprites), sprites,
                          GL_STREAM_DRAW);
+        ends->make(ends->ctx, at, n, r->mv_ends);
+        r->gl.BindBuffer(GL_ARRAY_BUFFER, r->mv_ends_vbo);
+        r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(n * 4 * sizeof(float)), r->mv_ends,
+                         GL_STREAM_DRAW);
+        r->gl.BindBuffer(GL_ARRAY_BUFFER, r->instance_vbo);
         for (size_t first = 0; ok && first < n;) {
             const pfx_gpu_material *g = pfx_render_material_of(r, &sprites[first]);
             size_t end = first + 1;
             while (end < n && pfx_render_material_of(r, &sprites[end]) == g)
                 end++;
-            ok = pfx_shader_motion(r, v, s, g, dt, d);
+            ok = pfx_shader_motion(r, v, s, g, d);
             if (ok) {
                 pfx_render_point_instances(r, first);
+                point_ends(r, first);
                 r->gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)(end - first));
             }
             first = end;
@@ -75,13 +96,14 @@ static bool draw_motion(pfx_renderer *r, const pfx_view *v, const pfx_render_set
     }
     pfx_render_chunks_end(r, fences);
     pfx_render_point_instances(r, 0);
+    r->gl.DisableVertexAttribArray(5);
     r->gl.BlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); /* the colour pass's, as it was */
     return ok;
 }
 
 bool pfx_renderer_motion_vectors(pfx_renderer *r, const pfx_camera *cam,
                                  const pfx_render_settings *s, const pfx_sprite_source *src,
-                                 double dt, float *mv, pfx_diags *d) {
+                                 const pfx_sprite_ends *ends, float *mv, pfx_diags *d) {
     const size_t count = src->count;
     if (count > (size_t)INT32_MAX) {
         pfx_diag_error(d, PFX_RULE_TOO_MANY, "too many sprites to draw: %zu", count);
@@ -91,7 +113,7 @@ bool pfx_renderer_motion_vectors(pfx_renderer *r, const pfx_camera *cam,
     if (!pfx_render_view(cam, r->width, r->height, &v, d) || !pfx_render_make_current(r, d) ||
         !build_target(r, d))
         return false;
-    bool drawn = draw_motion(r, &v, s, src, dt, d);
+    bool drawn = draw_motion(r, &v, s, src, ends, d);
     r->gl.ReadPixels(0, 0, r->width, r->height, GL_RGBA, GL_FLOAT, r->mv_pixels);
     r->gl.BindFramebuffer(GL_FRAMEBUFFER, r->fbo);
     GLenum e = r->gl.GetError();

@@ -317,6 +317,7 @@ void pfx_renderer_destroy(pfx_renderer *r) {
     free(r->sorted);
     free(r->chunk);
     free(r->mv_pixels);
+    free(r->mv_ends);
     free(r->hist);
     free(r->select_hist);
     pfx_workers_destroy(r->workers);

@@ -204,23 +204,31 @@ void pfx_renderer_blur_resolve(pfx_renderer *r, const pfx_render_settings *s, ui
 void pfx_renderer_blur_resolve_float(pfx_renderer *r, const pfx_render_settings *s,
                                      pfx_float_image *img);
 
+/* Where a source's sprites are one frame later, in the source's order:
+ * make writes (x, y, z, weight) of sprites first .. first + n - 1 into
+ * xyzw, the centre in world space at the next frame and 1 to draw the
+ * sprite into the motion-vector pass or 0 to leave it out. */
+typedef struct pfx_sprite_ends {
+    void (*make)(const void *ctx, size_t first, size_t n, float *xyzw);
+    const void *ctx;
+} pfx_sprite_ends;
+
 /* Motion vectors: the sprites drawn as draw_frame draws them (the same
  * quads, falloff, flipbook alpha and minimum footprint, no ribbons), each
  * pixel getting the weighted mean of the displacements of the sprites over
- * it, where a sprite's displacement is its centre's projected position at
- * t + dt (x + v dt, linear) minus at t, in pixels of the frame, and its
- * weight is its falloff (texture alpha) times its alpha (1 for additive
+ * it, where a sprite's displacement is its end's projected position (ends)
+ * minus its centre's, in pixels of the frame, and its weight is the end's
+ * weight times its falloff (texture alpha) times its alpha (1 for additive
  * sprites, whose colour pass alpha is 0), over the footprint widening,
  * clamped to [0, 1]. Writes width*height*3 floats, top row first: dx
  * (+right), dy (+up), and the coverage 1 - prod(1 - weight) in [0, 1]; a
- * pixel no sprite touches is (0, 0, 0). A sprite whose centre is behind
- * the camera at t or t + dt weighs 0. Drawn into a float target of its
- * own, made on the first call. Draws the source's sprites in its order, a
- * chunk at a time, unsorted. False with an
- * error in d on a GL failure. */
+ * pixel no sprite touches is (0, 0, 0). A sprite whose centre or end is
+ * behind the camera weighs 0. Drawn into a float target of its own, made
+ * on the first call. Draws the source's sprites in its order, a chunk at a
+ * time, unsorted. False with an error in d on a GL failure. */
 bool pfx_renderer_motion_vectors(pfx_renderer *r, const pfx_camera *cam,
                                  const pfx_render_settings *s, const pfx_sprite_source *src,
-                                 double dt, float *mv, pfx_diags *d);
+                                 const pfx_sprite_ends *ends, float *mv, pfx_diags *d);
 /* The threads that make each chunk's sprites and run the depth sort of
  * alpha-blended ones (0: one per online core; a new renderer works on the
  * caller's thread alone). Neither sprites nor order depend on the count.

@@ -52,6 +52,7 @@
     X(PFNGLBUFFERDATAPROC, BufferData)                                                             \
     X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)                                           \
     X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)                                   \
+    X(PFNGLDISABLEVERTEXATTRIBARRAYPROC, DisableVertexAttribArray)                                 \
     X(PFNGLVERTEXATTRIBDIVISORPROC, VertexAttribDivisor)                                           \
     X(PFNGLDRAWARRAYSINSTANCEDPROC, DrawArraysInstanced)                                           \
     X(PFNGLCREATESHADERPROC, CreateShader)                                                         \
@@ -92,7 +93,7 @@ typedef struct pfx_gl {
 typedef struct pfx_sprite_uniforms {
     GLint view, proj, px_per_unit, min_px, axis, plane_x, plane_y;
     GLint tex, grid, frames, frame_loop, normal_tex, light_dir, light_color, ambient;
-    GLint mv_dt, mv_size; /* the motion-vector variant only (-1 elsewhere) */
+    GLint mv_size; /* the motion-vector variant only (-1 elsewhere) */
 } pfx_sprite_uniforms;
 
 /* A sprite program specialised for one combination of material switches
@@ -149,9 +150,11 @@ struct pfx_renderer {
     float cleared[4];
     /* Motion vectors (render/motion_vectors.c): their own float target and
      * read-back, made on first use so that a render without them pays
-     * nothing. */
-    GLuint mv_fbo, mv_rb;
+     * nothing; the ends of one chunk's sprites (x, y, z, weight a sprite),
+     * uploaded to mv_ends_vbo beside the chunk. */
+    GLuint mv_fbo, mv_rb, mv_ends_vbo;
     float *mv_pixels;
+    float *mv_ends;
     uint32_t *hist;
     pfx_workers *workers; /* the sort's threads; NULL: the caller's alone */
 };
@@ -211,9 +214,9 @@ void pfx_shader_material(pfx_renderer *r, const pfx_view *v, const pfx_render_se
                          const pfx_gpu_material *g);
 /* render/shader.c: makes current the motion-vector variant of g's program
  * (linked on first use; false with an error when it cannot be) and sets
- * its uniforms, with dt the seconds the motion spans. */
+ * its uniforms. */
 bool pfx_shader_motion(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
-                       const pfx_gpu_material *g, double dt, pfx_diags *d);
+                       const pfx_gpu_material *g, pfx_diags *d);
 /* render/render.c, for the passes in other files: the camera's matrices
  * (false with an error for a degenerate camera), a current context, the
  * material a sprite names, and the instance attributes pointed at sprite

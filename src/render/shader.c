@@ -38,7 +38,7 @@ static const char *vertex_src =
     "flat out vec3 v_ax;\n"
     "flat out vec3 v_ay;\n"
     "#if MOTION\n"
-    "uniform float mv_dt;\n"
+    "layout(location = 5) in vec4 mv_end;\n" /* centre at the next frame, weight */
     "uniform vec2 mv_size;\n"
     "flat out vec3 v_mv;\n"
     "#endif\n"
@@ -78,8 +78,8 @@ static const char *vertex_src =
     "    v_ay = ay;\n"
     "#if MOTION\n"
     "    vec4 a = proj * c;\n"
-    "    vec4 b = proj * (view * vec4(centre_size.xyz + motion.xyz * mv_dt, 1.0));\n"
-    "    float opacity = (colour.a > 0.0 ? colour.a : 1.0) / (gx * gy);\n"
+    "    vec4 b = proj * (view * vec4(mv_end.xyz, 1.0));\n"
+    "    float opacity = mv_end.w * (colour.a > 0.0 ? colour.a : 1.0) / (gx * gy);\n"
     "    v_mv = a.w > 1e-6 && b.w > 1e-6\n"
     "               ? vec3((b.xy / b.w - a.xy / a.w) * 0.5 * mv_size, opacity) : vec3(0.0);\n"
     "#endif\n"
@@ -253,7 +253,7 @@ static void find_uniforms(pfx_renderer *r, pfx_program *prog) {
     PFX_UNIFORM(axis) PFX_UNIFORM(plane_x) PFX_UNIFORM(plane_y);
     PFX_UNIFORM(tex) PFX_UNIFORM(grid) PFX_UNIFORM(frames) PFX_UNIFORM(frame_loop);
     PFX_UNIFORM(normal_tex) PFX_UNIFORM(light_dir) PFX_UNIFORM(light_color);
-    PFX_UNIFORM(ambient) PFX_UNIFORM(mv_dt) PFX_UNIFORM(mv_size);
+    PFX_UNIFORM(ambient) PFX_UNIFORM(mv_size);
 #undef PFX_UNIFORM
 }
 
@@ -425,14 +425,13 @@ void pfx_shader_material(pfx_renderer *r, const pfx_view *v, const pfx_render_se
 }
 
 bool pfx_shader_motion(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
-                       const pfx_gpu_material *g, double dt, pfx_diags *d) {
+                       const pfx_gpu_material *g, pfx_diags *d) {
     const unsigned lit = 1u << 10 | 1u << 11;
     size_t i;
     if (!find_program(r, (program_key(g) & ~lit) | PFX_PROGRAM_MOTION, &i, d))
         return false;
     const pfx_program *prog = &r->programs[i];
     use_program(r, v, s, g, prog);
-    r->gl.Uniform1f(prog->u.mv_dt, (float)dt);
     r->gl.Uniform2f(prog->u.mv_size, (float)r->width, (float)r->height);
     return true;
 }

@@ -38,6 +38,9 @@ void pfx_sprite_feed_free(pfx_sprite_feed *f);
  * source of its sprites. Its callbacks only read s, so the renderer may
  * call them from several threads at once. */
 pfx_sprite_source pfx_sprite_feed_source(pfx_sprite_feed *f, const pfx_sim *s);
+/* The emitter whose sprites hold sprite n of f's source: sprite n is
+ * particle n - f->start[i] of emitter i's pool. */
+size_t pfx_sprite_feed_emitter(const pfx_sprite_feed *f, size_t n);
 
 /* The intensity multiplier of a look at normalised age u. */
 static inline float pfx_look_intensity(const pfx_look *k, float u) {

@@ -136,9 +136,9 @@ void pfx_sprite_feed_free(pfx_sprite_feed *f) {
     f->start = NULL;
 }
 
-/* The emitter whose sprites hold sprite n: the last i with start[i] <= n
- * (emitters without sprites have start[i] = start[i + 1]). */
-static size_t emitter_of(const pfx_sprite_feed *f, size_t n) {
+/* The last i with start[i] <= n (emitters without sprites have start[i] =
+ * start[i + 1]). */
+size_t pfx_sprite_feed_emitter(const pfx_sprite_feed *f, size_t n) {
     size_t lo = 0, hi = f->sim->effect->emitter_count; /* start[lo] <= n < start[hi] */
     while (hi - lo > 1) {
         size_t mid = lo + (hi - lo) / 2;
@@ -155,20 +155,20 @@ static void feed_make(const void *ctx, size_t first, size_t n, const uint32_t *i
     const pfx_sprite_feed *f = ctx;
     if (index) {
         for (size_t k = 0; k < n; k++) {
-            size_t i = emitter_of(f, index[k]);
+            size_t i = pfx_sprite_feed_emitter(f, index[k]);
             out[k] = sprite_of(f->sim, i, (uint32_t)(index[k] - f->start[i]));
         }
         return;
     }
     /* In order: emitter by emitter, no search past the first. */
-    for (size_t k = 0, i = n ? emitter_of(f, first) : 0; k < n; i++)
+    for (size_t k = 0, i = n ? pfx_sprite_feed_emitter(f, first) : 0; k < n; i++)
         for (size_t m = first + k; m < f->start[i + 1] && k < n; m++, k++)
             out[k] = sprite_of(f->sim, i, (uint32_t)(m - f->start[i]));
 }
 
 static void feed_centres(const void *ctx, size_t first, size_t n, float *xyz) {
     const pfx_sprite_feed *f = ctx;
-    for (size_t k = 0, i = n ? emitter_of(f, first) : 0; k < n; i++) {
+    for (size_t k = 0, i = n ? pfx_sprite_feed_emitter(f, first) : 0; k < n; i++) {
         const pfx_pool *p = &f->sim->pools[i];
         for (size_t m = first + k; m < f->start[i + 1] && k < n; m++, k++) {
             const size_t j = m - f->start[i];

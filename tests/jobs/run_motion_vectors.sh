@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # --motion-vectors: known displacements read back by a decoder of our own
 # (check_motion_vectors.py: the camera formula, the encoding, the sign of
-# each axis, averaging under overlap, additive weights); the same bytes for
-# --threads 1 and 7, -j 2 and a --frames range; the sheet in the colour
-# atlas's cells; the manifest; the usage errors; three slices assembled
-# (with and without --atlas) equal to a one-process render, file for file;
-# the pass's memory in --max-memory.
+# each axis, averaging under overlap, additive weights, a vortex, a death
+# between frames, the percentile scale, motion_vectors: false); the same
+# bytes for --threads 1 and 7, -j 1, 2 and 3 and a --frames range (fire,
+# and the tornado, which a vortex moves); the sheet in the colour atlas's cells; the manifest; the
+# usage errors; three slices assembled (with and without --atlas) equal to
+# a one-process render, file for file; the pass's memory in --max-memory.
 #
 #   bash run_motion_vectors.sh PATH-TO-PFX SOURCE-DIR
 set -u
@@ -42,6 +43,29 @@ cmp -s t1/fire_mv.json part/fire_mv.json 2>/dev/null ||
         t1/fire_mv.json part/fire_mv.json || flunk "the ranges chose different scales"
 grep -q '"fire_mv_0010.png"' t1/fire.manifest.json && grep -q '"fire_mv.json"' t1/fire.manifest.json ||
     flunk "the manifest does not list the motion vectors"
+end
+
+# The vortex moves the tornado's dust: its ends come from a simulation one
+# frame ahead, which must not depend on the frames a job renders.
+begin "a vortex's motion vectors: the same bytes for -j 1, -j 3 and --frames 20:23"
+TORNADO=$src/effects/tornado.yaml
+pfx_run render "$TORNADO" -o v1 "${A[@]}" --frames 10:25 -j 1
+want_status 0
+pfx_run render "$TORNADO" -o v3 "${A[@]}" --frames 10:25 -j 3
+want_status 0
+pfx_run render "$TORNADO" -o vpart "${A[@]}" --frames 20:23
+want_status 0
+n=0
+for f in v1/tornado_mv_*.png; do
+    n=$((n + 1))
+    cmp -s "$f" "v3/${f#v1/}" || flunk "${f#v1/} differs with -j 3"
+done
+[ "$n" = 16 ] || flunk "$n motion-vector frames, expected 16"
+for k in 20 21 22 23; do
+    cmp -s "v1/tornado_mv_00$k.png" "vpart/tornado_mv_00$k.png" ||
+        flunk "tornado_mv_00$k.png differs in --frames 20:23"
+done
+cmp -s v1/tornado_mv.json v3/tornado_mv.json || flunk "the sidecars differ with -j 3"
 end
 
 begin "the motion-vector sheet lines up with the colour atlas (--crop --padding 3)"
@@ -192,23 +216,39 @@ stderr_has "encodes its motion vectors with a scale of"
 end
 
 # The pass's memory: 52 bytes a pixel (two RGBA32F images, 3 floats and 4
-# 16-bit samples), here 48 x 40 x 52 = 99840 bytes over the render's estimate.
+# 16-bit samples), here 48 x 40 x 52 = 99840 bytes; a chunk of 4096 ends of
+# 16 bytes and its GL buffer, 131072; the simulation one frame ahead, its
+# pools and queues twice (as many as the render's own: the "pools" part
+# and the "queues" part, the state's and its view's), and its id index, 8
+# bytes a particle of every pool (plus one) and 16 a particle of the
+# largest with the radix sort's 256 words a block (plus one block).
+mv_part() {
+    "$pfx" info "$FIRE" --size 48x40 --seed 4 --format json "$@" | "$py" -c '
+import json, sys
+d = json.load(sys.stdin)
+p, caps = d["memory"]["parts"], [e["capacity"] for e in d["emitters"]]
+most = max(caps)
+want = 48 * 40 * 52 + 2 * 4096 * 16 + 2 * p["pools"] + p["queues"] + 8 * (sum(caps) + 1) + \
+    16 * most + 4 * 256 * (-(-most // 65536) + 1)
+print(int(p["motion_vectors"]), int(want), int(d["memory"]["total_bytes"]))'
+}
 begin "--max-memory counts the motion-vector pass"
-total=$("$pfx" info "$FIRE" --size 48x40 --seed 4 --format json | "$py" -c 'import json,sys; print(int(json.load(sys.stdin)["memory"]["total_bytes"]))')
+read -r part want total <<<"$(mv_part)"
+read -r _ _ with <<<"$(mv_part --motion-vectors)"
 bound=$((total + 60000))
 pfx_run render "$FIRE" -o mem --size 48x40 --seed 4 -q --frames 10:10 --max-memory $bound
 want_status 0
 pfx_run render "$FIRE" -o mem --size 48x40 --seed 4 -q --frames 10:10 --max-memory $bound --motion-vectors
 want_status 1
 stderr_has "this render needs up to"
-pfx_run render "$FIRE" -o mem --size 48x40 --seed 4 -q --frames 10:10 --max-memory $((total + 99841)) --motion-vectors
+pfx_run render "$FIRE" -o mem --size 48x40 --seed 4 -q --frames 10:10 --max-memory $((with + 1)) --motion-vectors
 want_status 0
 end
 
-begin "pfx info --motion-vectors shows the pass: 48 x 40 x 52 bytes"
-part=$("$pfx" info "$FIRE" --size 48x40 --seed 4 --format json --motion-vectors | "$py" -c 'import json,sys; print(int(json.load(sys.stdin)["memory"]["parts"]["motion_vectors"]))')
-[ "$part" = 99840 ] || flunk "motion_vectors part $part, expected 99840"
-part=$("$pfx" info "$FIRE" --size 48x40 --seed 4 --format json | "$py" -c 'import json,sys; print(int(json.load(sys.stdin)["memory"]["parts"]["motion_vectors"]))')
+begin "pfx info --motion-vectors shows the pass: pixels, ends, the simulation ahead"
+read -r part want _ <<<"$(mv_part --motion-vectors)"
+[ "$part" = "$want" ] || flunk "motion_vectors part $part, expected $want"
+read -r part _ _ <<<"$(mv_part)"
 [ "$part" = 0 ] || flunk "motion_vectors part $part without the option, expected 0"
 end
 
