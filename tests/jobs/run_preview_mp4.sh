@@ -204,6 +204,22 @@ got=$(probe z/dot.mp4 2>&1 | "$py" -c 'import json,sys; print(json.load(sys.stdi
 [ "$got" = 10 ] || flunk "$got frames"
 end
 
+# A file size limit the frames fit under and the MP4 does not: ffmpeg 5.1
+# then exits 0 after "Error writing trailer", leaving no index (moov).
+begin "an MP4 cut short by a file size limit: exit 1, no MP4, then made again"
+(ulimit -f 20 && exec "$pfx" render "$src/effects/fire.yaml" -o lim --size 128x128 -q \
+    --preview lim/fire.mp4) >out 2>err
+status=$?
+want_status 1
+grep -q "cannot write 'lim/fire.mp4': ffmpeg exited 0 but its MP4 is incomplete (it has no 'moov' box)" err ||
+    flunk "stderr: $(cat err)"
+[ -e lim/fire.mp4 ] && flunk "lim/fire.mp4 was left"
+ls -a lim | grep -q '\.tmp-' && flunk "a temporary is left: $(ls -a lim)"
+"$pfx" render "$src/effects/fire.yaml" -o lim --size 128x128 -q --preview lim/fire.mp4 2>err ||
+    flunk "the run without the limit failed: $(cat err)"
+ffprobe -v error lim/fire.mp4 || flunk "ffprobe rejects the MP4 made without the limit"
+end
+
 begin "--preview refuses other extensions"
 pfx_run render dot.yaml -o g --preview g/dot.gif
 want_status 2
