@@ -279,17 +279,20 @@ static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_
      * the key is the one a single render with them would have. */
     double fps = pfx_manifest_get_number(all, "fps", 30);
     bool loop = pfx_manifest_get_number(all, "loop", 0) != 0;
+    bool premultiplied = pfx_manifest_get_number(all, "premultiplied", 0) != 0;
     if (ok && opt->atlas) {
         pfx_atlas_layout atlas = *opt->atlas;
         atlas.motion = motion;
+        atlas.premultiplied = premultiplied;
         pfx_atlas_job_describe(&atlas, all);
         ok = pfx_atlas_job_run(out, p[0].stem, first, last, fps, loop, &atlas, all, d);
     } else if (ok && motion) {
         ok = pfx_mv_sidecar_run(out, p[0].stem, first, last, motion, all, d);
     }
     if (ok && opt->preview) {
+        pfx_preview preview = {.path = opt->preview, .premultiplied = premultiplied};
         pfx_manifest_set_string(all, "preview", opt->preview);
-        ok = pfx_preview_run(out, p[0].stem, first, last, fps, opt->preview, d);
+        ok = pfx_preview_run(out, p[0].stem, first, last, fps, &preview, d);
     }
     pfx_manifest_key(all);
     char path[4096];

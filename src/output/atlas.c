@@ -5,7 +5,10 @@
  * Then every fully transparent pixel of a cell takes the colour of its
  * visible neighbours (alpha stays 0): up to BLEED_PASSES rings by
  * dilation, the cell's mean visible colour beyond, so that a mip level
- * averaging transparent and visible pixels does not darken towards black. */
+ * averaging transparent and visible pixels does not darken towards black.
+ * A premultiplied sheet gets no bleed: there a transparent texel's colour
+ * is light added to what is behind it, and premultiplied filtering has no
+ * halo to hide. */
 #include "output/atlas.h"
 
 #include <errno.h>
@@ -161,7 +164,8 @@ uint8_t *pfx_atlas_compose(const pfx_atlas_layout *l, uint8_t *const *frames) {
                 memcpy(cell + (size_t)y * stride + 4 * (size_t)x,
                        frames[k] + ((size_t)sy * l->frame_w + sx) * 4, 4);
             }
-        bleed(cell, (int)stride, l->cell_w, l->cell_h, known);
+        if (!l->premultiplied)
+            bleed(cell, (int)stride, l->cell_w, l->cell_h, known);
     }
     free(known);
     return sheet;
@@ -184,18 +188,19 @@ bool pfx_atlas_write_json(const char *path, const pfx_atlas_layout *l, const cha
                                       rect(l->crop_x, l->crop_y, l->crop_w, l->crop_h),
                                       "sourceSize", "w", l->frame_w, "h", l->frame_h));
     }
-    json_t *root = json_pack(
-        "{s:o, s:{s:s, s:s, s:s, s:s, s:{s:i, s:i}, s:s, s:s}, "
-        "s:{s:i, s:i, s:i, s:f, s:b, s:{s:i, s:i}, s:i, s:i, s:b}, "
-        "s:{s:i, s:i, s:i, s:f}, s:{s:i, s:i}, s:{s:i, s:i}}",
-        "frames", frames, "meta", "app", "pfx", "version", PFX_VERSION, "image", image, "format",
-        "RGBA8888", "size", "w", l->width, "h", l->height, "scale", "1", "alpha", "straight",
-        "grid", "columns", l->columns, "rows", l->rows, "frames", l->frames, "fps", fps, "loop",
-        loop, "cell", "w", l->cell_w, "h", l->cell_h, "padding", l->padding, "extrude",
-        l->extrude < l->padding ? l->extrude : l->padding, "crop", l->crop, "unity", "tiles_x",
-        l->columns, "tiles_y", l->rows, "frames", l->frames, "fps", fps, "unreal",
-        "sub_images_horizontal", l->columns, "sub_images_vertical", l->rows, "godot", "h_frames",
-        l->columns, "v_frames", l->rows);
+    json_t *root =
+        json_pack("{s:o, s:{s:s, s:s, s:s, s:s, s:{s:i, s:i}, s:s, s:s}, "
+                  "s:{s:i, s:i, s:i, s:f, s:b, s:{s:i, s:i}, s:i, s:i, s:b}, "
+                  "s:{s:i, s:i, s:i, s:f}, s:{s:i, s:i}, s:{s:i, s:i}}",
+                  "frames", frames, "meta", "app", "pfx", "version", PFX_VERSION, "image", image,
+                  "format", "RGBA8888", "size", "w", l->width, "h", l->height, "scale", "1",
+                  "alpha", l->premultiplied ? "premultiplied" : "straight", "grid", "columns",
+                  l->columns, "rows", l->rows, "frames", l->frames, "fps", fps, "loop", loop,
+                  "cell", "w", l->cell_w, "h", l->cell_h, "padding", l->padding, "extrude",
+                  l->extrude < l->padding ? l->extrude : l->padding, "crop", l->crop, "unity",
+                  "tiles_x", l->columns, "tiles_y", l->rows, "frames", l->frames, "fps", fps,
+                  "unreal", "sub_images_horizontal", l->columns, "sub_images_vertical", l->rows,
+                  "godot", "h_frames", l->columns, "v_frames", l->rows);
     if (root && l->motion)
         json_object_set_new(root, "motion_vectors", pfx_mv_json(l->motion, l, l->motion_image));
     bool ok = pfx_json_file_write(path, root, d);

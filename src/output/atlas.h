@@ -23,6 +23,11 @@ typedef struct pfx_atlas_layout {
     int padding;       /* transparent pixels around each frame in its cell */
     int extrude;       /* of those, how many repeat the frame's edge (<= padding) */
     bool crop;         /* cut every frame to one box around all visible pixels */
+    /* The frames' colour is premultiplied by alpha (image.alpha or
+     * --alpha premultiplied): the sheet is too, so no colour is bled into
+     * transparent texels (under premultiplied alpha it would be added
+     * light), and the JSON says "premultiplied". */
+    bool premultiplied;
     /* --motion-vectors: the sheet of motion vectors laid out alike (NULL:
      * none), described in the JSON as "motion_vectors" with its image. */
     const struct pfx_mv_meta *motion;
@@ -43,8 +48,10 @@ bool pfx_atlas_layout_resolve(pfx_atlas_layout *l, pfx_diags *d);
  * visible. */
 void pfx_atlas_find_crop(pfx_atlas_layout *l, uint8_t *const *frames, int n);
 
-/* Composes the sheet (l->width x l->height straight RGBA, malloc'd, the
- * caller frees) from the resolved layout. NULL when out of memory. */
+/* Composes the sheet (l->width x l->height RGBA, straight or premultiplied
+ * as the frames are, malloc'd, the caller frees) from the resolved layout;
+ * colour is bled into transparent texels of straight sheets only. NULL
+ * when out of memory. */
 uint8_t *pfx_atlas_compose(const pfx_atlas_layout *l, uint8_t *const *frames);
 
 /* Writes the JSON at path (whole or not at all): frames by name (names[i]

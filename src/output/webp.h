@@ -9,6 +9,9 @@
 
 #include "base/diag.h"
 
+/* libwebp's WEBP_MAX_DIMENSION, for checks made before any frame. */
+#define PFX_WEBP_MAX_SIDE 16383
+
 typedef struct pfx_webp pfx_webp;
 
 /* Starts an animation of width x height frames shown for 1/fps s each,

@@ -97,6 +97,58 @@ want_status 0
 end
 tally "$(check c 0 1 11 1 1)"
 
+begin "a premultiplied render makes a premultiplied sheet, without bleed"
+# The explosion on a transparent background: alpha-blended smoke (bleed
+# has texels to fill) and additive fire (light with alpha 0).
+sed '/^  background:/d' "$src/effects/explosion.yaml" >boom.yaml
+ln -s "$src/effects/textures" textures
+pfx_run render boom.yaml -o pm "${A[@]}" --atlas --alpha premultiplied
+want_status 0
+out=$("$py" - <<'PY'
+import json
+from PIL import Image
+import numpy as np
+meta = json.load(open("pm/boom_atlas.json"))
+sheet = np.asarray(Image.open("pm/boom_atlas.png").convert("RGBA")).astype(float)
+bad = []
+if meta["meta"]["alpha"] != "premultiplied":
+    bad.append("the JSON says alpha %r" % meta["meta"]["alpha"])
+# Premultiplied over a colour C: rgb + C (1 - a). The sheet over C, cell by
+# cell, must be the frame over C where the frame is, and C in the gutter.
+C = np.array([40.0, 160.0, 90.0])
+over = lambda im: im[..., :3] + C * (1 - im[..., 3:4] / 255)
+g = meta["grid"]
+outside = np.ones(sheet.shape[:2], bool)  # texels no frame or ring covers
+for k, name in enumerate(meta["frames"]):
+    r = meta["frames"][name]["frame"]
+    frame = np.asarray(Image.open("pm/" + name).convert("RGBA")).astype(float)
+    if np.abs(over(sheet[r["y"]:r["y"] + r["h"], r["x"]:r["x"] + r["w"]]) - over(frame)).max() > 1e-9:
+        bad.append("%s over a colour differs from its frame over it" % name)
+    e = g["extrude"]
+    outside[r["y"] - e:r["y"] + r["h"] + e, r["x"] - e:r["x"] + r["w"] + e] = False
+if np.abs(over(sheet[outside]) - C).max() > 0:
+    bad.append("the gutters over a colour are not that colour")
+# Alpha-0 texels beyond the frames: no light. (Inside them, a frame's own
+# additive light has alpha 0, and the comparison above covers it.)
+zero = sheet[outside & (sheet[..., 3] == 0)][:, :3]
+if not zero.size or zero.any():
+    bad.append("alpha-0 texels beyond the frames carry colour: mean RGB %.4f" % zero.mean())
+print(("FAIL premultiplied sheet: " + "; ".join(bad)) if bad else
+      "ok   premultiplied sheet: over a colour it is the frames over it; alpha-0 texels beyond them are black")
+PY
+)
+case $out in ok*) ;; *) flunk "$out" ;; esac
+end
+
+begin "assemble --atlas of premultiplied slices: the same premultiplied sheet"
+pfx_run render boom.yaml -o pms "${A[@]}" --alpha premultiplied --slice 0/2
+pfx_run render boom.yaml -o pms "${A[@]}" --alpha premultiplied --slice 1/2
+pfx_run assemble pms -o pma --atlas
+want_status 0
+cmp -s pma/boom_atlas.png pm/boom_atlas.png || flunk "the sheet differs from the one-process render's"
+grep -q '"alpha": "premultiplied"' pma/boom_atlas.json || flunk "the JSON does not say premultiplied"
+end
+
 begin "a render without --atlas removes the old sheet"
 pfx_run render "$FIRE" -o a "${A[@]}"
 want_status 0
