@@ -23,6 +23,7 @@ static const char usage_text[] =
     "                  [--renderer R] [--alpha MODE] [--threads N] [--force]\n"
     "                  [--depfile FILE] [--progress json]\n"
     "                  [--atlas[=CxR]] [--padding N] [--extrude N] [--crop]\n"
+    "                  [--atlas-pot] [--atlas-json hash|array]\n"
     "                  [--preview OUT.webp|OUT.mp4] [--format png|exr] [-q]\n"
     "                  [--motion-vectors [--mv-max PIXELS] [--mv-flip-y]]\n"
     "                  [--slice I/N | --slice-env VAR --slice-count N]\n"
@@ -70,6 +71,8 @@ static const char usage_text[] =
     "      --padding N         atlas: pixels around each frame in its cell (default 2)\n"
     "      --extrude N         atlas: of those, how many repeat the frame's edge (default 1)\n"
     "      --crop              atlas: cut every frame to one box around all visible pixels\n"
+    "      --atlas-pot         atlas: pad the sheet to power-of-two sides\n"
+    "      --atlas-json FORM   atlas: TexturePacker's 'hash' (default) or 'array' JSON\n"
     "      --preview OUT.webp  also write the frames as a looping animated WebP (lossless)\n"
     "      --preview OUT.mp4   or as an H.264 MP4, through the ffmpeg on the PATH\n"
     "      --motion-vectors    also write <name>_mv_NNNN.png: 16-bit motion to the next\n"
@@ -177,6 +180,8 @@ enum {
     OPT_EXTRUDE,
     OPT_CROP,
     OPT_PREVIEW,
+    OPT_ATLAS_POT,
+    OPT_ATLAS_JSON,
     OPT_MOTION_VECTORS,
     OPT_MV_MAX,
     OPT_MV_FLIP_Y
@@ -206,6 +211,8 @@ static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
                                          {"extrude", required_argument, 0, OPT_EXTRUDE},
                                          {"crop", no_argument, 0, OPT_CROP},
                                          {"preview", required_argument, 0, OPT_PREVIEW},
+                                         {"atlas-pot", no_argument, 0, OPT_ATLAS_POT},
+                                         {"atlas-json", required_argument, 0, OPT_ATLAS_JSON},
                                          {"motion-vectors", no_argument, 0, OPT_MOTION_VECTORS},
                                          {"mv-max", required_argument, 0, OPT_MV_MAX},
                                          {"mv-flip-y", no_argument, 0, OPT_MV_FLIP_Y},
@@ -295,6 +302,14 @@ static int parse_option(int c, int argc, char **argv, pfx_cli *o) {
     }
     case OPT_CROP:
         o->atlas_layout.crop = true;
+        break;
+    case OPT_ATLAS_POT:
+        o->atlas_layout.pot = true;
+        break;
+    case OPT_ATLAS_JSON:
+        if (strcmp(optarg, "hash") && strcmp(optarg, "array"))
+            return pfx_cli_usage_error("--atlas-json takes 'hash' or 'array', got '%s'", optarg);
+        o->atlas_layout.json_array = !strcmp(optarg, "array");
         break;
     case OPT_MOTION_VECTORS:
         o->motion_vectors = true;

@@ -22,7 +22,7 @@
  * the key, and each manifest records it as "pfx_results".
  *   1  0.1.0 up to the newborns' substep levels
  *   2  a newborn's part of a step at the attractor's substep levels
- *   3  EXR frames carry chromaticities and framesPerSecond */
+ *   3  EXR chromaticities and framesPerSecond; the atlas JSON's uv and used */
 #define PFX_RESULTS 3
 
 typedef struct pfx_manifest pfx_manifest;

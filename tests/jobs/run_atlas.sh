@@ -149,6 +149,65 @@ cmp -s pma/boom_atlas.png pm/boom_atlas.png || flunk "the sheet differs from the
 grep -q '"alpha": "premultiplied"' pma/boom_atlas.json || flunk "the JSON does not say premultiplied"
 end
 
+begin "--atlas-pot: power-of-two sides, the UV rectangles on the cells"
+pfx_run render "$FIRE" -o pot "${A[@]}" --atlas --atlas-pot
+want_status 0
+out=$("$py" - <<'PY'
+import json
+from PIL import Image
+import numpy as np
+meta = json.load(open("pot/fire_atlas.json"))
+sheet = np.asarray(Image.open("pot/fire_atlas.png").convert("RGBA")).astype(int)
+h, w = sheet.shape[:2]
+g, bad = meta["grid"], []
+if (w, h) != (256, 256) or (meta["meta"]["size"]["w"], meta["meta"]["size"]["h"]) != (w, h):
+    bad.append("the sheet is %dx%d, the JSON says %s (want 256x256: 4x3 cells of 52x44)"
+               % (w, h, meta["meta"]["size"]))
+if (g["used"]["w"], g["used"]["h"]) != (4 * 52, 3 * 44):
+    bad.append("used %s" % g["used"])
+for k, name in enumerate(meta["frames"]):
+    f = meta["frames"][name]
+    r, uv = f["frame"], f["uv"]
+    if (uv["x"] * w, uv["y"] * h, uv["w"] * w, uv["h"] * h) != (r["x"], r["y"], r["w"], r["h"]):
+        bad.append("%s: uv %s is not %s" % (name, uv, r))
+    if (r["x"], r["y"]) != ((k % 4) * 52 + 2, (k // 4) * 44 + 2):
+        bad.append("%s at %s" % (name, r))
+    frame = np.asarray(Image.open("pot/" + name).convert("RGBA")).astype(int)
+    part = sheet[r["y"]:r["y"] + r["h"], r["x"]:r["x"] + r["w"]]
+    if not np.array_equal(part[..., 3], frame[..., 3]) or \
+            not np.array_equal(part[..., :3][part[..., 3] > 0], frame[..., :3][frame[..., 3] > 0]):
+        bad.append("%s: its rectangle is not the frame" % name)
+if sheet[:, 4 * 52:].any() or sheet[3 * 44:, :].any():
+    bad.append("the padding beyond the grid is not transparent black")
+print(("FAIL --atlas-pot: " + "; ".join(bad)) if bad else "ok")
+PY
+)
+case $out in ok*) ;; *) flunk "$out" ;; esac
+end
+
+begin "--atlas-json array: TexturePacker's array, the same as the hash"
+pfx_run render "$FIRE" -o arr "${A[@]}" --atlas --atlas-json array
+want_status 0
+"$py" - <<'PY' || flunk "the array JSON does not match the hash JSON"
+import json, sys
+h = json.load(open("a/fire_atlas.json"))
+a = json.load(open("arr/fire_atlas.json"))
+assert isinstance(a["frames"], list) and len(a["frames"]) == len(h["frames"]) == 11
+for entry, name in zip(a["frames"], h["frames"]):
+    entry = dict(entry)
+    assert entry.pop("filename") == name, name
+    assert entry == h["frames"][name], name
+assert a["meta"] == h["meta"] and a["grid"] == h["grid"]
+PY
+cmp -s arr/fire_atlas.png a/fire_atlas.png || flunk "the sheets differ"
+end
+
+begin "--atlas-json with a bad form is a usage error"
+pfx_run render "$FIRE" -o u "${A[@]}" --atlas --atlas-json list
+want_status 2
+stderr_has "--atlas-json takes 'hash' or 'array', got 'list'"
+end
+
 begin "a render without --atlas removes the old sheet"
 pfx_run render "$FIRE" -o a "${A[@]}"
 want_status 0
