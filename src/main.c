@@ -24,7 +24,8 @@ static const char usage_text[] =
     "                  [--depfile FILE] [--progress json]\n"
     "                  [--atlas[=CxR]] [--padding N] [--extrude N] [--crop]\n"
     "                  [--atlas-pot] [--atlas-json hash|array]\n"
-    "                  [--preview OUT.webp|OUT.mp4] [--format png|exr] [-q]\n"
+    "                  [--preview OUT.webp|OUT.mp4] [--preview-quality Q]\n"
+    "                  [--format png|exr] [-q]\n"
     "                  [--motion-vectors [--mv-max PIXELS] [--mv-flip-y]]\n"
     "                  [--slice I/N | --slice-env VAR --slice-count N]\n"
     "       pfx bake FILE -o OUT [--format csv|ply|pcache] [--every N] [--frames A:B]\n"
@@ -35,6 +36,7 @@ static const char usage_text[] =
     "       pfx bench [SECTION...] [--json] [--renderer R]\n"
     "       pfx bench accuracy -o DIR\n"
     "       pfx assemble DIR... -o OUT [--atlas[=CxR]] [--preview OUT.webp|OUT.mp4]\n"
+    "                  [--preview-quality Q]\n"
     "       pfx schema\n"
     "\n"
     "commands:\n"
@@ -75,6 +77,8 @@ static const char usage_text[] =
     "      --atlas-json FORM   atlas: TexturePacker's 'hash' (default) or 'array' JSON\n"
     "      --preview OUT.webp  also write the frames as a looping animated WebP (lossless)\n"
     "      --preview OUT.mp4   or as an H.264 MP4, through the ffmpeg on the PATH\n"
+    "      --preview-quality Q a lossy WebP of quality Q (0..100), or the MP4 at\n"
+    "                          x264 CRF (100-Q)*0.51 (default: lossless WebP, CRF 18)\n"
     "      --motion-vectors    also write <name>_mv_NNNN.png: 16-bit motion to the next\n"
     "                          frame, R right, G up, 0.5 none (with --atlas: a sheet)\n"
     "      --mv-max PIXELS     the displacement that encodes as 0 or 1 (default: the\n"
@@ -180,6 +184,7 @@ enum {
     OPT_EXTRUDE,
     OPT_CROP,
     OPT_PREVIEW,
+    OPT_PREVIEW_Q,
     OPT_ATLAS_POT,
     OPT_ATLAS_JSON,
     OPT_MOTION_VECTORS,
@@ -211,6 +216,7 @@ static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
                                          {"extrude", required_argument, 0, OPT_EXTRUDE},
                                          {"crop", no_argument, 0, OPT_CROP},
                                          {"preview", required_argument, 0, OPT_PREVIEW},
+                                         {"preview-quality", required_argument, 0, OPT_PREVIEW_Q},
                                          {"atlas-pot", no_argument, 0, OPT_ATLAS_POT},
                                          {"atlas-json", required_argument, 0, OPT_ATLAS_JSON},
                                          {"motion-vectors", no_argument, 0, OPT_MOTION_VECTORS},
@@ -240,6 +246,7 @@ static int option_defaults(pfx_cli *o) {
     o->last = -1;
     o->atlas_layout.padding = 2;
     o->atlas_layout.extrude = 1;
+    o->preview_quality = -1;
     o->every = 1;
     o->max_memory = pfx_memory_default_bound();
     return -1;
@@ -310,6 +317,12 @@ static int parse_option(int c, int argc, char **argv, pfx_cli *o) {
         if (strcmp(optarg, "hash") && strcmp(optarg, "array"))
             return pfx_cli_usage_error("--atlas-json takes 'hash' or 'array', got '%s'", optarg);
         o->atlas_layout.json_array = !strcmp(optarg, "array");
+        break;
+    case OPT_PREVIEW_Q:
+        if (!parse_ulong(optarg, &v) || v > 100)
+            return pfx_cli_usage_error("--preview-quality takes a number from 0 to 100, got '%s'",
+                                       optarg);
+        o->preview_quality = (int)v;
         break;
     case OPT_MOTION_VECTORS:
         o->motion_vectors = true;
@@ -511,6 +524,8 @@ static int check_options(int argc, char **argv, pfx_cli *o) {
         return pfx_cli_usage_error("%s",
                                    "--atlas needs every frame: give it to 'pfx assemble' instead "
                                    "of the slices");
+    if (o->preview_quality >= 0 && !o->preview)
+        return pfx_cli_usage_error("%s", "--preview-quality goes with --preview");
     if ((o->mv_max > 0 || o->mv_flip_y) && !o->motion_vectors)
         return pfx_cli_usage_error("%s", "--mv-max and --mv-flip-y go with --motion-vectors");
     if (o->motion_vectors && strcmp(argv[1], "render") && strcmp(argv[1], "info"))

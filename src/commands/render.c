@@ -58,6 +58,8 @@ static bool describe_render(const pfx_render_job *job, const pfx_cli *o, long al
         if (!pfx_preview_check(&p, job->effect->width, job->effect->height, run))
             return false;
         pfx_manifest_set_string(dl->now, "preview", o->preview);
+        if (o->preview_quality >= 0)
+            pfx_manifest_set_number(dl->now, "preview_quality", o->preview_quality);
     }
     if (o->motion_vectors)
         pfx_mv_describe(mv, dl->now);
@@ -84,7 +86,8 @@ static bool write_extras(const pfx_render_job *job, const pfx_cli *o, const char
     if (o->atlas && !pfx_atlas_job_run(dir, stem, job->first, job->last, job->effect->fps,
                                        job->effect->loop, atlas, dl->now, run))
         return false;
-    pfx_preview preview = {.path = o->preview, .premultiplied = atlas->premultiplied};
+    pfx_preview preview = {
+        .path = o->preview, .quality = o->preview_quality, .premultiplied = atlas->premultiplied};
     if (o->preview &&
         !pfx_preview_run(dir, stem, job->first, job->last, job->effect->fps, &preview, run))
         return false;

@@ -290,8 +290,11 @@ static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_
         ok = pfx_mv_sidecar_run(out, p[0].stem, first, last, motion, all, d);
     }
     if (ok && opt->preview) {
-        pfx_preview preview = {.path = opt->preview, .premultiplied = premultiplied};
+        pfx_preview preview = {
+            .path = opt->preview, .quality = opt->preview_quality, .premultiplied = premultiplied};
         pfx_manifest_set_string(all, "preview", opt->preview);
+        if (opt->preview_quality >= 0)
+            pfx_manifest_set_number(all, "preview_quality", opt->preview_quality);
         ok = pfx_preview_run(out, p[0].stem, first, last, fps, &preview, d);
     }
     pfx_manifest_key(all);

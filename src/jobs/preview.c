@@ -18,11 +18,17 @@ typedef struct {
     pfx_mp4 *mp4;
 } writer;
 
+/* --preview-quality Q to x264's CRF: linear, Q 100 is CRF 0 (the best)
+ * and Q 0 CRF 51 (the worst); no Q keeps the default CRF 18 (Q 65 is
+ * CRF 18 too, rounded). */
+static int crf_of(int quality) { return quality < 0 ? 18 : (int)((100 - quality) * 51 + 50) / 100; }
+
 static bool writer_create(writer *w, int width, int height, double fps, const pfx_preview *p,
                           pfx_diags *d) {
     if (pfx_mp4_path(p->path))
-        return (w->mp4 = pfx_mp4_create(width, height, fps, p->path, d)) != NULL;
-    return (w->webp = pfx_webp_create(width, height, fps, 100, d)) != NULL;
+        return (w->mp4 = pfx_mp4_create(width, height, fps, crf_of(p->quality), p->path, d)) !=
+               NULL;
+    return (w->webp = pfx_webp_create(width, height, fps, p->quality, d)) != NULL;
 }
 
 static bool writer_add(writer *w, const uint8_t *rgba, long k, pfx_diags *d) {

@@ -7,10 +7,12 @@
 
 #include "base/diag.h"
 
-/* What to make: the file (its extension chooses the writer) and whether
- * the frames' colour is premultiplied by alpha. */
+/* What to make: the file (its extension chooses the writer), its quality
+ * (--preview-quality 0..100; -1: the default, WebP lossless and MP4 at
+ * CRF 18) and whether the frames' colour is premultiplied by alpha. */
 typedef struct pfx_preview {
     const char *path;
+    int quality;
     bool premultiplied;
 } pfx_preview;
 
@@ -20,7 +22,7 @@ typedef struct pfx_preview {
 bool pfx_preview_check(const pfx_preview *p, int width, int height, pfx_diags *d);
 
 /* Reads dir/stem_NNNN.png for first..last one at a time and writes them to
- * p->path at fps, looping (a lossless WebP, or an MP4 at CRF 18). False with the reason in d, and no file at the
+ * p->path at fps, looping. False with the reason in d, and no file at the
  * path. */
 bool pfx_preview_run(const char *dir, const char *stem, long first, long last, double fps,
                      const pfx_preview *p, pfx_diags *d);

@@ -121,14 +121,16 @@ static int spawn(pfx_mp4 *m, const char *exe, int pipe_read, int file_fd, char *
 
 /* The argv: raw rgb24 in at fps, H.264 yuv420p out, the index (moov) at
  * the front so that a browser plays it while it loads. */
-static int start_ffmpeg(pfx_mp4 *m, const char *exe, double fps, int pipe_read, int file_fd) {
-    char size[32], rate[40];
+static int start_ffmpeg(pfx_mp4 *m, const char *exe, double fps, int crf, int pipe_read,
+                        int file_fd) {
+    char size[32], rate[40], quality[16];
     snprintf(size, sizeof size, "%dx%d", m->out_w, m->out_h);
+    snprintf(quality, sizeof quality, "%d", crf);
     snprintf(rate, sizeof rate, "%.17g", fps);
     char *const argv[] = {"ffmpeg",    "-hide_banner", "-nostdin", "-nostats", "-loglevel", "error",
                           "-y",        "-f",           "rawvideo", "-pix_fmt", "rgb24",     "-s",
                           size,        "-r",           rate,       "-i",       "pipe:0",    "-an",
-                          "-c:v",      "libx264",      "-pix_fmt", "yuv420p",  "-crf",      "18",
+                          "-c:v",      "libx264",      "-pix_fmt", "yuv420p",  "-crf",      quality,
                           "-movflags", "+faststart",   "-f",       "mp4",      "/dev/fd/3", NULL};
     return spawn(m, exe, pipe_read, file_fd, argv);
 }
@@ -141,7 +143,8 @@ static void release(pfx_mp4 *m) {
     free(m);
 }
 
-pfx_mp4 *pfx_mp4_create(int width, int height, double fps, const char *path, pfx_diags *d) {
+pfx_mp4 *pfx_mp4_create(int width, int height, double fps, int crf, const char *path,
+                        pfx_diags *d) {
     char exe[PATH_MAX];
     if (!pfx_mp4_find_ffmpeg(path, exe, sizeof exe, d))
         return NULL;
@@ -177,7 +180,7 @@ pfx_mp4 *pfx_mp4_create(int width, int height, double fps, const char *path, pfx
     if (!err) {
         fcntl(fds[0], F_SETFD, FD_CLOEXEC);
         fcntl(fds[1], F_SETFD, FD_CLOEXEC);
-        err = start_ffmpeg(m, exe, fps, fds[0], fileno(pfx_atomic_stream(m->file)));
+        err = start_ffmpeg(m, exe, fps, crf, fds[0], fileno(pfx_atomic_stream(m->file)));
         close(fds[0]);
         if (err)
             close(fds[1]);

@@ -87,6 +87,37 @@ PY
 )
 tally "$out"
 
+begin "--preview-quality 50: a lossy WebP, smaller, decoding close to the lossless one"
+pfx_run render "$FIRE" -o q --frames 5:16 --size 128x128 --fps 25 --preview q/fire.webp --preview-quality 50
+want_status 0
+pfx_run render "$FIRE" -o l --frames 5:16 --size 128x128 --fps 25 --preview l/fire.webp
+want_status 0
+"$py" - <<'PY' || flunk "not smaller, or not close"
+import os, sys
+from PIL import Image
+import numpy as np
+a, b = Image.open("l/fire.webp"), Image.open("q/fire.webp")
+assert os.path.getsize("q/fire.webp") < 0.75 * os.path.getsize("l/fire.webp"), "not smaller"
+assert b.n_frames == 12
+for k in range(12):
+    a.seek(k); b.seek(k)
+    x, y = (np.asarray(i.convert("RGBA")).astype(float) for i in (a, b))
+    # Compared as seen: over black, where lossy RGB under alpha 0 is hidden.
+    x, y = x[..., :3] * x[..., 3:] / 255, y[..., :3] * y[..., 3:] / 255
+    assert np.abs(x - y).mean() < 3, "frame %d: %.2f" % (k, np.abs(x - y).mean())
+PY
+webpinfo q/fire.webp 2>&1 | grep -q "Lossy" || flunk "webpinfo does not call it lossy"
+end
+
+begin "--preview-quality out of range is a usage error"
+pfx_run render "$FIRE" -o q2 --preview q2/fire.webp --preview-quality 101
+want_status 2
+stderr_has "--preview-quality takes a number from 0 to 100, got '101'"
+end
+
+# The smoke's opaque background makes every frame change the whole width,
+# which libwebp refuses (a frame that changes less is cropped, and may
+# pass: the limit is refused whatever the content).
 begin "a WebP over 16383 pixels a side is refused before any frame"
 start=$(date +%s%N)
 pfx_run render "$src/effects/smoke.yaml" -o wide --size 16384x64 --frames 0:59 --preview wide/smoke.webp

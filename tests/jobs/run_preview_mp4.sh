@@ -239,6 +239,19 @@ want_status 0
 end
 tally "$(light 'pm/boom_00*.png' pm/boom.mp4 64 48)"
 
+begin "--preview-quality 30: a smaller MP4 (CRF 36) close to the default"
+pfx_run render boom.yaml -o pq --size 64x48 --frames 0:29 --alpha premultiplied \
+    --preview pq/boom.mp4 --preview-quality 30
+want_status 0
+a=$(stat -c %s pm/boom.mp4) b=$(stat -c %s pq/boom.mp4)
+[ "$b" -lt "$a" ] || flunk "$b bytes, not fewer than the default's $a"
+ffmpeg -v error -nostdin -i pq/boom.mp4 -f rawvideo -pix_fmt rgb24 -y q.rgb &&
+    ffmpeg -v error -nostdin -i pm/boom.mp4 -f rawvideo -pix_fmt rgb24 -y d.rgb ||
+    flunk "ffmpeg cannot decode them"
+"$py" -c 'import numpy as np; a=np.fromfile("q.rgb",np.uint8).astype(float); b=np.fromfile("d.rgb",np.uint8).astype(float); import sys; sys.exit(not (a.size==b.size and np.abs(a-b).mean() < 4))' ||
+    flunk "it decodes far from the default"
+end
+
 # A file size limit the frames fit under and the MP4 does not: ffmpeg 5.1
 # then exits 0 after "Error writing trailer", leaving no index (moov).
 begin "an MP4 cut short by a file size limit: exit 1, no MP4, then made again"
