@@ -269,6 +269,11 @@ static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_
                        opt->atlas ? "--atlas" : "--preview");
         ok = false;
     }
+    /* A preview the frames cannot go into fails before any is gathered. */
+    const pfx_preview size_check = {.path = opt->preview};
+    ok = ok && (!opt->preview ||
+                pfx_preview_check(&size_check, (int)pfx_manifest_get_number(all, "width", 0),
+                                  (int)pfx_manifest_get_number(all, "height", 0), d));
     for (size_t i = 0; ok && i < n; i++)
         for (size_t k = 0; ok && k < pfx_manifest_output_count(p[i].m); k++) {
             const char *sha, *name = pfx_manifest_output(p[i].m, k, &sha);

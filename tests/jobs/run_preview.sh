@@ -128,6 +128,15 @@ stderr_has "cannot write 'wide/smoke.webp': WebP frames are at most 16383 pixels
 [ "$ms" -lt 5000 ] || flunk "it took $ms ms"
 end
 
+begin "assemble: a WebP over 16383 pixels a side is refused before gathering"
+pfx_run render "$FIRE" -o ws --size 16384x64 --frames 0:1 --slice 0/2 -q
+pfx_run render "$FIRE" -o ws --size 16384x64 --frames 0:1 --slice 1/2 -q
+pfx_run assemble ws -o wa --preview wa/fire.webp
+want_status 1
+stderr_has "cannot write 'wa/fire.webp': WebP frames are at most 16383 pixels a side, and these are 16384x64"
+[ -z "$(ls wa 2>/dev/null)" ] || flunk "files were gathered: $(ls wa | head -3)"
+end
+
 begin "--preview needs a .webp or .mp4 path"
 pfx_run render "$FIRE" -o g --preview g/fire.gif
 want_status 2
