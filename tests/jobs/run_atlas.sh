@@ -202,6 +202,13 @@ PY
 cmp -s arr/fire_atlas.png a/fire_atlas.png || flunk "the sheets differ"
 end
 
+begin "--atlas-pot with --motion-vectors: both sheets padded alike"
+pfx_run render "$FIRE" -o potmv "${A[@]}" --atlas --atlas-pot --motion-vectors
+want_status 0
+"$py" -c 'from PIL import Image; import sys; sys.exit(not (Image.open("potmv/fire_atlas.png").size == Image.open("potmv/fire_mv_atlas.png").size == (256, 256)))' ||
+    flunk "the sheets are not both 256x256"
+end
+
 begin "--atlas-json with a bad form is a usage error"
 pfx_run render "$FIRE" -o u "${A[@]}" --atlas --atlas-json list
 want_status 2

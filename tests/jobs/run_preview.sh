@@ -115,6 +115,13 @@ want_status 2
 stderr_has "--preview-quality takes a number from 0 to 100, got '101'"
 end
 
+begin "--preview-quality without --preview is a usage error"
+pfx_run render "$FIRE" -o q3 --preview-quality 40
+want_status 2
+stderr_has "--preview-quality goes with --preview"
+[ -e q3 ] && flunk "q3 was created"
+end
+
 # The smoke's opaque background makes every frame change the whole width,
 # which libwebp refuses (a frame that changes less is cropped, and may
 # pass: the limit is refused whatever the content).
