@@ -101,6 +101,9 @@ enum {
     OPT_EXTRUDE,
     OPT_CROP,
     OPT_PREVIEW,
+    OPT_PREVIEW_Q,
+    OPT_ATLAS_POT,
+    OPT_ATLAS_JSON,
     OPT_MOTION_VECTORS,
     OPT_MV_MAX,
     OPT_MV_FLIP_Y
@@ -176,10 +179,18 @@ static const option_row option_rows[] = {
      "atlas: of those, how many repeat the frame's edge (default 1)"},
     {"crop", no_argument, OPT_CROP, "    --crop", CMD_RENDER | CMD_ASSEMBLE,
      "atlas: cut every frame to one box around all visible pixels"},
+    {"atlas-pot", no_argument, OPT_ATLAS_POT, "    --atlas-pot", CMD_RENDER | CMD_ASSEMBLE,
+     "atlas: pad the sheet to power-of-two sides"},
+    {"atlas-json", required_argument, OPT_ATLAS_JSON, "    --atlas-json FORM",
+     CMD_RENDER | CMD_ASSEMBLE, "atlas: TexturePacker's 'hash' (default) or 'array' JSON"},
     {"preview", required_argument, OPT_PREVIEW, "    --preview OUT", CMD_RENDER | CMD_ASSEMBLE,
      "also write the frames as a looping animated WebP (lossless;\n"
      "OUT.webp) or an H.264 MP4 (OUT.mp4, through the ffmpeg on\n"
      "the PATH)"},
+    {"preview-quality", required_argument, OPT_PREVIEW_Q, "    --preview-quality Q",
+     CMD_RENDER | CMD_ASSEMBLE,
+     "a lossy WebP of quality Q (0..100), or the MP4 at\n"
+     "x264 CRF (100-Q)*0.51 (default: lossless WebP, CRF 18)"},
     {"motion-vectors", no_argument, OPT_MOTION_VECTORS, "    --motion-vectors",
      CMD_RENDER | CMD_INFO,
      "also write <name>_mv_NNNN.png: 16-bit motion to the next\n"
@@ -267,7 +278,9 @@ static const command_row commands[] = {
      "           [--max-memory SIZE] [--renderer R] [--alpha MODE] [--threads N]\n"
      "           [--force] [--depfile FILE] [--progress json]\n"
      "           [--atlas[=CxR]] [--padding N] [--extrude N] [--crop]\n"
-     "           [--preview OUT.webp|OUT.mp4] [--format png|exr] [-q]\n"
+     "           [--atlas-pot] [--atlas-json hash|array]\n"
+     "           [--preview OUT.webp|OUT.mp4] [--preview-quality Q]\n"
+     "           [--format png|exr] [-q]\n"
      "           [--motion-vectors [--mv-max PIXELS] [--mv-flip-y]]\n"
      "           [--slice I/N | --slice-env VAR --slice-count N]",
      "render to DIR/<name>_0000.png, ... (several FILEs: DIR/<name>/...)", pfx_cmd_render},
@@ -285,7 +298,8 @@ static const command_row commands[] = {
      "pfx bench accuracy -o DIR",
      "measure simulation and rendering speed (or integrator accuracy)", pfx_cmd_bench},
     {"assemble", CMD_ASSEMBLE,
-     "pfx assemble DIR... -o OUT [--atlas[=CxR]] [--preview OUT.webp|OUT.mp4]",
+     "pfx assemble DIR... -o OUT [--atlas[=CxR]] [--preview OUT.webp|OUT.mp4]\n"
+     "           [--preview-quality Q]",
      "gather the frames of slices (--slice) into OUT, checking each", pfx_cmd_assemble},
     {"schema", CMD_SCHEMA, "pfx schema", "print the JSON Schema of the effect format",
      pfx_cmd_schema},
@@ -348,6 +362,7 @@ static int option_defaults(pfx_cli *o) {
     o->last = -1;
     o->atlas_layout.padding = 2;
     o->atlas_layout.extrude = 1;
+    o->preview_quality = -1;
     o->every = 1;
     o->max_memory = pfx_memory_default_bound();
     return -1;
@@ -410,6 +425,20 @@ static int parse_option(int c, int argc, char **argv, pfx_cli *o) {
     }
     case OPT_CROP:
         o->atlas_layout.crop = true;
+        break;
+    case OPT_ATLAS_POT:
+        o->atlas_layout.pot = true;
+        break;
+    case OPT_ATLAS_JSON:
+        if (strcmp(optarg, "hash") && strcmp(optarg, "array"))
+            return pfx_cli_usage_error("--atlas-json takes 'hash' or 'array', got '%s'", optarg);
+        o->atlas_layout.json_array = !strcmp(optarg, "array");
+        break;
+    case OPT_PREVIEW_Q:
+        if (!parse_ulong(optarg, &v) || v > 100)
+            return pfx_cli_usage_error("--preview-quality takes a number from 0 to 100, got '%s'",
+                                       optarg);
+        o->preview_quality = (int)v;
         break;
     case OPT_MOTION_VECTORS:
         o->motion_vectors = true;
@@ -611,6 +640,8 @@ static int check_options(int argc, char **argv, pfx_cli *o) {
         return pfx_cli_usage_error("%s",
                                    "--atlas needs every frame: give it to 'pfx assemble' instead "
                                    "of the slices");
+    if (o->preview_quality >= 0 && !o->preview)
+        return pfx_cli_usage_error("%s", "--preview-quality goes with --preview");
     if ((o->mv_max > 0 || o->mv_flip_y) && !o->motion_vectors)
         return pfx_cli_usage_error("%s", "--mv-max and --mv-flip-y go with --motion-vectors");
     if (o->motion_vectors && strcmp(argv[1], "render") && strcmp(argv[1], "info"))

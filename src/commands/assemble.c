@@ -13,7 +13,9 @@ int pfx_cmd_assemble(const char *const *operands, int count, const pfx_cli *o) {
     pfx_diags run;
     pfx_diags_init_runtime(&run);
     pfx_assemble_report r;
-    pfx_assemble_options opt = {.atlas = o->atlas ? &o->atlas_layout : NULL, .preview = o->preview};
+    pfx_assemble_options opt = {.atlas = o->atlas ? &o->atlas_layout : NULL,
+                                .preview = o->preview,
+                                .preview_quality = o->preview_quality};
     bool ok = pfx_cli_make_dirs(o->output, &run) &&
               pfx_assemble(operands, (size_t)count, o->output, &opt, &r, &run);
     if (ok && !o->quiet)

@@ -51,6 +51,7 @@ typedef struct pfx_cli {
     bool atlas;                    /* --atlas[=COLSxROWS] */
     pfx_atlas_layout atlas_layout; /* its grid, --padding, --extrude, --crop */
     const char *preview;           /* --preview out.webp or out.mp4 */
+    int preview_quality;           /* --preview-quality 0..100; -1: not given */
     bool motion_vectors;           /* --motion-vectors */
     double mv_max;                 /* --mv-max PIXELS; 0: the sequence's largest */
     bool mv_flip_y;                /* --mv-flip-y */

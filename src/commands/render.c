@@ -39,6 +39,12 @@ static bool describe_render(const pfx_render_job *job, const pfx_cli *o, long al
         pfx_manifest_set_number(dl->now, "step", (double)o->every);
     if (o->slices)
         pfx_manifest_set_slice(dl->now, o->slice, o->slices, all_first, all_last);
+    /* Premultiplied frames make a premultiplied sheet and a preview
+     * converted from them; PNG, the straight default, keeps its keys. */
+    const bool premultiplied = job->effect->alpha_mode == PFX_ALPHA_PREMULTIPLIED;
+    if (premultiplied)
+        pfx_manifest_set_number(dl->now, "premultiplied", 1);
+    atlas->premultiplied = premultiplied;
     if (o->atlas) {
         /* The sheet's size is known now but for --crop, which only makes
          * it smaller: one that cannot be made fails before any frame. */
@@ -50,8 +56,15 @@ static bool describe_render(const pfx_render_job *job, const pfx_cli *o, long al
             return false;
         pfx_atlas_job_describe(atlas, dl->now);
     }
-    if (o->preview)
+    if (o->preview) {
+        /* A preview that cannot be made fails before any frame too. */
+        pfx_preview p = {.path = o->preview};
+        if (!pfx_preview_check(&p, job->effect->width, job->effect->height, run))
+            return false;
         pfx_manifest_set_string(dl->now, "preview", o->preview);
+        if (o->preview_quality >= 0)
+            pfx_manifest_set_number(dl->now, "preview_quality", o->preview_quality);
+    }
     if (o->motion_vectors)
         pfx_mv_describe(mv, dl->now);
     return true;
@@ -103,8 +116,10 @@ static bool write_extras(const pfx_render_job *job, const pfx_cli *o, const char
     if (o->atlas && !pfx_atlas_job_run(dir, stem, job->first, job->last, job->effect->fps,
                                        job->effect->loop, atlas, dl->now, run))
         return false;
+    pfx_preview preview = {
+        .path = o->preview, .quality = o->preview_quality, .premultiplied = atlas->premultiplied};
     if (o->preview &&
-        !pfx_preview_run(dir, stem, job->first, job->last, job->effect->fps, o->preview, run))
+        !pfx_preview_run(dir, stem, job->first, job->last, job->effect->fps, &preview, run))
         return false;
     if (!pfx_delivery_finish(dl, run))
         return false;

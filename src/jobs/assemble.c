@@ -269,6 +269,11 @@ static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_
                        opt->atlas ? "--atlas" : "--preview");
         ok = false;
     }
+    /* A preview the frames cannot go into fails before any is gathered. */
+    const pfx_preview size_check = {.path = opt->preview};
+    ok = ok && (!opt->preview ||
+                pfx_preview_check(&size_check, (int)pfx_manifest_get_number(all, "width", 0),
+                                  (int)pfx_manifest_get_number(all, "height", 0), d));
     for (size_t i = 0; ok && i < n; i++)
         for (size_t k = 0; ok && k < pfx_manifest_output_count(p[i].m); k++) {
             const char *sha, *name = pfx_manifest_output(p[i].m, k, &sha);
@@ -279,17 +284,23 @@ static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_
      * the key is the one a single render with them would have. */
     double fps = pfx_manifest_get_number(all, "fps", 30);
     bool loop = pfx_manifest_get_number(all, "loop", 0) != 0;
+    bool premultiplied = pfx_manifest_get_number(all, "premultiplied", 0) != 0;
     if (ok && opt->atlas) {
         pfx_atlas_layout atlas = *opt->atlas;
         atlas.motion = motion;
+        atlas.premultiplied = premultiplied;
         pfx_atlas_job_describe(&atlas, all);
         ok = pfx_atlas_job_run(out, p[0].stem, first, last, fps, loop, &atlas, all, d);
     } else if (ok && motion) {
         ok = pfx_mv_sidecar_run(out, p[0].stem, first, last, motion, all, d);
     }
     if (ok && opt->preview) {
+        pfx_preview preview = {
+            .path = opt->preview, .quality = opt->preview_quality, .premultiplied = premultiplied};
         pfx_manifest_set_string(all, "preview", opt->preview);
-        ok = pfx_preview_run(out, p[0].stem, first, last, fps, opt->preview, d);
+        if (opt->preview_quality >= 0)
+            pfx_manifest_set_number(all, "preview_quality", opt->preview_quality);
+        ok = pfx_preview_run(out, p[0].stem, first, last, fps, &preview, d);
     }
     pfx_manifest_key(all);
     char path[4096];

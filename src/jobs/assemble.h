@@ -29,6 +29,7 @@ typedef struct pfx_assemble_report {
 typedef struct pfx_assemble_options {
     const pfx_atlas_layout *atlas; /* build <name>_atlas.png/.json in out, or NULL */
     const char *preview;           /* write this animated WebP (one render only), or NULL */
+    int preview_quality;           /* --preview-quality, or -1 */
 } pfx_assemble_options;
 
 bool pfx_assemble(const char *const *dirs, size_t n, const char *out,

@@ -15,6 +15,10 @@ void pfx_atlas_job_describe(const pfx_atlas_layout *l, pfx_manifest *m) {
     pfx_manifest_set_number(m, "atlas_padding", l->padding);
     pfx_manifest_set_number(m, "atlas_extrude", l->extrude);
     pfx_manifest_set_number(m, "atlas_crop", l->crop);
+    if (l->pot) /* the defaults keep the keys they had */
+        pfx_manifest_set_number(m, "atlas_pot", 1);
+    if (l->json_array)
+        pfx_manifest_set_string(m, "atlas_json", "array");
 }
 
 /* One atlas job: the frames STEM_FFFF.png for FFFF in [first, last], read

@@ -21,8 +21,10 @@
  * of the same version never vouches for this one's outputs: it is part of
  * the key, and each manifest records it as "pfx_results".
  *   1  0.1.0 up to the newborns' substep levels
- *   2  a newborn's part of a step at the attractor's substep levels */
-#define PFX_RESULTS 2
+ *   2  a newborn's part of a step at the attractor's substep levels
+ *   3  EXR chromaticities and framesPerSecond; the atlas JSON's uv and used;
+ *      motion vectors from the next frame's positions, scaled by a percentile */
+#define PFX_RESULTS 3
 
 typedef struct pfx_manifest pfx_manifest;
 

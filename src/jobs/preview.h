@@ -1,5 +1,5 @@
-/* --preview out.webp: an animated WebP made from a render's frames as
- * written (render and assemble make it the same way). */
+/* --preview out.webp|out.mp4: an animated WebP or an MP4 made from a
+ * render's frames as written (render and assemble make it the same way). */
 #ifndef PFX_JOBS_PREVIEW_H
 #define PFX_JOBS_PREVIEW_H
 
@@ -7,10 +7,24 @@
 
 #include "base/diag.h"
 
+/* What to make: the file (its extension chooses the writer), its quality
+ * (--preview-quality 0..100; -1: the default, WebP lossless and MP4 at
+ * CRF 18) and whether the frames' colour is premultiplied by alpha. */
+typedef struct pfx_preview {
+    const char *path;
+    int quality;
+    bool premultiplied;
+} pfx_preview;
+
+/* Checks, before anything is rendered, that frames of width x height can
+ * go into p->path (WebP: at most 16383 pixels a side). False with the
+ * reason in d. */
+bool pfx_preview_check(const pfx_preview *p, int width, int height, pfx_diags *d);
+
 /* Reads dir/stem_NNNN.png for first..last one at a time and writes them to
- * path as a lossless animated WebP at fps, looping. False with the reason
- * in d, and no file at path. */
+ * p->path at fps, looping. False with the reason in d, and no file at the
+ * path. */
 bool pfx_preview_run(const char *dir, const char *stem, long first, long last, double fps,
-                     const char *path, pfx_diags *d);
+                     const pfx_preview *p, pfx_diags *d);
 
 #endif

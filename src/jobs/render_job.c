@@ -95,6 +95,7 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
                        pfx_frame_format_name(job->format), e->width, e->height);
         return false;
     }
+    pfx_frame_queue_set_fps(q, e->fps);
     pfx_material *materials = malloc((e->emitter_count + 1) * sizeof *materials);
     if (!materials) {
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for %zu materials",

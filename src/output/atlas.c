@@ -5,7 +5,10 @@
  * Then every fully transparent pixel of a cell takes the colour of its
  * visible neighbours (alpha stays 0): up to BLEED_PASSES rings by
  * dilation, the cell's mean visible colour beyond, so that a mip level
- * averaging transparent and visible pixels does not darken towards black. */
+ * averaging transparent and visible pixels does not darken towards black.
+ * A premultiplied sheet gets no bleed: there a transparent texel's colour
+ * is light added to what is behind it, and premultiplied filtering has no
+ * halo to hide. */
 #include "output/atlas.h"
 
 #include <errno.h>
@@ -20,6 +23,13 @@
 #include "output/motion_vectors.h"
 
 #define BLEED_PASSES 16
+
+static int next_pow2(int v) {
+    int p = 1;
+    while (p < v)
+        p *= 2;
+    return p;
+}
 
 bool pfx_atlas_layout_resolve(pfx_atlas_layout *l, pfx_diags *d) {
     if (l->frames < 1) {
@@ -55,8 +65,12 @@ bool pfx_atlas_layout_resolve(pfx_atlas_layout *l, pfx_diags *d) {
                        l->columns, l->rows, l->cell_w, l->cell_h, w, h, PFX_ATLAS_MAX_SIDE);
         return false;
     }
-    l->width = (int)w;
-    l->height = (int)h;
+    l->used_w = l->width = (int)w;
+    l->used_h = l->height = (int)h;
+    if (l->pot) { /* 16384 is a power of two: the limit still holds */
+        l->width = next_pow2(l->width);
+        l->height = next_pow2(l->height);
+    }
     return true;
 }
 
@@ -162,7 +176,8 @@ uint8_t *pfx_atlas_compose(const pfx_atlas_layout *l, uint8_t *const *frames) {
                 memcpy(cell + (size_t)y * stride + 4 * (size_t)x,
                        frames[k] + ((size_t)sy * l->frame_w + sx) * 4, 4);
             }
-        bleed(cell, (int)stride, l->cell_w, l->cell_h, known);
+        if (!l->premultiplied)
+            bleed(cell, (int)stride, l->cell_w, l->cell_h, known);
     }
     free(known);
     return sheet;
@@ -172,31 +187,49 @@ static json_t *rect(int x, int y, int w, int h) {
     return json_pack("{s:i, s:i, s:i, s:i}", "x", x, "y", y, "w", w, "h", h);
 }
 
+/* The fractions of the sheet a pixel rectangle covers, top left origin
+ * (as the pixel rectangles; an engine with V up takes 1 - y - h). */
+static json_t *uv_rect(const pfx_atlas_layout *l, int x, int y, int w, int h) {
+    return json_pack("{s:f, s:f, s:f, s:f}", "x", (double)x / l->width, "y", (double)y / l->height,
+                     "w", (double)w / l->width, "h", (double)h / l->height);
+}
+
+/* TexturePacker's entry for frame k (without the name). */
+static json_t *frame_entry(const pfx_atlas_layout *l, int k) {
+    int x = (k % l->columns) * l->cell_w + l->padding;
+    int y = (k / l->columns) * l->cell_h + l->padding;
+    return json_pack("{s:o, s:b, s:b, s:o, s:{s:i, s:i}, s:o}", "frame",
+                     rect(x, y, l->crop_w, l->crop_h), "rotated", 0, "trimmed", l->crop,
+                     "spriteSourceSize", rect(l->crop_x, l->crop_y, l->crop_w, l->crop_h),
+                     "sourceSize", "w", l->frame_w, "h", l->frame_h, "uv",
+                     uv_rect(l, x, y, l->crop_w, l->crop_h));
+}
+
 bool pfx_atlas_write_json(const char *path, const pfx_atlas_layout *l, const char *image,
                           const char *const *names, double fps, bool loop, pfx_diags *d) {
-    json_t *frames = json_object();
+    json_t *frames = l->json_array ? json_array() : json_object();
     for (int k = 0; k < l->frames; k++) {
-        int x = (k % l->columns) * l->cell_w + l->padding;
-        int y = (k / l->columns) * l->cell_h + l->padding;
-        json_object_set_new_nocheck(frames, names[k],
-                                    json_pack("{s:o, s:b, s:b, s:o, s:{s:i, s:i}}", "frame",
-                                              rect(x, y, l->crop_w, l->crop_h), "rotated", 0,
-                                              "trimmed", l->crop, "spriteSourceSize",
-                                              rect(l->crop_x, l->crop_y, l->crop_w, l->crop_h),
-                                              "sourceSize", "w", l->frame_w, "h", l->frame_h));
+        json_t *entry = frame_entry(l, k);
+        if (l->json_array) {
+            json_object_set_new(entry, "filename", json_string_nocheck(names[k]));
+            json_array_append_new(frames, entry);
+        } else {
+            json_object_set_new_nocheck(frames, names[k], entry);
+        }
     }
     json_t *root = json_pack(
         "{s:o, s:{s:s, s:s, s:o, s:s, s:{s:i, s:i}, s:s, s:s}, "
-        "s:{s:i, s:i, s:i, s:f, s:b, s:{s:i, s:i}, s:i, s:i, s:b}, "
+        "s:{s:i, s:i, s:i, s:f, s:b, s:{s:i, s:i}, s:i, s:i, s:b, s:{s:i, s:i}}, "
         "s:{s:i, s:i, s:i, s:f}, s:{s:i, s:i}, s:{s:i, s:i}}",
-        "frames", frames, "meta", "app", "pfx", "version", PFX_VERSION, "image",
-        pfx_json_bytes(image), "format", "RGBA8888", "size", "w", l->width, "h", l->height, "scale",
-        "1", "alpha", "straight", "grid", "columns", l->columns, "rows", l->rows, "frames",
-        l->frames, "fps", fps, "loop", loop, "cell", "w", l->cell_w, "h", l->cell_h, "padding",
-        l->padding, "extrude", l->extrude < l->padding ? l->extrude : l->padding, "crop", l->crop,
-        "unity", "tiles_x", l->columns, "tiles_y", l->rows, "frames", l->frames, "fps", fps,
-        "unreal", "sub_images_horizontal", l->columns, "sub_images_vertical", l->rows, "godot",
-        "h_frames", l->columns, "v_frames", l->rows);
+        "frames", frames, "meta", "app", "pfx", "version", PFX_VERSION, "image", pfx_json_bytes(image), "format",
+        "RGBA8888", "size", "w", l->width, "h", l->height, "scale", "1", "alpha",
+        l->premultiplied ? "premultiplied" : "straight", "grid", "columns", l->columns, "rows",
+        l->rows, "frames", l->frames, "fps", fps, "loop", loop, "cell", "w", l->cell_w, "h",
+        l->cell_h, "padding", l->padding, "extrude",
+        l->extrude < l->padding ? l->extrude : l->padding, "crop", l->crop, "used", "w", l->used_w,
+        "h", l->used_h, "unity", "tiles_x", l->columns, "tiles_y", l->rows, "frames", l->frames,
+        "fps", fps, "unreal", "sub_images_horizontal", l->columns, "sub_images_vertical", l->rows,
+        "godot", "h_frames", l->columns, "v_frames", l->rows);
     if (root && l->motion)
         json_object_set_new(root, "motion_vectors", pfx_mv_json(l->motion, l, l->motion_image));
     bool ok = pfx_json_file_write(path, root, d);

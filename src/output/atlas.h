@@ -23,6 +23,13 @@ typedef struct pfx_atlas_layout {
     int padding;       /* transparent pixels around each frame in its cell */
     int extrude;       /* of those, how many repeat the frame's edge (<= padding) */
     bool crop;         /* cut every frame to one box around all visible pixels */
+    /* The frames' colour is premultiplied by alpha (image.alpha or
+     * --alpha premultiplied): the sheet is too, so no colour is bled into
+     * transparent texels (under premultiplied alpha it would be added
+     * light), and the JSON says "premultiplied". */
+    bool premultiplied;
+    bool pot;        /* --atlas-pot: the sheet padded to powers of two, right and down */
+    bool json_array; /* --atlas-json array: TexturePacker's array form, not the hash */
     /* --motion-vectors: the sheet of motion vectors laid out alike (NULL:
      * none), described in the JSON as "motion_vectors" with its image. */
     const struct pfx_mv_meta *motion;
@@ -30,11 +37,14 @@ typedef struct pfx_atlas_layout {
     /* Out, from pfx_atlas_layout_resolve and pfx_atlas_compose. */
     int crop_x, crop_y, crop_w, crop_h; /* the box within a frame */
     int cell_w, cell_h;                 /* crop + 2 padding */
-    int width, height;                  /* the sheet */
+    int used_w, used_h;                 /* the grid of cells */
+    int width, height;                  /* the sheet: the grid, or with pot the next powers of 2 */
 } pfx_atlas_layout;
 
 /* Chooses the grid (columns = ceil(sqrt(frames)), rows to fit, when not
- * given) and checks it: enough cells, a sheet at most 16384 pixels a side.
+ * given) and checks it: enough cells, a sheet at most 16384 pixels a side
+ * (with pot, each side then rounded up to a power of two, still at most
+ * 16384).
  * False with the reason in d. Call after the crop box is known. */
 bool pfx_atlas_layout_resolve(pfx_atlas_layout *l, pfx_diags *d);
 
@@ -43,13 +53,17 @@ bool pfx_atlas_layout_resolve(pfx_atlas_layout *l, pfx_diags *d);
  * visible. */
 void pfx_atlas_find_crop(pfx_atlas_layout *l, uint8_t *const *frames, int n);
 
-/* Composes the sheet (l->width x l->height straight RGBA, malloc'd, the
- * caller frees) from the resolved layout. NULL when out of memory. */
+/* Composes the sheet (l->width x l->height RGBA, straight or premultiplied
+ * as the frames are, malloc'd, the caller frees) from the resolved layout;
+ * colour is bled into transparent texels of straight sheets only. NULL
+ * when out of memory. */
 uint8_t *pfx_atlas_compose(const pfx_atlas_layout *l, uint8_t *const *frames);
 
 /* Writes the JSON at path (whole or not at all): frames by name (names[i]
- * for frame i) with their rectangles, the grid, fps, loop and the alpha
- * mode, for the sheet named `image`. False with the reason in d. */
+ * for frame i; a hash by name, or with json_array an array of objects
+ * with a "filename") with their rectangles in pixels and as UV fractions
+ * of the sheet, the grid, fps, loop and the alpha mode, for the sheet
+ * named `image`. False with the reason in d. */
 bool pfx_atlas_write_json(const char *path, const pfx_atlas_layout *l, const char *image,
                           const char *const *names, double fps, bool loop, pfx_diags *d);
 

@@ -112,8 +112,32 @@ static void half_row(const pfx_float_image *img, int y, float gain, uint16_t *ou
         memcpy(out + 4 * x, bg, sizeof bg);
 }
 
-/* The header: one scanline part, R G B A half. */
-static exr_result_t write_header(exr_context_t ctx, const pfx_float_image *img, int *part) {
+/* fps as the rational framesPerSecond: n/1 when whole; the NTSC rates
+ * (23.976, 29.97, 59.94 ...: N x 1000/1001 within 0.0005) as N000/1001,
+ * the way editors and compositors write them; otherwise to a thousandth,
+ * in lowest terms (12.5: 25/2). */
+static exr_attr_rational_t fps_rational(double fps) {
+    long whole = lround(fps), ntsc = lround(fps * 1.001);
+    if (fabs(fps - (double)whole) < 1e-9)
+        return (exr_attr_rational_t){(int32_t)whole, 1};
+    if (fabs(fps - (double)ntsc * 1000.0 / 1001.0) < 5e-4)
+        return (exr_attr_rational_t){(int32_t)(ntsc * 1000), 1001};
+    long num = lround(fps * 1000.0), den = 1000, a = num, b = den;
+    while (b) {
+        long t = a % b;
+        a = b;
+        b = t;
+    }
+    return (exr_attr_rational_t){(int32_t)(num / a), (uint32_t)(den / a)};
+}
+
+/* The header: one scanline part, R G B A half, in Rec. 709 primaries with
+ * a D65 white (pfx renders linear sRGB/Rec. 709 colour), at fps when
+ * fps > 0. */
+static exr_result_t write_header(exr_context_t ctx, const pfx_float_image *img, double fps,
+                                 int *part) {
+    static const exr_attr_chromaticities_t rec709 = {0.64f, 0.33f, 0.30f,   0.60f,
+                                                     0.15f, 0.06f, 0.3127f, 0.3290f};
     exr_result_t rv = exr_add_part(ctx, NULL, EXR_STORAGE_SCANLINE, part);
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_initialize_required_attr_simple(ctx, *part, img->width, img->height,
@@ -124,6 +148,12 @@ static exr_result_t write_header(exr_context_t ctx, const pfx_float_image *img, 
     for (int c = 0; c < 4 && rv == EXR_ERR_SUCCESS; c++)
         rv = exr_add_channel(ctx, *part, names[c], EXR_PIXEL_HALF, EXR_PERCEPTUALLY_LOGARITHMIC, 1,
                              1);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_attr_set_chromaticities(ctx, *part, "chromaticities", &rec709);
+    if (rv == EXR_ERR_SUCCESS && fps > 0) {
+        const exr_attr_rational_t rate = fps_rational(fps);
+        rv = exr_attr_set_rational(ctx, *part, "framesPerSecond", &rate);
+    }
     return rv == EXR_ERR_SUCCESS ? exr_write_header(ctx) : rv;
 }
 
@@ -169,7 +199,7 @@ static exr_result_t write_chunks(exr_context_t ctx, int part, const pfx_float_im
 }
 
 /* The whole file into s; false with s->message set. */
-static bool encode(const char *path, const pfx_float_image *img, float gain, sink *s) {
+static bool encode(const char *path, const pfx_float_image *img, float gain, double fps, sink *s) {
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
     init.user_data = s;
     init.write_fn = sink_write;
@@ -178,7 +208,7 @@ static bool encode(const char *path, const pfx_float_image *img, float gain, sin
     exr_result_t rv = exr_start_write(&ctx, path, EXR_WRITE_FILE_DIRECTLY, &init);
     int part = 0, lines = 0;
     if (rv == EXR_ERR_SUCCESS)
-        rv = write_header(ctx, img, &part);
+        rv = write_header(ctx, img, fps, &part);
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_get_scanlines_per_chunk(ctx, part, &lines);
     uint16_t *halves = NULL;
@@ -197,8 +227,8 @@ static bool encode(const char *path, const pfx_float_image *img, float gain, sin
     return rv == EXR_ERR_SUCCESS;
 }
 
-bool pfx_exr_write(const char *path, const pfx_float_image *img, double exposure, bool sync_dir,
-                   pfx_diags *d) {
+bool pfx_exr_write(const char *path, const pfx_float_image *img, double exposure, double fps,
+                   bool sync_dir, pfx_diags *d) {
     if (path == NULL || path[0] == '\0' || path[strlen(path) - 1] == '/') {
         pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot write '%s': not a file name",
                        path ? path : "");
@@ -218,7 +248,7 @@ bool pfx_exr_write(const char *path, const pfx_float_image *img, double exposure
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "cannot encode '%s': out of memory", path);
         return false;
     }
-    if (!encode(path, img, (float)exp2(exposure), &s)) {
+    if (!encode(path, img, (float)exp2(exposure), fps, &s)) {
         pfx_diag_error(d, PFX_RULE_ENCODE_FAILED, "cannot encode '%s': %s", path, s.message);
         free(s.data);
         return false;

@@ -64,6 +64,7 @@ struct pfx_frame_queue {
     int width, height;
     pfx_frame_format format;
     pfx_tone tone;
+    double fps; /* EXR frames record it; 0: not known */
     int threads, slot_count;
     frame_slot *slots;
     uint8_t **rgba; /* PNG: one 8-bit frame per encoder, and the caller's
@@ -105,7 +106,7 @@ static bool encode(const pfx_frame_queue *q, const frame_slot *sl, uint8_t *rgba
         return false;
     }
     if (q->format == PFX_FRAME_EXR)
-        return pfx_exr_write(sl->path, img, q->tone.exposure, false, error);
+        return pfx_exr_write(sl->path, img, q->tone.exposure, q->fps, false, error);
     pfx_float_image_to_rgba8(img, &q->tone, rgba);
     return pfx_png_write_nosync(sl->path, rgba, q->width, q->height, error);
 }
@@ -306,6 +307,8 @@ pfx_float_image *pfx_frame_queue_buffer(pfx_frame_queue *q) {
     sl->image = (pfx_float_image){.width = q->width, .height = q->height, .pixels = sl->pixels};
     return &sl->image;
 }
+
+void pfx_frame_queue_set_fps(pfx_frame_queue *q, double fps) { q->fps = fps; }
 
 void pfx_frame_queue_submit(pfx_frame_queue *q, const char *path) {
     /* Copied outside the lock; a failed copy becomes the queue's error. */

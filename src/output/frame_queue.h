@@ -56,6 +56,9 @@ double pfx_frame_queue_caller_bytes(int width, int height, pfx_frame_format f);
  * thread is unavailable. */
 pfx_frame_queue *pfx_frame_queue_create(int width, int height, int threads, pfx_frame_format format,
                                         const pfx_tone *tone);
+/* The frame rate EXR frames record (framesPerSecond); call before the
+ * first submit (the submit's lock hands it to the encoders). */
+void pfx_frame_queue_set_fps(pfx_frame_queue *q, double fps);
 /* A frame to render the next frame into: its pixels have room for width x
  * height x 4 floats; the caller fills every field (as
  * pfx_renderer_draw_float does). While every frame is queued or being

@@ -3,7 +3,10 @@
  * name, so a signal that removes the temporary leaves nothing behind), and
  * pfx renames it into place only after ffmpeg exited 0. SIGPIPE is blocked
  * in the writing thread while ffmpeg lives, so an ffmpeg that dies early
- * turns into EPIPE and a report, not the death of pfx. */
+ * turns into EPIPE and a report, not the death of pfx. An exit status of 0
+ * is not trusted alone: ffmpeg 5.1 exits 0 after "Error writing trailer"
+ * (a full disk, `ulimit -f`), so the file's top-level boxes are walked and
+ * must tile it exactly, with its index (moov) and media (mdat) present. */
 #ifndef _POSIX_C_SOURCE
 #define _POSIX_C_SOURCE 200809L
 #endif
@@ -118,14 +121,16 @@ static int spawn(pfx_mp4 *m, const char *exe, int pipe_read, int file_fd, char *
 
 /* The argv: raw rgb24 in at fps, H.264 yuv420p out, the index (moov) at
  * the front so that a browser plays it while it loads. */
-static int start_ffmpeg(pfx_mp4 *m, const char *exe, double fps, int pipe_read, int file_fd) {
-    char size[32], rate[40];
+static int start_ffmpeg(pfx_mp4 *m, const char *exe, double fps, int crf, int pipe_read,
+                        int file_fd) {
+    char size[32], rate[40], quality[16];
     snprintf(size, sizeof size, "%dx%d", m->out_w, m->out_h);
+    snprintf(quality, sizeof quality, "%d", crf);
     snprintf(rate, sizeof rate, "%.17g", fps);
     char *const argv[] = {"ffmpeg",    "-hide_banner", "-nostdin", "-nostats", "-loglevel", "error",
                           "-y",        "-f",           "rawvideo", "-pix_fmt", "rgb24",     "-s",
                           size,        "-r",           rate,       "-i",       "pipe:0",    "-an",
-                          "-c:v",      "libx264",      "-pix_fmt", "yuv420p",  "-crf",      "18",
+                          "-c:v",      "libx264",      "-pix_fmt", "yuv420p",  "-crf",      quality,
                           "-movflags", "+faststart",   "-f",       "mp4",      "/dev/fd/3", NULL};
     return spawn(m, exe, pipe_read, file_fd, argv);
 }
@@ -138,7 +143,8 @@ static void release(pfx_mp4 *m) {
     free(m);
 }
 
-pfx_mp4 *pfx_mp4_create(int width, int height, double fps, const char *path, pfx_diags *d) {
+pfx_mp4 *pfx_mp4_create(int width, int height, double fps, int crf, const char *path,
+                        pfx_diags *d) {
     char exe[PATH_MAX];
     if (!pfx_mp4_find_ffmpeg(path, exe, sizeof exe, d))
         return NULL;
@@ -174,7 +180,7 @@ pfx_mp4 *pfx_mp4_create(int width, int height, double fps, const char *path, pfx
     if (!err) {
         fcntl(fds[0], F_SETFD, FD_CLOEXEC);
         fcntl(fds[1], F_SETFD, FD_CLOEXEC);
-        err = start_ffmpeg(m, exe, fps, fds[0], fileno(pfx_atomic_stream(m->file)));
+        err = start_ffmpeg(m, exe, fps, crf, fds[0], fileno(pfx_atomic_stream(m->file)));
         close(fds[0]);
         if (err)
             close(fds[1]);
@@ -246,6 +252,66 @@ static void log_tail(FILE *log, char *out, size_t size) {
         used += (size_t)snprintf(out + used, size - used, "%s%s", used ? "; " : "", lines[i % 3]);
 }
 
+static uint64_t be(const uint8_t *p, int bytes) {
+    uint64_t v = 0;
+    for (int i = 0; i < bytes; i++)
+        v = v << 8 | p[i];
+    return v;
+}
+
+/* The box walk of mp4_whole over the `end` bytes of fd. */
+static bool boxes_whole(int fd, uint64_t end, char *why, size_t size) {
+    bool moov = false, mdat = false;
+    for (uint64_t at = 0; at < end;) {
+        uint8_t h[16];
+        ssize_t got = pread(fd, h, sizeof h, (off_t)at);
+        uint64_t box = got >= 8 ? be(h, 4) : 0, head = 8;
+        if (got >= 8 && box == 1) {
+            box = got >= 16 ? be(h + 8, 8) : 0;
+            head = 16;
+        } else if (got >= 8 && box == 0) {
+            box = end - at;
+        }
+        if (got < (ssize_t)head || box < head || box > end - at) {
+            snprintf(why, size, "a box at byte %llu runs past its end at %llu bytes",
+                     (unsigned long long)at, (unsigned long long)end);
+            return false;
+        }
+        if (at == 0 && memcmp(h + 4, "ftyp", 4) != 0) {
+            snprintf(why, size, "it does not start with an 'ftyp' box");
+            return false;
+        }
+        moov = moov || !memcmp(h + 4, "moov", 4);
+        mdat = mdat || !memcmp(h + 4, "mdat", 4);
+        at += box;
+    }
+    if (!moov || !mdat)
+        snprintf(why, size, "it has no '%s' box", moov ? "mdat" : "moov");
+    return moov && mdat;
+}
+
+/* Whether the MP4 behind `written` is whole: ISO BMFF top-level boxes
+ * (32-bit size and type; size 1: a 64-bit size follows; size 0: to the end
+ * of the file) from 'ftyp' to the last byte, 'moov' and 'mdat' among them.
+ * When not, says why in `why`. The temporary is open for writing only: it
+ * is read through a second, read-only descriptor of the same file, the way
+ * ffmpeg reached it. */
+static bool mp4_whole(int written, char *why, size_t size) {
+    char self[64];
+    snprintf(self, sizeof self, "/dev/fd/%d", written);
+    int fd = open(self, O_RDONLY | O_CLOEXEC);
+    struct stat st;
+    if (fd < 0 || fstat(fd, &st) != 0) {
+        snprintf(why, size, "cannot read it back: %s", strerror(errno));
+        if (fd >= 0)
+            close(fd);
+        return false;
+    }
+    bool whole = boxes_whole(fd, (uint64_t)st.st_size, why, size);
+    close(fd);
+    return whole;
+}
+
 static void reap(pfx_mp4 *m, pfx_diags *d) {
     close(m->in);
     m->reaped = true;
@@ -261,8 +327,9 @@ static void reap(pfx_mp4 *m, pfx_diags *d) {
             ;
     }
     m->failed = true;
+    char tail[600], why[128];
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        char tail[600], how[64];
+        char how[64];
         log_tail(m->log, tail, sizeof tail);
         if (WIFSIGNALED(status))
             snprintf(how, sizeof how, "was killed by signal %d", WTERMSIG(status));
@@ -274,6 +341,11 @@ static void reap(pfx_mp4 *m, pfx_diags *d) {
         pfx_diag_error(d, PFX_RULE_ENCODE_FAILED,
                        "cannot write '%s': ffmpeg stopped reading its frames: %s", m->path,
                        strerror(m->write_errno));
+    } else if (!mp4_whole(fileno(pfx_atomic_stream(m->file)), why, sizeof why)) {
+        log_tail(m->log, tail, sizeof tail);
+        pfx_diag_error(d, PFX_RULE_ENCODE_FAILED,
+                       "cannot write '%s': ffmpeg exited 0 but its MP4 is incomplete (%s)%s%s",
+                       m->path, why, *tail ? ": " : "", tail);
     } else {
         m->failed = false;
     }

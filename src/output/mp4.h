@@ -20,9 +20,10 @@ bool pfx_mp4_path(const char *path);
  * with "cannot write 'path': ffmpeg not found on PATH (...)" in d: the
  * check main.c makes before anything is rendered. */
 bool pfx_mp4_find_ffmpeg(const char *path, char *exe, size_t exe_size, pfx_diags *d);
-/* Starts ffmpeg writing width x height frames at fps to a temporary
- * beside path. NULL with the reason in d, and nothing left on the disk. */
-pfx_mp4 *pfx_mp4_create(int width, int height, double fps, const char *path, pfx_diags *d);
+/* Starts ffmpeg writing width x height frames at fps, x264 at crf (0..51,
+ * lower is better), to a temporary beside path. NULL with the reason in d,
+ * and nothing left on the disk. */
+pfx_mp4 *pfx_mp4_create(int width, int height, double fps, int crf, const char *path, pfx_diags *d);
 /* Sends one frame of 8-bit straight RGBA, top row first. False when
  * ffmpeg has stopped reading, with why (its exit status and the last
  * lines of its stderr) in d. */

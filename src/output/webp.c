@@ -1,6 +1,7 @@
 /* output/webp.h over libwebpmux. Lossless frames keep every colour exactly
  * (config.exact: even under alpha 0), so a preview can be checked pixel by
- * pixel against the PNGs it was made from. */
+ * pixel against the PNGs it was made from. Lossy frames let the encoder
+ * change what alpha 0 hides, which is most of what they save there. */
 #include "output/webp.h"
 
 #include <errno.h>
@@ -33,9 +34,9 @@ pfx_webp *pfx_webp_create(int width, int height, double fps, int quality, pfx_di
     }
     options.anim_params.loop_count = 0; /* for ever */
     options.allow_mixed = 0;
-    w->config.lossless = quality >= 100;
-    w->config.exact = 1;
-    w->config.quality = quality >= 100 ? 75 : (float)quality; /* lossless: effort */
+    w->config.lossless = quality < 0;
+    w->config.exact = quality < 0;
+    w->config.quality = quality < 0 ? 75 : (float)quality; /* lossless: effort */
     w->width = width;
     w->height = height;
     w->fps = fps;

@@ -97,6 +97,124 @@ want_status 0
 end
 tally "$(check c 0 1 11 1 1)"
 
+begin "a premultiplied render makes a premultiplied sheet, without bleed"
+# The explosion on a transparent background: alpha-blended smoke (bleed
+# has texels to fill) and additive fire (light with alpha 0).
+sed '/^  background:/d' "$src/effects/explosion.yaml" >boom.yaml
+ln -s "$src/effects/textures" textures
+pfx_run render boom.yaml -o pm "${A[@]}" --atlas --alpha premultiplied
+want_status 0
+out=$("$py" - <<'PY'
+import json
+from PIL import Image
+import numpy as np
+meta = json.load(open("pm/boom_atlas.json"))
+sheet = np.asarray(Image.open("pm/boom_atlas.png").convert("RGBA")).astype(float)
+bad = []
+if meta["meta"]["alpha"] != "premultiplied":
+    bad.append("the JSON says alpha %r" % meta["meta"]["alpha"])
+# Premultiplied over a colour C: rgb + C (1 - a). The sheet over C, cell by
+# cell, must be the frame over C where the frame is, and C in the gutter.
+C = np.array([40.0, 160.0, 90.0])
+over = lambda im: im[..., :3] + C * (1 - im[..., 3:4] / 255)
+g = meta["grid"]
+outside = np.ones(sheet.shape[:2], bool)  # texels no frame or ring covers
+for k, name in enumerate(meta["frames"]):
+    r = meta["frames"][name]["frame"]
+    frame = np.asarray(Image.open("pm/" + name).convert("RGBA")).astype(float)
+    if np.abs(over(sheet[r["y"]:r["y"] + r["h"], r["x"]:r["x"] + r["w"]]) - over(frame)).max() > 1e-9:
+        bad.append("%s over a colour differs from its frame over it" % name)
+    e = g["extrude"]
+    outside[r["y"] - e:r["y"] + r["h"] + e, r["x"] - e:r["x"] + r["w"] + e] = False
+if np.abs(over(sheet[outside]) - C).max() > 0:
+    bad.append("the gutters over a colour are not that colour")
+# Alpha-0 texels beyond the frames: no light. (Inside them, a frame's own
+# additive light has alpha 0, and the comparison above covers it.)
+zero = sheet[outside & (sheet[..., 3] == 0)][:, :3]
+if not zero.size or zero.any():
+    bad.append("alpha-0 texels beyond the frames carry colour: mean RGB %.4f" % zero.mean())
+print(("FAIL premultiplied sheet: " + "; ".join(bad)) if bad else
+      "ok   premultiplied sheet: over a colour it is the frames over it; alpha-0 texels beyond them are black")
+PY
+)
+case $out in ok*) ;; *) flunk "$out" ;; esac
+end
+
+begin "assemble --atlas of premultiplied slices: the same premultiplied sheet"
+pfx_run render boom.yaml -o pms "${A[@]}" --alpha premultiplied --slice 0/2
+pfx_run render boom.yaml -o pms "${A[@]}" --alpha premultiplied --slice 1/2
+pfx_run assemble pms -o pma --atlas
+want_status 0
+cmp -s pma/boom_atlas.png pm/boom_atlas.png || flunk "the sheet differs from the one-process render's"
+grep -q '"alpha": "premultiplied"' pma/boom_atlas.json || flunk "the JSON does not say premultiplied"
+end
+
+begin "--atlas-pot: power-of-two sides, the UV rectangles on the cells"
+pfx_run render "$FIRE" -o pot "${A[@]}" --atlas --atlas-pot
+want_status 0
+out=$("$py" - <<'PY'
+import json
+from PIL import Image
+import numpy as np
+meta = json.load(open("pot/fire_atlas.json"))
+sheet = np.asarray(Image.open("pot/fire_atlas.png").convert("RGBA")).astype(int)
+h, w = sheet.shape[:2]
+g, bad = meta["grid"], []
+if (w, h) != (256, 256) or (meta["meta"]["size"]["w"], meta["meta"]["size"]["h"]) != (w, h):
+    bad.append("the sheet is %dx%d, the JSON says %s (want 256x256: 4x3 cells of 52x44)"
+               % (w, h, meta["meta"]["size"]))
+if (g["used"]["w"], g["used"]["h"]) != (4 * 52, 3 * 44):
+    bad.append("used %s" % g["used"])
+for k, name in enumerate(meta["frames"]):
+    f = meta["frames"][name]
+    r, uv = f["frame"], f["uv"]
+    if (uv["x"] * w, uv["y"] * h, uv["w"] * w, uv["h"] * h) != (r["x"], r["y"], r["w"], r["h"]):
+        bad.append("%s: uv %s is not %s" % (name, uv, r))
+    if (r["x"], r["y"]) != ((k % 4) * 52 + 2, (k // 4) * 44 + 2):
+        bad.append("%s at %s" % (name, r))
+    frame = np.asarray(Image.open("pot/" + name).convert("RGBA")).astype(int)
+    part = sheet[r["y"]:r["y"] + r["h"], r["x"]:r["x"] + r["w"]]
+    if not np.array_equal(part[..., 3], frame[..., 3]) or \
+            not np.array_equal(part[..., :3][part[..., 3] > 0], frame[..., :3][frame[..., 3] > 0]):
+        bad.append("%s: its rectangle is not the frame" % name)
+if sheet[:, 4 * 52:].any() or sheet[3 * 44:, :].any():
+    bad.append("the padding beyond the grid is not transparent black")
+print(("FAIL --atlas-pot: " + "; ".join(bad)) if bad else "ok")
+PY
+)
+case $out in ok*) ;; *) flunk "$out" ;; esac
+end
+
+begin "--atlas-json array: TexturePacker's array, the same as the hash"
+pfx_run render "$FIRE" -o arr "${A[@]}" --atlas --atlas-json array
+want_status 0
+"$py" - <<'PY' || flunk "the array JSON does not match the hash JSON"
+import json, sys
+h = json.load(open("a/fire_atlas.json"))
+a = json.load(open("arr/fire_atlas.json"))
+assert isinstance(a["frames"], list) and len(a["frames"]) == len(h["frames"]) == 11
+for entry, name in zip(a["frames"], h["frames"]):
+    entry = dict(entry)
+    assert entry.pop("filename") == name, name
+    assert entry == h["frames"][name], name
+assert a["meta"] == h["meta"] and a["grid"] == h["grid"]
+PY
+cmp -s arr/fire_atlas.png a/fire_atlas.png || flunk "the sheets differ"
+end
+
+begin "--atlas-pot with --motion-vectors: both sheets padded alike"
+pfx_run render "$FIRE" -o potmv "${A[@]}" --atlas --atlas-pot --motion-vectors
+want_status 0
+"$py" -c 'from PIL import Image; import sys; sys.exit(not (Image.open("potmv/fire_atlas.png").size == Image.open("potmv/fire_mv_atlas.png").size == (256, 256)))' ||
+    flunk "the sheets are not both 256x256"
+end
+
+begin "--atlas-json with a bad form is a usage error"
+pfx_run render "$FIRE" -o u "${A[@]}" --atlas --atlas-json list
+want_status 2
+stderr_has "--atlas-json takes 'hash' or 'array', got 'list'"
+end
+
 begin "a render without --atlas removes the old sheet"
 pfx_run render "$FIRE" -o a "${A[@]}"
 want_status 0

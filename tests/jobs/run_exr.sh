@@ -125,10 +125,28 @@ if command -v exrheader > /dev/null; then
     done
     grep -q "compression (type compression): zip" hdr.txt || flunk "not zip"
     grep -q "dataWindow (type box2i): (0 0) - (63 63)" hdr.txt || flunk "data window"
+    # Rec. 709 primaries with a D65 white: what pfx's linear colour is in.
+    grep -A4 "^chromaticities (type chromaticities):" hdr.txt | tr -s ' ' >chroma.txt
+    [ "$(sed -n 2,5p chroma.txt)" = " red (0.64 0.33)
+ green (0.3 0.6)
+ blue (0.15 0.06)
+ white (0.3127 0.329)" ] || flunk "chromaticities: $(cat chroma.txt)"
 else
     flunk "no exrheader: ./install-deps --test installs openexr"
 fi
 end
+
+# framesPerSecond: whole rates as N/1, NTSC rates as N000/1001, others in
+# lowest terms.
+for rate in 24:24/1 29.97:30000/1001 23.976:24000/1001 12.5:25/2; do
+    begin "--fps ${rate%%:*}: exrheader shows framesPerSecond ${rate#*:}"
+    pfx_run render plain.yaml -o fps-${rate%%:*} --format exr --frames 0:0 --fps "${rate%%:*}" -q
+    want_status 0
+    exrheader fps-${rate%%:*}/plain_0000.exr >fps.txt 2>&1 || flunk "exrheader failed: $(head -3 fps.txt)"
+    grep -q "^framesPerSecond (type rational): ${rate#*:} " fps.txt ||
+        flunk "$(grep framesPerSecond fps.txt || echo 'no framesPerSecond')"
+    end
+done
 
 A=(--size 64x48 --frames 10:17 --seed 5 -q --format exr)
 # same_frames DIR: the frames of t1, byte for byte.

@@ -50,6 +50,100 @@ PY
 )
 tally "$out"
 
+# The explosion on a transparent background: alpha-blended smoke and
+# additive fire, whose light has alpha 0.
+sed '/^  background:/d' "$src/effects/explosion.yaml" >boom.yaml
+ln -s "$src/effects/textures" textures
+begin "a premultiplied render: the WebP holds the frames' light"
+pfx_run render boom.yaml -o pm --size 64x48 --frames 0:29 --fps 25 --alpha premultiplied \
+    --preview pm/boom.webp
+want_status 0
+end
+# Premultiplied frames over black are their RGB; the WebP (straight)
+# decoded by Pillow over black is RGB x A / 255. Equal within rounding.
+# (The encoder merges equal frames into one of a longer duration: frame k
+# is the one shown at 40 k ms.)
+out=$("$py" - <<'PY'
+from PIL import Image
+import numpy as np
+im = Image.open("pm/boom.webp")
+shown = []
+for j in range(im.n_frames):
+    im.seek(j)
+    im.load()
+    shown += [j] * (im.info["duration"] // 40)
+worst, got_sum, want_sum = 0, 0.0, 0.0
+for k in range(30):
+    im.seek(shown[k])
+    got = np.asarray(im.convert("RGBA")).astype(float)
+    got = got[..., :3] * got[..., 3:] / 255
+    want = np.asarray(Image.open("pm/boom_%04d.png" % k).convert("RGBA")).astype(float)[..., :3]
+    worst = max(worst, np.abs(got - want).max())
+    got_sum, want_sum = got_sum + got.mean(), want_sum + want.mean()
+ok = worst <= 1 and want_sum > 0
+print("%s premultiplied WebP over black: mean light %.3f against %.3f, worst pixel off by %.1f"
+      % ("ok  " if ok else "FAIL", got_sum / 30, want_sum / 30, worst))
+PY
+)
+tally "$out"
+
+begin "--preview-quality 50: a lossy WebP, smaller, decoding close to the lossless one"
+pfx_run render "$FIRE" -o q --frames 5:16 --size 128x128 --fps 25 --preview q/fire.webp --preview-quality 50
+want_status 0
+pfx_run render "$FIRE" -o l --frames 5:16 --size 128x128 --fps 25 --preview l/fire.webp
+want_status 0
+"$py" - <<'PY' || flunk "not smaller, or not close"
+import os, sys
+from PIL import Image
+import numpy as np
+a, b = Image.open("l/fire.webp"), Image.open("q/fire.webp")
+assert os.path.getsize("q/fire.webp") < 0.75 * os.path.getsize("l/fire.webp"), "not smaller"
+assert b.n_frames == 12
+for k in range(12):
+    a.seek(k); b.seek(k)
+    x, y = (np.asarray(i.convert("RGBA")).astype(float) for i in (a, b))
+    # Compared as seen: over black, where lossy RGB under alpha 0 is hidden.
+    x, y = x[..., :3] * x[..., 3:] / 255, y[..., :3] * y[..., 3:] / 255
+    assert np.abs(x - y).mean() < 3, "frame %d: %.2f" % (k, np.abs(x - y).mean())
+PY
+webpinfo q/fire.webp 2>&1 | grep -q "Lossy" || flunk "webpinfo does not call it lossy"
+end
+
+begin "--preview-quality out of range is a usage error"
+pfx_run render "$FIRE" -o q2 --preview q2/fire.webp --preview-quality 101
+want_status 2
+stderr_has "--preview-quality takes a number from 0 to 100, got '101'"
+end
+
+begin "--preview-quality without --preview is a usage error"
+pfx_run render "$FIRE" -o q3 --preview-quality 40
+want_status 2
+stderr_has "--preview-quality goes with --preview"
+[ -e q3 ] && flunk "q3 was created"
+end
+
+# The smoke's opaque background makes every frame change the whole width,
+# which libwebp refuses (a frame that changes less is cropped, and may
+# pass: the limit is refused whatever the content).
+begin "a WebP over 16383 pixels a side is refused before any frame"
+start=$(date +%s%N)
+pfx_run render "$src/effects/smoke.yaml" -o wide --size 16384x64 --frames 0:59 --preview wide/smoke.webp
+ms=$((($(date +%s%N) - start) / 1000000))
+want_status 1
+stderr_has "cannot write 'wide/smoke.webp': WebP frames are at most 16383 pixels a side, and these are 16384x64"
+[ -z "$(ls wide 2>/dev/null)" ] || flunk "files were written: $(ls wide | head -3)"
+[ "$ms" -lt 5000 ] || flunk "it took $ms ms"
+end
+
+begin "assemble: a WebP over 16383 pixels a side is refused before gathering"
+pfx_run render "$FIRE" -o ws --size 16384x64 --frames 0:1 --slice 0/2 -q
+pfx_run render "$FIRE" -o ws --size 16384x64 --frames 0:1 --slice 1/2 -q
+pfx_run assemble ws -o wa --preview wa/fire.webp
+want_status 1
+stderr_has "cannot write 'wa/fire.webp': WebP frames are at most 16383 pixels a side, and these are 16384x64"
+[ -z "$(ls wa 2>/dev/null)" ] || flunk "files were gathered: $(ls wa | head -3)"
+end
+
 begin "--preview needs a .webp or .mp4 path"
 pfx_run render "$FIRE" -o g --preview g/fire.gif
 want_status 2

@@ -204,6 +204,70 @@ got=$(probe z/dot.mp4 2>&1 | "$py" -c 'import json,sys; print(json.load(sys.stdi
 [ "$got" = 10 ] || flunk "$got frames"
 end
 
+# light FRAMES-GLOB MP4 W H: the MP4 decoded by ffmpeg against the PNG
+# frames (premultiplied) composited over black, which is their RGB as it
+# is: the mean light within 4%, and each pixel within 24 of 255 on average
+# within 3 (H.264 at CRF 18 with 4:2:0 chroma blurs colour edges).
+light() {
+    ffmpeg -v error -nostdin -i "$2" -f rawvideo -pix_fmt rgb24 -y decoded.rgb 2>frame.err ||
+        { echo "FAIL ffmpeg cannot decode $2: $(tail -2 frame.err)"; return; }
+    "$py" - "$@" <<'PY'
+import glob, sys
+from PIL import Image
+import numpy as np
+pattern, mp4, w, h = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.argv[4])
+want = np.stack([np.asarray(Image.open(f).convert("RGBA")).astype(float)[..., :3]
+                 for f in sorted(glob.glob(pattern))])
+got = np.fromfile("decoded.rgb", np.uint8).astype(float)
+if got.size != want.size:
+    print("FAIL %s: %d bytes decoded, %d expected" % (mp4, got.size, want.size)); sys.exit()
+got = got.reshape(want.shape)
+diff = np.abs(got - want).mean()
+ok = abs(got.mean() - want.mean()) <= 0.04 * want.mean() and diff <= 3
+print("%s %s: mean light %.2f against %.2f in the frames, mean difference %.2f"
+      % ("ok  " if ok else "FAIL", mp4, got.mean(), want.mean(), diff))
+PY
+}
+
+# The explosion on a transparent background: alpha-blended smoke and
+# additive fire, whose light has alpha 0.
+sed '/^  background:/d' "$src/effects/explosion.yaml" >boom.yaml
+ln -s "$src/effects/textures" textures
+begin "a premultiplied render: the MP4 shows the frames' light over black"
+pfx_run render boom.yaml -o pm --size 64x48 --frames 0:29 --alpha premultiplied --preview pm/boom.mp4
+want_status 0
+end
+tally "$(light 'pm/boom_00*.png' pm/boom.mp4 64 48)"
+
+begin "--preview-quality 30: a smaller MP4 (CRF 36) close to the default"
+pfx_run render boom.yaml -o pq --size 64x48 --frames 0:29 --alpha premultiplied \
+    --preview pq/boom.mp4 --preview-quality 30
+want_status 0
+a=$(stat -c %s pm/boom.mp4) b=$(stat -c %s pq/boom.mp4)
+[ "$b" -lt "$a" ] || flunk "$b bytes, not fewer than the default's $a"
+ffmpeg -v error -nostdin -i pq/boom.mp4 -f rawvideo -pix_fmt rgb24 -y q.rgb &&
+    ffmpeg -v error -nostdin -i pm/boom.mp4 -f rawvideo -pix_fmt rgb24 -y d.rgb ||
+    flunk "ffmpeg cannot decode them"
+"$py" -c 'import numpy as np; a=np.fromfile("q.rgb",np.uint8).astype(float); b=np.fromfile("d.rgb",np.uint8).astype(float); import sys; sys.exit(not (a.size==b.size and np.abs(a-b).mean() < 4))' ||
+    flunk "it decodes far from the default"
+end
+
+# A file size limit the frames fit under and the MP4 does not: ffmpeg 5.1
+# then exits 0 after "Error writing trailer", leaving no index (moov).
+begin "an MP4 cut short by a file size limit: exit 1, no MP4, then made again"
+(ulimit -f 20 && exec "$pfx" render "$src/effects/fire.yaml" -o lim --size 128x128 -q \
+    --preview lim/fire.mp4) >out 2>err
+status=$?
+want_status 1
+grep -q "cannot write 'lim/fire.mp4': ffmpeg exited 0 but its MP4 is incomplete (it has no 'moov' box)" err ||
+    flunk "stderr: $(cat err)"
+[ -e lim/fire.mp4 ] && flunk "lim/fire.mp4 was left"
+ls -a lim | grep -q '\.tmp-' && flunk "a temporary is left: $(ls -a lim)"
+"$pfx" render "$src/effects/fire.yaml" -o lim --size 128x128 -q --preview lim/fire.mp4 2>err ||
+    flunk "the run without the limit failed: $(cat err)"
+ffprobe -v error lim/fire.mp4 || flunk "ffprobe rejects the MP4 made without the limit"
+end
+
 begin "--preview refuses other extensions"
 pfx_run render dot.yaml -o g --preview g/dot.gif
 want_status 2
