@@ -16,21 +16,22 @@
 
 static const char usage_text[] =
     "usage: pfx validate [--format text|json|sarif] [--werror] [--max-particles N]\n"
-    "                  [--max-memory SIZE] FILE...\n"
+    "                  [--max-memory SIZE] [--set PATH=VALUE] FILE...\n"
     "       pfx validate --list-rules\n"
     "       pfx render FILE... -o DIR [-j N] [--keep-going] [--frames A:B] [--size WxH]\n"
     "                  [--fps N] [--seed N] [--max-particles N] [--max-memory SIZE]\n"
     "                  [--renderer R] [--alpha MODE] [--threads N] [--force]\n"
-    "                  [--depfile FILE] [--progress json]\n"
+    "                  [--depfile FILE] [--progress json] [--set PATH=VALUE]\n"
     "                  [--atlas[=CxR]] [--padding N] [--extrude N] [--crop]\n"
     "                  [--preview OUT.webp|OUT.mp4] [--format png|exr] [-q]\n"
     "                  [--motion-vectors [--mv-max PIXELS] [--mv-flip-y]]\n"
     "                  [--slice I/N | --slice-env VAR --slice-count N]\n"
     "       pfx bake FILE -o OUT [--format csv|ply|pcache] [--every N] [--frames A:B]\n"
     "                  [--fps N] [--seed N] [--max-particles N] [--max-memory SIZE]\n"
-    "                  [--threads N] [--force] [--depfile FILE]\n"
+    "                  [--threads N] [--force] [--depfile FILE] [--set PATH=VALUE]\n"
     "       pfx info FILE [--format text|json] [--seed N] [--max-particles N]\n"
     "                  [--max-memory SIZE] [--threads N] [--motion-vectors]\n"
+    "                  [--set PATH=VALUE]\n"
     "       pfx bench [SECTION...] [--json] [--renderer R]\n"
     "       pfx bench accuracy -o DIR\n"
     "       pfx assemble DIR... -o OUT [--atlas[=CxR]] [--preview OUT.webp|OUT.mp4]\n"
@@ -52,6 +53,9 @@ static const char usage_text[] =
     "      --size WxH          image size in pixels, overriding image.size\n"
     "      --fps N             output frames per second, overriding fps\n"
     "      --seed N            random seed, overriding seed\n"
+    "      --set PATH=VALUE    override a value of the file, such as\n"
+    "                          emitters.flame.rate=300 or 'emitters.flame.color=[1,0,0]'\n"
+    "                          (VALUE is YAML; repeatable, applied in order)\n"
     "      --max-particles N   particle budget over all emitters (default 1000000)\n"
     "      --max-memory SIZE   refuse a run estimated to need more (K, M, G, T;\n"
     "                          default half of physical memory)\n"
@@ -179,7 +183,8 @@ enum {
     OPT_PREVIEW,
     OPT_MOTION_VECTORS,
     OPT_MV_MAX,
-    OPT_MV_FLIP_Y
+    OPT_MV_FLIP_Y,
+    OPT_SET
 };
 
 static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
@@ -215,6 +220,7 @@ static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
                                          {"json", no_argument, 0, OPT_JSON},
                                          {"quiet", no_argument, 0, 'q'},
                                          {"help", no_argument, 0, 'h'},
+                                         {"set", required_argument, 0, OPT_SET},
                                          {0, 0, 0, 0}};
 
 /* The defaults a command line starts from; PFX_THREADS sets --threads'
@@ -433,6 +439,21 @@ static int parse_option(int c, int argc, char **argv, pfx_cli *o) {
                                        optarg);
         o->slice_count = (long)v;
         break;
+    case OPT_SET: {
+        /* The words stay in argv; the path is checked against the effect
+         * when it loads (jobs/overrides.c). */
+        static const char *sets[PFX_MAX_SETS];
+        if (!strchr(optarg, '=') || optarg[0] == '=')
+            return pfx_cli_usage_error("--set takes PATH=VALUE, such as emitters.flame.rate=300, "
+                                       "got '%s'",
+                                       optarg);
+        if (o->compile.set_count == PFX_MAX_SETS)
+            return pfx_cli_usage_error("at most 256 --set may be given, got '%s' past them",
+                                       optarg);
+        sets[o->compile.set_count++] = optarg;
+        o->compile.sets = sets;
+        break;
+    }
     case ':':
         return pfx_cli_usage_error("option '%s' needs a value", option_word(argv, optopt));
     default:
@@ -528,6 +549,9 @@ static int check_options(int argc, char **argv, pfx_cli *o) {
                 o->format);
         o->json = !strcmp(o->format, "json");
     }
+    if (o->compile.set_count &&
+        (!strcmp(argv[1], "bench") || !strcmp(argv[1], "assemble") || !strcmp(argv[1], "schema")))
+        return pfx_cli_usage_error("--set is for a command that reads an effect, not %s", argv[1]);
     if (o->list_rules && strcmp(argv[1], "validate"))
         return pfx_cli_usage_error("%s", "--list-rules is for validate");
     return -1;

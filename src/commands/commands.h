@@ -92,9 +92,10 @@ bool pfx_cli_frame_range(const pfx_effect *e, const pfx_cli *o, long *first, lon
 bool pfx_cli_memory_fits(const pfx_effect *e, long first, long last, bool render, const pfx_cli *o,
                          pfx_diags *run);
 /* The manifest's settings common to render and bake (the effect's values
- * after --fps, --size, --seed and --max-particles), and its inputs. */
+ * after --fps, --size, --seed and --max-particles, and --set), and its
+ * inputs. */
 bool pfx_cli_describe_run(pfx_delivery *dl, const pfx_effect *e, long first, long last,
-                          pfx_diags *d);
+                          const pfx_cli *o, pfx_diags *d);
 /* Says that there was nothing to do, with the key that proved it. */
 void pfx_cli_say_up_to_date(const pfx_cli *o, const char *path, const char *where,
                             pfx_delivery *dl);
