@@ -6,6 +6,7 @@
 #include "jobs/overrides.h"
 
 #include <jansson.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -29,9 +30,12 @@ typedef struct walk {
     pfx_overrides *ov;
     pfx_doc *doc;
     const char *file;
+    json_t *schema; /* made on first use: replacing a value needs none */
+    bool schema_made;
     const json_t *defs;
-    int line;        /* this override's line in ov->diags */
-    const char *arg; /* PATH=VALUE */
+    int line;          /* this override's line in ov->diags */
+    const char *arg;   /* PATH=VALUE */
+    uint64_t in_lists; /* bit i: component i of PATH indexed a list */
 } walk;
 
 static void schema_add(schema_set *set, const json_t *defs, const json_t *s, int depth) {
@@ -212,14 +216,113 @@ static void no_path(walk *w, pfx_rule rule, size_t end, int col, size_t len, con
                      (int)end, arg, why);
 }
 
-/* Walks the path of override k and puts value at its end. */
-static bool apply_one(walk *w, size_t k, const json_t *schema) {
+/* The schemas at the path arg[0..end), each component a key or, where
+ * w->in_lists says, a list index. The schema is generated and parsed the
+ * first time (about 15 ms); past 64 components the format says nothing. */
+static void schema_at(walk *w, const char *end, schema_set *set) {
+    if (!w->schema_made) {
+        char *text = pfx_schema_text();
+        w->schema = text ? json_loads(text, 0, NULL) : NULL;
+        w->defs = json_object_get(w->schema, "$defs");
+        w->schema_made = true;
+        free(text);
+    }
+    set->n = 0;
+    schema_add(set, w->defs, w->schema, 0);
+    int i = 0;
+    for (const char *p = w->arg; p < end && set->n; i++) {
+        const char *dot = memchr(p, '.', (size_t)(end - p)), *e = dot ? dot : end;
+        char name[256];
+        snprintf(name, sizeof name, "%.*s", (int)(e - p), p);
+        bool index = i < 64 && (w->in_lists >> i & 1);
+        schema_set child;
+        schema_child(set, w->defs, index ? NULL : name, index ? strtoul(name, NULL, 10) : 0,
+                     &child);
+        *set = i < 64 ? child : (schema_set){.n = 0};
+        p = e + 1;
+    }
+}
+
+/* One step into list c by the component at p (name): the slot of the
+ * item, or NULL after the error. */
+static pfx_node **list_step(walk *w, size_t k, pfx_node *c, const char *name, const char *p,
+                            const char *end, bool last) {
+    const char *arg = w->arg;
+    int col = (int)(p - arg) + 1;
+    char *stop;
+    unsigned long i = strtoul(name, &stop, 10);
+    if (*stop || name[0] < '0' || name[0] > '9' || i >= c->count) {
+        char why[160];
+        snprintf(why, sizeof why, "names nothing in '%s': '%.*s' is a list of %zu, indexed from 0",
+                 w->file, col - 2, arg, c->count);
+        no_path(w, PFX_RULE_UNKNOWN_NAME, (size_t)(end - arg), col, (size_t)(end - p), NULL, why);
+        return NULL;
+    }
+    int depth = 0;
+    for (const char *q = arg; q < p; q++)
+        depth += *q == '.';
+    if (depth < 64)
+        w->in_lists |= (uint64_t)1 << depth;
+    if (last)
+        w->ov->replaced[k] = c->items[i];
+    return &c->items[i];
+}
+
+/* One step into mapping c by key `name` (the component at p): the slot of
+ * its value, the key added when absent and the format has it (or, last,
+ * where the mapping takes any name: a new emitter, whole; never an
+ * author's name on the way). NULL after the error. */
+static pfx_node **map_step(walk *w, size_t k, pfx_node *c, const char *name, const char *p,
+                           const char *end, bool last) {
+    const char *arg = w->arg;
+    int col = (int)(p - arg) + 1;
+    size_t len = (size_t)(end - p), i = 0;
+    while (i < c->count && strcmp(c->pairs[i].key->text, name))
+        i++;
+    if (i < c->count && !last)
+        return &c->pairs[i].value;
+    if (i < c->count) {
+        /* The key moves to the --set too, so that compile's words about
+         * the pair point there. */
+        w->ov->replaced[k] = c->pairs[i].value;
+        pfx_node *key = new_node(w, PFX_NODE_SCALAR, col, (int)len);
+        if (!key)
+            return NULL;
+        key->text = c->pairs[i].key->text;
+        key->len = c->pairs[i].key->len;
+        key->plain = true;
+        c->pairs[i].key = key;
+        return &c->pairs[i].value;
+    }
+    schema_set set;
+    schema_at(w, p > arg ? p - 1 : arg, &set);
+    bool known = schema_has_key(&set, name), names = schema_takes_names(&set);
+    if (!(known || (last && (names || !set.n)))) {
+        char why[160];
+        snprintf(why, sizeof why, "names nothing in '%s'", w->file);
+        no_path(w, names || !set.n ? PFX_RULE_UNKNOWN_NAME : PFX_RULE_UNKNOWN_KEY,
+                (size_t)(end - arg), col, len, nearest_key(c, names ? NULL : &set, name),
+                names || !set.n ? why : "names no key of the effect format");
+        return NULL;
+    }
+    pfx_node *key = new_node(w, PFX_NODE_SCALAR, col, (int)len);
+    pfx_node *empty = last ? NULL : new_node(w, PFX_NODE_MAP, col, (int)len);
+    if (!key || (!last && !empty))
+        return NULL;
+    key->text = pfx_arena_strndup(&w->doc->arena, name, len);
+    key->len = len;
+    key->plain = true;
+    c->pairs[c->count++] = (pfx_pair){key, empty};
+    return &c->pairs[i].value;
+}
+
+/* Walks the path of override k and puts its value at the end. */
+static bool apply_one(walk *w, size_t k) {
     const char *arg = w->arg, *eq = strchr(arg, '=');
     if (!eq || eq == arg) {
         pfx_diag_add(&w->ov->diags, PFX_SEV_ERROR, w->line, 1, (int)strlen(arg) + 1,
                      PFX_RULE_MALFORMED_VALUE,
-                     "--set takes PATH=VALUE, such as "
-                     "emitters.flame.rate=300");
+                     "--set takes PATH=VALUE, such as emitters.flame.rate=300");
         return false;
     }
     pfx_node *value = parse_value(w, k, eq + 1, (int)(eq + 1 - arg));
@@ -227,8 +330,7 @@ static bool apply_one(walk *w, size_t k, const json_t *schema) {
         return false;
     if (!w->doc->root) /* an empty file: compile says so */
         return true;
-    schema_set set = {.n = 0};
-    schema_add(&set, w->defs, schema, 0);
+    w->in_lists = 0;
     pfx_node **slot = &w->doc->root;
     char name[256];
     for (const char *p = arg; p < eq;) {
@@ -236,7 +338,6 @@ static bool apply_one(walk *w, size_t k, const json_t *schema) {
         const char *end = dot ? dot : eq;
         size_t len = (size_t)(end - p);
         int col = (int)(p - arg) + 1;
-        bool last = end == eq;
         if (len == 0 || len >= sizeof name) {
             no_path(w, PFX_RULE_UNKNOWN_KEY, (size_t)(end - arg), col, len ? len : 1, NULL,
                     len ? "has a key too long to be one" : "has an empty key between dots");
@@ -260,65 +361,10 @@ static bool apply_one(walk *w, size_t k, const json_t *schema) {
         if (!c)
             return false;
         *slot = c;
-        schema_set child;
-        if (c->kind == PFX_NODE_SEQ) {
-            char *stop;
-            unsigned long i = strtoul(name, &stop, 10);
-            if (*stop || name[0] < '0' || name[0] > '9' || i >= c->count) {
-                char why[160];
-                snprintf(why, sizeof why,
-                         "names nothing in '%s': '%.*s' is a list of %zu, "
-                         "indexed from 0",
-                         w->file, col - 2, arg, c->count);
-                no_path(w, PFX_RULE_UNKNOWN_NAME, (size_t)(end - arg), col, len, NULL, why);
-                return false;
-            }
-            schema_child(&set, w->defs, NULL, i, &child);
-            slot = &c->items[i];
-            if (last)
-                w->ov->replaced[k] = *slot;
-        } else {
-            size_t i = 0;
-            while (i < c->count && strcmp(c->pairs[i].key->text, name))
-                i++;
-            schema_child(&set, w->defs, name, 0, &child);
-            if (i == c->count) {
-                /* Absent: made when the format has the key, and for the
-                 * last key also where the mapping takes any name (a new
-                 * emitter, whole); never an author's name on the way. */
-                bool known = schema_has_key(&set, name), names = schema_takes_names(&set);
-                if (!(known || (last && (names || !set.n)))) {
-                    char why[160];
-                    snprintf(why, sizeof why, "names nothing in '%s'", w->file);
-                    no_path(w, names || !set.n ? PFX_RULE_UNKNOWN_NAME : PFX_RULE_UNKNOWN_KEY,
-                            (size_t)(end - arg), col, len,
-                            nearest_key(c, names ? NULL : &set, name),
-                            names || !set.n ? why : "names no key of the effect format");
-                    return false;
-                }
-                pfx_node *key = new_node(w, PFX_NODE_SCALAR, col, (int)len);
-                pfx_node *empty = last ? NULL : new_node(w, PFX_NODE_MAP, col, (int)len);
-                if (!key || (!last && !empty))
-                    return false;
-                key->text = pfx_arena_strndup(&w->doc->arena, name, len);
-                key->len = len;
-                key->plain = true;
-                c->pairs[c->count++] = (pfx_pair){key, empty};
-            } else if (last) {
-                /* The key moves to the --set too, so that compile's words
-                 * about the pair point there. */
-                w->ov->replaced[k] = c->pairs[i].value;
-                pfx_node *key = new_node(w, PFX_NODE_SCALAR, col, (int)len);
-                if (!key)
-                    return false;
-                key->text = c->pairs[i].key->text;
-                key->len = c->pairs[i].key->len;
-                key->plain = true;
-                c->pairs[i].key = key;
-            }
-            slot = &c->pairs[i].value;
-        }
-        set = child;
+        slot = c->kind == PFX_NODE_SEQ ? list_step(w, k, c, name, p, end, end == eq)
+                                       : map_step(w, k, c, name, p, end, end == eq);
+        if (!slot)
+            return false;
         p = end + 1;
     }
     *slot = value;
@@ -351,23 +397,20 @@ bool pfx_overrides_apply(pfx_overrides *ov, pfx_doc *doc, const char *file, cons
     ov->diags.source = ov->source;
     ov->diags.source_len = (size_t)(o - ov->source);
     ov->count = n;
-    char *text = pfx_schema_text();
-    json_t *schema = text ? json_loads(text, 0, NULL) : NULL;
-    free(text);
-    walk w = {.ov = ov, .doc = doc, .file = file, .defs = json_object_get(schema, "$defs")};
+    walk w = {.ov = ov, .doc = doc, .file = file};
     bool ok = true;
     /* Every override is tried, so that each bad one is reported. */
     for (size_t k = 0; k < n; k++) {
         w.line = (int)k + 1;
         w.arg = sets[k];
         int errors = ov->diags.errors;
-        if (!apply_one(&w, k, schema)) {
+        if (!apply_one(&w, k)) {
             ok = false;
             if (ov->diags.errors == errors)
                 pfx_diag_error(&ov->diags, PFX_RULE_OUT_OF_MEMORY, "out of memory for --set");
         }
     }
-    json_decref(schema);
+    json_decref(w.schema);
     return ok;
 }
 
