@@ -168,6 +168,9 @@ if finished; then
     stdout_has "image 32x16"
     stdout_has "simulation 60 steps/s"
 fi
+pfx_run info one.yaml --set fps=60 --fps 30
+finished && want_status 0
+stdout_has "frames 6 (0.2 s at 30 fps)" # --fps wins over --set fps
 pfx_run info one.yaml --format json --set 'image.size=[32, 16]'
 finished && want_status 0
 [ "$("$py" -c 'import json,sys; d=json.load(open(sys.argv[1])); print(d["width"], d["height"])' "$work/out")" = "32 16" ] ||
