@@ -104,6 +104,7 @@ enum {
     OPT_PREVIEW_Q,
     OPT_ATLAS_POT,
     OPT_ATLAS_JSON,
+    OPT_SET,
     OPT_MOTION_VECTORS,
     OPT_MV_MAX,
     OPT_MV_FLIP_Y
@@ -149,6 +150,11 @@ static const option_row option_rows[] = {
      "output frames per second, overriding fps"},
     {"seed", required_argument, OPT_SEED, "    --seed N", CMD_RENDER | CMD_BAKE | CMD_INFO,
      "random seed, overriding seed"},
+    {"set", required_argument, OPT_SET, "    --set PATH=VALUE",
+     CMD_VALIDATE | CMD_RENDER | CMD_BAKE | CMD_INFO,
+     "override a value of the file, such as\n"
+     "emitters.flame.rate=300 or 'emitters.flame.color=[1,0,0]'\n"
+     "(VALUE is YAML; repeatable, applied in order)"},
     {"max-particles", required_argument, OPT_MAX, "    --max-particles N",
      CMD_VALIDATE | CMD_RENDER | CMD_BAKE | CMD_INFO,
      "particle budget over all emitters (default 1000000)"},
@@ -269,14 +275,14 @@ typedef struct command_row {
 static const command_row commands[] = {
     {"validate", CMD_VALIDATE,
      "pfx validate [--format text|json|sarif] [--werror] [--max-particles N]\n"
-     "           [--max-memory SIZE] FILE...\n"
+     "           [--max-memory SIZE] [--set PATH=VALUE] FILE...\n"
      "pfx validate --list-rules",
      "check effect files like a compiler; exit 1 if any has an error", pfx_cmd_validate},
     {"render", CMD_RENDER,
      "pfx render FILE... -o DIR [-j N] [--keep-going] [--frames A:B[:S]]\n"
      "           [--size WxH] [--fps N] [--seed N] [--max-particles N]\n"
      "           [--max-memory SIZE] [--renderer R] [--alpha MODE] [--threads N]\n"
-     "           [--force] [--depfile FILE] [--progress json]\n"
+     "           [--force] [--depfile FILE] [--progress json] [--set PATH=VALUE]\n"
      "           [--atlas[=CxR]] [--padding N] [--extrude N] [--crop]\n"
      "           [--atlas-pot] [--atlas-json hash|array]\n"
      "           [--preview OUT.webp|OUT.mp4] [--preview-quality Q]\n"
@@ -287,11 +293,12 @@ static const command_row commands[] = {
     {"bake", CMD_BAKE,
      "pfx bake FILE -o OUT [--format csv|ply|pcache] [--every N] [--frames A:B[:S]]\n"
      "           [--fps N] [--seed N] [--max-particles N] [--max-memory SIZE]\n"
-     "           [--threads N] [--force] [--depfile FILE]",
+     "           [--threads N] [--force] [--depfile FILE] [--set PATH=VALUE]",
      "write the particle state of every output frame: CSV, PLY or pcache", pfx_cmd_bake},
     {"info", CMD_INFO,
      "pfx info FILE [--format text|json] [--seed N] [--max-particles N]\n"
-     "           [--max-memory SIZE] [--threads N] [--motion-vectors]",
+     "           [--max-memory SIZE] [--threads N] [--motion-vectors]\n"
+     "           [--set PATH=VALUE]",
      "show what the compiled effect holds", pfx_cmd_info},
     {"bench", CMD_BENCH,
      "pfx bench [SECTION...] [--json] [--renderer R]\n"
@@ -577,6 +584,21 @@ static int parse_option(int c, int argc, char **argv, pfx_cli *o) {
                                        optarg);
         o->slice_count = (long)v;
         break;
+    case OPT_SET: {
+        /* The words stay in argv; the path is checked against the effect
+         * when it loads (jobs/overrides.c). */
+        static const char *sets[PFX_MAX_SETS];
+        if (!strchr(optarg, '=') || optarg[0] == '=')
+            return pfx_cli_usage_error("--set takes PATH=VALUE, such as emitters.flame.rate=300, "
+                                       "got '%s'",
+                                       optarg);
+        if (o->compile.set_count == PFX_MAX_SETS)
+            return pfx_cli_usage_error("at most 256 --set may be given, got '%s' past them",
+                                       optarg);
+        sets[o->compile.set_count++] = optarg;
+        o->compile.sets = sets;
+        break;
+    }
     case ':':
         return pfx_cli_usage_error("option '%s' needs a value", option_word(argv, optopt));
     default:
@@ -692,6 +714,9 @@ static int check_options(int argc, char **argv, pfx_cli *o) {
                 o->format);
         o->json = !strcmp(o->format, "json");
     }
+    if (o->compile.set_count &&
+        (!strcmp(argv[1], "bench") || !strcmp(argv[1], "assemble") || !strcmp(argv[1], "schema")))
+        return pfx_cli_usage_error("--set is for a command that reads an effect, not %s", argv[1]);
     if (o->list_rules && strcmp(argv[1], "validate"))
         return pfx_cli_usage_error("%s", "--list-rules is for validate");
     return -1;

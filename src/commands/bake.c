@@ -180,7 +180,8 @@ int pfx_cmd_bake(const char *const *operands, int count, const pfx_cli *o) {
     }
     if (!pfx_cli_memory_fits(e, first, last, false, o, &run))
         goto done;
-    if (!pfx_delivery_begin(&dl, "bake", &run) || !pfx_cli_describe_run(&dl, &l, first, last, &run))
+    if (!pfx_delivery_begin(&dl, "bake", &run) ||
+        !pfx_cli_describe_run(&dl, &l, first, last, o, &run))
         goto done;
     pfx_manifest_set_string(dl.now, "format", pfx_bake_format_name(format));
     pfx_manifest_set_number(dl.now, "every", (double)o->every);

@@ -98,10 +98,10 @@ long pfx_cli_frame_count(const pfx_cli *o, long first, long last);
 bool pfx_cli_memory_fits(const pfx_effect *e, long first, long last, bool render, const pfx_cli *o,
                          pfx_diags *run);
 /* The manifest's settings common to render and bake (the effect's values
- * after --fps, --size, --seed and --max-particles), and its inputs (the
- * effect hashed as the bytes l parsed). */
+ * after --fps, --size, --seed and --max-particles, and --set), and its
+ * inputs (the effect hashed as the bytes l parsed). */
 bool pfx_cli_describe_run(pfx_delivery *dl, const pfx_loaded *l, long first, long last,
-                          pfx_diags *d);
+                          const pfx_cli *o, pfx_diags *d);
 /* Adds dl's manifest and depfile to names, and checks every name before
  * any work: each fits its directory, none is an input of dl->now, and the
  * depfile can name every input. False with the reasons in d. */

@@ -49,11 +49,11 @@ bool pfx_cli_renderer_kind(const pfx_cli *o, pfx_renderer_kind *kind) {
 
 /* --werror: true (with a line saying so) when l has warnings to fail on. */
 bool pfx_cli_fails_on_warnings(const pfx_loaded *l, const char *path, const pfx_cli *o) {
-    if (!o->werror || l->diags.warnings == 0)
+    int warnings = pfx_loaded_warnings(l);
+    if (!o->werror || warnings == 0)
         return false;
-    fprintf(stderr, "pfx: '%s': %d warning%s treated as error%s (--werror)\n", path,
-            l->diags.warnings, l->diags.warnings == 1 ? "" : "s",
-            l->diags.warnings == 1 ? "" : "s");
+    fprintf(stderr, "pfx: '%s': %d warning%s treated as error%s (--werror)\n", path, warnings,
+            warnings == 1 ? "" : "s", warnings == 1 ? "" : "s");
     return true;
 }
 
@@ -61,7 +61,7 @@ bool pfx_cli_fails_on_warnings(const pfx_loaded *l, const char *path, const pfx_
  * warning fails it: the effect stays in l (freed with it), unused. */
 pfx_effect *pfx_cli_load(pfx_loaded *l, const char *path, const pfx_cli *o) {
     pfx_effect *e = pfx_load(l, path, &o->compile);
-    pfx_diags_print(&l->diags, stderr, o->json);
+    pfx_loaded_print(l, stderr, o->json);
     return e && !pfx_cli_fails_on_warnings(l, path, o) ? e : NULL;
 }
 
@@ -175,12 +175,14 @@ bool pfx_cli_memory_fits(const pfx_effect *e, long first, long last, bool render
 }
 
 /* The manifest's settings common to render and bake (the effect's values
- * after --fps, --size, --seed and --max-particles), and its inputs. The
+ * after --fps, --size, --seed and --max-particles; --set as given, in
+ * order, only when there is one, so that other keys stay as they were),
+ * and its inputs. The
  * effect is hashed as the bytes that were parsed, never by opening it
  * again: a pipe (/dev/stdin, <(...)) is drained by then and a named FIFO
  * would wait for a second writer. */
 bool pfx_cli_describe_run(pfx_delivery *dl, const pfx_loaded *l, long first, long last,
-                          pfx_diags *d) {
+                          const pfx_cli *o, pfx_diags *d) {
     const pfx_effect *e = l->effect;
     char hex[PFX_SHA256_HEX];
     pfx_sha256_bytes(l->source, l->source_len, hex);
@@ -194,6 +196,8 @@ bool pfx_cli_describe_run(pfx_delivery *dl, const pfx_loaded *l, long first, lon
     pfx_manifest_set_string(dl->now, "seed", seed);
     pfx_manifest_set_number(dl->now, "max_particles", (double)e->max_particles);
     pfx_manifest_set_number(dl->now, "loop", e->loop);
+    if (o->compile.set_count)
+        pfx_manifest_set_strings(dl->now, "set", o->compile.sets, o->compile.set_count);
     return pfx_manifest_add_effect(dl->now, e, d);
 }
 

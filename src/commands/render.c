@@ -200,7 +200,7 @@ static int render_one(const char *path, const char *dir, pfx_renderer_kind kind,
     if (!job.renderer)
         goto done;
     if (!pfx_delivery_begin(&dl, "render", &run) ||
-        !pfx_cli_describe_run(&dl, &l, job.first, job.last, &run))
+        !pfx_cli_describe_run(&dl, &l, job.first, job.last, o, &run))
         goto done;
     pfx_atlas_layout atlas = o->atlas_layout;
     pfx_mv_meta mv = {

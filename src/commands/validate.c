@@ -30,11 +30,12 @@ int pfx_cmd_validate(const char *const *operands, int count, const pfx_cli *o) {
             pfx_estimate est;
             pfx_estimate_run(e, 0, pfx_effect_frame_count(e) - 1, true, &est);
             pfx_estimate_warn(&l, &est, o->max_memory);
+            pfx_overrides_claim(&l.overrides, &l.diags); /* a warning at a --set value */
         }
-        if (sarif && !pfx_sarif_add(sarif, &l.diags))
+        if (sarif && !(pfx_sarif_add(sarif, &l.overrides.diags) && pfx_sarif_add(sarif, &l.diags)))
             pfx_diag_error(&run, PFX_RULE_OUT_OF_MEMORY, "out of memory for the SARIF log");
         if (!sarif)
-            pfx_diags_print(&l.diags, stderr, o->json);
+            pfx_loaded_print(&l, stderr, o->json);
         if (!e || pfx_cli_fails_on_warnings(&l, operands[i], o))
             status = EXIT_INVALID;
         pfx_loaded_free(&l);

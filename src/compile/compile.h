@@ -17,6 +17,10 @@ typedef struct pfx_compile_options {
     bool has_alpha;
     pfx_alpha_mode alpha; /* --alpha: overrides image.alpha */
     int threads;          /* simulation threads; 0: the machine's cores */
+    /* --set PATH=VALUE, in order: applied to the node tree by jobs/load.c
+     * before compile (which never reads them) */
+    const char *const *sets;
+    size_t set_count;
 } pfx_compile_options;
 
 /* Compiles a parsed document. Reports every problem into d; returns NULL if

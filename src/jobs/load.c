@@ -100,7 +100,11 @@ static pfx_effect *load_source(pfx_loaded *l, const char *path, char *buf, size_
     }
     if (!pfx_parse(buf, len, &l->doc, &l->diags))
         return NULL;
+    if (opt && opt->set_count &&
+        !pfx_overrides_apply(&l->overrides, &l->doc, path, opt->sets, opt->set_count))
+        return NULL;
     l->effect = pfx_compile(l->doc.root, path, opt, &l->arena, &l->diags);
+    pfx_overrides_claim(&l->overrides, &l->diags);
     return l->effect;
 }
 
@@ -108,6 +112,16 @@ void pfx_loaded_free(pfx_loaded *l) {
     pfx_doc_free(&l->doc);
     pfx_arena_free(&l->arena);
     pfx_diags_free(&l->diags);
+    pfx_overrides_free(&l->overrides);
     free(l->source);
     memset(l, 0, sizeof *l);
+}
+
+void pfx_loaded_print(const pfx_loaded *l, FILE *out, bool json) {
+    pfx_diags_print(&l->overrides.diags, out, json);
+    pfx_diags_print(&l->diags, out, json);
+}
+
+int pfx_loaded_warnings(const pfx_loaded *l) {
+    return l->diags.warnings + l->overrides.diags.warnings;
 }

@@ -58,6 +58,14 @@ void pfx_manifest_set_number(pfx_manifest *m, const char *key, double value) {
     json_object_set_new(member(m, "settings"), key, v);
 }
 
+void pfx_manifest_set_strings(pfx_manifest *m, const char *key, const char *const *values,
+                              size_t n) {
+    json_t *list = json_array();
+    for (size_t i = 0; i < n; i++)
+        json_array_append_new(list, json_string(values[i]));
+    json_object_set_new(member(m, "settings"), key, list);
+}
+
 void pfx_manifest_set_range(pfx_manifest *m, const char *key, long first, long last) {
     json_object_set_new(member(m, "settings"), key,
                         json_pack("[I, I]", (json_int_t)first, (json_int_t)last));

@@ -37,6 +37,9 @@ void pfx_manifest_destroy(pfx_manifest *m);
 void pfx_manifest_set_string(pfx_manifest *m, const char *key, const char *value);
 void pfx_manifest_set_number(pfx_manifest *m, const char *key, double value);
 void pfx_manifest_set_range(pfx_manifest *m, const char *key, long first, long last);
+/* A list of strings in their order: --set's PATH=VALUE words. */
+void pfx_manifest_set_strings(pfx_manifest *m, const char *key, const char *const *values,
+                              size_t n);
 
 /* Hashes the input at path and lists it (part of the bake key); a second
  * call with the same path does nothing. False, with the reason in d, when

@@ -74,6 +74,11 @@ fuzz_run() {
     case $target in
     obj) cp "$src"/effects/*.obj "$src"/tests/diag/*.obj "$seeds/" ;;
     png) cp "$src"/effects/textures/*.png "$src"/tests/diag/*.png "$seeds/" ;;
+    set) # --set words, one a line, for fuzz_set.c's fixed effect
+        printf '%s\n' emitters.flame.rate=300 sim.integrator=rk4 >"$seeds/replace-insert"
+        printf '%s\n' 'emitters.copy.color.1=#ff0000' 'emitters.flame.size={start: 1}' >"$seeds/item-map"
+        printf '%s\n' emitters.flam.rate=1 emitters.flame.shape.radiu=2 >"$seeds/typos"
+        ;;
     *) cp "$src"/effects/*.yaml "$src"/tests/diag/*.yaml "$seeds/" ;;
     esac
     local args=(-dict="$tree/pfx.dict" -max_len=65536)
