@@ -689,14 +689,11 @@ static int check_options(int argc, char **argv, pfx_cli *o) {
                                              "S-th frame, and disagree: give one");
         o->every = o->frames_step;
     }
-    /* Sheets, previews and motion vectors are built from consecutive frames. */
-    if (o->every > 1 && !strcmp(argv[1], "render") && (o->atlas || o->preview || o->motion_vectors))
-        return pfx_cli_usage_error(
-            "%s cannot go with a --frames step: it is made of every frame of "
-            "the range",
-            o->atlas     ? "--atlas"
-            : o->preview ? "--preview"
-                         : "--motion-vectors");
+    /* A sheet or a preview of every S-th frame plays at fps / S; motion
+     * vectors are the motion to the next frame, which a step leaves out. */
+    if (o->every > 1 && !strcmp(argv[1], "render") && o->motion_vectors)
+        return pfx_cli_usage_error("%s", "--motion-vectors cannot go with a --frames step: they "
+                                         "are the motion to the next frame");
     if (o->slices && strcmp(argv[1], "render"))
         return pfx_cli_usage_error("%s", "--slice and --slice-env are for render");
     /* --format: the diagnostics' form for every command but bake, whose

@@ -51,7 +51,7 @@ static bool describe_render(const pfx_render_job *job, const pfx_cli *o, long al
         pfx_atlas_layout check = *atlas;
         check.frame_w = job->effect->width;
         check.frame_h = job->effect->height;
-        check.frames = (int)(job->last - job->first + 1);
+        check.frames = (int)((job->last - job->first) / o->every + 1);
         if (!pfx_atlas_layout_resolve(&check, run))
             return false;
         pfx_atlas_job_describe(atlas, dl->now);
@@ -113,13 +113,13 @@ static bool write_extras(const pfx_render_job *job, const pfx_cli *o, const char
         (!pfx_mv_add_outputs(dl->now, dir, stem, job->first, job->last, run) ||
          (!o->atlas && !pfx_mv_sidecar_run(dir, stem, job->first, job->last, mv, dl->now, run))))
         return false;
-    if (o->atlas && !pfx_atlas_job_run(dir, stem, job->first, job->last, job->effect->fps,
+    if (o->atlas && !pfx_atlas_job_run(dir, stem, job->first, job->last, o->every, job->effect->fps,
                                        job->effect->loop, atlas, dl->now, run))
         return false;
     pfx_preview preview = {
         .path = o->preview, .quality = o->preview_quality, .premultiplied = atlas->premultiplied};
-    if (o->preview &&
-        !pfx_preview_run(dir, stem, job->first, job->last, job->effect->fps, &preview, run))
+    if (o->preview && !pfx_preview_run(dir, stem, job->first, job->last, o->every, job->effect->fps,
+                                       &preview, run))
         return false;
     if (!pfx_delivery_finish(dl, run))
         return false;

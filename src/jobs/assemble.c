@@ -290,7 +290,7 @@ static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_
         atlas.motion = motion;
         atlas.premultiplied = premultiplied;
         pfx_atlas_job_describe(&atlas, all);
-        ok = pfx_atlas_job_run(out, p[0].stem, first, last, fps, loop, &atlas, all, d);
+        ok = pfx_atlas_job_run(out, p[0].stem, first, last, 1, fps, loop, &atlas, all, d);
     } else if (ok && motion) {
         ok = pfx_mv_sidecar_run(out, p[0].stem, first, last, motion, all, d);
     }
@@ -300,7 +300,7 @@ static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_
         pfx_manifest_set_string(all, "preview", opt->preview);
         if (opt->preview_quality >= 0)
             pfx_manifest_set_number(all, "preview_quality", opt->preview_quality);
-        ok = pfx_preview_run(out, p[0].stem, first, last, fps, &preview, d);
+        ok = pfx_preview_run(out, p[0].stem, first, last, 1, fps, &preview, d);
     }
     pfx_manifest_key(all);
     char path[4096];

@@ -21,11 +21,11 @@ void pfx_atlas_job_describe(const pfx_atlas_layout *l, pfx_manifest *m) {
         pfx_manifest_set_string(m, "atlas_json", "array");
 }
 
-/* One atlas job: the frames STEM_FFFF.png for FFFF in [first, last], read
- * from DIR, with their file names (for the JSON). */
+/* One atlas job: the frames STEM_FFFF.png for FFFF = first, first + step,
+ * ... up to last, read from DIR, with their file names (for the JSON). */
 typedef struct atlas_job {
     const char *dir, *stem;
-    long first, last, n;
+    long first, last, step, n;
     uint8_t **frames;
     char **names;
     pfx_atlas_layout *l;
@@ -46,7 +46,7 @@ static bool read_frames(atlas_job *j) {
             pfx_diag_error(j->d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
             return false;
         }
-        snprintf(j->names[k], 300, "%s_%04ld.png", j->stem, j->first + k);
+        snprintf(j->names[k], 300, "%s_%04ld.png", j->stem, j->first + k * j->step);
         snprintf(path, sizeof path, "%s/%s", j->dir, j->names[k]);
         j->frames[k] = pfx_png_read(path, &w, &h);
         if (!j->frames[k]) {
@@ -116,10 +116,20 @@ static bool write_outputs(const atlas_job *j, const uint8_t *sheet, double fps, 
     return ok;
 }
 
-bool pfx_atlas_job_run(const char *dir, const char *stem, long first, long last, double fps,
-                       bool loop, pfx_atlas_layout *l, pfx_manifest *m, pfx_diags *d) {
-    long n = last - first + 1;
-    atlas_job j = {.dir = dir, .stem = stem, .first = first, .last = last, .n = n, .l = l, .d = d};
+bool pfx_atlas_job_run(const char *dir, const char *stem, long first, long last, long step,
+                       double fps, bool loop, pfx_atlas_layout *l, pfx_manifest *m, pfx_diags *d) {
+    long n = (last - first) / step + 1;
+    atlas_job j = {.dir = dir,
+                   .stem = stem,
+                   .first = first,
+                   .last = last,
+                   .step = step,
+                   .n = n,
+                   .l = l,
+                   .d = d};
+    /* Every step-th frame of the effect plays at fps / step, so that the
+     * sheet lasts as long as the effect. */
+    fps /= (double)step;
     j.frames = calloc((size_t)n, sizeof *j.frames);
     j.names = calloc((size_t)n, sizeof *j.names);
     uint8_t *sheet = NULL;

@@ -70,13 +70,16 @@ static void to_straight(uint8_t *rgba, size_t pixels) {
     }
 }
 
-bool pfx_preview_run(const char *dir, const char *stem, long first, long last, double fps,
-                     const pfx_preview *p, pfx_diags *d) {
+bool pfx_preview_run(const char *dir, const char *stem, long first, long last, long step,
+                     double fps, const pfx_preview *p, pfx_diags *d) {
+    /* Every step-th frame plays at fps / step: the preview lasts as long as
+     * the effect. */
+    fps /= (double)step;
     const char *path = p->path;
     writer w = {0};
     int width = 0, height = 0;
     bool ok = true;
-    for (long f = first; ok && f <= last; f++) {
+    for (long f = first; ok && f <= last; f += step) {
         char frame[4400];
         int fw, fh;
         snprintf(frame, sizeof frame, "%s/%s_%04ld.png", dir, stem, f);
@@ -99,8 +102,8 @@ bool pfx_preview_run(const char *dir, const char *stem, long first, long last, d
         }
         if (ok && p->premultiplied)
             to_straight(rgba, (size_t)fw * (size_t)fh);
-        ok = ok && writer_add(&w, rgba, f - first, d);
+        ok = ok && writer_add(&w, rgba, (f - first) / step, d);
         free(rgba);
     }
-    return writer_finish(&w, path, last - first + 1, ok, d);
+    return writer_finish(&w, path, (last - first) / step + 1, ok, d);
 }

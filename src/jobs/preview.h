@@ -21,10 +21,10 @@ typedef struct pfx_preview {
  * reason in d. */
 bool pfx_preview_check(const pfx_preview *p, int width, int height, pfx_diags *d);
 
-/* Reads dir/stem_NNNN.png for first..last one at a time and writes them to
- * p->path at fps, looping. False with the reason in d, and no file at the
- * path. */
-bool pfx_preview_run(const char *dir, const char *stem, long first, long last, double fps,
-                     const pfx_preview *p, pfx_diags *d);
+/* Reads dir/stem_NNNN.png for first, first + step, ... up to last, one at
+ * a time, and writes them to p->path at fps / step, looping. False with the
+ * reason in d, and no file at the path. */
+bool pfx_preview_run(const char *dir, const char *stem, long first, long last, long step,
+                     double fps, const pfx_preview *p, pfx_diags *d);
 
 #endif

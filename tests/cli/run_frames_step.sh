@@ -41,6 +41,42 @@ end
 
 # Read back with Pillow: the same image as the full render's frame, and not
 # the same as its neighbour (so the numbering is not off by one).
+# A sheet and a preview of a stepped render hold the stepped frames, and
+# play at fps / S so that they last as long as the effect.
+begin "--atlas and --preview of --frames 0:20:5: five cells, five frames, at fps / 5"
+pfx_run render "$FIRE" -o "$work/sheet" --frames 0:20:5 --size 64x64 --atlas=5x1 --padding 0 \
+    --extrude 0 --preview "$work/sheet/fire.webp"
+if finished; then
+    want_status 0
+    out=$("$py" - "$work" "$(sed -n 's/^fps: *//p' "$FIRE")" <<'PY'
+import json, sys
+from PIL import Image, ImageChops
+d, fps = sys.argv[1], float(sys.argv[2] or 30)
+sheet = Image.open("%s/sheet/fire_atlas.png" % d).convert("RGBA")
+meta = json.load(open("%s/sheet/fire_atlas.json" % d))
+if sheet.size != (320, 64):
+    print("the sheet is %s, not 320x64" % (sheet.size,))
+if abs(meta["meta"]["grid"]["fps"] - fps / 5) > 1e-9:
+    print("the sheet's fps is %s, not %s" % (meta["meta"]["grid"]["fps"], fps / 5))
+if sorted(meta["frames"]) != ["fire_%04d.png" % f for f in (0, 5, 10, 15, 20)]:
+    print("the sheet names %s" % sorted(meta["frames"]))
+web = Image.open("%s/sheet/fire.webp" % d)
+if web.n_frames != 5:
+    print("the preview has %d frames" % web.n_frames)
+for k, f in enumerate((0, 5, 10, 15, 20)):
+    full = Image.open("%s/full/fire_%04d.png" % (d, f)).convert("RGBA")
+    cell = sheet.crop((64 * k, 0, 64 * k + 64, 64))
+    if ImageChops.difference(cell, full).getbbox() is not None:
+        print("cell %d is not frame %d" % (k, f))
+    web.seek(k)
+    if abs(web.info["duration"] - 5000 / fps) > 1:
+        print("preview frame %d lasts %s ms, not %.0f" % (k, web.info["duration"], 5000 / fps))
+PY
+)
+    [ -z "$out" ] || flunk "$out"
+fi
+end
+
 begin "Pillow reads each stepped frame as the full render's frame of that number"
 out=$("$py" - "$work" <<'PY'
 import sys
@@ -130,8 +166,6 @@ usage_error "--every and a step that disagree" "--every N and --frames A:B:S" ba
     -o "$work/u.csv" --frames 0:20:5 --every 2
 usage_error "--every for render" "--every is for bake; other commands take every S-th frame" \
     render "$FIRE" -o "$work/u" --frames 0:20 --every 5
-usage_error "--atlas with a step" "--atlas cannot go with a --frames step" render "$FIRE" \
-    -o "$work/u" --frames 0:20:5 --atlas
 usage_error "--motion-vectors with a step" "--motion-vectors cannot go with a --frames step" \
     render "$FIRE" -o "$work/u" --frames 0:20:5 --motion-vectors
 begin "the usage errors wrote nothing"
