@@ -248,6 +248,19 @@ static json_t *family_schema(const pfx_schema_family *f) {
     return o;
 }
 
+/* `allow:` takes the ids of the warning rules: from the rule table, so the
+ * schema lists exactly the rules an effect may acknowledge. */
+static void allow_names(json_t *allow) {
+    json_t *ids = json_array(), *names = json_object();
+    for (size_t i = 0; i < pfx_rule_count; i++) {
+        char id[16];
+        if (pfx_rules[i].severity == PFX_SEV_WARNING)
+            json_array_append_new(ids, json_string(pfx_rule_id(pfx_rules[i].rule, id, sizeof id)));
+    }
+    json_object_set_new(names, "enum", ids);
+    json_object_set_new(allow, "propertyNames", names);
+}
+
 char *pfx_schema_text(void) {
     json_t *root = json_object(), *defs = json_object();
     json_object_set_new(root, "$schema",
@@ -256,6 +269,7 @@ char *pfx_schema_text(void) {
     json_object_set_new(root, "description", json_string(pfx_schema_top.doc));
     json_t *top = table_schema(&pfx_schema_top);
     json_object_del(top, "description");
+    allow_names(json_object_get(json_object_get(top, "properties"), "allow"));
     json_object_update(root, top);
     json_decref(top);
     for (size_t i = 0; pfx_schema_fragments[i].name; i++)

@@ -102,6 +102,12 @@ static json_t *result(const pfx_diags *d, const pfx_diag *g) {
     json_t *loc = location(d, g);
     if (loc)
         json_object_set_new(r, "locations", json_pack("[o]", loc));
+    /* A warning the file's `allow:` acknowledges: in the log, as code
+     * scanning shows a dismissed alert, with the file's reason. */
+    if (g->allowed)
+        json_object_set_new(r, "suppressions",
+                            json_pack("[{s:s, s:o}]", "kind", "inSource", "justification",
+                                      text(g->allowed)));
     return r;
 }
 

@@ -27,6 +27,18 @@ want_status 1
 [ ! -e w.csv ] || flunk "w.csv was written"
 end
 
+begin "validate --werror passes a warning the file allows"
+pfx_run validate --werror "$src/tests/diag/allow_loop_seam.yaml"
+want_status 0
+! grep -qF "warning:" "$work/err" || flunk "an allowed warning was printed"
+end
+
+begin "render --werror renders an effect whose warning is allowed"
+pfx_run render --werror "$src/tests/diag/allow_loop_seam.yaml" -o frames --frames 0 -q
+want_status 0
+[ -e frames/allow_loop_seam_0000.png ] || flunk "no frame: $(ls frames 2>&1)"
+end
+
 begin "validate --werror passes a clean file"
 pfx_run validate --werror "$src/effects/fire.yaml"
 want_status 0
