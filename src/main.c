@@ -16,7 +16,7 @@
 
 static const char usage_text[] =
     "usage: pfx validate [--format text|json|sarif] [--werror] [--max-particles N]\n"
-    "                  [--max-memory SIZE] FILE...\n"
+    "                  [--max-memory SIZE] [-q] FILE...\n"
     "       pfx validate --list-rules\n"
     "       pfx render FILE... -o DIR [-j N] [--keep-going] [--frames A:B] [--size WxH]\n"
     "                  [--fps N] [--seed N] [--max-particles N] [--max-memory SIZE]\n"
@@ -94,7 +94,7 @@ static const char usage_text[] =
     "      --slice-count N     the number of slices for --slice-env\n"
     "      --alpha MODE        PNG alpha: straight or premultiplied, overriding\n"
     "                          image.alpha\n"
-    "  -q, --quiet             no progress line and no notes\n"
+    "  -q, --quiet             no progress line, summary line or notes\n"
     "  -h, --help              show this help\n"
     "      --version           show the version\n";
 

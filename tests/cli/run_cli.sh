@@ -53,8 +53,15 @@ EOF
 printf 'pfx: 1\nemitters:\n  a:\n    rate: -1\n' >"$work/bad.yaml"
 
 # ---- success: 0
-begin "validate a valid file"
+begin "validate a valid file: one summary line on stderr"
 pfx_run validate "$FIRE"
+want_status 0
+[ "$(cat "$work/err")" = "pfx: validated '$FIRE': no warnings" ] || flunk "stderr: $(cat "$work/err")"
+stdout_empty
+end
+
+begin "validate -q: nothing on stderr"
+pfx_run validate -q "$FIRE"
 want_status 0
 stderr_empty
 stdout_empty
@@ -62,6 +69,13 @@ end
 
 begin "validate every example"
 pfx_run validate effects/*.yaml
+want_status 0
+n=$(ls effects/*.yaml | wc -l)
+[ "$(cat "$work/err")" = "pfx: validated $n files: no warnings" ] || flunk "stderr: $(cat "$work/err")"
+end
+
+begin "validate --format json: no summary, every line JSON"
+pfx_run validate --format json "$FIRE"
 want_status 0
 stderr_empty
 end
@@ -210,6 +224,7 @@ pfx_run validate "$work/bad.yaml"
 want_status 1
 stderr_has "$work/bad.yaml:4:11: error: 'rate' must be at least 0, got -1"
 stdout_empty
+! grep -qF "pfx: validated" "$work/err" || flunk "a summary line after a failure"
 end
 
 begin "validate a valid and an invalid file"

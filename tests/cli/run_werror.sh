@@ -12,6 +12,7 @@ begin "validate passes a warning without --werror"
 pfx_run validate "$W"
 want_status 0
 stderr_has "warning: the effect has no 'emitters'"
+stderr_has "pfx: validated '$W': 1 warning"
 end
 
 begin "validate --werror fails on it"
@@ -19,6 +20,7 @@ pfx_run validate --werror "$W"
 want_status 1
 stderr_has "warning: the effect has no 'emitters'"
 stderr_has "pfx: '$W': 1 warning treated as error (--werror)"
+! grep -qF "pfx: validated" "$work/err" || flunk "a summary line after a failure"
 end
 
 begin "bake --werror writes nothing"
@@ -30,6 +32,7 @@ end
 begin "validate --werror passes a warning the file allows"
 pfx_run validate --werror "$src/tests/diag/allow_loop_seam.yaml"
 want_status 0
+stderr_has "no warnings, 1 allowed"
 ! grep -qF "warning:" "$work/err" || flunk "an allowed warning was printed"
 end
 

@@ -167,7 +167,7 @@ def pfx_validate(name, text):
     path = os.path.join(tmp, name + ".yaml")
     with open(path, "w") as f:
         f.write(text)
-    r = subprocess.run([pfx, "validate", path], capture_output=True, text=True)
+    r = subprocess.run([pfx, "validate", "-q", path], capture_output=True, text=True)
     return r.returncode, r.stderr
 
 if not effects:
