@@ -113,6 +113,32 @@ sys.exit(0 if uri == want and " " not in uri else f"uri {uri!r}, expected {want!
 ' "$work/out" "$work/a dir/b x.yaml" || flunk "bad uri"
 end
 
+# An absolute path inside the current directory: relative to %SRCROOT%,
+# which the run sets to the current directory (code scanning resolves
+# artifact URIs against it); the log still meets the schema.
+begin "absolute path inside the current directory: relative to %SRCROOT%"
+pfx_run validate --format sarif "$src/$D/box_size_negative.yaml"
+want_status 1
+msg=$("$py" - "$work/out" "$schema" "$(pwd -P)" <<'PY' 2>&1
+import json, sys, urllib.parse, jsonschema
+log = json.load(open(sys.argv[1]))
+schema = json.load(open(sys.argv[2]))
+jsonschema.validators.validator_for(schema)(schema).validate(log)
+run = log["runs"][0]
+base = run.get("originalUriBaseIds", {}).get("%SRCROOT%", {}).get("uri")
+want = "file://" + urllib.parse.quote(sys.argv[3]) + "/"
+loc = run["results"][0]["locations"][0]["physicalLocation"]["artifactLocation"]
+bad = []
+if base != want:
+    bad.append(f"%SRCROOT% {base!r}, expected {want!r}")
+if loc != {"uri": "tests/diag/box_size_negative.yaml", "uriBaseId": "%SRCROOT%"}:
+    bad.append(f"artifactLocation {loc}")
+print("\n".join(bad))
+sys.exit(1 if bad else 0)
+PY
+) || flunk "$msg"
+end
+
 # allow: an acknowledged warning is a result with a suppression carrying the
 # file's reason, and the log exits 0 with --werror.
 begin "allowed warning: a suppression with its justification"
