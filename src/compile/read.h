@@ -65,10 +65,13 @@ bool pfx_read_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_valu
  * 3-sigma cut) is named as such. */
 bool pfx_read_value_in(pfx_reader *r, const pfx_node *n, const char *what, pfx_value *v, double lo,
                        bool lo_strict, double hi);
-/* A colour: "#rgb", "#rgba", "#rrggbb", "#rrggbbaa", [r, g, b] or [r, g, b, a],
+/* A colour: "#rgb", "#rgba", "#rrggbb", "#rrggbbaa", a CSS colour name
+ * (compile/css_colours.h), transparent, [r, g, b] or [r, g, b, a],
  * components in 0..rgb_max (above 1: an HDR colour, for light), alpha in
  * 0..1. */
 #define PFX_HDR_MAX 1000.0
+/* The CSS colour names, in the table's order, NULL-terminated. */
+extern const char *const pfx_css_colour_names[];
 bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, double rgb_max,
                     float out[4]);
 /* A colour or a gradient (a list of colours, evenly spaced, or of {at, color}

@@ -185,6 +185,7 @@ for path in effects:
 # Documents pfx accepts, written to reach the corners of the format.
 good = {
     "minimal emitter": "pfx: 1\nemitters:\n  a: {}\n",
+    "CSS colour names": "pfx: 1\nimage: { background: rebeccapurple }\nemitters:\n  a: { color: [red, orange, yellow] }\n",
     "allow a warning": "pfx: 1\nallow: { PFX5002: \"the splash counts differ\" }\nemitters:\n  a: {}\n",
     "every form": """\
 pfx: 1.0
@@ -307,6 +308,7 @@ emitters:
 # Documents pfx rejects; the schema must reject each of them too.
 bad = {
     "unknown top-level key": "pfx: 1\ndurration: 3\n",
+    "misspelt colour name": "pfx: 1\nemitters:\n  a: { color: oragne }\n",
     "allow an error rule": "pfx: 1\nallow: { PFX3001: \"no\" }\nemitters:\n  a: {}\n",
     "allow with an empty reason": "pfx: 1\nallow: { PFX5002: \"\" }\nemitters:\n  a: {}\n",
     "unknown emitter key": "pfx: 1\nemitters:\n  a: { colr: \"#fff\", no_such_key: 1 }\n",
@@ -387,6 +389,7 @@ bad = {
 # rule it was written for). Each is part of an `error:` line.
 reason = {
     "unknown top-level key": "unknown key 'durration' in the effect",
+    "misspelt colour name": "unknown colour 'oragne' in 'color'; did you mean 'orange'?",
     "allow an error rule": "PFX3001 (out-of-range) is an error, which 'allow' cannot acknowledge",
     "allow with an empty reason": "the reason for allowing PFX5002 is empty",
     "unknown emitter key": "unknown key 'no_such_key' in emitter 'a'",
