@@ -9,10 +9,24 @@
 #include "model/effect.h"
 #include "parse/node.h"
 
+typedef struct pfx_loaded_file pfx_loaded_file;
 typedef struct pfx_reader {
     pfx_diags *d;
     pfx_arena *arena;
+    pfx_loaded_file *files; /* what was read of the files named so far */
 } pfx_reader;
+
+/* Files an effect names (textures, meshes) are read once each, however
+ * many keys name them (compile/file_cache.c). What a file gave for a kind
+ * of reading (`kind`, with its parameter: a mesh's scale, whether a
+ * texture is premultiplied) is found by the file's device and inode, so
+ * that two names of one file (./a.png and a.png, a symbolic link) share
+ * it; NULL when it was not read so before, or path is not a regular file. */
+enum { PFX_FILE_TEXTURE, PFX_FILE_MESH };
+const void *pfx_file_cache_find(pfx_reader *r, const char *path, int kind, double param);
+/* Remembers result (in r's arena, living as long as it) for path. */
+void pfx_file_cache_add(pfx_reader *r, const char *path, int kind, double param,
+                        const void *result);
 
 /* Where to blame a problem found while reading what node n names (the
  * file a key points to). */

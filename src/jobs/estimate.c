@@ -55,6 +55,17 @@ static double sprite_side_px(const pfx_effect *e, const pfx_emitter *em) {
     return size * 0.5 * e->height / (tan(0.5 * k->fov) * depth);
 }
 
+/* Whether map k of emitter i is the first use of those pixels. */
+static bool first_use(const pfx_effect *e, size_t i, int k, const void *pixels) {
+    for (size_t j = 0; j <= i; j++) {
+        const pfx_image *maps[2] = {e->emitters[j].look.texture, e->emitters[j].look.normal_map};
+        for (int m = 0; m < (j < i ? 2 : k); m++)
+            if (maps[m] && maps[m]->pixels == pixels)
+                return false;
+    }
+    return true;
+}
+
 /* The memory parts of drawing and writing frames: the sprite chunk, the
  * sort, ribbons, the driver, the framebuffers, motion vectors, the frame
  * encoders and the textures; `fixed` gains what does not grow with the
@@ -114,14 +125,19 @@ static void estimate_drawing(const pfx_effect *e, unsigned what, double image, p
             out->bytes[PFX_MEMORY_DRIVER] += PFX_RENDER_DRIVER_BYTES_PER_TEXTURED;
             *fixed += PFX_RENDER_DRIVER_BYTES_PER_TEXTURED;
         }
-    /* Textures: the decoded pixels, and their copy in GL with mipmaps
-     * (4/3 of the base level). */
+    /* Textures: the decoded pixels, once per file however many emitters
+     * name it (the compiler reads a file once), and each emitter's copy in
+     * GL with mipmaps (4/3 of the base level). */
     for (size_t i = 0; i < e->emitter_count; i++) {
         const pfx_image *maps[2] = {e->emitters[i].look.texture, e->emitters[i].look.normal_map};
-        for (int k = 0; k < 2; k++)
-            if (maps[k])
-                out->bytes[PFX_MEMORY_TEXTURES] +=
-                    (1 + 4.0 / 3) * maps[k]->width * maps[k]->height * 4 * (maps[k]->bits / 8);
+        for (int k = 0; k < 2; k++) {
+            if (!maps[k])
+                continue;
+            const double bytes = (double)maps[k]->width * maps[k]->height * 4 * (maps[k]->bits / 8);
+            out->bytes[PFX_MEMORY_TEXTURES] += 4.0 / 3 * bytes;
+            if (first_use(e, i, k, maps[k]->pixels))
+                out->bytes[PFX_MEMORY_TEXTURES] += bytes;
+        }
     }
     *fixed += out->bytes[PFX_MEMORY_FRAMEBUFFER] + out->bytes[PFX_MEMORY_TEXTURES];
 }
