@@ -39,8 +39,8 @@ static int check_bake_options(int count, const pfx_cli *o, pfx_bake_format *form
 }
 
 /* Simulates frames first..last and writes every --every'th to the bake at
- * -o (whole or not at all); notes the particles a full pool dropped unless
- * -q. */
+ * -o (whole or not at all); notes the particles a full pool dropped and the
+ * work done by sub-emitters unless -q. */
 static bool bake_frames(const pfx_effect *e, const pfx_cli *o, pfx_bake_format format, long first,
                         long last, pfx_diags *run) {
     const bool to_stdout = !strcmp(o->output, "-");
@@ -72,8 +72,10 @@ static bool bake_frames(const pfx_effect *e, const pfx_cli *o, pfx_bake_format f
         ok = false;
         goto done;
     }
-    if (!o->quiet)
+    if (!o->quiet) {
         pfx_sim_note_dropped(sim, run);
+        pfx_sim_note_work(sim, run);
+    }
 done:
     pfx_sim_destroy(view);
     pfx_sim_destroy(sim);

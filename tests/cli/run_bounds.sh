@@ -78,6 +78,34 @@ if finished; then
 fi
 end
 
+# ---- the work of a sub-emitter cycle: estimated as it runs
+# The cycle above within a budget of 100,000 once cost 55 s of CPU while the
+# estimate said 1.2e8 particle-steps and nothing warned: it counted the
+# particles stepped, not the trail births and deaths the parents raise
+# (each a count and a chance drawn), nine times the particle-steps here.
+# Now the estimate (pfx info --format json: particle_steps + spawn_events)
+# bounds the work the simulation counts (the bake's note: its own
+# per-emitter counters) from above, within a factor of 2; and the same
+# cycle over 100 s is warned about at validate time.
+begin "a sub-emitter cycle: the estimate bounds the work run within a factor of 2"
+pfx_run info --format json "$work/cycle.yaml" --max-particles 100000
+est=$("$py" -c 'import json, sys; w = json.load(open(sys.argv[1]))["work"]; print(w["particle_steps"] + w.get("spawn_events", 0))' "$work/out")
+pfx_run bake "$work/cycle.yaml" -o "$work/cycle2.csv" --frames 29:29 --max-particles 100000
+want_status 0
+ran=$(sed -n 's/^pfx: note: simulated \([0-9.e+]*\) particle-steps and \([0-9.e+]*\) sub-emitter events in [0-9]* steps$/\1 \2/p' "$work/err")
+[ -n "$ran" ] || flunk "no work note: $(tail -2 "$work/err")"
+awk -v e="${est:-0}" -v r="$ran" 'BEGIN { split(r, a, " "); w = a[1] + a[2]
+    exit !(w > 0 && w <= e && e <= 2 * w) }' ||
+    flunk "estimated $est, ran $ran (particle-steps, events)"
+end
+sed 's/^duration: 1$/duration: 100/' "$work/cycle.yaml" >"$work/cycle100.yaml"
+begin "the cycle over 100 s: validate warns of its work, sub-emitter events counted"
+pfx_run validate "$work/cycle100.yaml"
+want_status 0
+stderr_has "sub-emitter events to its last frame"
+stderr_has "[PFX6006]"
+end
+
 # ---- the chain: 16 emitters, each bursting 1e5 children on death
 # Took 88 s for one second of effect with no warning: now each saturated
 # child is named at validate time, and the second (1.2e8 particle-steps:
