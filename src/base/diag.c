@@ -74,6 +74,12 @@ void pfx_diag_note(pfx_diags *d, int line, int col, int span, const char *fmt, .
 void pfx_diags_append(pfx_diags *dst, pfx_diags *src) {
     for (size_t i = 0; i < src->count; i++) {
         const pfx_diag *g = &src->items[i];
+        /* Acknowledged in src's file: counted, not shown again (its reason
+         * goes with src). */
+        if (g->allowed) {
+            dst->allowed += g->severity == PFX_SEV_WARNING;
+            continue;
+        }
         pfx_diag_add(dst, g->severity, g->line, g->col, g->span, g->rule, "%s", g->message);
     }
     pfx_diags_free(src);

@@ -99,7 +99,8 @@ void pfx_diag_error(pfx_diags *d, pfx_rule rule, const char *fmt, ...)
  * d->allowed instead of d->warnings. Returns false when out of memory. */
 bool pfx_diags_allow(pfx_diags *d, pfx_rule rule, const char *reason);
 
-/* Moves every diagnostic of src to the end of dst (src is left empty). */
+/* Moves every diagnostic of src to the end of dst (src is left empty); an
+ * allowed warning (and its notes) is only counted in dst->allowed. */
 void pfx_diags_append(pfx_diags *dst, pfx_diags *src);
 
 /* Where a stage that cannot locate a problem itself should blame it: the
