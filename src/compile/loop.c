@@ -9,8 +9,10 @@
  * on across periods, so the number of children differs from loop to loop;
  * a fixed, certain count makes the same number, but the children draw
  * their random values from their emitter's stream, which starts over only
- * at a period's first birth of its own (sim/newborn.c), never in step
- * with the events. */
+ * at a period's first birth of its own (sim/newborn.c), not in step with
+ * the events: the loop is exact only by luck, or when the child emitter
+ * draws nothing at random (compile cannot tell: what a birth draws is the
+ * simulation's business), hence "may". */
 static void warn_spawns(compiler *c, const pfx_node *emitters, size_t i) {
     const pfx_emitter *em = &c->e->emitters[i];
     const pfx_node *n = emitters->pairs[i].value;
@@ -42,8 +44,8 @@ static void warn_spawns(compiler *c, const pfx_node *emitters, size_t i) {
         else
             pfx_read_warning(&c->r, at, PFX_RULE_LOOP_SEAM,
                              "the %s sub-emitter of '%s' makes the same count each period, but "
-                             "the particles of '%s' it makes do not draw the same random values "
-                             "each period: the loop is not exact",
+                             "the random values of the particles of '%s' it makes need not "
+                             "repeat every period, so the loop may not be exact",
                              event, em->name, target);
     }
 }
