@@ -206,7 +206,8 @@ static const option_row option_rows[] = {
     {"mv-flip-y", no_argument, OPT_MV_FLIP_Y, "    --mv-flip-y", CMD_RENDER,
      "motion vectors with G = down (V down, as in Unreal)"},
     {"werror", no_argument, OPT_WERROR, "    --werror", CMD_VALIDATE,
-     "treat warnings in an effect as errors (exit status 1)"},
+     "treat warnings in an effect as errors (exit status 1),\n"
+     "except those its 'allow:' acknowledges"},
     {"progress", required_argument, OPT_PROGRESS, "    --progress json", CMD_RENDER,
      "a JSON line on stderr per frame drawn, and one at the end"},
     {"json", no_argument, OPT_JSON, "    --json", CMD_BENCH,
@@ -233,7 +234,7 @@ static const option_row option_rows[] = {
     {"alpha", required_argument, OPT_ALPHA, "    --alpha MODE", CMD_RENDER,
      "PNG alpha: straight or premultiplied, overriding\nimage.alpha"},
     {"quiet", no_argument, 'q', "-q, --quiet", CMD_ALL & ~CMD_SCHEMA,
-     "no progress line and no notes"},
+     "no progress line, summary line or notes"},
     {"help", no_argument, 'h', "-h, --help", CMD_ALL, "show this help"},
     {"version", no_argument, 0, "    --version", CMD_NONE, "show the version"},
 };
@@ -275,7 +276,7 @@ typedef struct command_row {
 static const command_row commands[] = {
     {"validate", CMD_VALIDATE,
      "pfx validate [--format text|json|sarif] [--werror] [--max-particles N]\n"
-     "           [--max-memory SIZE] [--set PATH=VALUE] FILE...\n"
+     "           [--max-memory SIZE] [--set PATH=VALUE] [-q] FILE...\n"
      "pfx validate --list-rules",
      "check effect files like a compiler; exit 1 if any has an error", pfx_cmd_validate},
     {"render", CMD_RENDER,

@@ -76,6 +76,12 @@ void pfx_diag_note(pfx_diags *d, int line, int col, int span, const char *fmt, .
 void pfx_diags_append(pfx_diags *dst, pfx_diags *src) {
     for (size_t i = 0; i < src->count; i++) {
         const pfx_diag *g = &src->items[i];
+        /* Acknowledged in src's file: counted, not shown again (its reason
+         * goes with src). */
+        if (g->allowed) {
+            dst->allowed += g->severity == PFX_SEV_WARNING;
+            continue;
+        }
         pfx_diag_add(dst, g->severity, g->line, g->col, g->span, g->rule, "%s", g->message);
     }
     pfx_diags_free(src);
@@ -87,16 +93,62 @@ void pfx_diags_free(pfx_diags *d) {
     free(d->items);
     d->items = NULL;
     d->count = d->cap = 0;
+    for (size_t i = 0; i < d->allow_count; i++)
+        free(d->allows[i].reason);
+    free(d->allows);
+    d->allows = NULL;
+    d->allow_count = 0;
+}
+
+/* The reason the file gives for allowing warnings of rule, or NULL. */
+static const char *allow_reason(const pfx_diags *d, pfx_rule rule) {
+    for (size_t i = 0; i < d->allow_count; i++)
+        if (d->allows[i].rule == rule)
+            return d->allows[i].reason;
+    return NULL;
+}
+
+bool pfx_diags_allow(pfx_diags *d, pfx_rule rule, const char *reason) {
+    pfx_diag_allow *a = realloc(d->allows, (d->allow_count + 1) * sizeof *a);
+    if (!a)
+        return false;
+    d->allows = a;
+    char *copy = strdup(reason);
+    if (!copy)
+        return false;
+    a[d->allow_count++] = (pfx_diag_allow){rule, copy};
+    /* Warnings reported before the table was read: a warning and its
+     * notes. */
+    const char *head = NULL;
+    for (size_t i = 0; i < d->count; i++) {
+        pfx_diag *g = &d->items[i];
+        if (g->severity != PFX_SEV_NOTE)
+            head = g->severity == PFX_SEV_WARNING && g->rule == rule && !g->allowed ? copy : NULL;
+        if (head && !g->allowed) {
+            g->allowed = head;
+            if (g->severity == PFX_SEV_WARNING) {
+                d->warnings--;
+                d->allowed++;
+            }
+        }
+    }
+    return true;
 }
 
 void pfx_diag_vadd(pfx_diags *d, pfx_severity sev, int line, int col, int span, pfx_rule rule,
                    const char *fmt, va_list ap) {
     if (!d)
         return;
-    if (sev == PFX_SEV_ERROR)
-        d->errors++;
-    else if (sev == PFX_SEV_WARNING)
-        d->warnings++;
+    /* An allowed warning, or a note of one. */
+    const char *allowed = sev == PFX_SEV_WARNING            ? allow_reason(d, rule)
+                          : sev == PFX_SEV_NOTE && d->count ? d->items[d->count - 1].allowed
+                                                            : NULL;
+    int *counter = sev == PFX_SEV_ERROR     ? &d->errors
+                   : sev != PFX_SEV_WARNING ? NULL
+                   : allowed                ? &d->allowed
+                                            : &d->warnings;
+    if (counter)
+        ++*counter;
     if (d->count >= PFX_DIAG_MAX) {
         d->dropped++;
         return;
@@ -134,10 +186,8 @@ void pfx_diag_vadd(pfx_diags *d, pfx_severity sev, int line, int col, int span, 
     for (size_t i = 0; i < d->count; i++) {
         const pfx_diag *o = &d->items[i];
         if (o->line == line && o->col == col && o->severity == sev && !strcmp(o->message, buf)) {
-            if (sev == PFX_SEV_ERROR)
-                d->errors--;
-            else if (sev == PFX_SEV_WARNING)
-                d->warnings--;
+            if (counter)
+                --*counter;
             return;
         }
     }
@@ -148,6 +198,7 @@ void pfx_diag_vadd(pfx_diags *d, pfx_severity sev, int line, int col, int span, 
     g->span = span > 0 ? span : 1;
     g->seq = (int)d->count;
     g->rule = sev == PFX_SEV_NOTE ? PFX_RULE_NONE : rule;
+    g->allowed = allowed;
     g->message = strdup(buf);
     if (g->message)
         d->count++;
@@ -352,6 +403,8 @@ void pfx_diags_print(const pfx_diags *d, FILE *out, bool json) {
     size_t *order = pfx_diags_order(d);
     for (size_t k = 0; k < d->count && order; k++) {
         const pfx_diag *g = &d->items[order[k]];
+        if (g->allowed)
+            continue;
         if (json)
             print_json(d, g, out);
         else

@@ -45,7 +45,17 @@ typedef struct pfx_diag {
     int seq;       /* insertion order, for a stable sort */
     pfx_rule rule; /* PFX_RULE_NONE for a note */
     char *message;
+    /* The effect's reason when its `allow:` acknowledges the warning (a
+     * note shares its head's): not printed, not counted in warnings, a
+     * suppression in SARIF. Borrowed from the list's allow table. */
+    const char *allowed;
 } pfx_diag;
+
+/* A rule an effect file acknowledges (`allow: {PFX5002: reason}`). */
+typedef struct pfx_diag_allow {
+    pfx_rule rule;
+    char *reason;
+} pfx_diag_allow;
 
 typedef struct pfx_diags {
     const char *file;   /* the name printed before each diagnostic; NULL: runtime
@@ -55,7 +65,10 @@ typedef struct pfx_diags {
     pfx_diag *items;
     size_t count, cap;
     int errors, warnings;
-    int dropped; /* diagnostics past the cap, counted not stored */
+    int allowed;            /* warnings acknowledged by `allow:`, not in warnings */
+    int dropped;            /* diagnostics past the cap, counted not stored */
+    pfx_diag_allow *allows; /* the file's `allow:` table */
+    size_t allow_count;
 } pfx_diags;
 
 /* At most this many diagnostics are kept per file: a hostile file cannot
@@ -81,7 +94,13 @@ void pfx_diag_note(pfx_diags *d, int line, int col, int span, const char *fmt, .
 void pfx_diag_error(pfx_diags *d, pfx_rule rule, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
-/* Moves every diagnostic of src to the end of dst (src is left empty). */
+/* Acknowledges warnings of `rule` in d with `reason` (copied): those
+ * already there and those added later are marked allowed, counted in
+ * d->allowed instead of d->warnings. Returns false when out of memory. */
+bool pfx_diags_allow(pfx_diags *d, pfx_rule rule, const char *reason);
+
+/* Moves every diagnostic of src to the end of dst (src is left empty); an
+ * allowed warning (and its notes) is only counted in dst->allowed. */
 void pfx_diags_append(pfx_diags *dst, pfx_diags *src);
 
 /* Where a stage that cannot locate a problem itself should blame it: the
@@ -95,9 +114,9 @@ void pfx_diag_error_at(const pfx_diag_at *at, pfx_rule rule, const char *fmt, ..
     __attribute__((format(printf, 3, 4)));
 
 /* Prints every diagnostic sorted by position (notes stay after the error they
- * follow), each error and warning ending in its rule id (" [PFX3001]").
- * json: one object per line with file, line, column, severity, rule (null
- * for a note) and message. */
+ * follow; allowed warnings and their notes are left out), each error and warning ending in its rule
+ * id (" [PFX3001]"). json: one object per line with file, line, column, severity, rule (null for a
+ * note) and message. */
 void pfx_diags_print(const pfx_diags *d, FILE *out, bool json);
 
 /* The indices of d->items in printed order (each head followed by its

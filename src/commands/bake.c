@@ -97,7 +97,8 @@ static bool bake_frame_file(const bake_target *t, const pfx_effect *e, pfx_bake_
 /* Simulates frames first..last and writes every --every'th to the bake at
  * -o (whole or not at all), or each to its own file (listed in dl's
  * manifest as it is written; those before a failure stay); notes the
- * particles a full pool dropped unless -q. */
+ * particles a full pool dropped and the work done by sub-emitters unless
+ * -q. */
 static bool bake_frames(const pfx_effect *e, const pfx_cli *o, pfx_bake_format format, long first,
                         long last, pfx_delivery *dl, pfx_diags *run) {
     const bool to_stdout = !strcmp(o->output, "-");
@@ -133,8 +134,10 @@ static bool bake_frames(const pfx_effect *e, const pfx_cli *o, pfx_bake_format f
         ok = false;
         goto done;
     }
-    if (!o->quiet)
+    if (!o->quiet) {
         pfx_sim_note_dropped(sim, run);
+        pfx_sim_note_work(sim, run);
+    }
 done:
     pfx_bake_view_free(&rows);
     pfx_sim_destroy(view);

@@ -21,6 +21,9 @@ static void print_estimate(const pfx_effect *e, const pfx_cli *o) {
     printf("  work to the last frame, at most: %.4g steps, %.4g particle-steps, %.4g sprites "
            "covering %.4g pixels\n",
            est.steps, est.particle_steps, est.sprites, est.sprite_pixels);
+    if (est.spawn_events > 0)
+        printf("  sub-emitter events to the last frame, at most: %.4g (work %.4g)\n",
+               est.spawn_events, est.work);
     printf("  memory of a render, at most %s:\n", pfx_memory_format(est.total_bytes, b, sizeof b));
     for (int p = 0; p < PFX_MEMORY_PART_COUNT; p++)
         if (est.bytes[p] > 0)

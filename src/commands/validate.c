@@ -6,6 +6,22 @@
 #include "jobs/estimate.h"
 #include "output/sarif.h"
 
+/* The one summary line of a validation that passed (text form only: the
+ * JSON lines and the SARIF log carry their own counts). */
+static void say_validated(const char *const *operands, int count, int warnings, int allowed) {
+    if (count == 1)
+        fprintf(stderr, "pfx: validated '%s': ", operands[0]);
+    else
+        fprintf(stderr, "pfx: validated %d files: ", count);
+    if (warnings)
+        fprintf(stderr, "%d warning%s", warnings, warnings == 1 ? "" : "s");
+    else
+        fputs("no warnings", stderr);
+    if (allowed)
+        fprintf(stderr, ", %d allowed", allowed);
+    fputc('\n', stderr);
+}
+
 int pfx_cmd_validate(const char *const *operands, int count, const pfx_cli *o) {
     if (o->list_rules) {
         pfx_rules_print(stdout);
@@ -14,6 +30,7 @@ int pfx_cmd_validate(const char *const *operands, int count, const pfx_cli *o) {
     if (count < 1)
         return pfx_cli_usage_error("%s", "validate needs at least one FILE");
     int status = 0;
+    int warnings = 0, allowed = 0;
     /* --format sarif: every file's diagnostics gather into one log, written
      * to stdout at the end (stderr keeps the --werror lines and failures
      * to build or write the log). */
@@ -38,6 +55,8 @@ int pfx_cmd_validate(const char *const *operands, int count, const pfx_cli *o) {
             pfx_loaded_print(&l, stderr, o->json);
         if (!e || pfx_cli_fails_on_warnings(&l, operands[i], o))
             status = EXIT_INVALID;
+        warnings += l.diags.warnings;
+        allowed += l.diags.allowed;
         pfx_loaded_free(&l);
     }
     if (sarif && !run.errors && !pfx_sarif_write(sarif, stdout))
@@ -48,6 +67,8 @@ int pfx_cmd_validate(const char *const *operands, int count, const pfx_cli *o) {
     if (run.errors)
         status = EXIT_INVALID;
     pfx_diags_free(&run);
+    if (status == 0 && !o->quiet && !o->json && !o->sarif)
+        say_validated(operands, count, warnings, allowed);
     return status;
 }
 

@@ -268,6 +268,12 @@ static const pfx_key top_keys[] = {
     {"light", PFX_KEY_CODE, .offset = -1, .hook = read_light,
      .schema = "{\"$ref\": \"#/$defs/light\"}",
      .doc = "The directional light of emitters with lit: true."},
+    {"allow", PFX_KEY_CODE, .offset = -1,
+     .schema = "{\"type\": \"object\", \"additionalProperties\": {\"type\": \"string\", "
+               "\"pattern\": \"\\\\S\"}}",
+     .doc = "Warnings acknowledged, each rule id with the reason: {PFX5002: \"the splash counts "
+            "differ per loop\"}. An allowed warning is not printed, does not fail --werror, and "
+            "is a suppression in SARIF; only warning rules can be allowed."},
     {"loop", PFX_KEY_BOOL, .offset = E(loop),
      .doc = "A seamless loop: every emitter repeats with period duration, and frame duration x "
             "fps is frame 0."},
@@ -450,12 +456,15 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
     c.e = e;
     effect_defaults(e, path, opt);
 
+    /* Before anything can warn: the acknowledged rules. */
+    const pfx_node *v = pfx_node_get(root, "allow");
+    if (v)
+        pfx_compile_allow(&c, v);
     pfx_keys_check(&c.r, root, &pfx_schema_top, "the effect");
     if (!pfx_node_get(root, "pfx"))
         pfx_diag_add(d, PFX_SEV_ERROR, root->line, root->col, 1, PFX_RULE_FORMAT_VERSION,
                      "missing 'pfx: 1' (the format version) at the top of the effect");
     pfx_keys_read(&c.r, root, &pfx_schema_top, e);
-    const pfx_node *v;
     if ((v = pfx_node_get(root, "camera")))
         compile_camera(&c, v);
     if (opt && opt->has_seed)

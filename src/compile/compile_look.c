@@ -181,7 +181,8 @@ void pfx_compile_motion_blur(pfx_reader *r, const pfx_node *v, pfx_effect *e) {
 
 /* ---- An emitter's look ---- */
 
-/* A texture key: the file read now, premultiplied unless it is a normal map. */
+/* A texture key: the file read now (or once before, for another name of
+ * it), premultiplied unless it is a normal map. */
 static const pfx_image *read_texture(pfx_reader *r, const pfx_node *v, const char *key,
                                      const char *effect_path, bool colour) {
     const char *name;
@@ -189,9 +190,19 @@ static const pfx_image *read_texture(pfx_reader *r, const pfx_node *v, const cha
     if (!pfx_read_path(r, v, key, effect_path, &name, path, sizeof path))
         return NULL;
     pfx_image *img = pfx_arena_alloc(r->arena, sizeof *img);
-    pfx_diag_at at = pfx_read_at(r, v);
-    if (!img || !pfx_png_read_texture(path, name, colour, r->arena, img, &at))
+    if (!img)
         return NULL;
+    /* A file named before (by this key or another emitter's) shares its
+     * pixels: each name keeps its own path for the manifest. */
+    const pfx_image *seen = pfx_file_cache_find(r, path, PFX_FILE_TEXTURE, colour);
+    if (seen) {
+        *img = *seen;
+    } else {
+        pfx_diag_at at = pfx_read_at(r, v);
+        if (!pfx_png_read_texture(path, name, colour, r->arena, img, &at))
+            return NULL;
+        pfx_file_cache_add(r, path, PFX_FILE_TEXTURE, colour, img);
+    }
     img->file = pfx_arena_strndup(r->arena, path, strlen(path));
     return img->file ? img : NULL;
 }

@@ -250,7 +250,8 @@ static bool ellipse_table(pfx_reader *r, pfx_shape *s) {
     return true;
 }
 
-/* The mesh file, relative to the effect file's directory. */
+/* The mesh file, relative to the effect file's directory, read once however
+ * many emitters name it. */
 static void read_mesh(pfx_reader *r, const pfx_node *n, const pfx_node *type, pfx_shape *s,
                       const char *effect_path) {
     const pfx_node *v = pfx_node_get(n, "file");
@@ -267,10 +268,20 @@ static void read_mesh(pfx_reader *r, const pfx_node *n, const pfx_node *type, pf
     char path[4096];
     if (!pfx_read_path(r, v, "file", effect_path, &file, path, sizeof path) || !scale_ok)
         return;
-    pfx_mesh m;
-    pfx_diag_at at = pfx_read_at(r, v);
-    if (!pfx_mesh_load(path, file, scale, r->arena, &m, &at))
-        return;
+    /* A file named before at the same scale shares its triangles. */
+    const pfx_mesh *seen = pfx_file_cache_find(r, path, PFX_FILE_MESH, scale);
+    pfx_mesh m, *kept;
+    if (seen) {
+        m = *seen;
+    } else {
+        pfx_diag_at at = pfx_read_at(r, v);
+        if (!pfx_mesh_load(path, file, scale, r->arena, &m, &at))
+            return;
+        if ((kept = pfx_arena_alloc(r->arena, sizeof *kept))) {
+            *kept = m;
+            pfx_file_cache_add(r, path, PFX_FILE_MESH, scale, kept);
+        }
+    }
     s->verts = m.verts;
     s->tris = m.tris;
     s->cum = m.cum;

@@ -35,6 +35,10 @@ extern const pfx_key_table pfx_schema_top, pfx_sim_table, pfx_camera_table, pfx_
 void pfx_compile_loop(compiler *c, const pfx_node *root, const pfx_node *loop,
                       const pfx_node *emitters);
 
+/* The effect's `allow:` table of acknowledged warnings, into the file's
+ * diagnostics (compile/allow.c). */
+void pfx_compile_allow(compiler *c, const pfx_node *allow);
+
 /* Each emitter's pool from its worst case, within the particle budget
  * (compile/pools.c). */
 void pfx_size_pools(compiler *c, const pfx_node *emitters);

@@ -69,7 +69,8 @@ const pfx_schema_fragment pfx_schema_fragments[] = {
     {"colour",
      "{\"description\": \"A colour: \\\"#rgb\\\", \\\"#rgba\\\", \\\"#rrggbb\\\", "
      "\\\"#rrggbbaa\\\", [r, g, b] or"
-     " [r, g, b, a] with components in 0..1, or \\\"transparent\\\". Straight alpha; opaque when a"
+     " [r, g, b, a] with components in 0..1, a CSS colour name (red, rebeccapurple; opaque), or "
+     "\\\"transparent\\\". Straight alpha; opaque when a"
      "lpha is not given.\", \"oneOf\": [{\"type\": \"string\", \"pattern\": "
      "\"^(transparent|#([0-9A-Fa-f"
      "]{3}|[0-9A-Fa-f]{4}|[0-9A-Fa-f]{6}|[0-9A-Fa-f]{8}))$\"}, {\"type\": \"array\", \"items\": "

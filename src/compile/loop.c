@@ -4,6 +4,52 @@
 
 #include "compile/compiler.h"
 
+/* What stops emitter i's sub-emitters from repeating every period, said
+ * at the spawn: a random count or chance is drawn from a stream that runs
+ * on across periods, so the number of children differs from loop to loop;
+ * a fixed, certain count makes the same number, but the children draw
+ * their random values from their emitter's stream, which starts over only
+ * at a period's first birth of its own (sim/newborn.c), not in step with
+ * the events: the loop is exact only by luck, or when the child emitter
+ * draws nothing at random (compile cannot tell: what a birth draws is the
+ * simulation's business), hence "may". */
+static void warn_spawns(compiler *c, const pfx_node *emitters, size_t i) {
+    const pfx_emitter *em = &c->e->emitters[i];
+    const pfx_node *n = emitters->pairs[i].value;
+    for (size_t k = 0; k < em->spawn_count; k++) {
+        const pfx_spawn *sp = &em->spawns[k];
+        const char *event = pfx_kind_name(pfx_spawn_event_names, (int)sp->event);
+        const char *target = c->e->emitters[sp->target].name;
+        /* The spawn's own node: the k-th of its event's, in file order. */
+        const pfx_node *v = pfx_node_get(n, event), *at = v;
+        size_t nth = 0;
+        for (size_t j = 0; j < k; j++)
+            nth += em->spawns[j].event == sp->event;
+        if (v && v->kind == PFX_NODE_SEQ)
+            at = nth < v->count ? v->items[nth] : v;
+        if (!at)
+            at = emitters->pairs[i].key;
+        const pfx_node *count = pfx_node_get(at, "count"),
+                       *chance = pfx_node_get(at, "probability");
+        if (sp->count.dist != PFX_DIST_CONST)
+            pfx_read_warning(&c->r, count ? count : at, PFX_RULE_LOOP_SEAM,
+                             "the %s sub-emitter of '%s' draws a random count per event, which "
+                             "does not repeat every period: the loop is not exact",
+                             event, em->name);
+        else if (sp->probability < 1)
+            pfx_read_warning(&c->r, chance ? chance : at, PFX_RULE_LOOP_SEAM,
+                             "the %s sub-emitter of '%s' fires by chance (probability %g), "
+                             "which does not repeat every period: the loop is not exact",
+                             event, em->name, sp->probability);
+        else
+            pfx_read_warning(&c->r, at, PFX_RULE_LOOP_SEAM,
+                             "the %s sub-emitter of '%s' makes the same count each period, but "
+                             "the random values of the particles of '%s' it makes need not "
+                             "repeat every period, so the loop may not be exact",
+                             event, em->name, target);
+    }
+}
+
 /* A seamless loop of period P = duration: every emitter's schedule repeats
  * with period P (or a divisor it states) and draws the same values each
  * period; keyframes repeat too. Frames come from one period starting once
@@ -57,11 +103,7 @@ void pfx_compile_loop(compiler *c, const pfx_node *root, const pfx_node *loop,
                 pfx_read_warning(&c->r, v->items[b], PFX_RULE_LOOP_SEAM,
                                  "a one-shot burst repeats every %g s when the effect loops",
                                  period);
-        if (em->spawn_count)
-            pfx_read_warning(&c->r, emitters->pairs[i].key, PFX_RULE_LOOP_SEAM,
-                             "emitter '%s' has sub-emitters: their random counts do not repeat "
-                             "every period, so the loop is not exact",
-                             em->name);
+        warn_spawns(c, emitters, i);
         for (size_t d = 0; d < em->deflector_count; d++) {
             const pfx_deflector *df = &em->deflectors[d];
             if (df->resilience[0] != df->resilience[1] || df->friction[0] != df->friction[1])

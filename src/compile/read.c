@@ -10,6 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "compile/css_colours.h"
+
 static void report(pfx_reader *r, pfx_severity sev, const pfx_node *n, pfx_rule rule,
                    const char *fmt, va_list ap) {
     int span = n->kind == PFX_NODE_SCALAR ? n->span : 1;
@@ -406,6 +408,32 @@ static bool parse_hex_color(const char *s, float out[4]) {
     return true;
 }
 
+#define CSS_NAME(name, rgb) name,
+#define CSS_VALUE(name, rgb) rgb,
+const char *const pfx_css_colour_names[] = {PFX_CSS_COLOURS(CSS_NAME) NULL};
+static const unsigned css_values[] = {PFX_CSS_COLOURS(CSS_VALUE)};
+#undef CSS_NAME
+#undef CSS_VALUE
+
+/* A CSS colour name: its 0xRRGGBB, or -1 when s is not one. */
+static long css_colour(const char *s) {
+    for (size_t i = 0; pfx_css_colour_names[i]; i++)
+        if (!strcmp(s, pfx_css_colour_names[i]))
+            return (long)css_values[i];
+    return -1;
+}
+
+/* A CSS colour name, converted as "#rrggbb" is (each byte / 255), opaque. */
+static bool parse_named_color(const char *s, float out[4]) {
+    long rgb = css_colour(s);
+    if (rgb < 0)
+        return false;
+    for (int i = 0; i < 3; i++)
+        out[i] = (float)((rgb >> (16 - 8 * i)) & 0xff) / 255.0f;
+    out[3] = 1.0f;
+    return true;
+}
+
 /* A list of scalars, quoted or not: an [r, g, b(, a)] colour whose
  * components are then each read as numbers (a quoted one is reported). */
 static bool is_scalar_list(const pfx_node *n) {
@@ -418,20 +446,23 @@ static bool is_scalar_list(const pfx_node *n) {
 }
 
 /* One colour written as components: a list of scalars, at least one of
- * them a plain number ([r, g, b], [r, g, b, a], or a malformed [r, g]); a
- * list of quoted "#hex" strings is a gradient. */
+ * them a plain word that starts like a number ([r, g, b], [r, g, b, a], or
+ * a malformed [r, g]); a list of quoted "#hex" strings or of words
+ * ([red, orange, yellow], a misspelt name among them) is a gradient. */
 static bool is_rgb_list(const pfx_node *n) {
     if (!is_scalar_list(n))
         return false;
-    for (size_t i = 0; i < n->count; i++)
-        if (n->items[i]->plain && n->items[i]->len && n->items[i]->text[0] != '#')
+    for (size_t i = 0; i < n->count; i++) {
+        const pfx_node *c = n->items[i];
+        if (c->plain && c->len && (isdigit((unsigned char)c->text[0]) || strchr("+-.", c->text[0])))
             return true;
+    }
     return false;
 }
 
 #define COLOUR_FORMS                                                                               \
     "a colour is \"#rgb\", \"#rgba\", \"#rrggbb\" or \"#rrggbbaa\" (quoted), [r, g, b] or "        \
-    "[r, g, b, a] in 0..1, or transparent"
+    "[r, g, b, a] in 0..1, a CSS colour name (red, rebeccapurple) or transparent"
 
 /* An empty plain scalar followed on its line by '#': the user wrote an
  * unquoted hex colour, which YAML read as a comment. Reports that, at the
@@ -475,12 +506,17 @@ bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, double r
             out[0] = out[1] = out[2] = out[3] = 0.0f;
             return true;
         }
-        if (parse_hex_color(n->text, out))
+        if (parse_hex_color(n->text, out) || parse_named_color(n->text, out))
             return true;
         if (n->plain && n->len == 0 && comment_after(r, n, what))
             return false;
-        pfx_read_error(r, n, PFX_RULE_MALFORMED_VALUE, "malformed colour '%s' in '%s'", n->text,
-                       what);
+        const char *near = n->text[0] != '#' ? pfx_suggest(n->text, pfx_css_colour_names) : NULL;
+        if (near)
+            pfx_read_error(r, n, PFX_RULE_MALFORMED_VALUE,
+                           "unknown colour '%s' in '%s'; did you mean '%s'?", n->text, what, near);
+        else
+            pfx_read_error(r, n, PFX_RULE_MALFORMED_VALUE, "malformed colour '%s' in '%s'", n->text,
+                           what);
         pfx_diag_note(r->d, n->line, n->col, 1, COLOUR_FORMS);
         return false;
     }

@@ -9,10 +9,24 @@
 #include "model/effect.h"
 #include "parse/node.h"
 
+typedef struct pfx_loaded_file pfx_loaded_file;
 typedef struct pfx_reader {
     pfx_diags *d;
     pfx_arena *arena;
+    pfx_loaded_file *files; /* what was read of the files named so far */
 } pfx_reader;
+
+/* Files an effect names (textures, meshes) are read once each, however
+ * many keys name them (compile/file_cache.c). What a file gave for a kind
+ * of reading (`kind`, with its parameter: a mesh's scale, whether a
+ * texture is premultiplied) is found by the file's device and inode, so
+ * that two names of one file (./a.png and a.png, a symbolic link) share
+ * it; NULL when it was not read so before, or path is not a regular file. */
+enum { PFX_FILE_TEXTURE, PFX_FILE_MESH };
+const void *pfx_file_cache_find(pfx_reader *r, const char *path, int kind, double param);
+/* Remembers result (in r's arena, living as long as it) for path. */
+void pfx_file_cache_add(pfx_reader *r, const char *path, int kind, double param,
+                        const void *result);
 
 /* Where to blame a problem found while reading what node n names (the
  * file a key points to). */
@@ -65,10 +79,13 @@ bool pfx_read_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_valu
  * 3-sigma cut) is named as such. */
 bool pfx_read_value_in(pfx_reader *r, const pfx_node *n, const char *what, pfx_value *v, double lo,
                        bool lo_strict, double hi);
-/* A colour: "#rgb", "#rgba", "#rrggbb", "#rrggbbaa", [r, g, b] or [r, g, b, a],
+/* A colour: "#rgb", "#rgba", "#rrggbb", "#rrggbbaa", a CSS colour name
+ * (compile/css_colours.h), transparent, [r, g, b] or [r, g, b, a],
  * components in 0..rgb_max (above 1: an HDR colour, for light), alpha in
  * 0..1. */
 #define PFX_HDR_MAX 1000.0
+/* The CSS colour names, in the table's order, NULL-terminated. */
+extern const char *const pfx_css_colour_names[];
 bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, double rgb_max,
                     float out[4]);
 /* A colour or a gradient (a list of colours, evenly spaced, or of {at, color}

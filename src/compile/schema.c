@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "compile/keys.h"
+#include "compile/read.h"
 
 static json_t *parse_fragment(const char *text) {
     json_error_t err;
@@ -248,6 +249,33 @@ static json_t *family_schema(const pfx_schema_family *f) {
     return o;
 }
 
+/* `allow:` takes the ids of the warning rules: from the rule table, so the
+ * schema lists exactly the rules an effect may acknowledge. */
+static void allow_names(json_t *allow) {
+    json_t *ids = json_array(), *names = json_object();
+    for (size_t i = 0; i < pfx_rule_count; i++) {
+        char id[16];
+        if (pfx_rules[i].severity == PFX_SEV_WARNING)
+            json_array_append_new(ids, json_string(pfx_rule_id(pfx_rules[i].rule, id, sizeof id)));
+    }
+    json_object_set_new(names, "enum", ids);
+    json_object_set_new(allow, "propertyNames", names);
+}
+
+/* The colour fragments take the CSS colour names too: an enum from the
+ * reader's table, so the schema and pfx accept the same names. */
+static void add_colour_names(const char *name, json_t *fragment) {
+    if (strcmp(name, "colour") && strcmp(name, "hdr_colour"))
+        return;
+    json_t *names = names_array(pfx_css_colour_names), *branch = json_object();
+    json_object_set_new(branch, "description",
+                        json_string("A CSS Color Module Level 4 named colour (red, orange, "
+                                    "rebeccapurple): the sRGB colour of its #rrggbb, opaque."));
+    json_object_set_new(branch, "type", json_string("string"));
+    json_object_set_new(branch, "enum", names);
+    json_array_append_new(json_object_get(fragment, "oneOf"), branch);
+}
+
 char *pfx_schema_text(void) {
     json_t *root = json_object(), *defs = json_object();
     json_object_set_new(root, "$schema",
@@ -256,11 +284,14 @@ char *pfx_schema_text(void) {
     json_object_set_new(root, "description", json_string(pfx_schema_top.doc));
     json_t *top = table_schema(&pfx_schema_top);
     json_object_del(top, "description");
+    allow_names(json_object_get(json_object_get(top, "properties"), "allow"));
     json_object_update(root, top);
     json_decref(top);
-    for (size_t i = 0; pfx_schema_fragments[i].name; i++)
-        json_object_set_new(defs, pfx_schema_fragments[i].name,
-                            parse_fragment(pfx_schema_fragments[i].json));
+    for (size_t i = 0; pfx_schema_fragments[i].name; i++) {
+        json_t *fragment = parse_fragment(pfx_schema_fragments[i].json);
+        add_colour_names(pfx_schema_fragments[i].name, fragment);
+        json_object_set_new(defs, pfx_schema_fragments[i].name, fragment);
+    }
     for (size_t i = 0; pfx_schema_tables[i]; i++)
         json_object_set_new(defs, pfx_schema_tables[i]->name, table_schema(pfx_schema_tables[i]));
     for (size_t i = 0; pfx_schema_families[i].name; i++) {

@@ -56,6 +56,17 @@ static double sprite_side_px(const pfx_effect *e, const pfx_emitter *em) {
     return size * 0.5 * e->height / (tan(0.5 * k->fov) * depth);
 }
 
+/* Whether map k of emitter i is the first use of those pixels. */
+static bool first_use(const pfx_effect *e, size_t i, int k, const void *pixels) {
+    for (size_t j = 0; j <= i; j++) {
+        const pfx_image *maps[2] = {e->emitters[j].look.texture, e->emitters[j].look.normal_map};
+        for (int m = 0; m < (j < i ? 2 : k); m++)
+            if (maps[m] && maps[m]->pixels == pixels)
+                return false;
+    }
+    return true;
+}
+
 /* The memory parts of drawing and writing frames: the sprite chunk, the
  * sort, ribbons, the driver, the framebuffers, motion vectors, the frame
  * encoders and the textures; `fixed` gains what does not grow with the
@@ -118,16 +129,53 @@ static void estimate_drawing(const pfx_effect *e, unsigned what, double image, p
             out->bytes[PFX_MEMORY_DRIVER] += PFX_RENDER_DRIVER_BYTES_PER_TEXTURED;
             *fixed += PFX_RENDER_DRIVER_BYTES_PER_TEXTURED;
         }
-    /* Textures: the decoded pixels, and their copy in GL with mipmaps
-     * (4/3 of the base level). */
+    /* Textures: the decoded pixels, once per file however many emitters
+     * name it (the compiler reads a file once), and each emitter's copy in
+     * GL with mipmaps (4/3 of the base level). */
     for (size_t i = 0; i < e->emitter_count; i++) {
         const pfx_image *maps[2] = {e->emitters[i].look.texture, e->emitters[i].look.normal_map};
-        for (int k = 0; k < 2; k++)
-            if (maps[k])
-                out->bytes[PFX_MEMORY_TEXTURES] +=
-                    (1 + 4.0 / 3) * maps[k]->width * maps[k]->height * 4 * (maps[k]->bits / 8);
+        for (int k = 0; k < 2; k++) {
+            if (!maps[k])
+                continue;
+            const double bytes = (double)maps[k]->width * maps[k]->height * 4 * (maps[k]->bits / 8);
+            out->bytes[PFX_MEMORY_TEXTURES] += 4.0 / 3 * bytes;
+            if (first_use(e, i, k, maps[k]->pixels))
+                out->bytes[PFX_MEMORY_TEXTURES] += bytes;
+        }
     }
     *fixed += out->bytes[PFX_MEMORY_FRAMEBUFFER] + out->bytes[PFX_MEMORY_TEXTURES];
+}
+
+/* Sub-emitter events a step raises at most: for each spawn of a parent,
+ * with its pool full (capacity c) all the time, as for particle-steps.
+ * A trail raises up to ceil(rate x dt) events a particle a step
+ * (sim/spawn.c); births and deaths turn the pool over at most once per
+ * shortest lifetime (c x dt / lifetime), or every step (c) where kill
+ * rules or deflectors can end a life sooner; a particle on a
+ * deflector hits at most once a step in the usual case (resting on a
+ * floor), which is what is counted. A cycle of sub-emitters is counted
+ * through the pools it fills: each emitter's capacity already holds the
+ * children its parents send, within the budget. */
+static double spawn_events_per_step(const pfx_effect *e, const pfx_emitter *em) {
+    const double dt = 1.0 / e->sim_rate, c = em->capacity;
+    const double shortest =
+        em->kill || em->deflector_count ? dt : fmax(pfx_value_min(&em->lifetime), dt);
+    double events = 0;
+    for (size_t k = 0; k < em->spawn_count; k++) {
+        const pfx_spawn *sp = &em->spawns[k];
+        switch (sp->event) {
+        case PFX_SPAWN_TRAIL:
+            events += c * ceil(sp->rate * dt);
+            break;
+        case PFX_SPAWN_HIT:
+            events += em->deflector_count ? c : 0;
+            break;
+        default:
+            events += c * dt / shortest;
+            break;
+        }
+    }
+    return events;
 }
 
 void pfx_estimate_run(const pfx_effect *e, long first, long last, unsigned what,
@@ -145,12 +193,13 @@ void pfx_estimate_run(const pfx_effect *e, long first, long last, unsigned what,
     out->steps = ceil(t_last * e->sim_rate);
     const double frames = (double)(last - first + 1);
     const double image = (double)e->width * (double)e->height;
-    double particles = 0, pool_bytes = 0, queue_bytes = 0, fixed = 0;
+    double particles = 0, events = 0, pool_bytes = 0, queue_bytes = 0, fixed = 0;
     for (size_t i = 0; i < e->emitter_count; i++) {
         const pfx_emitter *em = &e->emitters[i];
         /* A particle costs a step per substep its emitter's integrator
          * takes (a stiff field can ask for hundreds). */
         particles += (double)em->capacity * (em->motion ? em->motion->choice.steps : 1);
+        events += spawn_events_per_step(e, em);
         pool_bytes += (double)pfx_pool_bytes(em, em->capacity); /* as sim.c allocates */
         queue_bytes += (double)pfx_spawn_queue_capacity(e, i) * sizeof(spawn_record);
         if (render) {
@@ -160,6 +209,8 @@ void pfx_estimate_run(const pfx_effect *e, long first, long last, unsigned what,
         }
     }
     out->particle_steps = out->steps * particles;
+    out->spawn_events = out->steps * events;
+    out->work = out->particle_steps + out->spawn_events;
     /* Render and bake hold the stepping state and a view of it (sim.c);
      * a loop keeps frame 0's state too. Each has its spawn queues. */
     const double copies = e->loop ? 3 : 2;
@@ -187,9 +238,10 @@ json_t *pfx_estimate_json(const pfx_estimate *est) {
         json_pack("{s:f, s:o, s:i, s:f, s:f, s:f}", "total_bytes", est->total_bytes, "parts", parts,
                   "threads", est->threads, "per_thread_bytes", est->per_thread_bytes, "fixed_bytes",
                   est->fixed_bytes, "bound_bytes", est->bound_bytes);
-    return json_pack("{s:{s:f, s:f, s:f, s:f}, s:o}", "work", "steps", est->steps, "particle_steps",
-                     est->particle_steps, "sprites", est->sprites, "sprite_pixels",
-                     est->sprite_pixels, "memory", memory);
+    return json_pack("{s:{s:f, s:f, s:f, s:f, s:f}, s:o}", "work", "steps", est->steps,
+                     "particle_steps", est->particle_steps, "spawn_events", est->spawn_events,
+                     "sprites", est->sprites, "sprite_pixels", est->sprite_pixels, "memory",
+                     memory);
 }
 
 uint64_t pfx_memory_default_bound(void) {
@@ -265,7 +317,17 @@ static const pfx_node *work_node(const pfx_loaded *l) {
 }
 
 void pfx_estimate_warn(pfx_loaded *l, const pfx_estimate *est, uint64_t bound) {
-    if (est->particle_steps > PFX_WORK_WARN_PARTICLE_STEPS) {
+    if (est->work > PFX_WORK_WARN_PARTICLE_STEPS && est->spawn_events > 0) {
+        const pfx_node *n = work_node(l);
+        pfx_diag_add(&l->diags, PFX_SEV_WARNING, n ? n->line : 0, n ? n->col : 0, n ? n->span : 0,
+                     PFX_RULE_HEAVY_SIMULATION,
+                     "the effect needs up to %.3g particle-steps and %.3g sub-emitter events to "
+                     "its last frame (%.3g steps), over %.0e: hours or more of simulation (lower "
+                     "'duration', 'prewarm', 'sim.rate', the sub-emitters' counts and trail rates, "
+                     "or the particle budget)",
+                     est->particle_steps, est->spawn_events, est->steps,
+                     PFX_WORK_WARN_PARTICLE_STEPS);
+    } else if (est->particle_steps > PFX_WORK_WARN_PARTICLE_STEPS) {
         const pfx_node *n = work_node(l);
         pfx_diag_add(&l->diags, PFX_SEV_WARNING, n ? n->line : 0, n ? n->col : 0, n ? n->span : 0,
                      PFX_RULE_HEAVY_SIMULATION,

@@ -38,8 +38,8 @@ typedef enum {
 extern const char *const pfx_memory_part_names[PFX_MEMORY_PART_COUNT];
 extern const char *const pfx_memory_part_keys[PFX_MEMORY_PART_COUNT];
 
-/* Above this many particle-steps `validate` warns: hours at the speeds
- * `pfx bench` measures (about 1e7 to 1e8 particle-steps a second). */
+/* Above this much work (particle-steps and sub-emitter events) `validate` warns: hours at the
+ * speeds `pfx bench` measures (about 1e7 to 1e8 particle-steps a second). */
 #define PFX_WORK_WARN_PARTICLE_STEPS 1e11
 
 /* Upper bounds, each for the run to the last frame asked for: every pool
@@ -48,6 +48,10 @@ typedef struct pfx_estimate {
     double steps;          /* fixed simulation steps, prewarm included */
     double particle_steps; /* steps x the particles alive in each x their
                               emitter's substeps, at most */
+    double spawn_events;   /* sub-emitter events raised (trail births, births,
+                              deaths, hits of parents with spawns), at most:
+                              each costs about what a particle-step does */
+    double work;           /* particle_steps + spawn_events */
     double sprites;        /* sprites drawn over the frames rendered */
     double sprite_pixels;  /* their pixels, each sprite at most the image */
     double bytes[PFX_MEMORY_PART_COUNT];
@@ -101,7 +105,7 @@ bool pfx_memory_parse(const char *text, uint64_t *bytes);
 const char *pfx_memory_format(double n, char *buf, size_t size);
 
 /* Warnings for `validate` into l->diags, located at the key that sets
- * the work: past PFX_WORK_WARN_PARTICLE_STEPS, or past bound bytes of
+ * the work: work past PFX_WORK_WARN_PARTICLE_STEPS, or past bound bytes of
  * memory (0: no bound), naming the biggest consumer. */
 void pfx_estimate_warn(pfx_loaded *l, const pfx_estimate *est, uint64_t bound);
 

@@ -221,11 +221,11 @@ bool pfx_atlas_write_json(const char *path, const pfx_atlas_layout *l, const cha
         "{s:o, s:{s:s, s:s, s:o, s:s, s:{s:i, s:i}, s:s, s:s}, "
         "s:{s:i, s:i, s:i, s:f, s:b, s:{s:i, s:i}, s:i, s:i, s:b, s:{s:i, s:i}}, "
         "s:{s:i, s:i, s:i, s:f}, s:{s:i, s:i}, s:{s:i, s:i}}",
-        "frames", frames, "meta", "app", "pfx", "version", PFX_VERSION, "image", pfx_json_bytes(image), "format",
-        "RGBA8888", "size", "w", l->width, "h", l->height, "scale", "1", "alpha",
-        l->premultiplied ? "premultiplied" : "straight", "grid", "columns", l->columns, "rows",
-        l->rows, "frames", l->frames, "fps", fps, "loop", loop, "cell", "w", l->cell_w, "h",
-        l->cell_h, "padding", l->padding, "extrude",
+        "frames", frames, "meta", "app", "pfx", "version", PFX_VERSION, "image",
+        pfx_json_bytes(image), "format", "RGBA8888", "size", "w", l->width, "h", l->height, "scale",
+        "1", "alpha", l->premultiplied ? "premultiplied" : "straight", "grid", "columns",
+        l->columns, "rows", l->rows, "frames", l->frames, "fps", fps, "loop", loop, "cell", "w",
+        l->cell_w, "h", l->cell_h, "padding", l->padding, "extrude",
         l->extrude < l->padding ? l->extrude : l->padding, "crop", l->crop, "used", "w", l->used_w,
         "h", l->used_h, "unity", "tiles_x", l->columns, "tiles_y", l->rows, "frames", l->frames,
         "fps", fps, "unreal", "sub_images_horizontal", l->columns, "sub_images_vertical", l->rows,

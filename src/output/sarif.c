@@ -2,12 +2,16 @@
  * 1-based lines, and columns counted in Unicode characters (libyaml's
  * count), which the run declares with columnKind "unicodeCodePoints"; a
  * region ends at the column after the underlined span, as SARIF's
- * endColumn does. It does not write files: the caller picks the stream. */
+ * endColumn does. File URIs are relative to %SRCROOT%, the current
+ * directory, where they can be. It does not write files: the caller picks
+ * the stream. */
 #include "output/sarif.h"
 
 #include <jansson.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define SARIF_SCHEMA                                                                               \
     "https://docs.oasis-open.org/sarif/sarif/v2.1.0/errata01/os/schemas/sarif-schema-2.1.0.json"
@@ -15,6 +19,7 @@
 struct pfx_sarif {
     json_t *log;
     json_t *results; /* borrowed from log */
+    char *root;      /* %SRCROOT%: the current directory, ending in '/'; NULL if unknown */
 };
 
 /* A JSON string of s. jansson refuses bytes that are not UTF-8 (a file
@@ -35,18 +40,14 @@ static json_t *text(const char *s) {
     return j;
 }
 
-/* The artifact's URI: the path as given, relative stays relative (code
- * scanning resolves it against the repository), an absolute path becomes
- * a file: URI. Bytes outside RFC 3986's unreserved set and '/' are
- * percent-encoded. */
-static json_t *artifact_uri(const char *path) {
+/* path percent-encoded as a URI path: bytes outside RFC 3986's
+ * unreserved set and '/' become %XX. prefix goes first, as it is. */
+static char *uri_encode(const char *prefix, const char *path) {
     size_t n = strlen(path);
-    char *uri = malloc(3 * n + 8);
+    char *uri = malloc(strlen(prefix) + 3 * n + 1);
     if (!uri)
         return NULL;
-    char *o = uri;
-    if (path[0] == '/')
-        o += sprintf(o, "file://");
+    char *o = uri + sprintf(uri, "%s", prefix);
     for (const unsigned char *p = (const unsigned char *)path; *p; p++) {
         if ((*p >= 'A' && *p <= 'Z') || (*p >= 'a' && *p <= 'z') || (*p >= '0' && *p <= '9') ||
             strchr("-._~/", *p))
@@ -55,7 +56,22 @@ static json_t *artifact_uri(const char *path) {
             o += sprintf(o, "%%%02X", *p);
     }
     *o = 0;
-    json_t *j = json_string(uri);
+    return uri;
+}
+
+/* The artifact location of path. Code scanning services resolve a URI
+ * against %SRCROOT%, which pfx sets to the current directory (where CI runs
+ * it, the checkout's root): a relative path stays as given, relative to
+ * it, and so does an absolute one inside it (after resolving symbolic
+ * links); an absolute path elsewhere is a file: URI of its own. */
+static json_t *artifact_location(const char *path, const char *root) {
+    const char *rel = path[0] == '/' ? NULL : path;
+    char real[PATH_MAX];
+    if (!rel && root && realpath(path, real) && !strncmp(real, root, strlen(root)))
+        rel = real + strlen(root);
+    char *uri = rel ? uri_encode("", rel) : uri_encode("file://", path);
+    json_t *j =
+        uri ? json_pack(rel ? "{s:s, s:s}" : "{s:s}", "uri", uri, "uriBaseId", "%SRCROOT%") : NULL;
     free(uri);
     return j;
 }
@@ -66,10 +82,10 @@ static const char *level(pfx_severity s) {
 
 /* A location object: the file and, when the diagnostic has one, the
  * region; NULL for a runtime failure, which has no file. */
-static json_t *location(const pfx_diags *d, const pfx_diag *g) {
+static json_t *location(const pfx_diags *d, const pfx_diag *g, const char *root) {
     if (!d->file)
         return NULL;
-    json_t *phys = json_pack("{s:{s:o}}", "artifactLocation", "uri", artifact_uri(d->file));
+    json_t *phys = json_pack("{s:o}", "artifactLocation", artifact_location(d->file, root));
     if (phys && g->line > 0)
         json_object_set_new(phys, "region",
                             json_pack("{s:i, s:i, s:i}", "startLine", g->line, "startColumn",
@@ -84,7 +100,7 @@ static json_t *rule_index(pfx_rule rule) {
 }
 
 /* One result for the error or warning g (or a note with no head). */
-static json_t *result(const pfx_diags *d, const pfx_diag *g) {
+static json_t *result(const pfx_diags *d, const pfx_diag *g, const char *root) {
     json_t *r = json_object();
     if (!r)
         return NULL;
@@ -99,22 +115,28 @@ static json_t *result(const pfx_diags *d, const pfx_diag *g) {
         json_decref(r);
         return NULL;
     }
-    json_t *loc = location(d, g);
+    json_t *loc = location(d, g, root);
     if (loc)
         json_object_set_new(r, "locations", json_pack("[o]", loc));
+    /* A warning the file's `allow:` acknowledges: in the log, as code
+     * scanning shows a dismissed alert, with the file's reason. */
+    if (g->allowed)
+        json_object_set_new(
+            r, "suppressions",
+            json_pack("[{s:s, s:o}]", "kind", "inSource", "justification", text(g->allowed)));
     return r;
 }
 
 /* A note of result r: a related location with the note's message, and the
  * note's position when it has one. */
-static bool add_note(json_t *r, const pfx_diags *d, const pfx_diag *g) {
+static bool add_note(json_t *r, const pfx_diags *d, const pfx_diag *g, const char *root) {
     json_t *related = json_object_get(r, "relatedLocations");
     if (!related) {
         related = json_array();
         if (json_object_set_new(r, "relatedLocations", related))
             return false;
     }
-    json_t *loc = location(d, g);
+    json_t *loc = location(d, g, root);
     if (!loc)
         loc = json_object();
     if (!loc)
@@ -156,7 +178,23 @@ pfx_sarif *pfx_sarif_create(void) {
         free(s);
         return NULL;
     }
-    s->results = json_object_get(json_array_get(json_object_get(s->log, "runs"), 0), "results");
+    json_t *run = json_array_get(json_object_get(s->log, "runs"), 0);
+    s->results = json_object_get(run, "results");
+    /* %SRCROOT%, the base of relative URIs: the current directory. */
+    char cwd[PATH_MAX];
+    if (getcwd(cwd, sizeof cwd - 1)) {
+        if (strcmp(cwd, "/"))
+            strcat(cwd, "/");
+        s->root = strdup(cwd);
+        char *uri = s->root ? uri_encode("file://", cwd) : NULL;
+        if (!uri || json_object_set_new(run, "originalUriBaseIds",
+                                        json_pack("{s:{s:s}}", "%SRCROOT%", "uri", uri))) {
+            free(uri);
+            pfx_sarif_destroy(s);
+            return NULL;
+        }
+        free(uri);
+    }
     return s;
 }
 
@@ -164,6 +202,7 @@ void pfx_sarif_destroy(pfx_sarif *s) {
     if (!s)
         return;
     json_decref(s->log);
+    free(s->root);
     free(s);
 }
 
@@ -176,10 +215,10 @@ bool pfx_sarif_add(pfx_sarif *s, const pfx_diags *d) {
     for (size_t k = 0; ok && k < d->count; k++) {
         const pfx_diag *g = &d->items[order[k]];
         if (g->severity == PFX_SEV_NOTE && last) {
-            ok = add_note(last, d, g);
+            ok = add_note(last, d, g, s->root);
             continue;
         }
-        last = result(d, g);
+        last = result(d, g, s->root);
         ok = last && json_array_append_new(s->results, last) == 0;
     }
     free(order);

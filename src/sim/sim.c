@@ -129,6 +129,8 @@ static void advance(pfx_sim *s, double t1) {
         const pfx_emitter *em = &e->emitters[i];
         pfx_pool *p = &s->pools[i];
         if (dt > 0) {
+            s->emitters[i].particle_steps +=
+                (uint64_t)p->count * (em->motion ? em->motion->choice.steps : 1);
             /* Kill rules change lifetimes after the move; without them
              * the move pass finds the deaths, in parallel (the collide
              * pass notes the blocks where a deflector may have killed or
@@ -256,4 +258,16 @@ void pfx_sim_note_dropped(const pfx_sim *s, pfx_diags *d) {
                           "emitter '%s' dropped %llu births: its pool of %u particles was full",
                           s->effect->emitters[i].name, (unsigned long long)s->emitters[i].dropped,
                           s->effect->emitters[i].capacity);
+}
+
+void pfx_sim_note_work(const pfx_sim *s, pfx_diags *d) {
+    double steps = 0, events = 0;
+    for (size_t i = 0; i < s->effect->emitter_count; i++) {
+        steps += (double)s->emitters[i].particle_steps;
+        events += (double)s->emitters[i].spawn_events;
+    }
+    if (events > 0)
+        pfx_diag_note(d, 0, 0, 0,
+                      "simulated %.4g particle-steps and %.4g sub-emitter events in %llu steps",
+                      steps, events, (unsigned long long)s->step);
 }

@@ -55,5 +55,9 @@ uint64_t pfx_sim_hash(const pfx_sim *s);
 /* A note per emitter whose full pool dropped births, saying how many; d
  * may be NULL. */
 void pfx_sim_note_dropped(const pfx_sim *s, pfx_diags *d);
+/* A note of the work done so far when sub-emitters raised events (what
+ * jobs/estimate.c bounds beforehand): the particle-steps and the events,
+ * summed over the emitters. Nothing for an effect without sub-emitters. */
+void pfx_sim_note_work(const pfx_sim *s, pfx_diags *d);
 
 #endif

@@ -65,6 +65,7 @@ bool pfx_spawn_queues_create(pfx_sim *s) {
  * are counted to drop). */
 static spawn_record *queue_event(pfx_sim *s, const pfx_spawn *sp, double t) {
     pfx_emitter_state *st = &s->emitters[sp->target];
+    st->spawn_events++;
     double count = pfx_sample_value(&sp->count, &st->spawn_rng);
     double u = pfx_rng_unit(&st->spawn_rng);
     if (u >= sp->probability || count < 1)

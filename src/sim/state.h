@@ -43,6 +43,12 @@ typedef struct pfx_emitter_state {
     pfx_rng collide_rng;      /* random resilience and friction per impact */
     pfx_rng spawn_rng;        /* sub-emitter counts and probabilities it receives */
     pfx_collide_stats collisions;
+    /* The work done, for comparing with jobs/estimate.c's bound: particles
+     * stepped (each counted once per substep of its integrator), and the
+     * sub-emitter events raised into this emitter (each a count and a
+     * chance drawn, whether or not it fires or its pool can take it). */
+    uint64_t particle_steps;
+    uint64_t spawn_events;
 } pfx_emitter_state;
 
 /* Particles per block of the threaded passes: a multiple of the motion

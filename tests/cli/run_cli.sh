@@ -53,8 +53,15 @@ EOF
 printf 'pfx: 1\nemitters:\n  a:\n    rate: -1\n' >"$work/bad.yaml"
 
 # ---- success: 0
-begin "validate a valid file"
+begin "validate a valid file: one summary line on stderr"
 pfx_run validate "$FIRE"
+want_status 0
+[ "$(cat "$work/err")" = "pfx: validated '$FIRE': no warnings" ] || flunk "stderr: $(cat "$work/err")"
+stdout_empty
+end
+
+begin "validate -q: nothing on stderr"
+pfx_run validate -q "$FIRE"
 want_status 0
 stderr_empty
 stdout_empty
@@ -62,6 +69,13 @@ end
 
 begin "validate every example"
 pfx_run validate effects/*.yaml
+want_status 0
+n=$(ls effects/*.yaml | wc -l)
+[ "$(cat "$work/err")" = "pfx: validated $n files: no warnings" ] || flunk "stderr: $(cat "$work/err")"
+end
+
+begin "validate --format json: no summary, every line JSON"
+pfx_run validate --format json "$FIRE"
 want_status 0
 stderr_empty
 end
@@ -204,12 +218,62 @@ while read -r _ _ _ _ bytes _; do
 done <<<"$pools"
 end
 
+# ---- CSS colour names: the exact sRGB value of each name in a frame pixel,
+# the known answers from Pillow's table of the CSS names (ImageColor), not
+# pfx's: a rebeccapurple background, and an opaque sprite whose gradient
+# of names is orange all its life, drawn with a white texture and alpha
+# blending.
+"$py" -c "from PIL import Image; Image.new('RGBA', (8, 8), (255,) * 4).save('$work/white.png')"
+cat >"$work/named.yaml" <<'YAML'
+pfx: 1
+duration: 0.1
+fps: 10
+camera: { position: [0, 0, 5], target: [0, 0, 0], ortho: 2 }
+image: { size: [64, 64], background: rebeccapurple }
+emitters:
+  one:
+    bursts: [{ time: 0, count: 1 }]
+    speed: 0
+    lifetime: 10
+    size: 1
+    color: [orange, orange]
+    texture: white.png
+    blend: alpha
+    forces: []
+YAML
+begin "CSS colour names render their exact sRGB values"
+pfx_run render "$work/named.yaml" -o "$work/named" -q
+want_status 0
+msg=$("$py" - "$work/named/named_0000.png" <<'PY' 2>&1
+import sys
+from PIL import Image, ImageColor
+im = Image.open(sys.argv[1]).convert("RGBA")
+bad = []
+for (x, y), name in [((0, 0), "rebeccapurple"), ((63, 63), "rebeccapurple"),
+                     ((32, 32), "orange"), ((24, 36), "orange")]:
+    want = ImageColor.getrgb(name) + (255,)
+    if im.getpixel((x, y)) != want:
+        bad.append(f"pixel ({x}, {y}) is {im.getpixel((x, y))}, expected {name} {want}")
+print("\n".join(bad))
+sys.exit(1 if bad else 0)
+PY
+) || flunk "$msg"
+end
+
+begin "a misspelt colour name: the nearest name suggested"
+printf 'pfx: 1\nemitters:\n  a: { color: [red, oragne] }\n' >"$work/misspelt.yaml"
+pfx_run validate "$work/misspelt.yaml"
+want_status 1
+stderr_has "$work/misspelt.yaml:3:21: error: unknown colour 'oragne' in 'color'; did you mean 'orange'? [PFX3003]"
+end
+
 # ---- invalid input or I/O failure: 1
 begin "validate an invalid file"
 pfx_run validate "$work/bad.yaml"
 want_status 1
 stderr_has "$work/bad.yaml:4:11: error: 'rate' must be at least 0, got -1"
 stdout_empty
+! grep -qF "pfx: validated" "$work/err" || flunk "a summary line after a failure"
 end
 
 begin "validate a valid and an invalid file"

@@ -148,7 +148,7 @@ begin "validate honours --set: a broken file passes when --set mends it, fails w
 sed 's/lifetime: 10/lifetime: 0/' one.yaml >broken.yaml
 pfx_run validate broken.yaml
 finished && want_status 1
-pfx_run validate broken.yaml --set emitters.one.lifetime=2
+pfx_run validate broken.yaml --set emitters.one.lifetime=2 -q
 finished && want_status 0 && stderr_empty
 pfx_run validate one.yaml --set emitters.one.lifetime=0
 finished && want_status 1

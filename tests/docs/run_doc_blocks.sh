@@ -58,7 +58,7 @@ for f in "$work"/*.yaml; do
     [ -e "$f" ] || continue
     name=${f##*/}
     begin "$name validates without a diagnostic"
-    (cd "$src/effects" && timeout 60 "$pfx" validate "$f") >"$work/out" 2>"$work/err"
+    (cd "$src/effects" && timeout 60 "$pfx" validate -q "$f") >"$work/out" 2>"$work/err"
     status=$?
     want_status 0
     [ ! -s "$work/err" ] || flunk "$(head -c 600 "$work/err")"

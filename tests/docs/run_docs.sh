@@ -167,7 +167,7 @@ def pfx_validate(name, text):
     path = os.path.join(tmp, name + ".yaml")
     with open(path, "w") as f:
         f.write(text)
-    r = subprocess.run([pfx, "validate", path], capture_output=True, text=True)
+    r = subprocess.run([pfx, "validate", "-q", path], capture_output=True, text=True)
     return r.returncode, r.stderr
 
 if not effects:
@@ -185,6 +185,8 @@ for path in effects:
 # Documents pfx accepts, written to reach the corners of the format.
 good = {
     "minimal emitter": "pfx: 1\nemitters:\n  a: {}\n",
+    "CSS colour names": "pfx: 1\nimage: { background: rebeccapurple }\nemitters:\n  a: { color: [red, orange, yellow] }\n",
+    "allow a warning": "pfx: 1\nallow: { PFX5002: \"the splash counts differ\" }\nemitters:\n  a: {}\n",
     "every form": """\
 pfx: 1.0
 duration: 0.5
@@ -306,6 +308,9 @@ emitters:
 # Documents pfx rejects; the schema must reject each of them too.
 bad = {
     "unknown top-level key": "pfx: 1\ndurration: 3\n",
+    "misspelt colour name": "pfx: 1\nemitters:\n  a: { color: oragne }\n",
+    "allow an error rule": "pfx: 1\nallow: { PFX3001: \"no\" }\nemitters:\n  a: {}\n",
+    "allow with an empty reason": "pfx: 1\nallow: { PFX5002: \"\" }\nemitters:\n  a: {}\n",
     "unknown emitter key": "pfx: 1\nemitters:\n  a: { colr: \"#fff\", no_such_key: 1 }\n",
     "unknown shape type": "pfx: 1\nemitters:\n  a: { shape: { type: cube } }\n",
     "shape with another type's key": "pfx: 1\nemitters:\n  a: { shape: { type: sphere, size: [1, 1, 1] } }\n",
@@ -384,6 +389,9 @@ bad = {
 # rule it was written for). Each is part of an `error:` line.
 reason = {
     "unknown top-level key": "unknown key 'durration' in the effect",
+    "misspelt colour name": "unknown colour 'oragne' in 'color'; did you mean 'orange'?",
+    "allow an error rule": "PFX3001 (out-of-range) is an error, which 'allow' cannot acknowledge",
+    "allow with an empty reason": "the reason for allowing PFX5002 is empty",
     "unknown emitter key": "unknown key 'no_such_key' in emitter 'a'",
     "unknown shape type": "unknown shape type 'cube'",
     "shape with another type's key": "unknown key 'size' in the shape of emitter 'a'",

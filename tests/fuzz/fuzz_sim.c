@@ -47,7 +47,7 @@ static void run(const pfx_effect *e) {
         return;
     pfx_estimate est;
     pfx_estimate_run(e, 0, frames - 1, 0, &est);
-    if (est.particle_steps > MAX_PARTICLE_STEPS)
+    if (est.work > MAX_PARTICLE_STEPS)
         return;
     pfx_diags d;
     pfx_diags_init_runtime(&d);

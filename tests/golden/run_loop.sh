@@ -75,7 +75,7 @@ else
 fi
 
 # ---- The looping effect: no warnings, frame N = frame 0, N + 5 = 5 ----
-if run validate "$pfx" validate "$effect" && [[ ! -s $work/validate.err && ! -s $work/validate.out ]]; then
+if run validate "$pfx" validate -q "$effect" && [[ ! -s $work/validate.err && ! -s $work/validate.out ]]; then
     pass "fire_loop: pfx validate prints nothing (no loop warning)"
 else
     fail "fire_loop: pfx validate prints nothing (no loop warning)" "$(head -c 300 "$work/validate.err")"

@@ -113,6 +113,53 @@ sys.exit(0 if uri == want and " " not in uri else f"uri {uri!r}, expected {want!
 ' "$work/out" "$work/a dir/b x.yaml" || flunk "bad uri"
 end
 
+# An absolute path inside the current directory: relative to %SRCROOT%,
+# which the run sets to the current directory (code scanning resolves
+# artifact URIs against it); the log still meets the schema.
+begin "absolute path inside the current directory: relative to %SRCROOT%"
+pfx_run validate --format sarif "$src/$D/box_size_negative.yaml"
+want_status 1
+msg=$("$py" - "$work/out" "$schema" "$(pwd -P)" <<'PY' 2>&1
+import json, sys, urllib.parse, jsonschema
+log = json.load(open(sys.argv[1]))
+schema = json.load(open(sys.argv[2]))
+jsonschema.validators.validator_for(schema)(schema).validate(log)
+run = log["runs"][0]
+base = run.get("originalUriBaseIds", {}).get("%SRCROOT%", {}).get("uri")
+want = "file://" + urllib.parse.quote(sys.argv[3]) + "/"
+loc = run["results"][0]["locations"][0]["physicalLocation"]["artifactLocation"]
+bad = []
+if base != want:
+    bad.append(f"%SRCROOT% {base!r}, expected {want!r}")
+if loc != {"uri": "tests/diag/box_size_negative.yaml", "uriBaseId": "%SRCROOT%"}:
+    bad.append(f"artifactLocation {loc}")
+print("\n".join(bad))
+sys.exit(1 if bad else 0)
+PY
+) || flunk "$msg"
+end
+
+# allow: an acknowledged warning is a result with a suppression carrying the
+# file's reason, and the log exits 0 with --werror.
+begin "allowed warning: a suppression with its justification"
+pfx_run validate --format sarif --werror $D/allow_loop_seam.yaml
+want_status 0
+[ ! -s "$work/err" ] || flunk "stderr: $(head -c 300 "$work/err")"
+msg=$("$py" - "$work/out" "$schema" <<'PY' 2>&1
+import json, sys, jsonschema
+log = json.load(open(sys.argv[1]))
+schema = json.load(open(sys.argv[2]))
+jsonschema.validators.validator_for(schema)(schema).validate(log)
+res = log["runs"][0]["results"]
+got = [(r["ruleId"], r["level"], r["locations"][0]["physicalLocation"]["region"]["startLine"],
+        r.get("suppressions")) for r in res]
+want = [("PFX5002", "warning", 11,
+         [{"kind": "inSource", "justification": "the splash counts differ per loop"}])]
+sys.exit(0 if got == want else f"results {got}, expected {want}")
+PY
+) || flunk "$msg"
+end
+
 # The exit status is that of the text form: --werror fails on a warning.
 begin "--werror"
 pfx_run validate --format sarif --werror $D/loop_warnings.yaml

@@ -1,7 +1,8 @@
 /* The rule table of base/diag_rules.h and how diagnostics carry it: ids
  * unique, in their category's range and in order, names unique; lookups;
  * the " [PFXnnnn]" suffix of the text form and the "rule" field of the
- * JSON form, none on notes; a few rules pinned to their published ids. */
+ * JSON form, none on notes; a few rules pinned to their published ids;
+ * allowed warnings. */
 #include "test.h"
 
 #include <ctype.h>
@@ -112,8 +113,34 @@ static void order_keeps_notes_with_their_head(void) {
     pfx_diags_free(&d);
 }
 
+/* allow: a warning of an allowed rule, reported before the table is read
+ * or after, is marked with the reason, counted in allowed not warnings,
+ * and so are its notes; other rules and errors are untouched; appended
+ * to another list it is counted there, not shown. */
+static void allow_marks_and_counts(void) {
+    pfx_diags d;
+    pfx_diags_init(&d, "f.yaml", NULL, 0);
+    pfx_diag_add(&d, PFX_SEV_WARNING, 3, 1, 1, PFX_RULE_LOOP_SEAM, "before");
+    pfx_diag_note(&d, 3, 1, 1, "its note");
+    pfx_diag_add(&d, PFX_SEV_WARNING, 4, 1, 1, PFX_RULE_EMPTY_EFFECT, "other rule");
+    CHECK(pfx_diags_allow(&d, PFX_RULE_LOOP_SEAM, "accepted"));
+    pfx_diag_add(&d, PFX_SEV_WARNING, 5, 1, 1, PFX_RULE_LOOP_SEAM, "after");
+    pfx_diag_add(&d, PFX_SEV_ERROR, 6, 1, 1, PFX_RULE_LOOP_SEAM, "an error of that rule");
+    CHECK(d.count == 5 && d.warnings == 1 && d.allowed == 2 && d.errors == 1);
+    CHECK(d.items[0].allowed && !strcmp(d.items[0].allowed, "accepted"));
+    CHECK(d.items[1].allowed == d.items[0].allowed);
+    CHECK(!d.items[2].allowed && d.items[3].allowed && !d.items[4].allowed);
+    pfx_diags run;
+    pfx_diags_init_runtime(&run);
+    pfx_diags_append(&run, &d);
+    CHECK(run.count == 2 && run.warnings == 1 && run.allowed == 2 && run.errors == 1);
+    pfx_diags_free(&run);
+    pfx_diags_free(&d);
+}
+
 int main(void) {
     RUN(table_is_sound);
+    RUN(allow_marks_and_counts);
     RUN(ids_are_stable);
     RUN(forms_carry_the_rule);
     RUN(order_keeps_notes_with_their_head);

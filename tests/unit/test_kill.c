@@ -442,7 +442,7 @@ static bool compile_rules(parsed *ps, const char *text, pfx_kill_rules *out) {
     pfx_diags_init(&ps->diags, "inline.yaml", text, len);
     if (!pfx_parse(text, len, &ps->doc, &ps->diags))
         return false;
-    ps->r = (pfx_reader){&ps->diags, &ps->arena};
+    ps->r = (pfx_reader){.d = &ps->diags, .arena = &ps->arena};
     const pfx_node *root = ps->doc.root;
     return pfx_compile_kill(&ps->r, pfx_node_get(root, "kill"), pfx_node_get(root, "bounds"), out);
 }
