@@ -34,6 +34,7 @@ static const char usage_text[] =
     "       pfx bench [SECTION...] [--json] [--renderer R]\n"
     "       pfx bench accuracy -o DIR\n"
     "       pfx assemble DIR... -o OUT [--atlas[=CxR]] [--preview OUT.webp|OUT.mp4]\n"
+    "       pfx preview FILE [--port N] [--host ADDR] [--size WxH] [--seed N] [--no-open]\n"
     "       pfx schema\n"
     "\n"
     "commands:\n"
@@ -43,6 +44,7 @@ static const char usage_text[] =
     "  info       show what the compiled effect holds\n"
     "  bench      measure simulation and rendering speed (or integrator accuracy)\n"
     "  assemble   gather the frames of slices (--slice) into OUT, checking each\n"
+    "  preview    serve a live view of FILE to a browser, re-rendered on every save\n"
     "  schema     print the JSON Schema of the effect format\n"
     "\n"
     "options:\n"
@@ -93,6 +95,9 @@ static const char usage_text[] =
     "      --slice-count N     the number of slices for --slice-env\n"
     "      --alpha MODE        PNG alpha: straight or premultiplied, overriding\n"
     "                          image.alpha\n"
+    "      --port N            preview: the port (default 0: a free one)\n"
+    "      --host ADDR         preview: listen on ADDR instead of 127.0.0.1 (a warning)\n"
+    "      --no-open           preview: do not open the page in a browser\n"
     "  -q, --quiet             no progress line and no notes\n"
     "  -h, --help              show this help\n"
     "      --version           show the version\n";
@@ -179,7 +184,10 @@ enum {
     OPT_PREVIEW,
     OPT_MOTION_VECTORS,
     OPT_MV_MAX,
-    OPT_MV_FLIP_Y
+    OPT_MV_FLIP_Y,
+    OPT_PORT,
+    OPT_HOST,
+    OPT_NO_OPEN
 };
 
 static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
@@ -213,6 +221,9 @@ static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
                                          {"max-memory", required_argument, 0, OPT_MAX_MEMORY},
                                          {"threads", required_argument, 0, OPT_THREADS},
                                          {"json", no_argument, 0, OPT_JSON},
+                                         {"port", required_argument, 0, OPT_PORT},
+                                         {"host", required_argument, 0, OPT_HOST},
+                                         {"no-open", no_argument, 0, OPT_NO_OPEN},
                                          {"quiet", no_argument, 0, 'q'},
                                          {"help", no_argument, 0, 'h'},
                                          {0, 0, 0, 0}};
@@ -433,6 +444,17 @@ static int parse_option(int c, int argc, char **argv, pfx_cli *o) {
                                        optarg);
         o->slice_count = (long)v;
         break;
+    case OPT_PORT:
+        if (!parse_ulong(optarg, &v) || v > 65535)
+            return pfx_cli_usage_error("--port takes a number from 0 to 65535, got '%s'", optarg);
+        o->port = (unsigned)v;
+        break;
+    case OPT_HOST:
+        o->host = optarg;
+        break;
+    case OPT_NO_OPEN:
+        o->no_open = true;
+        break;
     case ':':
         return pfx_cli_usage_error("option '%s' needs a value", option_word(argv, optopt));
     default:
@@ -528,6 +550,8 @@ static int check_options(int argc, char **argv, pfx_cli *o) {
                 o->format);
         o->json = !strcmp(o->format, "json");
     }
+    if ((o->port || o->host || o->no_open) && strcmp(argv[1], "preview"))
+        return pfx_cli_usage_error("%s", "--port, --host and --no-open are for preview");
     if (o->list_rules && strcmp(argv[1], "validate"))
         return pfx_cli_usage_error("%s", "--list-rules is for validate");
     return -1;
@@ -555,9 +579,9 @@ static const struct {
     const char *name;
     command_fn run;
 } commands[] = {
-    {"validate", pfx_cmd_validate}, {"render", pfx_cmd_render}, {"bake", pfx_cmd_bake},
-    {"info", pfx_cmd_info},         {"bench", pfx_cmd_bench},   {"schema", pfx_cmd_schema},
-    {"assemble", pfx_cmd_assemble},
+    {"validate", pfx_cmd_validate}, {"render", pfx_cmd_render},   {"bake", pfx_cmd_bake},
+    {"info", pfx_cmd_info},         {"bench", pfx_cmd_bench},     {"schema", pfx_cmd_schema},
+    {"assemble", pfx_cmd_assemble}, {"preview", pfx_cmd_preview},
 };
 enum { COMMAND_COUNT = sizeof commands / sizeof commands[0] };
 

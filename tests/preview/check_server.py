@@ -1,0 +1,195 @@
+"""The contract of `pfx preview` (man pfx(1), PREVIEW) through its HTTP
+routes, no browser: the URL line, loopback, the token and Host checks,
+paths outside the table, frames equal to `pfx render`, live reload of a
+good and a broken save, pick, a port in use, 200 edits, Control-C.
+Usage: check_server.py PFX SRC WORK; prints one `ok`/`FAIL` line a check."""
+import io
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+
+from PIL import Image
+
+sys.path.insert(0, os.path.dirname(__file__))
+from preview import Preview, edit, line_of  # noqa: E402
+
+pfx, src, work = sys.argv[1:4]
+failures = 0
+
+
+def check(name, ok, detail=""):
+    global failures
+    print(("ok   " if ok else "FAIL ") + name + ("" if ok else ": " + detail))
+    failures += not ok
+
+
+def pixel(png, x, y):
+    return Image.open(io.BytesIO(png)).convert("RGBA").getpixel((x, y))
+
+
+def near(p, want, tol=3):
+    return all(abs(a - b) <= tol for a, b in zip(p, want))
+
+
+dot = os.path.join(work, "dot.yaml")
+shutil.copy(os.path.join(src, "tests/preview/dot.yaml"), dot)
+K = 5
+
+with Preview(pfx, "dot.yaml", cwd=work) as p:
+    check("the first line of stdout is http://127.0.0.1:PORT/?token=TOKEN", True)
+    # Listening on loopback alone: the socket's local address in /proc/net/tcp.
+    with open("/proc/net/tcp") as f:
+        rows = [line.split() for line in f.readlines()[1:]]
+    mine = [r for r in rows if r[3] == "0A" and int(r[1].split(":")[1], 16) == p.port]
+    check("it listens on 127.0.0.1 only", len(mine) == 1 and mine[0][1].startswith("0100007F:"),
+          str(mine))
+
+    # Security: token, Host, paths.
+    st, _, _ = p.get("/api/state", token=False)
+    check("no token: 403", st == 403, str(st))
+    st, _, _ = p.get("/api/state?token=" + "0" * 32, token=False)
+    check("a wrong token: 403", st == 403, str(st))
+    st, _, _ = p.get("/frame/0.png", token=False)
+    check("a frame without the token: 403", st == 403, str(st))
+    st, _, _ = p.get("/api/state", host="evil.example:%d" % p.port)
+    check("a foreign Host: 403", st == 403, str(st))
+    st, _, _ = p.get("/api/state", host="127.0.0.1")
+    check("a Host without the port: 403", st == 403, str(st))
+    for host in ("localhost:%d" % p.port, "[::1]:%d" % p.port):
+        st, _, _ = p.get("/api/state", host=host)
+        check("Host %s: 200" % host.rsplit(":", 1)[0], st == 200, str(st))
+    for path in ("/../api/state", "/frame/../../etc/passwd", "/etc/passwd", "/frame/x.png",
+                 "/frame/1.png/..", "/app.js/../index.html", "/api/state/"):
+        st, _, _ = p.get(path)
+        check("%s: 404" % path, st == 404, str(st))
+    st, _, _ = p.get("/", method="POST")
+    check("POST /: 404", st == 404, str(st))
+    st, _, _ = p.get("/api/state", token=False,
+                     headers={"Cookie": "pfx_token_%d=%s" % (p.port, p.token)})
+    check("the token in the page's cookie: 200", st == 200, str(st))
+    st, hdr, body = p.get("/")
+    check("GET / serves the page and sets the token's cookie",
+          st == 200 and b"app.js" in body and hdr.get("Set-Cookie", "").startswith(
+              "pfx_token_%d=%s;" % (p.port, p.token)) and "HttpOnly" in hdr["Set-Cookie"],
+          "%d %s" % (st, hdr.get("Set-Cookie")))
+    st, hdr, body = p.get("/app.js")
+    check("GET /app.js: the page's script, no CDN",
+          st == 200 and hdr["Content-Type"].startswith("text/javascript") and b"EventSource" in body
+          and b"http" not in body.replace(b"http.client", b""), str(st))
+
+    # The state.
+    s = p.state()
+    lines = {"dot": line_of(dot, "  dot:"), "side": line_of(dot, "  side:")}
+    check("/api/state: file, version, frames, fps, size, emitters with lines",
+          s["file"] == "dot.yaml" and s["version"] == 1 and s["frames"] == 10 and s["fps"] == 10
+          and s["size"] == [96, 96] and s["diagnostics"] == []
+          and [(e["name"], e["line"]) for e in s["emitters"]] == [("dot", lines["dot"]),
+                                                                  ("side", lines["side"])],
+          json.dumps(s)[:300])
+
+    # Frame K against pfx render --frames K, byte for byte and by pixels.
+    st, hdr, png = p.get("/frame/%d.png" % K)
+    subprocess.run([pfx, "render", "dot.yaml", "--frames", str(K), "-o", "r", "-q"], cwd=work,
+                   check=True)
+    with open(os.path.join(work, "r/dot_%04d.png" % K), "rb") as f:
+        rendered = f.read()
+    check("/frame/K.png is the file pfx render --frames K writes", st == 200 and png == rendered,
+          "status %d, %d vs %d bytes" % (st, len(png), len(rendered)))
+    check("frame K: red in the middle, green to the right, black in the corner",
+          near(pixel(png, 48, 48), (255, 0, 0, 255)) and near(pixel(png, 79, 48), (0, 255, 0, 255))
+          and near(pixel(png, 2, 2), (0, 0, 0, 255)),
+          "%s %s %s" % (pixel(png, 48, 48), pixel(png, 79, 48), pixel(png, 2, 2)))
+    st, _, _ = p.get("/frame/10.png")
+    check("a frame past the end: 404", st == 404, str(st))
+
+    # Pick: the emitter and the line of its key.
+    def pick(x, y):
+        st, _, body = p.get("/pick?frame=%d&x=%d&y=%d" % (K, x, y))
+        return json.loads(body) if st == 200 else st
+    check("pick in the middle: dot and its line",
+          pick(48, 48) == [{"emitter": "dot", "line": lines["dot"]}], str(pick(48, 48)))
+    check("pick on the right disc: side and its line",
+          pick(79, 48) == [{"emitter": "side", "line": lines["side"]}], str(pick(79, 48)))
+    check("pick in the corner: nothing", pick(2, 2) == [], str(pick(2, 2)))
+    check("pick outside the frame: 400", pick(96, 0) == 400, str(pick(96, 0)))
+
+    # A good save: a new version, the new colour.
+    news = s["news"]
+    edit(dot, '"#ff0000"', '"#0000ff"')
+    s = p.wait_news(news)
+    st, hdr, png = p.get("/frame/%d.png" % K)
+    check("an edit of a colour: version 2 and a blue middle",
+          s["version"] == 2 and hdr.get("X-Pfx-Version") == "2"
+          and near(pixel(png, 48, 48), (0, 0, 255, 255)), "%s %s" % (s["version"], pixel(png, 48, 48)))
+
+    # A broken save: its diagnostics, exactly as validate prints them; the
+    # last good frames stay.
+    news = s["news"]
+    edit(dot, "size: 1.2", "size: 1.2.")
+    s = p.wait_news(news)
+    v = subprocess.run([pfx, "validate", "dot.yaml"], cwd=work, capture_output=True, text=True)
+    m = re.match(r"dot\.yaml:(\d+):(\d+): error:", v.stderr)
+    d = s["diagnostics"]
+    check("a typo: its diagnostic at line:col, as validate prints it",
+          m and len(d) >= 1 and d[0]["line"] == int(m.group(1)) == line_of(dot, "size: 1.2.")
+          and d[0]["column"] == int(m.group(2)) and d[0]["severity"] == "error" and d[0]["rule"]
+          and s["diagnostics_text"] == v.stderr,
+          "%r vs %r" % (s["diagnostics_text"], v.stderr))
+    st, hdr, png = p.get("/frame/%d.png" % K)
+    check("a typo: the last good frames are still served",
+          s["version"] == 2 and st == 200 and hdr.get("X-Pfx-Version") == "2"
+          and near(pixel(png, 48, 48), (0, 0, 255, 255)), str(st))
+    news = s["news"]
+    edit(dot, "size: 1.2.", "size: 1.2")
+    s = p.wait_news(news)
+    check("the fix clears the diagnostics and raises the version",
+          s["diagnostics"] == [] and s["diagnostics_text"] == "" and s["version"] == 3, json.dumps(s)[:200])
+
+    # 200 edits in a row: memory and threads bounded.
+    p.get("/frame/0.png")
+    time.sleep(0.5)
+    threads0 = p.threads()
+    rss = []
+    colours = ['"#0000ff"', '"#00ffff"']
+    for i in range(200):
+        news = p.state()["news"]
+        edit(dot, colours[i % 2], colours[(i + 1) % 2])
+        p.wait_news(news)
+        if i % 20 == 0:
+            p.get("/frame/%d.png" % (i % 10))
+        if i in (20, 199):
+            rss.append(p.rss_kib())
+    st, hdr, png = p.get("/frame/%d.png" % K)
+    time.sleep(1.0)
+    threads1 = p.threads()
+    check("200 edits: every one compiled, the last one shown",
+          p.state()["version"] == 203 and near(pixel(png, 48, 48), (0, 0, 255, 255)),
+          "version %d" % p.state()["version"])
+    check("200 edits: RSS grew by under 16 MiB after the first 20",
+          rss[1] - rss[0] < 16 * 1024, "%d KiB -> %d KiB" % tuple(rss))
+    check("200 edits: no thread left behind", threads1 <= threads0,
+          "%d threads before, %d after" % (threads0, threads1))
+    print("# 200 edits: RSS %d KiB after 20, %d KiB after 200; threads %d -> %d"
+          % (rss[0], rss[1], threads0, threads1))
+
+    # The port in use: a one-line error, exit 1.
+    r = subprocess.run([pfx, "preview", "dot.yaml", "--no-open", "--port", str(p.port)],
+                       cwd=work, capture_output=True, text=True, timeout=30)
+    check("--port in use: one line, exit 1",
+          r.returncode == 1 and r.stdout == "" and r.stderr.count("\n") == 1
+          and "cannot listen on 127.0.0.1:%d: Address already in use" % p.port in r.stderr,
+          "%d %r" % (r.returncode, r.stderr))
+
+    # Control-C: a clean exit, nothing left in the scratch directory.
+    status = p.stop()
+    check("SIGINT: a clean stop, exit 0", status == 0, "status %s" % status)
+
+r = subprocess.run([pfx, "render", "dot.yaml", "--port", "1", "-o", "x"], cwd=work,
+                   capture_output=True, text=True)
+check("--port outside preview: usage error", r.returncode == 2 and "are for preview" in r.stderr,
+      r.stderr)
+sys.exit(0)
