@@ -15,8 +15,11 @@ URL_LINE = re.compile(r"^http://127\.0\.0\.1:(\d+)/\?token=([0-9a-f]{32})$")
 
 class Preview:
     def __init__(self, pfx, path, *args, cwd=None):
+        # SIGINT as Control-C sends it, even where the test itself was
+        # started in the background with SIGINT ignored.
         self.proc = subprocess.Popen([pfx, "preview", path, "--no-open", *args], cwd=cwd,
-                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                     preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
         self.first_line = self.proc.stdout.readline().rstrip("\n")
         m = URL_LINE.match(self.first_line)
         if not m:
