@@ -63,6 +63,14 @@ int pfx_cmd_preview(const char *const *operands, int count, const pfx_cli *o) {
         pfx_diag_error(&run, PFX_RULE_OUT_OF_MEMORY, "cannot make a pipe: %s", strerror(errno));
         goto done;
     }
+    /* A file that is not there is a typo on the command line, not a save
+     * yet to come: say so and stop. One that does not compile is served,
+     * its diagnostics on the page until a good save. */
+    if (access(operands[0], R_OK) != 0) {
+        pfx_diag_error(&run, PFX_RULE_MISSING_FILE, "cannot open '%s': %s", operands[0],
+                       strerror(errno));
+        goto done;
+    }
     /* The port first: one in use fails before anything is compiled. */
     pfx_server_options sv = {.host = host, .port = o->port};
     server = pfx_server_start(&sv, &run);

@@ -188,6 +188,29 @@ with Preview(pfx, "dot.yaml", cwd=work) as p:
     status = p.stop()
     check("SIGINT: a clean stop, exit 0", status == 0, "status %s" % status)
 
+# A file that does not compile yet: served with its diagnostics, no
+# frames, until a good save.
+edit(dot, "speed: 0", "speed: [")
+with Preview(pfx, "dot.yaml", cwd=work) as p:
+    s = p.state()
+    st, _, _ = p.get("/frame/0.png")
+    check("a broken file at start: version 0, its diagnostics, no frames (404)",
+          s["version"] == 0 and s["diagnostics"] and s["frames"] == 0 and st == 404,
+          "%s %s" % (json.dumps(s)[:200], st))
+    edit(dot, "speed: [", "speed: 0")
+    s = p.wait_news(s["news"])
+    st, _, png = p.get("/frame/%d.png" % K)
+    check("then a good save: version 1 and its frames",
+          s["version"] == 1 and st == 200 and near(pixel(png, 48, 48), (0, 0, 255, 255)),
+          "%s %s" % (s["version"], st))
+    p.stop()
+
+r = subprocess.run([pfx, "preview", "missing.yaml", "--no-open"], cwd=work, capture_output=True,
+                   text=True, timeout=30)
+check("a file that is not there: one line, exit 1, no URL",
+      r.returncode == 1 and r.stdout == "" and
+      r.stderr == "pfx: cannot open 'missing.yaml': No such file or directory [PFX4002]\n",
+      "%d %r" % (r.returncode, r.stderr))
 r = subprocess.run([pfx, "render", "dot.yaml", "--port", "1", "-o", "x"], cwd=work,
                    capture_output=True, text=True)
 check("--port outside preview: usage error", r.returncode == 2 and "are for preview" in r.stderr,
