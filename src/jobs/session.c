@@ -23,11 +23,9 @@
 #include "jobs/session_internal.h"
 #include "parse/node.h"
 
-/* Frames a prefetch job renders at once: each job simulates from frame 0
- * again, so fewer, longer jobs waste less; a frame is only served once its
- * job ends, so shorter ones show sooner. A change cancels after the frame
- * being drawn, whatever the length. */
-#define PREFETCH_FRAMES 8
+/* A prefetch job runs on to the next cached frame (or the end), and its
+ * frames are taken in as their files appear, so that one simulation serves
+ * them all; a change cancels it after the frame being drawn. */
 
 /* A rendered frame: the PNG's bytes and what the page shows beside it. */
 typedef struct frame_slot {
@@ -166,7 +164,7 @@ bool pfx_session_reload(pfx_session *s) {
 
 /* The next frames the worker should render, nearest the playhead first:
  * the playhead's frame alone, then the frames after it, then those before,
- * PREFETCH_FRAMES at a time, while the cache has room. False when there is
+ * each run up to the next cached frame, while the cache has room. False when there is
  * nothing to do. Called with the lock held. */
 static bool next_work(const pfx_session *s, const session_model *m, long *first, long *last) {
     long k = s->playhead < 0 ? 0 : s->playhead >= m->frames ? m->frames - 1 : s->playhead;
@@ -181,15 +179,14 @@ static bool next_work(const pfx_session *s, const session_model *m, long *first,
     for (long f = k + 1; f < m->frames; f++)
         if (!m->slots[f].png) {
             *first = *last = f;
-            while (*last + 1 < m->frames && *last - f + 1 < PREFETCH_FRAMES &&
-                   !m->slots[*last + 1].png)
+            while (*last + 1 < m->frames && !m->slots[*last + 1].png)
                 ++*last;
             return true;
         }
     for (long f = k - 1; f >= 0; f--)
         if (!m->slots[f].png) {
             *first = *last = f;
-            while (*first > 0 && f - *first + 1 < PREFETCH_FRAMES && !m->slots[*first - 1].png)
+            while (*first > 0 && !m->slots[*first - 1].png)
                 --*first;
             return true;
         }
@@ -214,27 +211,6 @@ static void make_room(pfx_session *s, session_model *m, size_t more, long keep) 
     }
 }
 
-/* Per frame, as the job draws it: the time since the last and the live
- * particles of each emitter in the state drawn. */
-typedef struct job_watch {
-    pfx_render_job *job;
-    session_model *m;
-    double t;
-} job_watch;
-
-static void on_frame(void *ctx, long f, size_t sprites) {
-    job_watch *w = ctx;
-    double t = now_ms();
-    frame_slot *slot = &w->m->slots[f];
-    slot->ms = t - w->t;
-    slot->sprites = sprites;
-    const pfx_sim *state = w->job->feed.sim;
-    size_t n = w->m->e->emitter_count;
-    for (size_t i = 0; state && i < n; i++)
-        w->m->alive[(size_t)f * (n + 1) + i] = state->pools[i].count;
-    w->t = t;
-}
-
 static void *read_file(const char *path, size_t *len) {
     FILE *f = fopen(path, "rb");
     if (!f)
@@ -250,6 +226,65 @@ static void *read_file(const char *path, size_t *len) {
     fclose(f);
     *len = (size_t)n;
     return buf;
+}
+
+/* A job of the worker: where its frames are written, the next one to take
+ * in, and the clock of its last frame. */
+typedef struct job_watch {
+    pfx_session *s;
+    pfx_render_job *job;
+    session_model *m;
+    char stem[32];
+    long next; /* the first frame not yet taken in */
+    double t;
+} job_watch;
+
+/* Takes frames next..upto into m's slots, in order, while their files are
+ * there: the frame queue renames a file into place only once it is whole.
+ * With end (the job is over), a missing file is a frame never drawn. */
+static void take_frames(job_watch *w, long upto, bool end) {
+    pfx_session *s = w->s;
+    session_model *m = w->m;
+    char path[4200];
+    for (; w->next <= upto; w->next++) {
+        snprintf(path, sizeof path, "%s/%s_%04ld.png", s->scratch, w->stem, w->next);
+        size_t len = 0;
+        void *png = read_file(path, &len);
+        if (!png && !end)
+            return;
+        unlink(path);
+        if (!png)
+            continue;
+        pthread_mutex_lock(&s->mu);
+        make_room(s, m, len, w->next);
+        free(m->slots[w->next].png);
+        m->slots[w->next].png = png;
+        m->slots[w->next].len = len;
+        m->slots[w->next].rendered = true;
+        m->bytes += len;
+        /* A full cache stops prefetching past the playhead. */
+        if (w->next > s->playhead && m->bytes >= s->o.cache_bytes / 10 * 9)
+            atomic_store(&s->cancel, true);
+        pthread_cond_broadcast(&s->frame_cv);
+        pthread_mutex_unlock(&s->mu);
+    }
+}
+
+/* Per frame, as the job draws it: the time since the last and the live
+ * particles of each emitter in the state drawn; then the frames before it
+ * that are written by now. */
+static void on_frame(void *ctx, long f, size_t sprites) {
+    job_watch *w = ctx;
+    double t = now_ms();
+    frame_slot *slot = &w->m->slots[f];
+    slot->ms = t - w->t;
+    slot->sprites = sprites;
+    const pfx_sim *state = w->job->feed.sim;
+    size_t n = w->m->e->emitter_count;
+    for (size_t i = 0; state && i < n; i++)
+        w->m->alive[(size_t)f * (n + 1) + i] = state->pools[i].count;
+    take_frames(w, f - 1, false);
+    w->t = now_ms();
 }
 
 /* Renders frames first..last of m into the scratch directory with the
@@ -268,38 +303,23 @@ static void render_range(pfx_session *s, session_model *m, long first, long last
         s->renderer_w = e->width;
         s->renderer_h = e->height;
     }
-    char stem[32];
-    snprintf(stem, sizeof stem, "v%u", m->version);
+    job_watch watch = {.s = s, .m = m, .next = first};
+    snprintf(watch.stem, sizeof watch.stem, "v%u", m->version);
     pfx_render_job job = {.effect = e,
                           .renderer = s->renderer,
                           .dir = s->scratch,
-                          .stem = stem,
+                          .stem = watch.stem,
                           .first = first,
                           .last = last,
                           .format = PFX_FRAME_PNG,
-                          .cancel = &s->cancel};
-    job_watch watch = {&job, m, now_ms()};
-    job.on_frame = on_frame;
-    job.on_frame_ctx = &watch;
+                          .cancel = &s->cancel,
+                          .on_frame = on_frame,
+                          .on_frame_ctx = &watch};
+    watch.job = &job;
+    watch.t = now_ms();
     bool ok = s->renderer && pfx_render_job_run(&job, &run);
     pfx_render_job_free(&job);
-    char path[4200];
-    for (long f = first; f <= last; f++) {
-        snprintf(path, sizeof path, "%s/%s_%04ld.png", s->scratch, stem, f);
-        size_t len = 0;
-        void *png = f < first + job.frames_done ? read_file(path, &len) : NULL;
-        unlink(path);
-        pthread_mutex_lock(&s->mu);
-        if (png) {
-            make_room(s, m, len, f);
-            free(m->slots[f].png);
-            m->slots[f].png = png;
-            m->slots[f].len = len;
-            m->slots[f].rendered = true;
-            m->bytes += len;
-        }
-        pthread_mutex_unlock(&s->mu);
-    }
+    take_frames(&watch, last, true);
     pthread_mutex_lock(&s->mu);
     if (!ok && !m->error) {
         char *text = NULL;
