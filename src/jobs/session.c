@@ -516,10 +516,17 @@ static json_t *emitter_json(const session_model *m, size_t i) {
         if (!isfinite(period))
             break;
     }
+    /* Its sub-emitters: which event of its particles feeds which emitter. */
+    json_t *spawns = json_array();
+    for (size_t j = 0; j < em->spawn_count; j++)
+        json_array_append_new(spawns, json_pack("{s:s, s:s}", "event",
+                                                pfx_spawn_event_names[em->spawns[j].event],
+                                                "emitter", e->emitters[em->spawns[j].target].name));
     double stop = isfinite(em->duration) && !em->loop ? em->start + em->duration - t0 : end;
-    return json_pack("{s:s, s:i, s:f, s:f, s:b, s:o}", "name", em->name, "line",
+    return json_pack("{s:s, s:i, s:f, s:f, s:b, s:o, s:o}", "name", em->name, "line",
                      (json_int_t)m->lines[i], "start", em->start - t0 > 0 ? em->start - t0 : 0.0,
-                     "end", stop < end ? stop : end, "loop", em->loop, "bursts", bursts);
+                     "end", stop < end ? stop : end, "loop", em->loop, "bursts", bursts, "spawns",
+                     spawns);
 }
 
 char *pfx_session_state_json(pfx_session *s) {

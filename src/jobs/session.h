@@ -48,8 +48,8 @@ void pfx_session_stop(pfx_session *s);
 /* The state as JSON text (malloc'd, the caller frees it): file, version,
  * news, frames, fps, size [w, h], diagnostics [{line, column, severity,
  * rule, message}], diagnostics_text (as `pfx validate` prints them),
- * emitters [{name, line, start, end, loop, period, bursts [s...]}] and the
- * per-frame stats rendered so far. NULL when out of memory. */
+ * emitters [{name, line, start, end, loop, bursts [s...], spawns [{event,
+ * emitter}]}] and the per-frame stats rendered so far. NULL when out of memory. */
 char *pfx_session_state_json(pfx_session *s);
 
 /* Frame k of the current version as the PNG file `pfx render --frames k`

@@ -189,18 +189,21 @@ def main_checks(d):
 
 
 def take_screenshot(d, out):
-    """The page over a real example, paused mid-effect after a pick."""
+    """The page over a real example (fireworks: bursts, sub-emitters), paused
+    mid-effect after a pick."""
     eff = os.path.join(work, "shot")
     shutil.copytree(os.path.join(src, "effects"), eff, dirs_exist_ok=True)
-    with Preview(pfx, "campfire.yaml", cwd=eff) as p:
+    with Preview(pfx, "fireworks.yaml", cwd=eff) as p:
         d.get(p.url)
         wait(d, "window.pfx.state && window.pfx.state.version === 1")
-        d.execute_script("window.pfx.seek(75)")
-        wait(d, "window.pfx.shown && window.pfx.shown.frame === 75", 60)
-        wait(d, "window.pfx.state.stats[75]", 10)
+        # Every frame rendered, so that the tracks show when each emitter runs.
+        wait(d, "window.pfx.state.stats.every((s) => s)", 120)
+        k = p.state()["frames"] * 55 // 100
+        d.execute_script("window.pfx.seek(%d)" % k)
+        wait(d, "window.pfx.shown && window.pfx.shown.frame === %d" % k, 60)
         view = d.find_element(By.ID, "view")
-        ActionChains(d).move_to_element_with_offset(view, 0, 60).click().perform()
-        time.sleep(1.0)
+        ActionChains(d).move_to_element_with_offset(view, 0, -40).click().perform()
+        time.sleep(1.5)
         d.save_screenshot(out)
         p.stop()
 

@@ -43,6 +43,7 @@ async function refreshState() {
   }
   if (time * fps() >= frames()) time = 0;
   showState();
+  drawGraphs();
   requestDraw();
 }
 
@@ -263,11 +264,37 @@ function buildTracks() {
     const lane = el('div', 'lane');
     lane.appendChild(el('div', 'run', undefined, e.start / dur * 100,
       Math.max(0, e.end - e.start) / dur * 100));
+    const graph = el('canvas', 'graph');
+    graph.width = 600; graph.height = 16;
+    lane.appendChild(graph);
     for (const t of e.bursts) lane.appendChild(el('div', 'tick', undefined, t / dur * 100));
+    for (const sp of e.spawns || [])
+      row.title += '; ' + sp.event.replace('_', ' ') + ' \u2192 ' + sp.emitter;
+    if (e.spawns && e.spawns.length)
+      name.appendChild(el('small', 'spawns', ' \u2192 ' + e.spawns.map((sp) => sp.emitter).join(', ')));
     lane.appendChild(el('span', 'alive'));
     row.append(name, lane);
     tracks.appendChild(row);
   }
+}
+
+// Live particles over time in each lane, from the frames rendered so far:
+// when an emitter (and what its sub-emitters feed) is busy.
+function drawGraphs() {
+  const graphs = document.querySelectorAll('.track .graph');
+  if (!state || !state.stats) return;
+  graphs.forEach((c, i) => {
+    const g2 = c.getContext('2d'), n = state.stats.length;
+    let peak = 1;
+    for (const s of state.stats) if (s) peak = Math.max(peak, s.alive[i]);
+    g2.clearRect(0, 0, c.width, c.height);
+    g2.fillStyle = 'rgba(110, 160, 225, 0.6)';
+    state.stats.forEach((s, f) => {
+      if (!s) return;
+      const h = s.alive[i] / peak * c.height;
+      g2.fillRect(f / n * c.width, c.height - h, Math.max(1, c.width / n), h);
+    });
+  });
 }
 
 function seekFromPointer(ev) {
