@@ -374,13 +374,10 @@ pfx_session *pfx_session_create(const pfx_session_options *o, pfx_diags *d) {
     s->o = *o;
     if (!s->o.cache_bytes)
         s->o.cache_bytes = (size_t)256 << 20;
-    s->inotify_fd = -1;
-    s->stop_pipe[0] = s->stop_pipe[1] = -1;
     pthread_mutex_init(&s->mu, NULL);
     pthread_cond_init(&s->work_cv, NULL);
     pthread_cond_init(&s->news_cv, NULL);
     pthread_cond_init(&s->frame_cv, NULL);
-    pthread_mutex_init(&s->watch_mu, NULL);
     /* Frames go through files as `pfx render` writes them; a RAM-backed
      * directory where there is one keeps that off the disk. */
     const char *tmp = access("/dev/shm", W_OK) == 0 ? "/dev/shm" : getenv("TMPDIR");
@@ -432,7 +429,6 @@ void pfx_session_destroy(pfx_session *s) {
     pthread_cond_destroy(&s->news_cv);
     pthread_cond_destroy(&s->work_cv);
     pthread_mutex_destroy(&s->mu);
-    pthread_mutex_destroy(&s->watch_mu);
     free(s);
 }
 

@@ -13,16 +13,6 @@
 
 struct session_model;
 
-/* One watched file: the directory watch it shows up in, and its name
- * there. Directories, not files, are watched: editors save by writing a
- * new file and renaming it over the old one, which ends a file's watch. */
-typedef struct session_watched {
-    int wd;
-    char name[256];
-} session_watched;
-
-#define PFX_SESSION_MAX_WATCHED 64
-
 struct pfx_session {
     pfx_session_options o;
     pthread_mutex_t mu; /* guards everything below but the worker's renderer */
@@ -45,10 +35,7 @@ struct pfx_session {
     /* The watcher (session_watch.c). */
     pthread_t watcher;
     bool has_watcher;
-    int inotify_fd, stop_pipe[2];
-    pthread_mutex_t watch_mu; /* guards watched */
-    session_watched watched[PFX_SESSION_MAX_WATCHED];
-    size_t watched_count;
+    struct pfx_file_watch *watch;
 };
 
 /* Starts the watcher thread on the file (and, after each good compile,
