@@ -34,6 +34,7 @@ static const char usage_text[] =
     "       pfx bench [SECTION...] [--json] [--renderer R]\n"
     "       pfx bench accuracy -o DIR\n"
     "       pfx assemble DIR... -o OUT [--atlas[=CxR]] [--preview OUT.webp|OUT.mp4]\n"
+    "       pfx watch FILE... -o DIR [render options]\n"
     "       pfx preview FILE [--port N] [--host ADDR] [--size WxH] [--seed N] [--no-open]\n"
     "       pfx schema\n"
     "\n"
@@ -44,6 +45,7 @@ static const char usage_text[] =
     "  info       show what the compiled effect holds\n"
     "  bench      measure simulation and rendering speed (or integrator accuracy)\n"
     "  assemble   gather the frames of slices (--slice) into OUT, checking each\n"
+    "  watch      render, then render again on every save (unchanged files skipped)\n"
     "  preview    serve a live view of FILE to a browser, re-rendered on every save\n"
     "  schema     print the JSON Schema of the effect format\n"
     "\n"
@@ -387,7 +389,7 @@ static int parse_option(int c, int argc, char **argv, pfx_cli *o) {
          * csv, ply, pcache); see format_of. */
         if (!pfx_frame_format_parse(optarg, &o->frames_as))
             o->format = optarg;
-        else if (strcmp(argv[1], "render"))
+        else if (strcmp(argv[1], "render") && strcmp(argv[1], "watch"))
             return pfx_cli_usage_error("--format %s is for render's frames", optarg);
         break;
     case OPT_RENDERER:
@@ -581,7 +583,7 @@ static const struct {
 } commands[] = {
     {"validate", pfx_cmd_validate}, {"render", pfx_cmd_render},   {"bake", pfx_cmd_bake},
     {"info", pfx_cmd_info},         {"bench", pfx_cmd_bench},     {"schema", pfx_cmd_schema},
-    {"assemble", pfx_cmd_assemble}, {"preview", pfx_cmd_preview},
+    {"assemble", pfx_cmd_assemble}, {"preview", pfx_cmd_preview}, {"watch", pfx_cmd_watch},
 };
 enum { COMMAND_COUNT = sizeof commands / sizeof commands[0] };
 
