@@ -176,6 +176,15 @@ def main_checks(d):
               and len(ticks) == 2 and all(t.value_of_css_property("left") == "0px" for t in ticks),
               names)
 
+        # A renamed emitter: the tracks follow (the frame count is the same).
+        edit(dot, "  side:", "  glow:")
+        names = wait(d, "[...document.querySelectorAll('.track .name')].map((e) => e.textContent)"
+                     ".join(',').includes('glow') && [...document.querySelectorAll('.track .name')]"
+                     ".map((e) => e.textContent)", 20)
+        check("an emitter renamed: its track follows", names == ["dot :%d" % line_of(dot, "  dot:"),
+                                                                 "glow :%d" % line_of(dot, "  glow:")],
+              names)
+
         # Pick: click the middle of the picture.
         d.find_element(By.ID, "fit").click()  # 1:1, so that a CSS pixel is a frame pixel
         view = d.find_element(By.ID, "view")

@@ -39,7 +39,8 @@ async function refreshState() {
   if (!old || old.version !== s.version) {
     if (old && old.version) previous = old.version;
     for (const v of [...caches.keys()]) if (v !== s.version && v !== previous) caches.delete(v);
-    if (!old || old.frames !== s.frames) buildTracks();
+    buildTracks(); // emitters may have come, gone or moved
+
   }
   if (time * fps() >= frames()) time = 0;
   showState();
