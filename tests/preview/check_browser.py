@@ -197,6 +197,33 @@ def main_checks(d):
         return p.stop()
 
 
+def alpha_checks(d):
+    """A half-transparent red disc over a white page background, from
+    straight and from premultiplied PNGs: both must show the same colour,
+    C a + (1 - a) white, which a premultiplied PNG drawn as straight misses
+    (127 x 0.5 + 255 x 0.5 = 191 in red)."""
+    half = os.path.join(work, "half.yaml")
+    with open(os.path.join(src, "tests/preview/dot.yaml")) as f:
+        text = f.read()
+    with open(half, "w") as f:
+        f.write(text.replace('background: "#000000"', "background: transparent")
+                .replace('"#ff0000"', '"#ff000080"'))
+    for alpha in ("straight", "premultiplied"):
+        with Preview(pfx, "half.yaml", "--alpha", alpha, cwd=work) as p:
+            d.get(p.url)
+            wait(d, "window.pfx.state && window.pfx.state.version === 1")
+            d.execute_script("window.pfx.seek(5)")
+            Select(d.find_element(By.ID, "bg")).select_by_value("white")
+            wait(d, "window.pfx.shown && window.pfx.shown.frame === 5")
+            time.sleep(0.3)
+            c = canvas(d)
+            check("%s alpha over white: (255, 127, 127) in the middle, white outside" % alpha,
+                  near(c.getpixel((48, 48)), (255, 127, 127, 255), 4)
+                  and near(c.getpixel((2, 2)), (255, 255, 255, 255), 1),
+                  (c.getpixel((48, 48)), c.getpixel((2, 2))))
+            p.stop()
+
+
 def take_screenshot(d, out):
     """The page over a real example (fireworks: bursts, sub-emitters), paused
     mid-effect after a pick."""
@@ -259,6 +286,7 @@ try:
     else:
         status = main_checks(d)
         check("the server stops cleanly after the browser session", status == 0, status)
+        alpha_checks(d)
         if screenshot:
             take_screenshot(d, screenshot)
             print("# screenshot: %s" % screenshot)
