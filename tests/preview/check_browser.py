@@ -129,6 +129,28 @@ def main_checks(d):
         check("A/B difference: |red - blue| in the middle, black where equal",
               near(c.getpixel((48, 48)), (255, 0, 255, 255))
               and near(c.getpixel((79, 48)), (0, 0, 0, 255)), c.getpixel((48, 48)))
+        # A pinned version stays A: pin version 2 (blue), save green (3),
+        # then red (4): A is still blue, B red.
+        d.find_element(By.ID, "pin").click()
+        Select(d.find_element(By.ID, "ab")).select_by_value("side")
+        for old, new, v in (('"#0000ff"', '"#00ff00"', 3), ('"#00ff00"', '"#ff0000"', 4)):
+            edit(dot, old, new)
+            wait(d, "window.pfxShown && window.pfxShown.version === %d" % v)
+        time.sleep(0.2)
+        c = canvas(d)
+        check("A/B with version 2 pinned: blue against version 4's red",
+              near(c.getpixel((48, 48)), (0, 0, 255, 255))
+              and near(c.getpixel((96 + 48, 48)), (255, 0, 0, 255)),
+              (c.getpixel((48, 48)), c.getpixel((96 + 48, 48))))
+        d.find_element(By.ID, "pin").click()
+        edit(dot, '"#ff0000"', '"#0000ff"')
+        wait(d, "window.pfxShown && window.pfxShown.version === 5")
+        time.sleep(0.2)
+        c = canvas(d)
+        check("A/B unpinned: the last version (4, red) against the current (5, blue)",
+              near(c.getpixel((48, 48)), (255, 0, 0, 255))
+              and near(c.getpixel((96 + 48, 48)), (0, 0, 255, 255)),
+              (c.getpixel((48, 48)), c.getpixel((96 + 48, 48))))
         Select(d.find_element(By.ID, "ab")).select_by_value("off")
 
         # A typo: the diagnostic at its line:col; the last good frames play on.
@@ -150,7 +172,7 @@ def main_checks(d):
               (stale, moved, c.getpixel((48, 48))))
         edit(dot, "size: 1.2.", "size: 1.2")
         ok = wait(d, "document.getElementById('diag').textContent === 'No problems.' && "
-                  "window.pfx.state.version === 3")
+                  "window.pfx.state.version === 6")
         check("the fix clears the diagnostic", ok and not d.find_element(By.ID, "stale").is_displayed())
 
         # Stepping and scrubbing.

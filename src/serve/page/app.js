@@ -11,7 +11,8 @@ const $ = (id) => document.getElementById(id);
 
 let state = null;            // the last /api/state
 const caches = new Map();    // version -> Map(frame -> {bmp, opaque})
-let previous = 0;            // the version before the current one (A)
+let previous = 0;            // the version before the current one
+let pinned = 0;              // a version kept as A (0: A is the one before)
 const inflight = new Set();  // "version:frame" being fetched
 let time = 0;                // the playhead, seconds from frame 0
 let playing = true, speed = 1, fit = true;
@@ -38,7 +39,8 @@ async function refreshState() {
   state = s;
   if (!old || old.version !== s.version) {
     if (old && old.version) previous = old.version;
-    for (const v of [...caches.keys()]) if (v !== s.version && v !== previous) caches.delete(v);
+    for (const v of [...caches.keys()])
+      if (v !== s.version && v !== previous && v !== pinned) caches.delete(v);
     buildTracks(); // emitters may have come, gone or moved
 
   }
@@ -162,7 +164,8 @@ function draw() {
   pendingDraw = false;
   if (!state || !state.size) return;
   const [w, h] = state.size, k = frameAt(time), mode = $('ab').value;
-  const b = frameFor(k), a = caches.get(previous) && caches.get(previous).get(k);
+  const b = frameFor(k), av = pinned || previous;
+  const a = caches.get(av) && caches.get(av).get(k);
   const width = mode === 'side' ? 2 * w : w;
   if (view.width !== width || view.height !== h) { view.width = width; view.height = h; }
   $('wipe-handle').hidden = mode !== 'wipe';
@@ -347,6 +350,15 @@ $('loop-clear').onclick = () => { loopIn = 0; loopOut = -1; requestDraw(); };
 $('bg').onchange = (e) => { $('bg-colour').hidden = e.target.value !== 'colour'; requestDraw(); };
 $('bg-colour').oninput = requestDraw;
 $('ab').onchange = requestDraw;
+// Pin: the current version stays A, however many saves follow (its frames
+// are those the page fetched while it was current).
+$('pin').onclick = () => {
+  pinned = pinned ? 0 : state.version;
+  $('pin').textContent = pinned ? 'A = v' + pinned + ' \u2715' : 'pin A';
+  $('pin').title = pinned ? 'A is version ' + pinned + '; click to compare with the last version again'
+    : 'keep the current version as A';
+  requestDraw();
+};
 $('fit').onclick = () => {
   fit = !fit;
   $('stage').classList.toggle('fit', fit);
