@@ -36,6 +36,7 @@ static const char usage_text[] =
     "       pfx assemble DIR... -o OUT [--atlas[=CxR]] [--preview OUT.webp|OUT.mp4]\n"
     "       pfx watch FILE... -o DIR [render options]\n"
     "       pfx preview FILE [--port N] [--host ADDR] [--size WxH] [--seed N] [--no-open]\n"
+    "                  [--max-memory SIZE] [--renderer R] [--alpha MODE]\n"
     "       pfx schema\n"
     "\n"
     "commands:\n"

@@ -56,7 +56,8 @@ int pfx_cmd_preview(const char *const *operands, int count, const pfx_cli *o) {
     pfx_diags run;
     pfx_diags_init_runtime(&run);
     int status = EXIT_INVALID;
-    pfx_session_options so = {.path = operands[0], .compile = o->compile, .renderer = kind};
+    pfx_session_options so = {
+        .path = operands[0], .compile = o->compile, .renderer = kind, .max_memory = o->max_memory};
     pfx_session *session = NULL;
     pfx_server *server = NULL;
     if (pipe(stop_pipe)) {

@@ -17,6 +17,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "jobs/estimate.h"
 #include "jobs/load.h"
 #include "jobs/pick.h"
 #include "jobs/render_job.h"
@@ -136,6 +137,9 @@ bool pfx_session_reload(pfx_session *s) {
         else
             pfx_diag_error(&m->l.diags, PFX_RULE_OUT_OF_MEMORY, "out of memory for %ld frames",
                            m->frames);
+        /* The bound pfx render keeps, for a render of every frame. */
+        good = good && pfx_estimate_fits(e, 0, m->frames - 1, PFX_ESTIMATE_RENDER, s->o.max_memory,
+                                         &m->l.diags);
     }
     pthread_mutex_lock(&s->mu);
     describe_diags(s, &m->l);

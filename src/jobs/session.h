@@ -10,6 +10,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 #include "base/diag.h"
 #include "compile/compile.h"
@@ -21,7 +22,8 @@ typedef struct pfx_session_options {
     const char *path;            /* the effect file (kept, not copied) */
     pfx_compile_options compile; /* as `pfx render` takes them (--size, --seed, ...) */
     pfx_renderer_kind renderer;
-    size_t cache_bytes; /* the frame cache's cap in PNG bytes; 0: 256 MiB */
+    size_t cache_bytes;  /* the frame cache's cap in PNG bytes; 0: 256 MiB */
+    uint64_t max_memory; /* --max-memory: a version estimated to need more is refused */
 } pfx_session_options;
 
 /* Loads the file once and starts the render worker and the file watcher.
@@ -33,7 +35,8 @@ pfx_session *pfx_session_create(const pfx_session_options *o, pfx_diags *d);
 void pfx_session_destroy(pfx_session *s);
 
 /* Reads and compiles the file now (the watcher calls it on a change). A
- * failure keeps the last good model and replaces the diagnostics; success
+ * failure (or a render estimated over max_memory, as `pfx render` refuses
+ * it) keeps the last good model and replaces the diagnostics; success
  * raises the version and cancels the stale renders at once. Returns true
  * when the version was raised. */
 bool pfx_session_reload(pfx_session *s);

@@ -205,6 +205,19 @@ with Preview(pfx, "dot.yaml", cwd=work) as p:
           "%s %s" % (s["version"], st))
     p.stop()
 
+# --max-memory: a version whose render is estimated over the bound is
+# refused as pfx render refuses it, with the same message.
+with Preview(pfx, "dot.yaml", "--max-memory", "1K", cwd=work) as p:
+    s = p.state()
+    r = subprocess.run([pfx, "render", "dot.yaml", "-o", "big", "--max-memory", "1K"], cwd=work,
+                       capture_output=True, text=True)
+    msg = r.stderr.split("pfx: ", 1)[-1].split(" [PFX")[0].strip()
+    check("--max-memory: a version over the bound is refused as render refuses it",
+          s["version"] == 0 and r.returncode == 1 and len(s["diagnostics"]) == 1
+          and s["diagnostics"][0]["message"] == msg and "--max-memory" in msg,
+          "%s / %r" % (s["diagnostics"], r.stderr))
+    p.stop()
+
 r = subprocess.run([pfx, "preview", "missing.yaml", "--no-open"], cwd=work, capture_output=True,
                    text=True, timeout=30)
 check("a file that is not there: one line, exit 1, no URL",
