@@ -152,6 +152,8 @@ bool pfx_session_reload(pfx_session *s) {
         /* Stale work stops after the frame it is drawing. */
         atomic_store(&s->cancel, true);
         pthread_cond_broadcast(&s->work_cv);
+        /* Under the lock: another reload cannot free e meanwhile. */
+        pfx_session_watch_inputs(s, e);
     }
     pthread_cond_broadcast(&s->news_cv);
     pthread_cond_broadcast(&s->frame_cv);
@@ -160,16 +162,14 @@ bool pfx_session_reload(pfx_session *s) {
     if (!good) {
         m->refs = 1;
         model_release(m);
-    } else {
-        pfx_session_watch_inputs(s, e);
     }
     return good;
 }
 
 /* The next frames the worker should render, nearest the playhead first:
  * the playhead's frame alone, then the frames after it, then those before,
- * each run up to the next cached frame, while the cache has room. False when there is
- * nothing to do. Called with the lock held. */
+ * each run up to the next cached frame, while the cache has room. False
+ * when there is nothing to do. Called with the lock held. */
 static bool next_work(const pfx_session *s, const session_model *m, long *first, long *last) {
     long k = s->playhead < 0 ? 0 : s->playhead >= m->frames ? m->frames - 1 : s->playhead;
     if (m->error)
