@@ -281,12 +281,15 @@ static void on_frame(void *ctx, long f, size_t sprites) {
     job_watch *w = ctx;
     double t = now_ms();
     frame_slot *slot = &w->m->slots[f];
-    slot->ms = t - w->t;
-    slot->sprites = sprites;
     const pfx_sim *state = w->job->feed.sim;
     size_t n = w->m->e->emitter_count;
+    /* The state's JSON reads these under the lock. */
+    pthread_mutex_lock(&w->s->mu);
+    slot->ms = t - w->t;
+    slot->sprites = sprites;
     for (size_t i = 0; state && i < n; i++)
         w->m->alive[(size_t)f * (n + 1) + i] = state->pools[i].count;
+    pthread_mutex_unlock(&w->s->mu);
     take_frames(w, f - 1, false);
     w->t = now_ms();
 }
