@@ -50,7 +50,7 @@ int pfx_cmd_preview(const char *const *operands, int count, const pfx_cli *o) {
     const char *host = o->host ? o->host : "127.0.0.1";
     if (o->host && strcmp(host, "127.0.0.1") && strcmp(host, "::1"))
         fprintf(stderr,
-                "pfx: warning: serving on %s, not loopback: anyone who can reach it and has the "
+                "pfx: warning: serving on %s, not 127.0.0.1: anyone who can reach it and has the "
                 "token can read the effect and what it reads\n",
                 host);
     pfx_diags run;

@@ -218,6 +218,29 @@ with Preview(pfx, "dot.yaml", "--max-memory", "1K", cwd=work) as p:
           "%s / %r" % (s["diagnostics"], r.stderr))
     p.stop()
 
+# --host: another address, with a warning; Host may name it.
+proc = subprocess.Popen([pfx, "preview", "dot.yaml", "--no-open", "--host", "127.0.0.2"], cwd=work,
+                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+try:
+    line = proc.stdout.readline().strip()
+    m = re.match(r"^http://127\.0\.0\.2:(\d+)/\?token=([0-9a-f]{32})$", line)
+    statuses = []
+    if m:
+        import http.client
+        for host in ("127.0.0.2", "127.0.0.1", "evil.example"):
+            c = http.client.HTTPConnection("127.0.0.2", int(m.group(1)), timeout=30)
+            c.putrequest("GET", "/api/state?token=" + m.group(2), skip_host=True)
+            c.putheader("Host", "%s:%s" % (host, m.group(1)))
+            c.endheaders()
+            statuses.append(c.getresponse().status)
+            c.close()
+finally:
+    proc.terminate()
+    err = proc.communicate(timeout=30)[1]
+check("--host 127.0.0.2: its URL, a warning, Host checked against it",
+      m and statuses == [200, 200, 403] and "warning: serving on 127.0.0.2, not 127.0.0.1" in err,
+      "%r %s %r" % (line, statuses, err))
+
 r = subprocess.run([pfx, "preview", "missing.yaml", "--no-open"], cwd=work, capture_output=True,
                    text=True, timeout=30)
 check("a file that is not there: one line, exit 1, no URL",
