@@ -65,6 +65,10 @@ function showState() {
     return m ? '<span class="' + m[1] + '">' + escapeHtml(l) + '</span>' : escapeHtml(l);
   }).join('\n') : 'No problems.';
   if (state.render_error) diag.textContent += '\n' + state.render_error;
+  const done = (state.stats || []).filter((x) => x).length;
+  $('status').textContent = !state.version ? 'waiting for a file that compiles'
+    : done < frames() ? 'rendered ' + done + ' of ' + frames() + ' frames'
+    : 'all ' + frames() + ' frames rendered';
   const count = $('diag-count');
   count.textContent = state.diagnostics.length;
   count.className = 'count' + (bad ? ' bad' : '');
