@@ -101,6 +101,10 @@ def main_checks(d):
               near(got.getpixel((48, 48)), (255, 0, 0, 255))
               and near(got.getpixel((79, 48)), (0, 255, 0, 255))
               and near(got.getpixel((2, 2)), (0, 0, 0, 255)), got.getpixel((48, 48)))
+        status = wait(d, "document.getElementById('status').textContent === "
+                      "'all 10 frames rendered' && 'ok'", 30)
+        check("the header says when every frame is rendered", status,
+              d.find_element(By.ID, "status").text)
         clock = d.find_element(By.ID, "clock").text
         check("the clock shows frame and seconds", clock.startswith("5 / 9") and "0.500 s" in clock,
               clock)
