@@ -3,6 +3,7 @@ routes, no browser: the URL line, loopback, the token and Host checks,
 paths outside the table, frames equal to `pfx render`, live reload of a
 good and a broken save, pick, a port in use, 200 edits, Control-C.
 Usage: check_server.py PFX SRC WORK; prints one `ok`/`FAIL` line a check."""
+import http.client
 import io
 import json
 import os
@@ -68,6 +69,14 @@ with Preview(pfx, "dot.yaml", cwd=work) as p:
         check("%s: 404" % path, st == 404, str(st))
     st, _, _ = p.get("/", method="POST")
     check("POST /: 404", st == 404, str(st))
+    # A request past the header bound is refused, and the server lives on.
+    try:
+        st, _, _ = p.get("/api/state", headers={"X-Big": "x" * 65536})
+    except (ConnectionError, http.client.HTTPException):
+        st = "closed"
+    st2, _, _ = p.get("/api/state")
+    check("a 64 KiB header: refused (4xx or closed), the server still answers",
+          (st == "closed" or 400 <= st < 500) and st2 == 200, "%s %s" % (st, st2))
     st, _, _ = p.get("/api/state", token=False,
                      headers={"Cookie": "pfx_token_%d=%s" % (p.port, p.token)})
     check("the token in the page's cookie: 200", st == 200, str(st))
