@@ -124,6 +124,13 @@ with Preview(pfx, "dot.yaml", cwd=work) as p:
     check("pick on the right disc: side and its line",
           pick(79, 48) == [{"emitter": "side", "line": lines["side"]}], str(pick(79, 48)))
     check("pick in the corner: nothing", pick(2, 2) == [], str(pick(2, 2)))
+    # The dot's footprint: 1.2 m across at 5 m under a 40 degree field of
+    # view over 96 pixels is 1.2 x 48 / (5 tan 20 deg) = 31.65 px, a radius
+    # of 15.8 px around the centre (48, 48): pixel 63 (centre 63.5) is in,
+    # pixel 65 (65.5) is out, and the side disc starts at 79.6 - 10.5 = 69.1.
+    check("pick at the dot's edge: pixel 63 in, pixel 65 out",
+          pick(63, 47) == [{"emitter": "dot", "line": lines["dot"]}] and pick(65, 47) == [],
+          "%s %s" % (pick(63, 47), pick(65, 47)))
     check("pick outside the frame: 400", pick(96, 0) == 400, str(pick(96, 0)))
 
     # A good save: a new version, the new colour.
