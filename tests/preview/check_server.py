@@ -234,6 +234,16 @@ with Preview(pfx, "dot.yaml", "--max-memory", "1K", cwd=work) as p:
           "%s / %r" % (s["diagnostics"], r.stderr))
     p.stop()
 
+# A renderer that cannot start: the frames answer 503, the state says why
+# (egl-gpu where there is no GPU; where there is one, the frame renders).
+with Preview(pfx, "dot.yaml", "--renderer", "egl-gpu", cwd=work) as p:
+    st, _, _ = p.get("/frame/0.png")
+    s = p.state()
+    check("a renderer that cannot start: 503, and the reason in the state",
+          (st == 503 and "egl-gpu" in (s["render_error"] or "")) or
+          (st == 200 and s["render_error"] is None), "%s %s" % (st, s.get("render_error")))
+    p.stop()
+
 # --host: another address, with a warning; Host may name it.
 proc = subprocess.Popen([pfx, "preview", "dot.yaml", "--no-open", "--host", "127.0.0.2"], cwd=work,
                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
