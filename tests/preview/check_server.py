@@ -234,6 +234,33 @@ with Preview(pfx, "dot.yaml", "--max-memory", "1K", cwd=work) as p:
           "%s / %r" % (s["diagnostics"], r.stderr))
     p.stop()
 
+# What the file reads is watched too: a texture rewritten in place, then
+# replaced by a rename (as editors and exporters save).
+tex = os.path.join(work, "tex.yaml")
+with open(os.path.join(src, "tests/preview/dot.yaml")) as f:
+    text = f.read()
+with open(tex, "w") as f:
+    f.write(text.replace('    color: "#ff0000"\n', '    color: "#ff0000"\n    texture: t.png\n'))
+Image.new("RGBA", (8, 8), (255, 255, 255, 255)).save(os.path.join(work, "t.png"))
+with Preview(pfx, "tex.yaml", cwd=work) as p:
+    st, _, png = p.get("/frame/%d.png" % K)
+    first = pixel(png, 48, 48)
+    s = p.state()
+    Image.new("RGBA", (8, 8), (0, 255, 0, 255)).save(os.path.join(work, "t.png"))
+    s = p.wait_news(s["news"])
+    st, _, png = p.get("/frame/%d.png" % K)
+    second = pixel(png, 48, 48)
+    Image.new("RGBA", (8, 8), (255, 255, 255, 255)).save(os.path.join(work, "t.tmp.png"))
+    os.replace(os.path.join(work, "t.tmp.png"), os.path.join(work, "t.png"))
+    s = p.wait_news(s["news"])
+    st, _, png = p.get("/frame/%d.png" % K)
+    third = pixel(png, 48, 48)
+    check("a texture saved in place, then by a rename: new versions, red x white, x green, "
+          "x white", near(first, (255, 0, 0, 255)) and near(second, (0, 0, 0, 255))
+          and near(third, (255, 0, 0, 255)) and s["version"] == 3,
+          "%s %s %s version %d" % (first, second, third, s["version"]))
+    p.stop()
+
 # A renderer that cannot start: the frames answer 503, the state says why
 # (egl-gpu where there is no GPU; where there is one, the frame renders).
 with Preview(pfx, "dot.yaml", "--renderer", "egl-gpu", cwd=work) as p:
