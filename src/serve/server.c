@@ -82,14 +82,14 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
                                   size_t *upload_size, void **state) {
     (void)version;
     (void)upload;
+    (void)upload_size;
+    (void)state;
     pfx_server *s = cls;
-    /* The first call sees the headers; answer then. A body is not read. */
-    if (!*state) {
-        *state = s;
-        if (*upload_size == 0)
-            return MHD_YES;
-    }
-    if (*upload_size)
+    /* Answered on the first call, from the headers alone: no route takes
+     * a body, so one announced is refused before it is read. */
+    const char *length = MHD_lookup_connection_value(conn, MHD_HEADER_KIND, "Content-Length");
+    if ((length && strcmp(length, "0")) ||
+        MHD_lookup_connection_value(conn, MHD_HEADER_KIND, "Transfer-Encoding"))
         return pfx_route_text(conn, MHD_HTTP_CONTENT_TOO_LARGE, "text/plain", "no bodies\n");
     if (!host_ok(s, MHD_lookup_connection_value(conn, MHD_HEADER_KIND, "Host")))
         return pfx_route_text(conn, MHD_HTTP_FORBIDDEN, "text/plain", "pfx: foreign Host\n");

@@ -77,6 +77,20 @@ with Preview(pfx, "dot.yaml", cwd=work) as p:
     st2, _, _ = p.get("/api/state")
     check("a 64 KiB header: refused (4xx or closed), the server still answers",
           (st == "closed" or 400 <= st < 500) and st2 == 200, "%s %s" % (st, st2))
+    # A body is refused from its headers, before it is read.
+    c = http.client.HTTPConnection("127.0.0.1", p.port, timeout=30)
+    try:
+        c.putrequest("POST", "/api/state?token=" + p.token, skip_host=True)
+        c.putheader("Host", "127.0.0.1:%d" % p.port)
+        c.putheader("Content-Length", "100000")
+        c.endheaders()
+        c.send(b"x" * 100000)
+        st = c.getresponse().status
+    except (ConnectionError, http.client.HTTPException) as e:
+        st = type(e).__name__
+    c.close()
+    check("a request with a 100 kB body: 413, the server still answers",
+          st == 413 and p.get("/api/state")[0] == 200, str(st))
     st, _, _ = p.get("/api/state", token=False,
                      headers={"Cookie": "pfx_token_%d=%s" % (p.port, p.token)})
     check("the token in the page's cookie: 200", st == 200, str(st))
