@@ -39,8 +39,12 @@ async function refreshState() {
   state = s;
   if (!old || old.version !== s.version) {
     if (old && old.version) previous = old.version;
-    for (const v of [...caches.keys()])
-      if (v !== s.version && v !== previous && v !== pinned) caches.delete(v);
+    for (const [v, held] of [...caches])
+      if (v !== s.version && v !== previous && v !== pinned) {
+        // Decoded frames are a megabyte each at 512x512: let them go now.
+        for (const e of held.values()) { e.bmp.close(); if (e.opaque) e.opaque.close(); }
+        caches.delete(v);
+      }
     buildTracks(); // emitters may have come, gone or moved
 
   }
