@@ -107,7 +107,10 @@ enum {
     OPT_SET,
     OPT_MOTION_VECTORS,
     OPT_MV_MAX,
-    OPT_MV_FLIP_Y
+    OPT_MV_FLIP_Y,
+    OPT_PORT,
+    OPT_HOST,
+    OPT_NO_OPEN
 };
 
 /* The commands, as bits: which take an option (and list it in their help). */
@@ -119,7 +122,9 @@ enum {
     CMD_BENCH = 1 << 4,
     CMD_ASSEMBLE = 1 << 5,
     CMD_SCHEMA = 1 << 6,
-    CMD_ALL = (1 << 7) - 1,
+    CMD_PREVIEW = 1 << 7,
+    CMD_WATCH = 1 << 8, /* takes render's options as well */
+    CMD_ALL = (1 << 9) - 1,
     CMD_NONE = 0 /* pfx alone: --version */
 };
 
@@ -144,14 +149,14 @@ static const option_row option_rows[] = {
     {"frames", required_argument, OPT_FRAMES, "    --frames A:B[:S]", CMD_RENDER | CMD_BAKE,
      "only frames A to B inclusive (with S: every S-th from A),\n"
      "numbered as in a full render"},
-    {"size", required_argument, OPT_SIZE, "    --size WxH", CMD_RENDER,
+    {"size", required_argument, OPT_SIZE, "    --size WxH", CMD_RENDER | CMD_PREVIEW,
      "image size in pixels, overriding image.size"},
     {"fps", required_argument, OPT_FPS, "    --fps N", CMD_RENDER | CMD_BAKE,
      "output frames per second, overriding fps"},
-    {"seed", required_argument, OPT_SEED, "    --seed N", CMD_RENDER | CMD_BAKE | CMD_INFO,
-     "random seed, overriding seed"},
+    {"seed", required_argument, OPT_SEED, "    --seed N",
+     CMD_RENDER | CMD_BAKE | CMD_INFO | CMD_PREVIEW, "random seed, overriding seed"},
     {"set", required_argument, OPT_SET, "    --set PATH=VALUE",
-     CMD_VALIDATE | CMD_RENDER | CMD_BAKE | CMD_INFO,
+     CMD_VALIDATE | CMD_RENDER | CMD_BAKE | CMD_INFO | CMD_PREVIEW,
      "override a value of the file, such as\n"
      "emitters.flame.rate=300 or 'emitters.flame.color=[1,0,0]'\n"
      "(VALUE is YAML; repeatable, applied in order)"},
@@ -159,7 +164,7 @@ static const option_row option_rows[] = {
      CMD_VALIDATE | CMD_RENDER | CMD_BAKE | CMD_INFO,
      "particle budget over all emitters (default 1000000)"},
     {"max-memory", required_argument, OPT_MAX_MEMORY, "    --max-memory SIZE",
-     CMD_VALIDATE | CMD_RENDER | CMD_BAKE | CMD_INFO,
+     CMD_VALIDATE | CMD_RENDER | CMD_BAKE | CMD_INFO | CMD_PREVIEW,
      "refuse a run estimated to need more (K, M, G, T;\ndefault half of physical memory)"},
     {"every", required_argument, OPT_EVERY, "    --every N", CMD_BAKE,
      "bake every Nth frame (default 1)"},
@@ -215,7 +220,8 @@ static const option_row option_rows[] = {
     {"threads", required_argument, OPT_THREADS, "    --threads N", CMD_RENDER | CMD_BAKE | CMD_INFO,
      "simulation threads (default: PFX_THREADS, else the\n"
      "machine's cores); the output is the same for any N"},
-    {"renderer", required_argument, OPT_RENDERER, "    --renderer R", CMD_RENDER | CMD_BENCH,
+    {"renderer", required_argument, OPT_RENDERER, "    --renderer R",
+     CMD_RENDER | CMD_BENCH | CMD_PREVIEW,
      "how to get OpenGL (render, bench): auto (default: osmesa\n"
      "where built, else egl-cpu), osmesa, egl-cpu, egl-gpu"},
     {"force", no_argument, OPT_FORCE, "    --force", CMD_RENDER | CMD_BAKE,
@@ -231,8 +237,14 @@ static const option_row option_rows[] = {
      "JOB_COMPLETION_INDEX, ...), with --slice-count N"},
     {"slice-count", required_argument, OPT_SLICE_COUNT, "    --slice-count N", CMD_RENDER,
      "the number of slices for --slice-env"},
-    {"alpha", required_argument, OPT_ALPHA, "    --alpha MODE", CMD_RENDER,
+    {"alpha", required_argument, OPT_ALPHA, "    --alpha MODE", CMD_RENDER | CMD_PREVIEW,
      "PNG alpha: straight or premultiplied, overriding\nimage.alpha"},
+    {"port", required_argument, OPT_PORT, "    --port N", CMD_PREVIEW,
+     "preview: the port (default 0: a free one)"},
+    {"host", required_argument, OPT_HOST, "    --host ADDR", CMD_PREVIEW,
+     "preview: listen on ADDR instead of 127.0.0.1 (a warning)"},
+    {"no-open", no_argument, OPT_NO_OPEN, "    --no-open", CMD_PREVIEW,
+     "preview: do not open the page in a browser"},
     {"quiet", no_argument, 'q', "-q, --quiet", CMD_ALL & ~CMD_SCHEMA,
      "no progress line, summary line or notes"},
     {"help", no_argument, 'h', "-h, --help", CMD_ALL, "show this help"},
@@ -309,6 +321,12 @@ static const command_row commands[] = {
      "pfx assemble DIR... -o OUT [--atlas[=CxR]] [--preview OUT.webp|OUT.mp4]\n"
      "           [--preview-quality Q]",
      "gather the frames of slices (--slice) into OUT, checking each", pfx_cmd_assemble},
+    {"watch", CMD_WATCH | CMD_RENDER, "pfx watch FILE... -o DIR [render options]",
+     "render, then render again on every save (unchanged files skipped)", pfx_cmd_watch},
+    {"preview", CMD_PREVIEW,
+     "pfx preview FILE [--port N] [--host ADDR] [--size WxH] [--seed N] [--no-open]\n"
+     "           [--max-memory SIZE] [--renderer R] [--alpha MODE] [--set PATH=VALUE]",
+     "serve a live view of FILE to a browser, re-rendered on every save", pfx_cmd_preview},
     {"schema", CMD_SCHEMA, "pfx schema", "print the JSON Schema of the effect format",
      pfx_cmd_schema},
 };
@@ -528,7 +546,7 @@ static int parse_option(int c, int argc, char **argv, pfx_cli *o) {
          * csv, ply, pcache); see format_of. */
         if (!pfx_frame_format_parse(optarg, &o->frames_as))
             o->format = optarg;
-        else if (strcmp(argv[1], "render"))
+        else if (strcmp(argv[1], "render") && strcmp(argv[1], "watch"))
             return pfx_cli_usage_error("--format %s is for render's frames", optarg);
         break;
     case OPT_RENDERER:
@@ -600,6 +618,17 @@ static int parse_option(int c, int argc, char **argv, pfx_cli *o) {
         o->compile.sets = sets;
         break;
     }
+    case OPT_PORT:
+        if (!parse_ulong(optarg, &v) || v > 65535)
+            return pfx_cli_usage_error("--port takes a number from 0 to 65535, got '%s'", optarg);
+        o->port = (unsigned)v;
+        break;
+    case OPT_HOST:
+        o->host = optarg;
+        break;
+    case OPT_NO_OPEN:
+        o->no_open = true;
+        break;
     case ':':
         return pfx_cli_usage_error("option '%s' needs a value", option_word(argv, optopt));
     default:
@@ -715,6 +744,8 @@ static int check_options(int argc, char **argv, pfx_cli *o) {
     if (o->compile.set_count &&
         (!strcmp(argv[1], "bench") || !strcmp(argv[1], "assemble") || !strcmp(argv[1], "schema")))
         return pfx_cli_usage_error("--set is for a command that reads an effect, not %s", argv[1]);
+    if ((o->port || o->host || o->no_open) && strcmp(argv[1], "preview"))
+        return pfx_cli_usage_error("%s", "--port, --host and --no-open are for preview");
     if (o->list_rules && strcmp(argv[1], "validate"))
         return pfx_cli_usage_error("%s", "--list-rules is for validate");
     return -1;

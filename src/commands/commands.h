@@ -56,6 +56,9 @@ typedef struct pfx_cli {
     double mv_max;                 /* --mv-max PIXELS; 0: the sequence's largest */
     bool mv_flip_y;                /* --mv-flip-y */
     pfx_frame_format frames_as;    /* render --format png|exr */
+    unsigned port;                 /* preview --port N; 0: a free one */
+    const char *host;              /* preview --host ADDR; NULL: 127.0.0.1 */
+    bool no_open;                  /* preview --no-open */
     pfx_compile_options compile;
 } pfx_cli;
 
@@ -68,6 +71,8 @@ int pfx_cmd_bake(const char *const *operands, int count, const pfx_cli *o);
 int pfx_cmd_info(const char *const *operands, int count, const pfx_cli *o);
 int pfx_cmd_assemble(const char *const *operands, int count, const pfx_cli *o);
 int pfx_cmd_bench(const char *const *operands, int count, const pfx_cli *o);
+int pfx_cmd_preview(const char *const *operands, int count, const pfx_cli *o);
+int pfx_cmd_watch(const char *const *operands, int count, const pfx_cli *o);
 
 /* Shared by the commands (commands/common.c). */
 /* Looks up a renderer name; on a bad one prints the usage error, naming

@@ -157,21 +157,9 @@ long pfx_cli_frame_count(const pfx_cli *o, long first, long last) {
  * --max-memory (default half of physical memory), naming the biggest part. */
 bool pfx_cli_memory_fits(const pfx_effect *e, long first, long last, bool render, const pfx_cli *o,
                          pfx_diags *run) {
-    pfx_estimate est;
-    pfx_estimate_run(e, first, last, render | (o->motion_vectors ? PFX_ESTIMATE_MOTION_VECTORS : 0),
-                     &est);
-    if (!o->max_memory || est.total_bytes <= (double)o->max_memory)
-        return true;
-    char need[32], bound[32], part[32];
-    pfx_diag_error(run, PFX_RULE_MEMORY_BOUND,
-                   "this %s needs up to %s of memory, over the bound of %s (--max-memory, "
-                   "default half of physical memory); the most goes to the %s: %s",
-                   render ? "render" : "bake",
-                   pfx_memory_format(est.total_bytes, need, sizeof need),
-                   pfx_memory_format((double)o->max_memory, bound, sizeof bound),
-                   pfx_memory_part_names[est.biggest],
-                   pfx_memory_format(est.bytes[est.biggest], part, sizeof part));
-    return false;
+    return pfx_estimate_fits(e, first, last,
+                             render | (o->motion_vectors ? PFX_ESTIMATE_MOTION_VECTORS : 0),
+                             o->max_memory, run);
 }
 
 /* The manifest's settings common to render and bake (the effect's values

@@ -349,3 +349,21 @@ void pfx_estimate_warn(pfx_loaded *l, const pfx_estimate *est, uint64_t bound) {
                      pfx_memory_format(est->bytes[est->biggest], part, sizeof part));
     }
 }
+
+bool pfx_estimate_fits(const pfx_effect *e, long first, long last, unsigned what,
+                       uint64_t max_memory, pfx_diags *d) {
+    pfx_estimate est;
+    pfx_estimate_run(e, first, last, what, &est);
+    if (!max_memory || est.total_bytes <= (double)max_memory)
+        return true;
+    char need[32], bound[32], part[32];
+    pfx_diag_error(d, PFX_RULE_MEMORY_BOUND,
+                   "this %s needs up to %s of memory, over the bound of %s (--max-memory, "
+                   "default half of physical memory); the most goes to the %s: %s",
+                   what & PFX_ESTIMATE_RENDER ? "render" : "bake",
+                   pfx_memory_format(est.total_bytes, need, sizeof need),
+                   pfx_memory_format((double)max_memory, bound, sizeof bound),
+                   pfx_memory_part_names[est.biggest],
+                   pfx_memory_format(est.bytes[est.biggest], part, sizeof part));
+    return false;
+}

@@ -87,6 +87,12 @@ enum {
  * drawing them when `what` has PFX_ESTIMATE_RENDER, baking them otherwise.
  * Pure: reads the effect only. */
 void pfx_estimate_run(const pfx_effect *e, long first, long last, unsigned what, pfx_estimate *out);
+/* True when that run's estimate fits in max_memory bytes (0: no bound);
+ * else false with an error in d naming the need, the bound and the
+ * biggest part (render and bake refuse such a run, preview such a
+ * version). */
+bool pfx_estimate_fits(const pfx_effect *e, long first, long last, unsigned what,
+                       uint64_t max_memory, pfx_diags *d);
 
 /* The estimate as JSON (jansson; the caller owns the reference): work
  * {steps, particle_steps, sprites, sprite_pixels} and memory {total_bytes,

@@ -107,20 +107,37 @@ void pfx_manifest_add_input_sha256(pfx_manifest *m, const char *path, const char
             inputs, json_pack("{s:o, s:s}", "path", pfx_json_bytes(path), "sha256", sha256));
 }
 
-bool pfx_manifest_add_effect(pfx_manifest *m, const pfx_effect *e, pfx_diags *d) {
-    bool ok = pfx_manifest_add_input(m, e->path, d);
+void pfx_effect_each_input(const pfx_effect *e, void (*fn)(void *ctx, const char *path),
+                           void *ctx) {
+    fn(ctx, e->path);
     for (size_t i = 0; i < e->emitter_count; i++) {
         const pfx_emitter *em = &e->emitters[i];
         if (em->shape.file)
-            ok = pfx_manifest_add_input(m, em->shape.file, d) && ok;
+            fn(ctx, em->shape.file);
         /* Textures and normal maps are inputs too: editing one must make
          * the run stale and re-run a build that reads the depfile. */
         const pfx_image *maps[2] = {em->look.texture, em->look.normal_map};
         for (int k = 0; k < 2; k++)
             if (maps[k] && maps[k]->file)
-                ok = pfx_manifest_add_input(m, maps[k]->file, d) && ok;
+                fn(ctx, maps[k]->file);
     }
-    return ok;
+}
+
+typedef struct add_inputs {
+    pfx_manifest *m;
+    pfx_diags *d;
+    bool ok;
+} add_inputs;
+
+static void add_one_input(void *ctx, const char *path) {
+    add_inputs *a = ctx;
+    a->ok = pfx_manifest_add_input(a->m, path, a->d) && a->ok;
+}
+
+bool pfx_manifest_add_effect(pfx_manifest *m, const pfx_effect *e, pfx_diags *d) {
+    add_inputs a = {m, d, true};
+    pfx_effect_each_input(e, add_one_input, &a);
+    return a.ok;
 }
 
 size_t pfx_manifest_input_count(const pfx_manifest *m) {

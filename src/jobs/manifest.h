@@ -51,6 +51,10 @@ bool pfx_manifest_add_input(pfx_manifest *m, const char *path, pfx_diags *d);
 void pfx_manifest_add_input_sha256(pfx_manifest *m, const char *path, const char *sha256);
 /* The effect file and every file it read (meshes, textures, normal maps). */
 bool pfx_manifest_add_effect(pfx_manifest *m, const pfx_effect *e, pfx_diags *d);
+/* Calls fn with the path of the effect file, then of every file it read
+ * (meshes, textures, normal maps, in emitter order, repeats included): the
+ * manifest's inputs, and what the live session watches. */
+void pfx_effect_each_input(const pfx_effect *e, void (*fn)(void *ctx, const char *path), void *ctx);
 size_t pfx_manifest_input_count(const pfx_manifest *m);
 const char *pfx_manifest_input(const pfx_manifest *m, size_t i);
 

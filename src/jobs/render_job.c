@@ -118,6 +118,8 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
     char name[4600];
     const long step = job->step > 1 ? job->step : 1;
     for (long f = job->first; !failed && f <= job->last && !pfx_frame_queue_failed(q); f += step) {
+        if (job->cancel && atomic_load(job->cancel))
+            break;
         long drawn = draw_frame(job, f, &settings, sort, pfx_frame_queue_buffer(q), &mv, d);
         failed = drawn < 0;
         size_t n = failed ? 0 : (size_t)drawn;

@@ -3,6 +3,7 @@
 #ifndef PFX_JOBS_RENDER_JOB_H
 #define PFX_JOBS_RENDER_JOB_H
 
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stddef.h>
 
@@ -33,6 +34,10 @@ typedef struct pfx_render_job {
     const struct pfx_mv_meta *motion;
     int threads; /* encoder threads; 0: the effect's threads (--threads), else one
                     per online core */
+    /* When set (by another thread), the job stops after the frame it is
+     * drawing, with no error: frames_done says how far it got. NULL: never.
+     * The live session (jobs/session.c) cancels stale work with it. */
+    const atomic_bool *cancel;
 
     /* Out, valid after pfx_render_job_run until pfx_render_job_free. */
     long frames_done;     /* frames drawn and handed to the writer */

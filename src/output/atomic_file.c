@@ -18,6 +18,7 @@
 #include <limits.h>
 #include <pthread.h>
 #include <signal.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -270,12 +271,21 @@ bool pfx_atomic_sync_dir(const char *path, pfx_diags *d) {
 /* ---- signals */
 
 static sigset_t fatal_signals;
+static void (*_Atomic stop_hook)(int sig);
 
 static void *signal_thread(void *arg) {
     (void)arg;
     int sig;
     while (sigwait(&fatal_signals, &sig) != 0)
         ;
+    /* A server asks first, once: it stops cleanly; a second signal ends
+     * the process as below, in case stopping hangs. */
+    void (*hook)(int) = atomic_exchange(&stop_hook, NULL);
+    if (hook) {
+        hook(sig);
+        while (sigwait(&fatal_signals, &sig) != 0)
+            ;
+    }
     /* Keep the lock: no writer creates or renames a temporary from now on,
      * whatever it is doing when the process ends. */
     pthread_mutex_lock(&registry_lock);
@@ -291,6 +301,8 @@ static void *signal_thread(void *arg) {
     raise(sig);
     _exit(128 + sig); /* not reached: the default action ends the process */
 }
+
+void pfx_atomic_set_stop_hook(void (*hook)(int sig)) { atomic_store(&stop_hook, hook); }
 
 bool pfx_atomic_guard_signals(void) {
     signal(SIGXFSZ, SIG_IGN);

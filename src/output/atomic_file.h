@@ -49,5 +49,10 @@ bool pfx_atomic_sync_dir(const char *path, pfx_diags *d);
  * disk. Returns false when the signal thread cannot start (the process
  * keeps the default dispositions then). */
 bool pfx_atomic_guard_signals(void);
+/* A long-running command (`pfx preview`) that stops cleanly on its own:
+ * the first SIGINT, SIGTERM or SIGHUP calls hook (on the signal thread)
+ * instead of ending the process; a second one ends it as above. NULL:
+ * none. */
+void pfx_atomic_set_stop_hook(void (*hook)(int sig));
 
 #endif

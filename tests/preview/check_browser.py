@@ -1,0 +1,320 @@
+"""pfx preview in a real browser (Debian's chromium, headless, through
+selenium): the page shows frame K as `pfx render --frames K` draws it; a
+colour edit shows the new colour, a typo its diagnostic at line:col while
+the last good frames keep playing, the fix clears it; stepping, scrubbing,
+the emitter tracks, pick and A/B; the latency from a save to the new frame
+shown. Usage: check_browser.py PFX SRC WORK [--screenshot OUT.png]
+[--bench EFFECT.yaml...]; prints one `ok`/`FAIL` line a check, and `#`
+lines with the figures."""
+import base64
+import io
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+from PIL import Image
+from selenium import webdriver
+from selenium.webdriver.chrome.service import Service
+from selenium.webdriver.common.action_chains import ActionChains
+from selenium.webdriver.common.by import By
+from selenium.webdriver.support.ui import Select
+
+sys.path.insert(0, os.path.dirname(__file__))
+from preview import Preview, edit, line_of  # noqa: E402
+
+pfx, src, work = sys.argv[1:4]
+rest = sys.argv[4:]
+screenshot = rest[rest.index("--screenshot") + 1] if "--screenshot" in rest else None
+bench = rest[rest.index("--bench") + 1:] if "--bench" in rest else []
+failures = 0
+
+
+def check(name, ok, detail=""):
+    global failures
+    print(("ok   " if ok else "FAIL ") + name + ("" if ok else ": " + str(detail)))
+    failures += not ok
+
+
+def browser():
+    o = webdriver.ChromeOptions()
+    o.binary_location = "/usr/bin/chromium"
+    for a in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+              "--window-size=1440,900", "--force-device-scale-factor=1"):
+        o.add_argument(a)
+    return webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=o)
+
+
+def wait(d, js, timeout=30):
+    """The value of the JS expression once truthy; None after timeout."""
+    end = time.time() + timeout
+    while time.time() < end:
+        v = d.execute_script("try { return " + js + "; } catch (e) { return null; }")
+        if v:
+            return v
+        time.sleep(0.01)
+    return None
+
+
+def canvas(d):
+    """The canvas's pixels as a PIL image, read back from the page."""
+    url = d.execute_script("return document.getElementById('view').toDataURL('image/png')")
+    return Image.open(io.BytesIO(base64.b64decode(url.split(",", 1)[1]))).convert("RGBA")
+
+
+def near(p, want, tol=3):
+    return all(abs(a - b) <= tol for a, b in zip(p, want))
+
+
+def save_latency(d, p, path, old, new):
+    """Edits the file and returns ms from the save to the new version's
+    frame under the playhead drawn in the page (window.pfxShown)."""
+    v = d.execute_script("return window.pfx.state.version")
+    t0 = time.time() * 1000
+    edit(path, old, new)
+    shown = wait(d, "window.pfxShown && window.pfxShown.version > %d && window.pfxShown" % v)
+    return shown["at"] - t0 if shown else None
+
+
+def main_checks(d):
+    dot = os.path.join(work, "dot.yaml")
+    shutil.copy(os.path.join(src, "tests/preview/dot.yaml"), dot)
+    K = 5
+    with Preview(pfx, "dot.yaml", cwd=work) as p:
+        d.get(p.url)
+        ok = wait(d, "window.pfx.state && window.pfx.state.version === 1 && window.pfxShown")
+        check("the page loads and shows version 1", ok, d.page_source[:200])
+        d.execute_script("window.pfx.seek(%d)" % K)
+        Select(d.find_element(By.ID, "bg")).select_by_value("black")
+        ok = wait(d, "window.pfx.shown && window.pfx.shown.frame === %d" % K)
+        time.sleep(0.2)
+        subprocess.run([pfx, "render", "dot.yaml", "--frames", str(K), "-o", "r", "-q"],
+                       cwd=work, check=True)
+        want = Image.open(os.path.join(work, "r/dot_%04d.png" % K)).convert("RGBA")
+        got = canvas(d)
+        diff = max(max(abs(a - b) for a, b in zip(pa, pb))
+                   for pa, pb in zip(got.getdata(), want.getdata())) if got.size == want.size else 999
+        check("the page's canvas shows frame K as pfx render --frames K draws it",
+              ok and diff <= 1, "size %s, largest difference %d" % (got.size, diff))
+        check("frame K in the page: red middle, green right, black corner",
+              near(got.getpixel((48, 48)), (255, 0, 0, 255))
+              and near(got.getpixel((79, 48)), (0, 255, 0, 255))
+              and near(got.getpixel((2, 2)), (0, 0, 0, 255)), got.getpixel((48, 48)))
+        status = wait(d, "document.getElementById('status').textContent === "
+                      "'all 10 frames rendered' && 'ok'", 30)
+        check("the header says when every frame is rendered", status,
+              d.find_element(By.ID, "status").text)
+        clock = d.find_element(By.ID, "clock").text
+        check("the clock shows frame and seconds", clock.startswith("5 / 9") and "0.500 s" in clock,
+              clock)
+
+        # A colour edit: the new colour, without reloading the page.
+        d.execute_script("window.pfxMarker = 1")
+        ms = save_latency(d, p, dot, '"#ff0000"', '"#0000ff"')
+        time.sleep(0.1)
+        c = canvas(d)
+        check("an edit of a colour shows the new colour without a reload",
+              ms is not None and near(c.getpixel((48, 48)), (0, 0, 255, 255))
+              and d.execute_script("return window.pfxMarker") == 1
+              and d.execute_script("return window.pfx.frame") == K, c.getpixel((48, 48)))
+        print("# latency save -> new frame shown, dot.yaml 96x96: %.0f ms" % (ms or -1))
+
+        # A/B: version 1 (red) against version 2 (blue).
+        Select(d.find_element(By.ID, "ab")).select_by_value("side")
+        time.sleep(0.2)
+        c = canvas(d)
+        check("A/B side by side: the last version left, the current right",
+              c.size == (192, 96) and near(c.getpixel((48, 48)), (255, 0, 0, 255))
+              and near(c.getpixel((96 + 48, 48)), (0, 0, 255, 255)), (c.size, c.getpixel((48, 48))))
+        Select(d.find_element(By.ID, "ab")).select_by_value("diff")
+        time.sleep(0.2)
+        c = canvas(d)
+        check("A/B difference: |red - blue| in the middle, black where equal",
+              near(c.getpixel((48, 48)), (255, 0, 255, 255))
+              and near(c.getpixel((79, 48)), (0, 0, 0, 255)), c.getpixel((48, 48)))
+        # A pinned version stays A: pin version 2 (blue), save green (3),
+        # then red (4): A is still blue, B red.
+        d.find_element(By.ID, "pin").click()
+        Select(d.find_element(By.ID, "ab")).select_by_value("side")
+        for old, new, v in (('"#0000ff"', '"#00ff00"', 3), ('"#00ff00"', '"#ff0000"', 4)):
+            edit(dot, old, new)
+            wait(d, "window.pfxShown && window.pfxShown.version === %d" % v)
+        time.sleep(0.2)
+        c = canvas(d)
+        check("A/B with version 2 pinned: blue against version 4's red",
+              near(c.getpixel((48, 48)), (0, 0, 255, 255))
+              and near(c.getpixel((96 + 48, 48)), (255, 0, 0, 255)),
+              (c.getpixel((48, 48)), c.getpixel((96 + 48, 48))))
+        d.find_element(By.ID, "pin").click()
+        edit(dot, '"#ff0000"', '"#0000ff"')
+        wait(d, "window.pfxShown && window.pfxShown.version === 5")
+        time.sleep(0.2)
+        c = canvas(d)
+        check("A/B unpinned: the last version (4, red) against the current (5, blue)",
+              near(c.getpixel((48, 48)), (255, 0, 0, 255))
+              and near(c.getpixel((96 + 48, 48)), (0, 0, 255, 255)),
+              (c.getpixel((48, 48)), c.getpixel((96 + 48, 48))))
+        Select(d.find_element(By.ID, "ab")).select_by_value("off")
+
+        # A typo: the diagnostic at its line:col; the last good frames play on.
+        d.find_element(By.ID, "play").click()
+        edit(dot, "size: 1.2", "size: 1.2.")
+        line = line_of(dot, "size: 1.2.")
+        col = open(dot).read().splitlines()[line - 1].index("1.2.") + 1
+        text = wait(d, "document.getElementById('diag').textContent.includes('dot.yaml:%d:%d: error')"
+                    " && document.getElementById('diag').textContent" % (line, col))
+        v = subprocess.run([pfx, "validate", "dot.yaml"], cwd=work, capture_output=True, text=True)
+        check("a typo shows its diagnostic at line:col, as validate prints it",
+              text and text.strip() == v.stderr.strip(), repr(text))
+        stale = d.find_element(By.ID, "stale").is_displayed()
+        f0 = d.execute_script("return window.pfx.frame")
+        moved = wait(d, "window.pfx.frame !== %d" % f0, 5)
+        c = canvas(d)
+        check("a typo: the last good frames keep playing under a banner",
+              stale and moved and near(c.getpixel((48, 48)), (0, 0, 255, 255)),
+              (stale, moved, c.getpixel((48, 48))))
+        edit(dot, "size: 1.2.", "size: 1.2")
+        ok = wait(d, "document.getElementById('diag').textContent === 'No problems.' && "
+                  "window.pfx.state.version === 6")
+        check("the fix clears the diagnostic", ok and not d.find_element(By.ID, "stale").is_displayed())
+
+        # Stepping and scrubbing.
+        d.find_element(By.ID, "play").click()  # pause
+        d.execute_script("window.pfx.seek(3)")
+        d.find_element(By.ID, "next").click()
+        a = d.execute_script("return window.pfx.frame")
+        d.find_element(By.ID, "prev").click()
+        d.find_element(By.ID, "prev").click()
+        b = d.execute_script("return window.pfx.frame")
+        check("stepping: next and previous frame", a == 4 and b == 2, (a, b))
+        ruler = d.find_element(By.ID, "ruler")
+        ActionChains(d).move_to_element_with_offset(ruler, int(ruler.size["width"] * 0.25), 0) \
+            .click().perform()
+        f = d.execute_script("return window.pfx.frame")
+        check("scrubbing the timeline to 3/4 shows frame 7", f == 7, f)
+
+        # The tracks: one per emitter with its line, the bursts as ticks.
+        names = [e.text for e in d.find_elements(By.CSS_SELECTOR, ".track .name")]
+        ticks = d.find_elements(By.CSS_SELECTOR, ".track .tick")
+        check("a track per emitter, named with its line, its burst a tick at 0",
+              names == ["dot :%d" % line_of(dot, "  dot:"), "side :%d" % line_of(dot, "  side:")]
+              and len(ticks) == 2 and all(t.value_of_css_property("left") == "0px" for t in ticks),
+              names)
+
+        # A renamed emitter: the tracks follow (the frame count is the same).
+        edit(dot, "  side:", "  glow:")
+        names = wait(d, "[...document.querySelectorAll('.track .name')].map((e) => e.textContent)"
+                     ".join(',').includes('glow') && [...document.querySelectorAll('.track .name')]"
+                     ".map((e) => e.textContent)", 20)
+        check("an emitter renamed: its track follows", names == ["dot :%d" % line_of(dot, "  dot:"),
+                                                                 "glow :%d" % line_of(dot, "  glow:")],
+              names)
+
+        # Pick: click the middle of the picture.
+        d.find_element(By.ID, "fit").click()  # 1:1, so that a CSS pixel is a frame pixel
+        view = d.find_element(By.ID, "view")
+        ActionChains(d).move_to_element_with_offset(view, 0, 0).click().perform()
+        item = wait(d, "document.querySelector('#pick li') && "
+                    "document.querySelector('#pick li').textContent.startsWith('dot') && "
+                    "document.querySelector('#pick li').textContent")
+        check("pick: the middle pixel names dot and its line",
+              item == "dotdot.yaml:%d" % line_of(dot, "  dot:"), item)
+        return p.stop()
+
+
+def alpha_checks(d):
+    """A half-transparent red disc over a white page background, from
+    straight and from premultiplied PNGs: both must show the same colour,
+    C a + (1 - a) white, which a premultiplied PNG drawn as straight misses
+    (127 x 0.5 + 255 x 0.5 = 191 in red)."""
+    half = os.path.join(work, "half.yaml")
+    with open(os.path.join(src, "tests/preview/dot.yaml")) as f:
+        text = f.read()
+    with open(half, "w") as f:
+        f.write(text.replace('background: "#000000"', "background: transparent")
+                .replace('"#ff0000"', '"#ff000080"'))
+    for alpha in ("straight", "premultiplied"):
+        with Preview(pfx, "half.yaml", "--alpha", alpha, cwd=work) as p:
+            d.get(p.url)
+            wait(d, "window.pfx.state && window.pfx.state.version === 1")
+            d.execute_script("window.pfx.seek(5)")
+            Select(d.find_element(By.ID, "bg")).select_by_value("white")
+            wait(d, "window.pfx.shown && window.pfx.shown.frame === 5")
+            time.sleep(0.3)
+            c = canvas(d)
+            check("%s alpha over white: (255, 127, 127) in the middle, white outside" % alpha,
+                  near(c.getpixel((48, 48)), (255, 127, 127, 255), 4)
+                  and near(c.getpixel((2, 2)), (255, 255, 255, 255), 1),
+                  (c.getpixel((48, 48)), c.getpixel((2, 2))))
+            p.stop()
+
+
+def take_screenshot(d, out):
+    """The page over a real example (fireworks: bursts, sub-emitters), paused
+    mid-effect after a pick."""
+    eff = os.path.join(work, "shot")
+    shutil.copytree(os.path.join(src, "effects"), eff, dirs_exist_ok=True)
+    with Preview(pfx, "fireworks.yaml", cwd=eff) as p:
+        d.get(p.url)
+        wait(d, "window.pfx.state && window.pfx.state.version === 1")
+        # Every frame rendered, so that the tracks show when each emitter runs.
+        wait(d, "window.pfx.state.stats.every((s) => s)", 120)
+        k = p.state()["frames"] * 55 // 100
+        d.execute_script("window.pfx.seek(%d)" % k)
+        wait(d, "window.pfx.shown && window.pfx.shown.frame === %d" % k, 60)
+        view = d.find_element(By.ID, "view")
+        ActionChains(d).move_to_element_with_offset(view, 0, -40).click().perform()
+        time.sleep(1.5)
+        d.save_screenshot(out)
+        p.stop()
+
+
+def cpu_ms(pid):
+    """CPU time the process has used (all its threads), ms."""
+    with open("/proc/%d/stat" % pid) as f:
+        fields = f.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) * 1000.0 / os.sysconf("SC_CLK_TCK")
+
+
+def run_bench(d, effects):
+    """ms from save to the new frame shown, per example at 512x512, with the
+    playhead mid-effect: the median of five saves, and the CPU time pfx
+    spent on each (which a loaded machine does not stretch)."""
+    for path in effects:
+        name = os.path.basename(path)
+        eff = os.path.join(work, "bench")
+        shutil.copytree(os.path.dirname(os.path.abspath(path)), eff, dirs_exist_ok=True)
+        with Preview(pfx, name, "--size", "512x512", cwd=eff) as p:
+            d.get(p.url)
+            wait(d, "window.pfx.state && window.pfx.state.version === 1")
+            k = p.state()["frames"] // 2
+            d.execute_script("window.pfx.seek(%d)" % k)
+            wait(d, "window.pfx.shown && window.pfx.shown.frame === %d" % k, 120)
+            times, cpu = [], []
+            for i in range(5):
+                time.sleep(1.0)  # the prefetch of the frames after the playhead
+                c0 = cpu_ms(p.proc.pid)
+                ms = save_latency(d, p, os.path.join(eff, name), "\n", "\n# edit %d\n" % i)
+                cpu.append(cpu_ms(p.proc.pid) - c0)
+                times.append(ms if ms is not None else float("inf"))
+            times.sort()
+            cpu.sort()
+            print("# %-22s frame %3d: %6.0f ms wall (median of 5; %.0f to %.0f), %4.0f ms CPU"
+                  % (name, k, times[2], times[0], times[-1], cpu[2]), flush=True)
+            p.stop()
+
+
+d = browser()
+try:
+    if bench:
+        run_bench(d, bench)
+    else:
+        status = main_checks(d)
+        check("the server stops cleanly after the browser session", status == 0, status)
+        alpha_checks(d)
+        if screenshot:
+            take_screenshot(d, screenshot)
+            print("# screenshot: %s" % screenshot)
+finally:
+    d.quit()
