@@ -70,6 +70,11 @@ const char *pfx_manifest_recorded_key(const pfx_manifest *m);
  * the recorded SHA-256: a re-run would write the same bytes. */
 bool pfx_manifest_up_to_date(const pfx_manifest *prev, const char *key, const char *dir);
 
+/* Whether name is one a manifest may list: a plain file name in the
+ * manifest's directory (not empty, no '/' or '\\', no leading '.', no
+ * control byte, at most 255 bytes). */
+bool pfx_manifest_plain_name(const char *name);
+
 /* Removes from dir each output prev lists and now does not, when the file
  * still has the hash pfx recorded (a file changed since, or never written
  * by pfx, is never touched: a note says so). Names with a '/' or a leading
@@ -95,7 +100,8 @@ double pfx_manifest_slice_number(const pfx_manifest *m, const char *key, double 
 /* The one manifest of a render cut into slices: the slices' manifests
  * (named by `names` in messages) must be every slice of one render
  * exactly once: the same inputs, settings but for the frames, and count;
- * no output twice. The result has the settings of a single-process render
+ * no output twice, each a plain name (pfx_manifest_plain_name) with its
+ * SHA-256. The result has the settings of a single-process render
  * of all the frames (so the same bake key) and every output, sorted; its
  * frame range is in *first, *last. NULL with the reasons in d. */
 pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *const *names, size_t n,

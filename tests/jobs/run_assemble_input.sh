@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# Slice folders are input, not trust: `pfx assemble` must refuse crafted
+# slice manifests (names that leave OUT, FIFOs, links to /dev/zero, frames
+# whose header claims a huge size, bad fps) with a clear error, write
+# nothing outside OUT, never hang, and stay linear in the outputs. Render's
+# own manifest checks (listed and stale outputs, previews) share the paths.
+#
+#   bash run_assemble_input.sh PATH-TO-PFX SOURCE-DIR
+set -u
+source "$(dirname "${BASH_SOURCE[0]}")/../harness.sh" assemble_input "$@"
+cd "$work" || exit 2
+FIRE=$src/effects/fire.yaml
+A=(--size 48x48 --frames 0:5 --seed 3 -q)
+pfx_timeout=30
+M0=fire.slice-0000-of-0002.manifest.json
+M1=fire.slice-0001-of-0002.manifest.json
+
+for i in 0 1; do
+    "$pfx" render "$FIRE" -o s$i "${A[@]}" --slice $i/2 || exit 2
+done
+
+# edit DIR SCRIPT: runs the Python SCRIPT on DIR's slice manifest as m.
+edit() {
+    "$py" - "$1"/fire.slice-*.manifest.json "$2" <<'PY'
+import hashlib, json, sys
+path, code = sys.argv[1], sys.argv[2]
+m = json.load(open(path))
+def sha(p): return hashlib.sha256(open(p, "rb").read()).hexdigest()
+exec(code)
+json.dump(m, open(path, "w"))
+PY
+}
+
+# Names that are not plain file names in the slice's folder: each refused
+# with the manifest and the name in the message, nothing written anywhere.
+n=0
+for name in '../evil.sh' '../../evil.sh' "$work/abs-evil.sh" 'sub/evil.sh' '.' '..' '.hidden' \
+    $'bad\x1b[2Jname' 'a\\b' ''; do
+    n=$((n + 1))
+    begin "a listed output named '$(printf '%q' "$name")' is refused"
+    rm -rf t && mkdir -p t/o && cp -r s0 s1 t/
+    printf 'echo owned\n' >t/evil.sh
+    NAME=$name edit t/s1 "import os; m['outputs'].append({'path': os.environ['NAME'], 'sha256': sha('t/evil.sh')})"
+    pfx_run assemble t/s0 t/s1 -o t/o/all
+    finished && want_status 1
+    stderr_has "t/s1/$M1' lists the output '"
+    stderr_has "which is not a plain file name in its directory"
+    grep -q $'\x1b' "$work/err" && flunk "a control byte reached stderr"
+    [ ! -e t/o/evil.sh ] && [ ! -e t/o/all/sub ] && [ ! -e "$work/abs-evil.sh" ] || flunk "a file was written outside OUT"
+    [ ! -e t/o/all/fire.manifest.json ] || flunk "a manifest was written"
+    end
+done
+
+begin "an output without its SHA-256 is refused"
+rm -rf t && mkdir t && cp -r s0 s1 t/
+edit t/s1 "m['outputs'][0]['sha256'] = 'x' * 64"
+pfx_run assemble t/s0 t/s1 -o t/all
+finished && want_status 1
+stderr_has "records no SHA-256 for the output 'fire_0003.png'"
+end
+
+# Files that are not regular: a FIFO (no writer: open would block) and a
+# link to /dev/zero (endless), as a slice's frame, as a listed output of a
+# previous render and as its stale output. Each an error or skipped, in
+# bounded time.
+for kind in fifo zero; do
+    make_bad() {
+        rm -f "$1"
+        if [ $kind = fifo ]; then mkfifo "$1"; else ln -s /dev/zero "$1"; fi
+    }
+    begin "a slice frame that is a $kind: an error, no hang"
+    rm -rf t && mkdir t && cp -r s0 s1 t/
+    make_bad t/s1/fire_0004.png
+    pfx_run assemble t/s0 t/s1 -o t/all
+    finished && want_status 1
+    stderr_has "cannot read 't/s1/fire_0004.png': not a regular file"
+    [ ! -e t/all/fire.manifest.json ] || flunk "a manifest was written"
+    end
+
+    begin "a listed output that is a $kind: not up to date, rendered again"
+    rm -rf r && "$pfx" render "$FIRE" -o r "${A[@]}" || flunk "the first render failed"
+    make_bad r/fire_0002.png
+    pfx_run render "$FIRE" -o r "${A[@]}"
+    finished && want_status 0
+    [ -f r/fire_0002.png ] && [ ! -L r/fire_0002.png ] || flunk "the frame was not written again"
+    end
+
+    begin "a stale output that is a $kind: kept with a note, no hang"
+    rm -rf r && "$pfx" render "$FIRE" -o r "${A[@]}" || flunk "the first render failed"
+    make_bad r/fire_0005.png
+    pfx_run render "$FIRE" -o r --size 48x48 --frames 0:3 --seed 3
+    finished && want_status 0
+    stderr_has "kept stale 'r/fire_0005.png': it changed since pfx wrote it"
+    end
+done
+
+begin "a slice frame that is a symbolic link to a regular file is refused"
+rm -rf t && mkdir t && cp -r s0 s1 t/
+mv t/s1/fire_0004.png t/elsewhere.png && ln -s ../elsewhere.png t/s1/fire_0004.png
+pfx_run assemble t/s0 t/s1 -o t/all
+finished && want_status 1
+stderr_has "cannot read 't/s1/fire_0004.png': not a regular file"
+end
+
+summary
