@@ -8,6 +8,7 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -288,6 +289,43 @@ static bool gather_all(const part *p, size_t n, const pfx_manifest *all, const c
     return ok;
 }
 
+/* A slice's fps and image size as render accepts them (the effect file's
+ * bounds), and the same in every slice of a render (p[0..n) share a
+ * stem): read from files that are input, checked before any frame is
+ * gathered rather than failing in the preview or the atlas. */
+static bool check_settings(const part *p, size_t n, pfx_diags *d) {
+    bool ok = true;
+    for (size_t i = 0; i < n; i++) {
+        double fps = pfx_manifest_get_number(p[i].m, "fps", NAN);
+        double w = pfx_manifest_get_number(p[i].m, "width", NAN);
+        double h = pfx_manifest_get_number(p[i].m, "height", NAN);
+        if (isnan(fps)) {
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES, "'%s' records no fps (a number)",
+                           p[i].path);
+            ok = false;
+        } else if (!(fps > 0 && fps <= PFX_MAX_FPS)) {
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                           "'%s' records fps %g; it must be greater than 0 and at most %g",
+                           p[i].path, fps, PFX_MAX_FPS);
+            ok = false;
+        } else if (i > 0 && fps != pfx_manifest_get_number(p[0].m, "fps", NAN)) {
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                           "'%s' records fps %g, and '%s' fps %g: slices of one render share "
+                           "their fps",
+                           p[i].path, fps, p[0].path, pfx_manifest_get_number(p[0].m, "fps", 0));
+            ok = false;
+        }
+        if (!(w >= 1 && w <= PFX_MAX_IMAGE_SIDE && w == floor(w) && h >= 1 &&
+              h <= PFX_MAX_IMAGE_SIDE && h == floor(h) && w * h <= (double)PFX_MAX_IMAGE_PIXELS)) {
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                           "'%s' records an image size of %gx%g, not one render can make",
+                           p[i].path, w, h);
+            ok = false;
+        }
+    }
+    return ok;
+}
+
 /* One render: parts p[0..n) share a stem. */
 static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_options *opt,
                          pfx_assemble_report *r, pfx_diags *d) {
@@ -363,16 +401,18 @@ bool pfx_assemble(const char *const *dirs, size_t n, const char *out,
             ok = false;
         }
     }
-    if (ok) {
-        qsort(p.items, p.count, sizeof *p.items, by_stem_then_path);
+    /* Every render's settings first, then the work. */
+    for (int pass = 0; ok && pass < 2; pass++)
         for (size_t i = 0; i < p.count;) {
             size_t j = i + 1;
             while (j < p.count && !strcmp(p.items[j].stem, p.items[i].stem))
                 j++;
-            ok = assemble_one(p.items + i, j - i, out, opt, r, d) && ok;
+            if (pass == 0)
+                ok = check_settings(p.items + i, j - i, d) && ok;
+            else
+                ok = assemble_one(p.items + i, j - i, out, opt, r, d) && ok;
             i = j;
         }
-    }
     parts_free(&p);
     return ok;
 }
