@@ -357,20 +357,27 @@ static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_
     } else if (ok && motion) {
         ok = pfx_mv_sidecar_run(out, p[0].stem, first, last, motion, all, d);
     }
-    if (ok && opt->preview) {
-        pfx_manifest_set_string(all, "preview", opt->preview);
-        ok = pfx_preview_run(out, p[0].stem, first, last, fps, opt->preview, d);
-    }
-    pfx_manifest_key(all);
     char path[4096];
     snprintf(path, sizeof path, "%s/%s.manifest.json", out, p[0].stem);
+    pfx_manifest *prev = ok ? pfx_manifest_read(path) : NULL;
+    if (ok && opt->preview) {
+        /* Made again unless the last assembly of the same frames and
+         * settings recorded it and it still has that hash: a preview
+         * damaged since is never taken for done. */
+        pfx_manifest_set_string(all, "preview", opt->preview);
+        const char *key = pfx_manifest_key(all),
+                   *was = prev ? pfx_manifest_recorded_key(prev) : NULL;
+        if (!(key && was && !strcmp(key, was) && pfx_manifest_preview_intact(prev, opt->preview)))
+            ok = pfx_preview_run(out, p[0].stem, first, last, fps, opt->preview, d);
+        ok = ok && pfx_manifest_add_preview(all, opt->preview, d);
+    }
+    pfx_manifest_key(all);
     if (ok) {
-        pfx_manifest *prev = pfx_manifest_read(path);
         if (prev)
             pfx_manifest_remove_stale(prev, all, out, d);
-        pfx_manifest_destroy(prev);
         ok = pfx_manifest_write(all, path, d);
     }
+    pfx_manifest_destroy(prev);
     if (ok) {
         r->effects++;
         r->frames += (size_t)(last - first + 1);

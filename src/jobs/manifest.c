@@ -209,6 +209,26 @@ bool pfx_manifest_add_output(pfx_manifest *m, const char *dir, const char *name,
     return true;
 }
 
+bool pfx_manifest_add_preview(pfx_manifest *m, const char *path, pfx_diags *d) {
+    char hex[PFX_SHA256_HEX];
+    if (!pfx_sha256_file(path, hex)) {
+        pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read the preview '%s': %s", path,
+                       pfx_file_strerror(errno));
+        return false;
+    }
+    json_object_set_new(m->root, "preview", json_pack("{s:s, s:s}", "path", path, "sha256", hex));
+    return true;
+}
+
+bool pfx_manifest_preview_intact(const pfx_manifest *m, const char *path) {
+    json_t *p = member(m, "preview");
+    const char *recorded = json_string_value(json_object_get(p, "path"));
+    const char *sha = json_string_value(json_object_get(p, "sha256"));
+    char hex[PFX_SHA256_HEX];
+    return path && recorded && sha && !strcmp(recorded, path) && pfx_sha256_file(path, hex) &&
+           !strcmp(hex, sha);
+}
+
 size_t pfx_manifest_output_count(const pfx_manifest *m) {
     return json_array_size(member(m, "outputs"));
 }
@@ -284,7 +304,10 @@ bool pfx_manifest_up_to_date(const pfx_manifest *prev, const char *key, const ch
         if (!plain_name(name) || !file_has(dir, name, sha))
             return false;
     }
-    return true;
+    /* A manifest from before previews were hashed records none: not up to
+     * date, so the preview is made again and hashed. */
+    const char *preview = json_string_value(json_object_get(member(prev, "settings"), "preview"));
+    return !preview || pfx_manifest_preview_intact(prev, preview);
 }
 
 size_t pfx_manifest_remove_stale(const pfx_manifest *prev, const pfx_manifest *now, const char *dir,

@@ -56,6 +56,16 @@ bool pfx_manifest_add_output(pfx_manifest *m, const char *dir, const char *name,
 size_t pfx_manifest_output_count(const pfx_manifest *m);
 const char *pfx_manifest_output(const pfx_manifest *m, size_t i, const char **sha256);
 
+/* Hashes the preview at path (--preview: a path of its own, not a name in
+ * the manifest's directory) and records it as the manifest's "preview"
+ * {path, sha256}, so that a preview damaged or replaced since is not up to
+ * date. False, with the reason in d, when unreadable. */
+bool pfx_manifest_add_preview(pfx_manifest *m, const char *path, pfx_diags *d);
+
+/* True when m records the preview at path with the SHA-256 the file has
+ * now. */
+bool pfx_manifest_preview_intact(const pfx_manifest *m, const char *path);
+
 /* Writes m to path whole or not at all (a temporary renamed into place).
  * False with the reason in d. */
 bool pfx_manifest_write(pfx_manifest *m, const char *path, pfx_diags *d);
@@ -67,7 +77,8 @@ pfx_manifest *pfx_manifest_read(const char *path);
 const char *pfx_manifest_recorded_key(const pfx_manifest *m);
 
 /* True when prev records `key` and every output it lists is in dir with
- * the recorded SHA-256: a re-run would write the same bytes. */
+ * the recorded SHA-256, and so is its preview when its settings name one
+ * (pfx_manifest_preview_intact): a re-run would write the same bytes. */
 bool pfx_manifest_up_to_date(const pfx_manifest *prev, const char *key, const char *dir);
 
 /* Whether name is one a manifest may list: a plain file name in the

@@ -161,4 +161,53 @@ fps_case "slices with other fps are refused" "m['settings']['fps'] = 24" \
     "t/s1/$M1' records fps 24, and 't/s0/$M0' fps 30: slices of one render share their fps" one
 fps_case "a 0x48 image is refused" "m['settings']['width'] = 0" "t/s1/$M1' records an image size of 0x48, not one render can make" one
 
+# Previews carry their hash in the manifest like every output: a preview
+# damaged since is not up to date (render) and is made again (assemble).
+# preview_ok FILE MANIFEST: Pillow reads FILE whole (6 frames of 48x48) and
+# MANIFEST records its SHA-256.
+preview_ok() {
+    "$py" - "$1" "$2" <<'PY' || flunk "$1: not a whole preview, or not the hash its manifest records"
+import hashlib, json, sys
+from PIL import Image
+path, manifest = sys.argv[1], sys.argv[2]
+im = Image.open(path)
+assert (im.n_frames, im.size) == (6, (48, 48)), (im.n_frames, im.size)
+for k in range(im.n_frames):
+    im.seek(k)
+    im.load()
+rec = json.load(open(manifest))["preview"]
+assert rec == {"path": path, "sha256": hashlib.sha256(open(path, "rb").read()).hexdigest()}, rec
+PY
+}
+damage() { head -c 100 "$1" >"$1.cut" && mv "$1.cut" "$1"; }
+
+begin "render: the preview's hash is in the manifest; a damaged preview is not up to date"
+rm -rf p && mkdir p
+pfx_run render "$FIRE" -o p/r "${A[@]}" --preview p/r.webp
+finished && want_status 0
+preview_ok p/r.webp p/r/fire.manifest.json
+damage p/r.webp
+pfx_run render "$FIRE" -o p/r --size 48x48 --frames 0:5 --seed 3 --preview p/r.webp
+finished && want_status 0
+grep -q "up to date" "$work/err" && flunk "a damaged preview was taken for up to date"
+preview_ok p/r.webp p/r/fire.manifest.json
+pfx_run render "$FIRE" -o p/r --size 48x48 --frames 0:5 --seed 3 --preview p/r.webp
+stderr_has "is up to date in 'p/r'"
+end
+
+begin "assemble: the preview's hash is in the manifest; a damaged preview is made again"
+rm -rf p && mkdir p
+pfx_run assemble s0 s1 -o p/all --preview p/all.webp
+finished && want_status 0
+preview_ok p/all.webp p/all/fire.manifest.json
+damage p/all.webp
+pfx_run assemble s0 s1 -o p/all --preview p/all.webp
+finished && want_status 0
+preview_ok p/all.webp p/all/fire.manifest.json
+before=$(stat -c %i:%Y.%y p/all.webp)
+pfx_run assemble s0 s1 -o p/all --preview p/all.webp
+finished && want_status 0
+[ "$(stat -c %i:%Y.%y p/all.webp)" = "$before" ] || flunk "an intact preview of the same frames was made again"
+end
+
 summary
