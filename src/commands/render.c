@@ -73,9 +73,9 @@ static bool write_extras(const pfx_render_job *job, const pfx_cli *o, const char
     if (o->atlas && !pfx_atlas_job_run(dir, stem, job->first, job->last, job->effect->fps,
                                        job->effect->loop, atlas, dl->now, run))
         return false;
-    if (o->preview &&
-        (!pfx_preview_run(dir, stem, job->first, job->last, job->effect->fps, o->preview, run) ||
-         !pfx_manifest_add_preview(dl->now, o->preview, run)))
+    if (o->preview && (!pfx_preview_run(dir, stem, job->first, job->last, job->effect->fps,
+                                        job->effect->width, job->effect->height, o->preview, run) ||
+                       !pfx_manifest_add_preview(dl->now, o->preview, run)))
         return false;
     if (!pfx_delivery_finish(dl, run))
         return false;

@@ -368,7 +368,9 @@ static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_
         const char *key = pfx_manifest_key(all),
                    *was = prev ? pfx_manifest_recorded_key(prev) : NULL;
         if (!(key && was && !strcmp(key, was) && pfx_manifest_preview_intact(prev, opt->preview)))
-            ok = pfx_preview_run(out, p[0].stem, first, last, fps, opt->preview, d);
+            ok = pfx_preview_run(out, p[0].stem, first, last, fps,
+                                 (int)pfx_manifest_get_number(all, "width", 0),
+                                 (int)pfx_manifest_get_number(all, "height", 0), opt->preview, d);
         ok = ok && pfx_manifest_add_preview(all, opt->preview, d);
     }
     pfx_manifest_key(all);

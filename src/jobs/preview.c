@@ -36,30 +36,29 @@ static bool writer_finish(writer *w, const char *path, long frames, bool commit,
 }
 
 bool pfx_preview_run(const char *dir, const char *stem, long first, long last, double fps,
-                     const char *path, pfx_diags *d) {
+                     int width, int height, const char *path, pfx_diags *d) {
     writer w = {0};
-    int width = 0, height = 0;
     bool ok = true;
     for (long f = first; ok && f <= last; f++) {
         char frame[4400];
         int fw, fh;
         snprintf(frame, sizeof frame, "%s/%s_%04ld.png", dir, stem, f);
-        uint8_t *rgba = pfx_png_read(frame, &fw, &fh);
+        uint8_t *rgba = pfx_png_read_sized(frame, width, height, &fw, &fh);
+        if (!rgba && fw > 0 && (fw != width || fh != height)) {
+            pfx_diag_error(d, PFX_RULE_INVALID_FILE,
+                           "'%s' is %dx%d, not the %dx%d of the render; it is not read", frame, fw,
+                           fh, width, height);
+            ok = false;
+            break;
+        }
         if (!rgba) {
             pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read the frame '%s' for the preview",
                            frame);
             ok = false;
             break;
         }
-        if (f == first) {
-            width = fw, height = fh;
+        if (f == first)
             ok = writer_create(&w, width, height, fps, path, d);
-        } else if (fw != width || fh != height) {
-            pfx_diag_error(d, PFX_RULE_INVALID_FILE,
-                           "'%s' is %dx%d, not %dx%d like the frames before it", frame, fw, fh,
-                           width, height);
-            ok = false;
-        }
         ok = ok && writer_add(&w, rgba, f - first, d);
         free(rgba);
     }

@@ -210,4 +210,29 @@ finished && want_status 0
 [ "$(stat -c %i:%Y.%y p/all.webp)" = "$before" ] || flunk "an intact preview of the same frames was made again"
 end
 
+# A slice frame whose header claims 20000x20000 (16 rows of data, a few KB
+# on disk, 1.6 GB decoded): --preview checks the header against the size the manifest
+# records and refuses it before allocating, within 1 GiB of address space
+# and 5 s of CPU.
+begin "a 20000x20000 header-only PNG frame is refused before it is decoded"
+rm -rf t && mkdir t && cp -r s0 s1 t/
+"$py" - t/s1/fire_0004.png <<'PY'
+import struct, sys, zlib
+def chunk(kind, data):
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+ihdr = struct.pack(">IIBBBBB", 20000, 20000, 8, 6, 0, 0, 0)
+idat = zlib.compress(b"\0" * (1 + 4 * 20000) * 16, 9)  # 16 rows of the 20000
+open(sys.argv[1], "wb").write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", idat) +
+                              chunk(b"IEND", b""))
+PY
+edit t/s1 "[o.update(sha256=sha('t/s1/fire_0004.png')) for o in m['outputs'] if o['path'] == 'fire_0004.png']"
+pfx_vm=1048576 pfx_cpu=5
+pfx_run assemble t/s0 t/s1 -o t/all --preview t/all.webp
+pfx_vm=unlimited pfx_cpu=unlimited
+finished && want_status 1
+stderr_has "'t/all/fire_0004.png' is 20000x20000, not the 48x48 of the render; it is not read"
+[ ! -e t/all.webp ] || flunk "a preview was written"
+[ ! -e t/all/fire.manifest.json ] || flunk "a manifest was written"
+end
+
 summary
