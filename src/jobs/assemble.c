@@ -352,6 +352,8 @@ static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_
     if (ok && opt->atlas) {
         pfx_atlas_layout atlas = *opt->atlas;
         atlas.motion = motion;
+        atlas.frame_w = (int)pfx_manifest_get_number(all, "width", 0);
+        atlas.frame_h = (int)pfx_manifest_get_number(all, "height", 0);
         pfx_atlas_job_describe(&atlas, all);
         ok = pfx_atlas_job_run(out, p[0].stem, first, last, fps, loop, &atlas, all, d);
     } else if (ok && motion) {

@@ -44,7 +44,15 @@ static bool read_frames(atlas_job *j) {
         }
         snprintf(j->names[k], 300, "%s_%04ld.png", j->stem, j->first + k);
         snprintf(path, sizeof path, "%s/%s", j->dir, j->names[k]);
-        j->frames[k] = pfx_png_read(path, &w, &h);
+        /* The size known (given, or the first frame's) is checked on the
+         * header, before a frame that claims to be huge is decoded. */
+        j->frames[k] = pfx_png_read_sized(path, l->frame_w, l->frame_h, &w, &h);
+        if (!j->frames[k] && w > 0 && l->frame_w > 0 && (w != l->frame_w || h != l->frame_h)) {
+            pfx_diag_error(j->d, PFX_RULE_INVALID_FILE,
+                           "'%s' is %dx%d, not %dx%d like the render's frames; it is not read",
+                           path, w, h, l->frame_w, l->frame_h);
+            return false;
+        }
         if (!j->frames[k]) {
             pfx_diag_error(j->d, PFX_RULE_READ_FAILED, "cannot read the frame '%s' for the atlas",
                            path);
@@ -60,11 +68,6 @@ static bool read_frames(atlas_job *j) {
                                PFX_ATLAS_MAX_BYTES >> 20);
                 return false;
             }
-        } else if (w != l->frame_w || h != l->frame_h) {
-            pfx_diag_error(j->d, PFX_RULE_INVALID_FILE,
-                           "'%s' is %dx%d, not %dx%d like the frames before it", path, w, h,
-                           l->frame_w, l->frame_h);
-            return false;
         }
     }
     return true;

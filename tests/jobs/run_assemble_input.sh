@@ -213,8 +213,8 @@ end
 # A slice frame whose header claims 20000x20000 (16 rows of data, a few KB
 # on disk, 1.6 GB decoded): --preview checks the header against the size the manifest
 # records and refuses it before allocating, within 1 GiB of address space
-# and 5 s of CPU.
-begin "a 20000x20000 header-only PNG frame is refused before it is decoded"
+# and 5 s of CPU; so does --atlas.
+begin "a 20000x20000 PNG frame is refused before it is decoded (preview, atlas)"
 rm -rf t && mkdir t && cp -r s0 s1 t/
 "$py" - t/s1/fire_0004.png <<'PY'
 import struct, sys, zlib
@@ -233,6 +233,12 @@ finished && want_status 1
 stderr_has "'t/all/fire_0004.png' is 20000x20000, not the 48x48 of the render; it is not read"
 [ ! -e t/all.webp ] || flunk "a preview was written"
 [ ! -e t/all/fire.manifest.json ] || flunk "a manifest was written"
+pfx_vm=1048576 pfx_cpu=5
+pfx_run assemble t/s0 t/s1 -o t/atlas --atlas
+pfx_vm=unlimited pfx_cpu=unlimited
+finished && want_status 1
+stderr_has "'t/atlas/fire_0004.png' is 20000x20000, not 48x48 like the render's frames; it is not read"
+[ ! -e t/atlas/fire_atlas.png ] || flunk "an atlas was written"
 end
 
 summary
