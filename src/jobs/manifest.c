@@ -246,12 +246,31 @@ bool pfx_manifest_write(pfx_manifest *m, const char *path, pfx_diags *d) {
     return pfx_json_file_write(path, m->root, d);
 }
 
+/* Whether every entry of list is {path: string, sha256: string}, as pfx
+ * writes them, so that no reader meets a NULL path (a depfile, a key). */
+static bool all_files(json_t *list) {
+    size_t i;
+    json_t *v;
+    json_array_foreach(list, i, v) {
+        if (!json_is_string(json_object_get(v, "path")) ||
+            !json_is_string(json_object_get(v, "sha256")))
+            return false;
+    }
+    return json_is_array(list);
+}
+
 pfx_manifest *pfx_manifest_read(const char *path) {
-    json_t *root = json_load_file(path, 0, NULL);
+    int fd = pfx_open_regular(path, true);
+    FILE *f = fd >= 0 ? fdopen(fd, "rb") : NULL;
+    if (!f && fd >= 0)
+        close(fd);
+    json_t *root = f ? json_loadf(f, 0, NULL) : NULL;
+    if (f)
+        fclose(f);
     json_t *format = json_object_get(root, "pfx_manifest");
     if (!json_is_integer(format) || json_integer_value(format) != MANIFEST_FORMAT ||
-        !json_is_array(json_object_get(root, "outputs")) ||
-        !json_is_array(json_object_get(root, "inputs")) ||
+        !all_files(json_object_get(root, "outputs")) ||
+        !all_files(json_object_get(root, "inputs")) ||
         !json_is_object(json_object_get(root, "settings"))) {
         json_decref(root);
         return NULL;

@@ -71,7 +71,9 @@ bool pfx_manifest_preview_intact(const pfx_manifest *m, const char *path);
 bool pfx_manifest_write(pfx_manifest *m, const char *path, pfx_diags *d);
 
 /* The manifest at path, or NULL when there is none or it is not one of
- * pfx's (then nothing is trusted from it). */
+ * pfx's (then nothing is trusted from it): not a regular file (never
+ * opened for reading when a FIFO or a device), not JSON, another format,
+ * or an input or output without a string path and sha256. */
 pfx_manifest *pfx_manifest_read(const char *path);
 /* The key the manifest recorded, or NULL. */
 const char *pfx_manifest_recorded_key(const pfx_manifest *m);

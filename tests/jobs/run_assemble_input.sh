@@ -94,6 +94,22 @@ for kind in fifo zero; do
     end
 done
 
+begin "a slice manifest that is a FIFO: an error, no hang"
+rm -rf t && mkdir t && cp -r s0 s1 t/
+rm t/s1/$M1 && mkfifo t/s1/$M1
+pfx_run assemble t/s0 t/s1 -o t/all
+finished && want_status 1
+stderr_has "'t/s1/$M1' is not a pfx manifest"
+end
+
+begin "a manifest input without a path: not a manifest"
+rm -rf t && mkdir t && cp -r s0 s1 t/
+edit t/s1 "del m['inputs'][0]['path']"
+pfx_run assemble t/s0 t/s1 -o t/all
+finished && want_status 1
+stderr_has "'t/s1/$M1' is not a pfx manifest"
+end
+
 begin "a slice frame that is a symbolic link to a regular file is refused"
 rm -rf t && mkdir t && cp -r s0 s1 t/
 mv t/s1/fire_0004.png t/elsewhere.png && ln -s ../elsewhere.png t/s1/fire_0004.png
