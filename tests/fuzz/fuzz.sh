@@ -13,7 +13,8 @@
 #
 # Seeds: effects/*.yaml and tests/diag/*.yaml for the effect targets, the
 # OBJ files of effects/ and tests/diag for fuzz_obj, the PNG textures of
-# effects/textures and tests/diag for fuzz_png. A long campaign is in
+# effects/textures and tests/diag for fuzz_png, tests/fuzz/jobs/*.seed
+# (crafted slice folders) for fuzz_jobs. A long campaign is in
 # tests/fuzz/README.
 set -u
 source "$(dirname "${BASH_SOURCE[0]}")/../harness.sh" fuzz "$@"
@@ -74,11 +75,13 @@ fuzz_run() {
     case $target in
     obj) cp "$src"/effects/*.obj "$src"/tests/diag/*.obj "$seeds/" ;;
     png) cp "$src"/effects/textures/*.png "$src"/tests/diag/*.png "$seeds/" ;;
+    jobs) cp "$src"/tests/fuzz/jobs/*.seed "$seeds/" ;;
     *) cp "$src"/effects/*.yaml "$src"/tests/diag/*.yaml "$seeds/" ;;
     esac
     local args=(-dict="$tree/pfx.dict" -max_len=65536)
     [ "$target" = obj ] && args=(-max_len=65536)
     [ "$target" = png ] && args=(-max_len=65536)
+    [ "$target" = jobs ] && args=(-max_len=65536)
     [ "$target" = sim ] && args=(-dict="$tree/pfx.dict" -max_len=16384)
     echo "fuzz_$target for $seconds s: $exe ${args[*]} CORPUS SEEDS"
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 \
