@@ -77,6 +77,15 @@ for kind in fifo zero; do
     [ ! -e t/all/fire.manifest.json ] || flunk "a manifest was written"
     end
 
+    begin "a frame in OUT that is a $kind: replaced by assemble, no hang"
+    rm -rf t && mkdir -p t/all && cp -r s0 s1 t/
+    make_bad t/all/fire_0001.png
+    pfx_run assemble t/s0 t/s1 -o t/all
+    finished && want_status 0
+    [ -f t/all/fire_0001.png ] && [ ! -L t/all/fire_0001.png ] && cmp -s t/all/fire_0001.png s0/fire_0001.png ||
+        flunk "the frame in OUT was not replaced"
+    end
+
     begin "a listed output that is a $kind: not up to date, rendered again"
     rm -rf r && "$pfx" render "$FIRE" -o r "${A[@]}" || flunk "the first render failed"
     make_bad r/fire_0002.png
@@ -145,9 +154,9 @@ PY
 # time, not the wall clock, which the links' fsyncs stretch).
 begin "40000 outputs assemble in bounded time"
 rm -rf b && big 40000 b
-pfx_cpu=5
+pfx_cpu=5 pfx_timeout=300
 pfx_run assemble b/s0 b/s1 -o b/all
-pfx_cpu=unlimited
+pfx_cpu=unlimited pfx_timeout=30
 finished && want_status 0
 stderr_has "assembled 40000 frames of 1 render"
 [ "$(ls b/all | wc -l)" = 40001 ] || flunk "not 40000 frames and a manifest in b/all"
