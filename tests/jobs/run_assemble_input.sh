@@ -266,4 +266,13 @@ stderr_has "'t/atlas/fire_0004.png' is 20000x20000, not 48x48 like the render's 
 [ ! -e t/atlas/fire_atlas.png ] || flunk "an atlas was written"
 end
 
+begin "--atlas: frames the manifest says are too large together are refused before any is read"
+rm -rf t && mkdir t && cp -r s0 s1 t/
+for s in t/s0 t/s1; do edit $s "m['settings'].update(width=16384, height=8192)"; done
+pfx_run assemble t/s0 t/s1 -o t/all --atlas
+finished && want_status 1
+stderr_has "an atlas of 6 frames of 16384x8192 would hold 3072 MiB of frames, over the 1024 MiB bound"
+grep -q "is 48x48" "$work/err" && flunk "a frame was read before the bound was checked"
+end
+
 summary
