@@ -145,8 +145,13 @@ static bool copy_file(int fd, const char *src, const char *dst, pfx_diags *d) {
 static bool gather(const char *dir, const char *name, const char *sha256, const char *out,
                    pfx_assemble_report *r, pfx_diags *d) {
     char src[4096], dst[4096], hex[PFX_SHA256_HEX];
-    if (!pfx_manifest_plain_name(name)) /* pfx_manifest_assemble refused it already */
+    if (!pfx_manifest_plain_name(name)) { /* pfx_manifest_assemble refused it already */
+        pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                       "'%s' lists an output that is not a plain "
+                       "file name",
+                       dir);
         return false;
+    }
     snprintf(src, sizeof src, "%s/%s", dir, name);
     snprintf(dst, sizeof dst, "%s/%s", out, name);
     int fd = pfx_open_regular(src, false);
@@ -283,6 +288,8 @@ static bool gather_all(const part *p, size_t n, const pfx_manifest *all, const c
     for (size_t k = 0; ok && k < pfx_manifest_output_count(all); k++) {
         const char *sha, *name = pfx_manifest_output(all, k, &sha);
         const size_t *i = pfx_strmap_get(&from, name, strlen(name));
+        if (!i) /* cannot happen: the merged list is made of the parts' lists */
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES, "no slice lists '%s'", name);
         ok = i && gather(p[*i].dir, name, sha, out, r, d);
     }
     pfx_strmap_free(&from);
