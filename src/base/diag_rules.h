@@ -104,7 +104,8 @@
     X(9005, SIMULATION_DIVERGED, "simulation-diverged", ERROR,                                     \
       "A particle became non-finite or ran away during the simulation.")                           \
     X(9006, INCONSISTENT_SLICES, "inconsistent-slices", ERROR,                                     \
-      "Slice manifests or frames do not fit together (a slice missing, a hash mismatch).")         \
+      "Slice manifests or frames do not fit together (a slice missing, a hash mismatch, a name "   \
+      "outside the slice's folder, a bad fps).")                                                   \
     X(9007, ENCODE_FAILED, "encode-failed", ERROR,                                                 \
       "An image or video encoder (PNG, WebP, EXR, ffmpeg) failed.")                                \
     X(9008, IMPOSSIBLE_REQUEST, "impossible-request", ERROR,                                       \

@@ -4,7 +4,9 @@
 
 #include <errno.h>
 #include <nettle/sha2.h>
-#include <stdio.h>
+#include <unistd.h>
+
+#include "base/regular_file.h"
 
 static void to_hex(struct sha256_ctx *ctx, char hex[PFX_SHA256_HEX]) {
     static const char digits[] = "0123456789abcdef";
@@ -17,25 +19,32 @@ static void to_hex(struct sha256_ctx *ctx, char hex[PFX_SHA256_HEX]) {
     hex[2 * SHA256_DIGEST_SIZE] = 0;
 }
 
-bool pfx_sha256_file(const char *path, char hex[PFX_SHA256_HEX]) {
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return false;
+bool pfx_sha256_fd(int fd, char hex[PFX_SHA256_HEX]) {
     struct sha256_ctx ctx;
     sha256_init(&ctx);
     static _Thread_local uint8_t buf[1 << 16];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, f)) > 0)
-        sha256_update(&ctx, n, buf);
-    bool ok = !ferror(f);
-    int err = errno;
-    fclose(f);
-    if (!ok) {
-        errno = err ? err : EIO;
-        return false;
+    ssize_t n;
+    while ((n = read(fd, buf, sizeof buf)) != 0) {
+        if (n < 0) {
+            if (errno == EINTR)
+                continue;
+            return false;
+        }
+        sha256_update(&ctx, (size_t)n, buf);
     }
     to_hex(&ctx, hex);
     return true;
+}
+
+bool pfx_sha256_file(const char *path, char hex[PFX_SHA256_HEX]) {
+    int fd = pfx_open_regular(path, true);
+    if (fd < 0)
+        return false;
+    bool ok = pfx_sha256_fd(fd, hex);
+    int err = errno;
+    close(fd);
+    errno = err;
+    return ok;
 }
 
 void pfx_sha256_bytes(const void *data, size_t n, char hex[PFX_SHA256_HEX]) {

@@ -118,8 +118,10 @@ static bool write_extras(const pfx_render_job *job, const pfx_cli *o, const char
         return false;
     pfx_preview preview = {
         .path = o->preview, .quality = o->preview_quality, .premultiplied = atlas->premultiplied};
-    if (o->preview && !pfx_preview_run(dir, stem, job->first, job->last, o->every, job->effect->fps,
-                                       &preview, run))
+    if (o->preview &&
+        (!pfx_preview_run(dir, stem, job->first, job->last, o->every, job->effect->fps,
+                          job->effect->width, job->effect->height, &preview, run) ||
+         !pfx_manifest_add_preview(dl->now, o->preview, run)))
         return false;
     if (!pfx_delivery_finish(dl, run))
         return false;

@@ -10,10 +10,10 @@
 
 /* Bounds that keep any file's cost finite; each is documented in
  * man/pfx-effect.5. */
-#define MAX_IMAGE_SIDE 16384
+#define MAX_IMAGE_SIDE PFX_MAX_IMAGE_SIDE
 #define MAX_SIM_RATE 100000.0
 #define MAX_SECONDS 86400.0
-#define MAX_FPS 1000.0
+#define MAX_FPS PFX_MAX_FPS
 #define MAX_FRAMES 1000000.0
 #define MAX_STEPS 1e8
 

@@ -8,11 +8,15 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
+#include "base/regular_file.h"
 #include "base/sha256.h"
+#include "base/strmap.h"
 #include "jobs/atlas_job.h"
 #include "jobs/manifest.h"
 #include "jobs/motion_job.h"
@@ -104,66 +108,79 @@ static int by_stem_then_path(const void *a, const void *b) {
     return c ? c : strcmp(x->path, y->path);
 }
 
-/* Copies src to dst through a temporary (output/atomic_file.h). */
-static bool copy_file(const char *src, const char *dst, pfx_diags *d) {
-    FILE *in = fopen(src, "rb");
-    if (!in) {
+/* Copies the file open at fd (read from its start) to dst through a
+ * temporary (output/atomic_file.h); src names it in messages. */
+static bool copy_file(int fd, const char *src, const char *dst, pfx_diags *d) {
+    if (lseek(fd, 0, SEEK_SET) != 0) {
         pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read '%s': %s", src, strerror(errno));
         return false;
     }
     pfx_atomic_file *a = pfx_atomic_open(dst, d);
-    if (!a) {
-        fclose(in);
+    if (!a)
         return false;
-    }
     FILE *out = pfx_atomic_stream(a);
     char buf[1 << 16];
-    size_t n;
-    bool ok = true;
-    while (ok && (n = fread(buf, 1, sizeof buf, in)) > 0)
-        if (fwrite(buf, 1, n, out) != n) {
-            pfx_atomic_failed(a, errno);
-            ok = false;
+    ssize_t n;
+    while ((n = read(fd, buf, sizeof buf)) != 0) {
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n < 0) {
+            pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read '%s': %s", src, strerror(errno));
+            pfx_atomic_abort(a);
+            return false;
         }
-    if (ok && ferror(in)) {
-        pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read '%s': %s", src,
-                       strerror(errno ? errno : EIO));
-        fclose(in);
-        pfx_atomic_abort(a);
-        return false;
+        if (fwrite(buf, 1, (size_t)n, out) != (size_t)n) {
+            pfx_atomic_failed(a, errno);
+            break;
+        }
     }
-    fclose(in);
     return pfx_atomic_commit(a, false, d);
 }
 
-/* Puts dir/name into out/name, checked against sha256. */
+/* Puts dir/name into out/name, checked against sha256. name is a plain
+ * name from the checked, merged list (pfx_manifest_assemble), so out/name
+ * is in out; the source must be a regular file, not a link (a slice's
+ * directory is input: a FIFO or a link to /dev/zero would hang the hash,
+ * a link elsewhere would copy a file the slice does not own). */
 static bool gather(const char *dir, const char *name, const char *sha256, const char *out,
                    pfx_assemble_report *r, pfx_diags *d) {
     char src[4096], dst[4096], hex[PFX_SHA256_HEX];
-    snprintf(src, sizeof src, "%s/%s", dir, name);
-    snprintf(dst, sizeof dst, "%s/%s", out, name);
-    if (!pfx_sha256_file(src, hex)) {
-        pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read '%s': %s", src, strerror(errno));
+    if (!pfx_manifest_plain_name(name)) { /* pfx_manifest_assemble refused it already */
+        pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                       "'%s' lists an output that is not a plain "
+                       "file name",
+                       dir);
         return false;
     }
+    snprintf(src, sizeof src, "%s/%s", dir, name);
+    snprintf(dst, sizeof dst, "%s/%s", out, name);
+    int fd = pfx_open_regular(src, false);
+    if (fd < 0 || !pfx_sha256_fd(fd, hex)) {
+        pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read '%s': %s", src,
+                       pfx_file_strerror(errno));
+        if (fd >= 0)
+            close(fd);
+        return false;
+    }
+    bool ok = true;
     if (strcmp(hex, sha256)) {
         pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
                        "'%s' does not match the hash its slice's manifest records", src);
-        return false;
-    }
-    if (pfx_sha256_file(dst, hex) && !strcmp(hex, sha256)) {
+        ok = false;
+    } else if (pfx_sha256_file(dst, hex) && !strcmp(hex, sha256)) {
         r->kept++;
-        return true;
+    } else {
+        /* A hard link where the file system allows it, else a copy. */
+        int linked = pfx_atomic_link(src, dst, d);
+        if (linked < 0 || (!linked && !copy_file(fd, src, dst, d)))
+            ok = false;
+        else if (linked)
+            r->linked++;
+        else
+            r->copied++;
     }
-    /* A hard link where the file system allows it, else a copy. */
-    int linked = pfx_atomic_link(src, dst, d);
-    if (linked < 0 || (!linked && !copy_file(src, dst, d)))
-        return false;
-    if (linked)
-        r->linked++;
-    else
-        r->copied++;
-    return true;
+    close(fd);
+    return ok;
 }
 
 /* Whether the sorted outputs of m list name: a binary search, as
@@ -252,6 +269,70 @@ static pfx_manifest *merge_parts(part *p, size_t n, long *first, long *last, pfx
     return all;
 }
 
+/* Gathers every output of the merged list `all` (names checked by
+ * pfx_manifest_assemble, never a part's own list) from the part that
+ * lists it: a map from name to part keeps this O(outputs). */
+static bool gather_all(const part *p, size_t n, const pfx_manifest *all, const char *out,
+                       pfx_assemble_report *r, pfx_diags *d) {
+    pfx_strmap from;
+    pfx_strmap_init(&from);
+    bool ok = true, found;
+    for (size_t i = 0; ok && i < n; i++)
+        for (size_t k = 0; ok && k < pfx_manifest_output_count(p[i].m); k++) {
+            const char *name = pfx_manifest_output(p[i].m, k, NULL);
+            if (name && !pfx_strmap_add(&from, name, strlen(name), i, &found)) {
+                pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
+                ok = false;
+            }
+        }
+    for (size_t k = 0; ok && k < pfx_manifest_output_count(all); k++) {
+        const char *sha, *name = pfx_manifest_output(all, k, &sha);
+        const size_t *i = pfx_strmap_get(&from, name, strlen(name));
+        if (!i) /* cannot happen: the merged list is made of the parts' lists */
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES, "no slice lists '%s'", name);
+        ok = i && gather(p[*i].dir, name, sha, out, r, d);
+    }
+    pfx_strmap_free(&from);
+    return ok;
+}
+
+/* A slice's fps and image size as render accepts them (the effect file's
+ * bounds), and the same in every slice of a render (p[0..n) share a
+ * stem): read from files that are input, checked before any frame is
+ * gathered rather than failing in the preview or the atlas. */
+static bool check_settings(const part *p, size_t n, pfx_diags *d) {
+    bool ok = true;
+    for (size_t i = 0; i < n; i++) {
+        double fps = pfx_manifest_get_number(p[i].m, "fps", NAN);
+        double w = pfx_manifest_get_number(p[i].m, "width", NAN);
+        double h = pfx_manifest_get_number(p[i].m, "height", NAN);
+        if (isnan(fps)) {
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES, "'%s' records no fps (a number)",
+                           p[i].path);
+            ok = false;
+        } else if (!(fps > 0 && fps <= PFX_MAX_FPS)) {
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                           "'%s' records fps %g; it must be greater than 0 and at most %g",
+                           p[i].path, fps, PFX_MAX_FPS);
+            ok = false;
+        } else if (i > 0 && fps != pfx_manifest_get_number(p[0].m, "fps", NAN)) {
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                           "'%s' records fps %g, and '%s' fps %g: slices of one render share "
+                           "their fps",
+                           p[i].path, fps, p[0].path, pfx_manifest_get_number(p[0].m, "fps", 0));
+            ok = false;
+        }
+        if (!(w >= 1 && w <= PFX_MAX_IMAGE_SIDE && w == floor(w) && h >= 1 &&
+              h <= PFX_MAX_IMAGE_SIDE && h == floor(h) && w * h <= (double)PFX_MAX_IMAGE_PIXELS)) {
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                           "'%s' records an image size of %gx%g, not one render can make",
+                           p[i].path, w, h);
+            ok = false;
+        }
+    }
+    return ok;
+}
+
 /* One render: parts p[0..n) share a stem. */
 static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_options *opt,
                          pfx_assemble_report *r, pfx_diags *d) {
@@ -274,11 +355,7 @@ static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_
     ok = ok && (!opt->preview ||
                 pfx_preview_check(&size_check, (int)pfx_manifest_get_number(all, "width", 0),
                                   (int)pfx_manifest_get_number(all, "height", 0), d));
-    for (size_t i = 0; ok && i < n; i++)
-        for (size_t k = 0; ok && k < pfx_manifest_output_count(p[i].m); k++) {
-            const char *sha, *name = pfx_manifest_output(p[i].m, k, &sha);
-            ok = gather(p[i].dir, name, sha, out, r, d);
-        }
+    ok = ok && gather_all(p, n, all, out, r, d);
     /* The atlas (with the motion-vector sheet), the motion-vector sidecar
      * and the preview as render makes them, and in its settings, so that
      * the key is the one a single render with them would have. */
@@ -289,29 +366,40 @@ static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_
         pfx_atlas_layout atlas = *opt->atlas;
         atlas.motion = motion;
         atlas.premultiplied = premultiplied;
+        atlas.frame_w = (int)pfx_manifest_get_number(all, "width", 0);
+        atlas.frame_h = (int)pfx_manifest_get_number(all, "height", 0);
         pfx_atlas_job_describe(&atlas, all);
         ok = pfx_atlas_job_run(out, p[0].stem, first, last, 1, fps, loop, &atlas, all, d);
     } else if (ok && motion) {
         ok = pfx_mv_sidecar_run(out, p[0].stem, first, last, motion, all, d);
     }
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s.manifest.json", out, p[0].stem);
+    pfx_manifest *prev = ok ? pfx_manifest_read(path) : NULL;
     if (ok && opt->preview) {
+        /* Made again unless the last assembly of the same frames and
+         * settings recorded it and it still has that hash: a preview
+         * damaged since is never taken for done. */
         pfx_preview preview = {
             .path = opt->preview, .quality = opt->preview_quality, .premultiplied = premultiplied};
         pfx_manifest_set_string(all, "preview", opt->preview);
         if (opt->preview_quality >= 0)
             pfx_manifest_set_number(all, "preview_quality", opt->preview_quality);
-        ok = pfx_preview_run(out, p[0].stem, first, last, 1, fps, &preview, d);
+        const char *key = pfx_manifest_key(all),
+                   *was = prev ? pfx_manifest_recorded_key(prev) : NULL;
+        if (!(key && was && !strcmp(key, was) && pfx_manifest_preview_intact(prev, opt->preview)))
+            ok = pfx_preview_run(out, p[0].stem, first, last, 1, fps,
+                                 (int)pfx_manifest_get_number(all, "width", 0),
+                                 (int)pfx_manifest_get_number(all, "height", 0), &preview, d);
+        ok = ok && pfx_manifest_add_preview(all, opt->preview, d);
     }
     pfx_manifest_key(all);
-    char path[4096];
-    snprintf(path, sizeof path, "%s/%s.manifest.json", out, p[0].stem);
     if (ok) {
-        pfx_manifest *prev = pfx_manifest_read(path);
         if (prev)
             pfx_manifest_remove_stale(prev, all, out, d);
-        pfx_manifest_destroy(prev);
         ok = pfx_manifest_write(all, path, d);
     }
+    pfx_manifest_destroy(prev);
     if (ok) {
         r->effects++;
         r->frames += (size_t)(last - first + 1);
@@ -342,16 +430,18 @@ bool pfx_assemble(const char *const *dirs, size_t n, const char *out,
             ok = false;
         }
     }
-    if (ok) {
-        qsort(p.items, p.count, sizeof *p.items, by_stem_then_path);
+    /* Every render's settings first, then the work. */
+    for (int pass = 0; ok && pass < 2; pass++)
         for (size_t i = 0; i < p.count;) {
             size_t j = i + 1;
             while (j < p.count && !strcmp(p.items[j].stem, p.items[i].stem))
                 j++;
-            ok = assemble_one(p.items + i, j - i, out, opt, r, d) && ok;
+            if (pass == 0)
+                ok = check_settings(p.items + i, j - i, d) && ok;
+            else
+                ok = assemble_one(p.items + i, j - i, out, opt, r, d) && ok;
             i = j;
         }
-    }
     parts_free(&p);
     return ok;
 }

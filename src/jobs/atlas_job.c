@@ -32,13 +32,28 @@ typedef struct atlas_job {
     pfx_diags *d;
 } atlas_job;
 
-/* Reads every frame, all of one size, which sets l's frame size; stops at
- * the first that cannot be read or does not match, or when the frames
- * together would pass the memory bound (checked at the first, before the
- * rest are read). */
+/* Whether n frames of w x h stay within PFX_ATLAS_MAX_BYTES; says so in d
+ * when not. */
+static bool frames_fit(const atlas_job *j, int w, int h) {
+    if ((long long)w * h * 4 * j->n <= PFX_ATLAS_MAX_BYTES)
+        return true;
+    pfx_diag_error(j->d, PFX_RULE_MEMORY_BOUND,
+                   "an atlas of %ld frames of %dx%d would hold %lld MiB of frames, over the %lld "
+                   "MiB bound",
+                   j->n, w, h, (long long)w * h * 4 * j->n >> 20, PFX_ATLAS_MAX_BYTES >> 20);
+    return false;
+}
+
+/* Reads every frame, all of one size (l's when given, else the first's,
+ * which sets it); stops at the first that cannot be read or does not
+ * match, or when the frames together would pass the memory bound (checked
+ * before any frame is read when the size is given, else at the first). */
 static bool read_frames(atlas_job *j) {
     pfx_atlas_layout *l = j->l;
     char path[4400];
+    /* A size given is checked before any frame is read. */
+    if (l->frame_w > 0 && !frames_fit(j, l->frame_w, l->frame_h))
+        return false;
     for (long k = 0; k < j->n; k++) {
         int w, h;
         j->names[k] = malloc(300);
@@ -48,7 +63,15 @@ static bool read_frames(atlas_job *j) {
         }
         snprintf(j->names[k], 300, "%s_%04ld.png", j->stem, j->first + k * j->step);
         snprintf(path, sizeof path, "%s/%s", j->dir, j->names[k]);
-        j->frames[k] = pfx_png_read(path, &w, &h);
+        /* The size known (given, or the first frame's) is checked on the
+         * header, before a frame that claims to be huge is decoded. */
+        j->frames[k] = pfx_png_read_sized(path, l->frame_w, l->frame_h, &w, &h);
+        if (!j->frames[k] && w > 0 && l->frame_w > 0 && (w != l->frame_w || h != l->frame_h)) {
+            pfx_diag_error(j->d, PFX_RULE_INVALID_FILE,
+                           "'%s' is %dx%d, not %dx%d like the render's frames; it is not read",
+                           path, w, h, l->frame_w, l->frame_h);
+            return false;
+        }
         if (!j->frames[k]) {
             pfx_diag_error(j->d, PFX_RULE_READ_FAILED, "cannot read the frame '%s' for the atlas",
                            path);
@@ -56,19 +79,8 @@ static bool read_frames(atlas_job *j) {
         } else if (k == 0) {
             l->frame_w = w;
             l->frame_h = h;
-            if ((long long)w * h * 4 * j->n > PFX_ATLAS_MAX_BYTES) {
-                pfx_diag_error(j->d, PFX_RULE_MEMORY_BOUND,
-                               "an atlas of %ld frames of %dx%d would hold %lld MiB of frames, "
-                               "over the %lld MiB bound",
-                               j->n, w, h, (long long)w * h * 4 * j->n >> 20,
-                               PFX_ATLAS_MAX_BYTES >> 20);
+            if (!frames_fit(j, w, h))
                 return false;
-            }
-        } else if (w != l->frame_w || h != l->frame_h) {
-            pfx_diag_error(j->d, PFX_RULE_INVALID_FILE,
-                           "'%s' is %dx%d, not %dx%d like the frames before it", path, w, h,
-                           l->frame_w, l->frame_h);
-            return false;
         }
     }
     return true;

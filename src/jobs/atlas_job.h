@@ -16,8 +16,11 @@
 /* Reads dir/stem_NNNN.png for first, first + step, ... up to last, and
  * writes dir/stem_atlas.png and dir/stem_atlas.json laid out by l (columns,
  * rows, padding, extrude, crop set by the caller; the rest is filled in),
- * the JSON's fps being fps / step. Adds both to m (may be NULL). False with
- * the reason in d, and neither file written. */
+ * the JSON's fps being fps / step. A frame size in l (frame_w > 0) is the
+ * one every frame must have, checked on each PNG's header before it is
+ * decoded (assemble gives the manifest's); 0 takes the first frame's. Adds
+ * both to m (may be NULL). False with the reason in d, and neither file
+ * written. */
 bool pfx_atlas_job_run(const char *dir, const char *stem, long first, long last, long step,
                        double fps, bool loop, pfx_atlas_layout *l, pfx_manifest *m, pfx_diags *d);
 

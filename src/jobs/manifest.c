@@ -14,6 +14,8 @@
 #include <unistd.h>
 
 #include "base/json_text.h"
+#include "base/regular_file.h"
+#include "base/strmap.h"
 #include "output/json_file.h"
 
 #define MANIFEST_FORMAT 1
@@ -22,6 +24,12 @@ struct pfx_manifest {
     json_t *root; /* format, pfx_version, pfx_results, command, settings, inputs, bake_key,
                      outputs */
     char key[PFX_SHA256_HEX];
+    /* The outputs by path -> index in "outputs", built at the first lookup
+     * and kept up to date by appends, so that listing, merging and
+     * comparing n outputs is O(n), not O(n^2) (100k frames). Keys point
+     * into the JSON strings, which live as long as their entries. */
+    pfx_strmap index;
+    bool indexed;
 };
 
 static json_t *member(const pfx_manifest *m, const char *k) { return json_object_get(m->root, k); }
@@ -43,8 +51,51 @@ pfx_manifest *pfx_manifest_create(const char *command) {
 void pfx_manifest_destroy(pfx_manifest *m) {
     if (!m)
         return;
+    pfx_strmap_free(&m->index);
     json_decref(m->root);
     free(m);
+}
+
+/* Drops the index after the outputs were reordered or replaced. */
+static void index_drop(pfx_manifest *m) {
+    pfx_strmap_free(&m->index);
+    m->indexed = false;
+}
+
+/* The output entry of m named path, or NULL: O(1) through the index (also
+ * NULL, harmlessly, when the index cannot be allocated: the callers then
+ * append a duplicate, which assemble and the up-to-date check refuse or
+ * tolerate). A later duplicate path keeps the first entry's index. */
+static json_t *find_output(const pfx_manifest *cm, const char *path) {
+    pfx_manifest *m = (pfx_manifest *)cm; /* the index is a cache */
+    json_t *outputs = member(m, "outputs");
+    if (!m->indexed) {
+        pfx_strmap_init(&m->index);
+        m->indexed = true;
+        for (size_t i = 0; i < json_array_size(outputs); i++) {
+            const char *p = json_string_value(json_object_get(json_array_get(outputs, i), "path"));
+            bool found;
+            if (p && !pfx_strmap_add(&m->index, p, strlen(p), i, &found)) {
+                index_drop(m);
+                return NULL;
+            }
+        }
+    }
+    const size_t *at = pfx_strmap_get(&m->index, path, strlen(path));
+    return at ? json_array_get(outputs, *at) : NULL;
+}
+
+/* Appends {path, sha256} to m's outputs and to the index. */
+static void append_output(pfx_manifest *m, const char *path, const char *sha256) {
+    json_t *outputs = member(m, "outputs");
+    json_t *o = json_pack("{s:o, s:s}", "path", pfx_json_bytes(path), "sha256", sha256);
+    if (!o || json_array_append_new(outputs, o) != 0)
+        return;
+    bool found;
+    const char *key = json_string_value(json_object_get(o, "path"));
+    if (m->indexed &&
+        !pfx_strmap_add(&m->index, key, strlen(key), json_array_size(outputs) - 1, &found))
+        index_drop(m);
 }
 
 void pfx_manifest_set_string(pfx_manifest *m, const char *key, const char *value) {
@@ -93,7 +144,7 @@ bool pfx_manifest_add_input(pfx_manifest *m, const char *path, pfx_diags *d) {
     char hex[PFX_SHA256_HEX];
     if (!pfx_sha256_file(path, hex)) {
         pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read input '%s': %s", path,
-                       strerror(errno));
+                       pfx_file_strerror(errno));
         return false;
     }
     pfx_manifest_add_input_sha256(m, path, hex);
@@ -181,16 +232,35 @@ bool pfx_manifest_add_output(pfx_manifest *m, const char *dir, const char *name,
     }
     if (!pfx_sha256_file(path, hex)) {
         pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read output '%s': %s", path,
-                       strerror(errno));
+                       pfx_file_strerror(errno));
         return false;
     }
-    json_t *outputs = member(m, "outputs"), *old = find_path(outputs, name);
+    json_t *old = find_output(m, name);
     if (old)
         json_object_set_new(old, "sha256", json_string(hex));
     else
-        json_array_append_new(outputs,
-                              json_pack("{s:o, s:s}", "path", pfx_json_bytes(name), "sha256", hex));
+        append_output(m, name, hex);
     return true;
+}
+
+bool pfx_manifest_add_preview(pfx_manifest *m, const char *path, pfx_diags *d) {
+    char hex[PFX_SHA256_HEX];
+    if (!pfx_sha256_file(path, hex)) {
+        pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read the preview '%s': %s", path,
+                       pfx_file_strerror(errno));
+        return false;
+    }
+    json_object_set_new(m->root, "preview", json_pack("{s:s, s:s}", "path", path, "sha256", hex));
+    return true;
+}
+
+bool pfx_manifest_preview_intact(const pfx_manifest *m, const char *path) {
+    json_t *p = member(m, "preview");
+    const char *recorded = json_string_value(json_object_get(p, "path"));
+    const char *sha = json_string_value(json_object_get(p, "sha256"));
+    char hex[PFX_SHA256_HEX];
+    return path && recorded && sha && !strcmp(recorded, path) && pfx_sha256_file(path, hex) &&
+           !strcmp(hex, sha);
 }
 
 size_t pfx_manifest_output_count(const pfx_manifest *m) {
@@ -210,13 +280,32 @@ bool pfx_manifest_write(pfx_manifest *m, const char *path, pfx_diags *d) {
     return pfx_json_file_write(path, m->root, d);
 }
 
+/* Whether every entry of list is {path: string, sha256: string}, as pfx
+ * writes them, so that no reader meets a NULL path (a depfile, a key). */
+static bool all_files(json_t *list) {
+    size_t i;
+    json_t *v;
+    json_array_foreach(list, i, v) {
+        if (!json_is_string(json_object_get(v, "path")) ||
+            !json_is_string(json_object_get(v, "sha256")))
+            return false;
+    }
+    return json_is_array(list);
+}
+
 pfx_manifest *pfx_manifest_read(const char *path) {
-    json_t *root = json_load_file(path, 0, NULL);
+    int fd = pfx_open_regular(path, true);
+    FILE *f = fd >= 0 ? fdopen(fd, "rb") : NULL;
+    if (!f && fd >= 0)
+        close(fd);
+    json_t *root = f ? json_loadf(f, 0, NULL) : NULL;
+    if (f)
+        fclose(f);
     pfx_json_unescape(root);
     json_t *format = json_object_get(root, "pfx_manifest");
     if (!json_is_integer(format) || json_integer_value(format) != MANIFEST_FORMAT ||
-        !json_is_array(json_object_get(root, "outputs")) ||
-        !json_is_array(json_object_get(root, "inputs")) ||
+        !all_files(json_object_get(root, "outputs")) ||
+        !all_files(json_object_get(root, "inputs")) ||
         !json_is_object(json_object_get(root, "settings"))) {
         json_decref(root);
         return NULL;
@@ -234,10 +323,24 @@ const char *pfx_manifest_recorded_key(const pfx_manifest *m) {
     return json_string_value(member(m, "bake_key"));
 }
 
-/* A name a manifest may list: a plain file in its directory. */
-static bool plain_name(const char *name) {
-    return name && *name && name[0] != '.' && !strchr(name, '/');
+bool pfx_manifest_plain_name(const char *name) {
+    if (!name || !*name || name[0] == '.')
+        return false;
+    size_t n = 0;
+    for (const unsigned char *c = (const unsigned char *)name; *c; c++, n++)
+        if (*c == '/' || *c == '\\' || *c < 0x20 || *c == 0x7f)
+            return false;
+    return n <= 255;
 }
+
+/* 64 lowercase hex digits. */
+static bool is_sha256(const char *hex) {
+    if (!hex || strlen(hex) != PFX_SHA256_HEX - 1)
+        return false;
+    return strspn(hex, "0123456789abcdef") == PFX_SHA256_HEX - 1;
+}
+
+static bool plain_name(const char *name) { return pfx_manifest_plain_name(name); }
 
 static bool file_has(const char *dir, const char *name, const char *sha256) {
     char path[4096], hex[PFX_SHA256_HEX];
@@ -255,16 +358,18 @@ bool pfx_manifest_up_to_date(const pfx_manifest *prev, const char *key, const ch
         if (!plain_name(name) || !file_has(dir, name, sha))
             return false;
     }
-    return true;
+    /* A manifest from before previews were hashed records none: not up to
+     * date, so the preview is made again and hashed. */
+    const char *preview = json_string_value(json_object_get(member(prev, "settings"), "preview"));
+    return !preview || pfx_manifest_preview_intact(prev, preview);
 }
 
 size_t pfx_manifest_remove_stale(const pfx_manifest *prev, const pfx_manifest *now, const char *dir,
                                  pfx_diags *d) {
     size_t removed = 0;
-    json_t *keep = member(now, "outputs");
     for (size_t i = 0; i < pfx_manifest_output_count(prev); i++) {
         const char *sha, *name = pfx_manifest_output(prev, i, &sha);
-        if (!plain_name(name) || find_path(keep, name))
+        if (!plain_name(name) || find_output(now, name))
             continue;
         char path[4096];
         int n = snprintf(path, sizeof path, "%s/%s", dir, name);
@@ -283,7 +388,8 @@ size_t pfx_manifest_remove_stale(const pfx_manifest *prev, const pfx_manifest *n
     return removed;
 }
 
-static bool merge_outputs(pfx_manifest *dst, const pfx_manifest *src, pfx_diags *d);
+static bool merge_outputs(pfx_manifest *dst, const pfx_manifest *src, const char *src_name,
+                          pfx_diags *d);
 
 void pfx_manifest_set_slice(pfx_manifest *m, long index, long count, long first, long last) {
     json_object_set_new(m->root, "slice",
@@ -308,12 +414,15 @@ static bool is_render(const pfx_manifest *m) {
     return c && !strcmp(c, "render");
 }
 
-/* The slice member of a part: index, count and the whole range. */
+/* The slice member of a part: index, count and the whole range, within
+ * what render --slice and --frames accept (so that a crafted count cannot
+ * make assemble allocate or report without bound). */
 static bool slice_of(const pfx_manifest *m, json_int_t *index, json_int_t *count, json_int_t *first,
                      json_int_t *last) {
     return json_unpack(member(m, "slice"), "{s:I, s:I, s:[I, I]}", "index", index, "count", count,
                        "frames", first, last) == 0 &&
-           *count >= 1 && *index >= 0 && *index < *count && *first <= *last;
+           *count >= 1 && *count <= 1000000 && *index >= 0 && *index < *count && *first >= 0 &&
+           *first <= *last && *last <= 100000000;
 }
 
 /* The settings without the frame range, for comparing slices. */
@@ -400,12 +509,17 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
             continue;
         }
         seen[index] = names[k];
-        merge_outputs(out, parts[k], d);
+        merge_outputs(out, parts[k], names[k], d);
     }
+    /* The first few missing slices by number, then how many more. */
+    json_int_t missing = 0;
     for (json_int_t i = 0; seen && i < c0; i++)
-        if (!seen[i])
+        if (!seen[i] && ++missing <= 10)
             pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES, "slice %lld of %lld is missing",
                            (long long)i, (long long)c0);
+    if (missing > 10)
+        pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES, "%lld more slices of %lld are missing",
+                       (long long)(missing - 10), (long long)c0);
     free(seen);
     json_decref(ref);
     if (!out || d->errors > errors) {
@@ -425,6 +539,7 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
         items[i] = json_incref(json_array_get(outputs, i));
     qsort(items, count_out, sizeof *items, by_path);
     json_array_clear(outputs);
+    index_drop(out);
     for (size_t i = 0; i < count_out; i++)
         json_array_append_new(outputs, items[i]);
     free(items);
@@ -435,23 +550,46 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
     return out;
 }
 
-/* Appends src's outputs to dst; a name already there is an error. */
-static bool merge_outputs(pfx_manifest *dst, const pfx_manifest *src, pfx_diags *d) {
-    json_t *outputs = member(dst, "outputs");
+/* name for a message: control bytes as '?', so that a crafted name cannot
+ * rewrite the terminal; cut short after 80 bytes. */
+static const char *printable(const char *name, char buf[96]) {
+    size_t i = 0;
+    for (; name[i] && i < 80; i++)
+        buf[i] = (unsigned char)name[i] < 0x20 || name[i] == 0x7f ? '?' : name[i];
+    strcpy(buf + i, name[i] ? "..." : "");
+    return buf;
+}
+
+/* Appends src's outputs to dst. A name that is not a plain file name (a
+ * '/', a leading '.', a control byte: a slice's directory is input, and
+ * "../x" would make assemble write outside its directory), a missing or
+ * malformed SHA-256, or a name already there is an error. */
+static bool merge_outputs(pfx_manifest *dst, const pfx_manifest *src, const char *src_name,
+                          pfx_diags *d) {
     for (size_t i = 0; i < pfx_manifest_output_count(src); i++) {
         const char *sha, *name = pfx_manifest_output(src, i, &sha);
-        if (!plain_name(name) || !sha)
-            continue;
-        json_t *old = find_path(outputs, name);
-        const char *old_sha = old ? json_string_value(json_object_get(old, "sha256")) : NULL;
+        char shown[96];
+        if (!plain_name(name)) {
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                           "'%s' lists the output '%s', which is not a plain file name in its "
+                           "directory",
+                           src_name, name ? printable(name, shown) : "(not a string)");
+            return false;
+        }
+        if (!is_sha256(sha)) {
+            pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
+                           "'%s' records no SHA-256 for the output '%s'", src_name,
+                           printable(name, shown));
+            return false;
+        }
+        json_t *old = find_output(dst, name);
         if (old) {
+            const char *old_sha = json_string_value(json_object_get(old, "sha256"));
             pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES, "'%s' is in two slices%s", name,
                            old_sha && strcmp(old_sha, sha) ? ", with different contents" : "");
             return false;
         }
-        if (!old)
-            json_array_append_new(
-                outputs, json_pack("{s:o, s:s}", "path", pfx_json_bytes(name), "sha256", sha));
+        append_output(dst, name, sha);
     }
     return true;
 }

@@ -69,19 +69,37 @@ bool pfx_manifest_add_output(pfx_manifest *m, const char *dir, const char *name,
 size_t pfx_manifest_output_count(const pfx_manifest *m);
 const char *pfx_manifest_output(const pfx_manifest *m, size_t i, const char **sha256);
 
+/* Hashes the preview at path (--preview: a path of its own, not a name in
+ * the manifest's directory) and records it as the manifest's "preview"
+ * {path, sha256}, so that a preview damaged or replaced since is not up to
+ * date. False, with the reason in d, when unreadable. */
+bool pfx_manifest_add_preview(pfx_manifest *m, const char *path, pfx_diags *d);
+
+/* True when m records the preview at path with the SHA-256 the file has
+ * now. */
+bool pfx_manifest_preview_intact(const pfx_manifest *m, const char *path);
+
 /* Writes m to path whole or not at all (a temporary renamed into place).
  * False with the reason in d. */
 bool pfx_manifest_write(pfx_manifest *m, const char *path, pfx_diags *d);
 
 /* The manifest at path, or NULL when there is none or it is not one of
- * pfx's (then nothing is trusted from it). */
+ * pfx's (then nothing is trusted from it): not a regular file (never
+ * opened for reading when a FIFO or a device), not JSON, another format,
+ * or an input or output without a string path and sha256. */
 pfx_manifest *pfx_manifest_read(const char *path);
 /* The key the manifest recorded, or NULL. */
 const char *pfx_manifest_recorded_key(const pfx_manifest *m);
 
 /* True when prev records `key` and every output it lists is in dir with
- * the recorded SHA-256: a re-run would write the same bytes. */
+ * the recorded SHA-256, and so is its preview when its settings name one
+ * (pfx_manifest_preview_intact): a re-run would write the same bytes. */
 bool pfx_manifest_up_to_date(const pfx_manifest *prev, const char *key, const char *dir);
+
+/* Whether name is one a manifest may list: a plain file name in the
+ * manifest's directory (not empty, no '/' or '\\', no leading '.', no
+ * control byte, at most 255 bytes). */
+bool pfx_manifest_plain_name(const char *name);
 
 /* Removes from dir each output prev lists and now does not, when the file
  * still has the hash pfx recorded (a file changed since, or never written
@@ -108,7 +126,8 @@ double pfx_manifest_slice_number(const pfx_manifest *m, const char *key, double 
 /* The one manifest of a render cut into slices: the slices' manifests
  * (named by `names` in messages) must be every slice of one render
  * exactly once: the same inputs, settings but for the frames, and count;
- * no output twice. The result has the settings of a single-process render
+ * no output twice, each a plain name (pfx_manifest_plain_name) with its
+ * SHA-256. The result has the settings of a single-process render
  * of all the frames (so the same bake key) and every output, sorted; its
  * frame range is in *first, *last. NULL with the reasons in d. */
 pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *const *names, size_t n,

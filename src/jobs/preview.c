@@ -71,35 +71,34 @@ static void to_straight(uint8_t *rgba, size_t pixels) {
 }
 
 bool pfx_preview_run(const char *dir, const char *stem, long first, long last, long step,
-                     double fps, const pfx_preview *p, pfx_diags *d) {
+                     double fps, int width, int height, const pfx_preview *p, pfx_diags *d) {
     /* Every step-th frame plays at fps / step: the preview lasts as long as
      * the effect. */
     fps /= (double)step;
     const char *path = p->path;
     writer w = {0};
-    int width = 0, height = 0;
     bool ok = true;
     for (long f = first; ok && f <= last; f += step) {
         char frame[4400];
         int fw, fh;
         snprintf(frame, sizeof frame, "%s/%s_%04ld.png", dir, stem, f);
-        uint8_t *rgba = pfx_png_read(frame, &fw, &fh);
+        uint8_t *rgba = pfx_png_read_sized(frame, width, height, &fw, &fh);
+        if (!rgba && fw > 0 && (fw != width || fh != height)) {
+            pfx_diag_error(d, PFX_RULE_INVALID_FILE,
+                           "'%s' is %dx%d, not the %dx%d of the render; it is not read", frame, fw,
+                           fh, width, height);
+            ok = false;
+            break;
+        }
         if (!rgba) {
             pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot read the frame '%s' for the preview",
                            frame);
             ok = false;
             break;
         }
-        if (f == first) {
-            width = fw, height = fh;
+        if (f == first)
             ok = pfx_preview_check(p, width, height, d) &&
                  writer_create(&w, width, height, fps, p, d);
-        } else if (fw != width || fh != height) {
-            pfx_diag_error(d, PFX_RULE_INVALID_FILE,
-                           "'%s' is %dx%d, not %dx%d like the frames before it", frame, fw, fh,
-                           width, height);
-            ok = false;
-        }
         if (ok && p->premultiplied)
             to_straight(rgba, (size_t)fw * (size_t)fh);
         ok = ok && writer_add(&w, rgba, (f - first) / step, d);

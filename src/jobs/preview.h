@@ -22,9 +22,12 @@ typedef struct pfx_preview {
 bool pfx_preview_check(const pfx_preview *p, int width, int height, pfx_diags *d);
 
 /* Reads dir/stem_NNNN.png for first, first + step, ... up to last, one at
- * a time, and writes them to p->path at fps / step, looping. False with the
- * reason in d, and no file at the path. */
+ * a time, and writes them to p->path at fps / step, looping. Every frame
+ * must be width x height (the render's size, from its manifest for
+ * assemble), checked on its header before it is decoded, so a frame that
+ * claims to be huge costs nothing. False with the reason in d, and no file
+ * at the path. */
 bool pfx_preview_run(const char *dir, const char *stem, long first, long last, long step,
-                     double fps, const pfx_preview *p, pfx_diags *d);
+                     double fps, int width, int height, const pfx_preview *p, pfx_diags *d);
 
 #endif

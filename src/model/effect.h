@@ -28,6 +28,11 @@
 /* The most pixels an image can have: the renderer draws into one RGBA32F
  * framebuffer, which Mesa cannot allocate past 2^31 bytes (16 per pixel). */
 #define PFX_MAX_IMAGE_PIXELS (1ULL << 27)
+/* The most pixels on an image's side and the most frames a second: bounds
+ * of the effect file (man/pfx-effect.5) that assemble checks slices'
+ * manifests against too. */
+#define PFX_MAX_IMAGE_SIDE 16384
+#define PFX_MAX_FPS 1000.0
 
 /* A random quantity. Constant: a. Uniform: [a, b]. Normal: mean a, standard
  * deviation b, clamped to [lo, hi]. `{mean, var}` compiles to uniform. */

@@ -10,6 +10,7 @@
 #include "output/png_write.h"
 
 #include "base/diag.h"
+#include "base/regular_file.h"
 #include "output/atomic_file.h"
 
 #include <errno.h>
@@ -21,6 +22,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* Compression: libpng writes the signature, IHDR and IEND; the IDAT
  * stream is the Up-filtered rows deflated in one call by libdeflate, at
@@ -324,11 +326,23 @@ static void want_rgba(png_structp png, png_infop info, int bits) {
 }
 
 /* Any PNG as RGBA samples of `bits` (8 or 16) bits, top row first. Returns
- * a malloc'd buffer the caller frees, or NULL. */
-static void *png_read_depth(const char *path, int bits, int *width, int *height) {
-    FILE *file = fopen(path, "rb");
-    if (file == NULL)
+ * a malloc'd buffer the caller frees, or NULL. Only a regular file is
+ * opened (a FIFO would block). want_w > 0: only an image of want_w x
+ * want_h, checked on the header before anything is allocated or decoded;
+ * *width, *height hold the header's size then even when it differs. */
+static void *png_read_depth(const char *path, int bits, int want_w, int want_h, int *width,
+                            int *height) {
+    if (width != NULL)
+        *width = 0;
+    if (height != NULL)
+        *height = 0;
+    int fd = pfx_open_regular(path, true);
+    FILE *file = fd >= 0 ? fdopen(fd, "rb") : NULL;
+    if (file == NULL) {
+        if (fd >= 0)
+            close(fd);
         return NULL;
+    }
     pfx_png_ctx ctx = {.message = "", .write_errno = 0, .file = file};
     png_structp png =
         png_create_read_struct(PNG_LIBPNG_VER_STRING, &ctx, pfx_png_on_error, pfx_png_on_warning);
@@ -350,9 +364,15 @@ static void *png_read_depth(const char *path, int bits, int *width, int *height)
     }
     png_init_io(png, file);
     png_read_info(png, info);
-    want_rgba(png, info, bits);
     png_uint_32 w = png_get_image_width(png, info);
     png_uint_32 h = png_get_image_height(png, info);
+    if (width != NULL)
+        *width = (int)w;
+    if (height != NULL)
+        *height = (int)h;
+    if (want_w > 0 && (w != (png_uint_32)want_w || h != (png_uint_32)want_h))
+        png_error(png, "not the size asked for");
+    want_rgba(png, info, bits);
     size_t stride = (size_t)w * 4 * (size_t)(bits / 8);
     if (png_get_rowbytes(png, info) != stride)
         png_error(png, "not RGBA of the asked depth after transforms");
@@ -369,15 +389,15 @@ static void *png_read_depth(const char *path, int bits, int *width, int *height)
     free(rows);
     png_destroy_read_struct(&png, &info, NULL);
     fclose(file);
-    if (width != NULL)
-        *width = (int)w;
-    if (height != NULL)
-        *height = (int)h;
     return result;
 }
 
 uint8_t *pfx_png_read(const char *path, int *width, int *height) {
-    return png_read_depth(path, 8, width, height);
+    return png_read_depth(path, 8, 0, 0, width, height);
+}
+
+uint8_t *pfx_png_read_sized(const char *path, int width, int height, int *got_w, int *got_h) {
+    return png_read_depth(path, 8, width, height, got_w, got_h);
 }
 
 bool pfx_png_write16(const char *path, const uint16_t *rgba, int width, int height, bool sync_dir,
@@ -386,5 +406,5 @@ bool pfx_png_write16(const char *path, const uint16_t *rgba, int width, int heig
 }
 
 uint16_t *pfx_png_read16(const char *path, int *width, int *height) {
-    return png_read_depth(path, 16, width, height);
+    return png_read_depth(path, 16, 0, 0, width, height);
 }

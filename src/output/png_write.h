@@ -38,4 +38,11 @@ size_t pfx_png_encoder_scratch_bytes(int width, int height);
  * frees, or NULL. */
 uint8_t *pfx_png_read(const char *path, int *width, int *height);
 
+/* Reads the PNG at path as 8-bit RGBA only when it is a regular file whose
+ * header says width x height: a frame claiming another size (a crafted
+ * 20000x20000 of a few bytes) costs no allocation and no decoding. NULL
+ * otherwise, with the header's size in *got_w, *got_h (0 when no header
+ * was read). The buffer is malloc'd; the caller frees it. */
+uint8_t *pfx_png_read_sized(const char *path, int width, int height, int *got_w, int *got_h);
+
 #endif

@@ -13,7 +13,8 @@
 #
 # Seeds: effects/*.yaml and tests/diag/*.yaml for the effect targets, the
 # OBJ files of effects/ and tests/diag for fuzz_obj, the PNG textures of
-# effects/textures and tests/diag for fuzz_png. A long campaign is in
+# effects/textures and tests/diag for fuzz_png, tests/fuzz/jobs/*.seed
+# (crafted slice folders) for fuzz_jobs. A long campaign is in
 # tests/fuzz/README.
 set -u
 source "$(dirname "${BASH_SOURCE[0]}")/../harness.sh" fuzz "$@"
@@ -79,11 +80,13 @@ fuzz_run() {
         printf '%s\n' 'emitters.copy.color.1=#ff0000' 'emitters.flame.size={start: 1}' >"$seeds/item-map"
         printf '%s\n' emitters.flam.rate=1 emitters.flame.shape.radiu=2 >"$seeds/typos"
         ;;
+    jobs) cp "$src"/tests/fuzz/jobs/*.seed "$seeds/" ;;
     *) cp "$src"/effects/*.yaml "$src"/tests/diag/*.yaml "$seeds/" ;;
     esac
     local args=(-dict="$tree/pfx.dict" -max_len=65536)
     [ "$target" = obj ] && args=(-max_len=65536)
     [ "$target" = png ] && args=(-max_len=65536)
+    [ "$target" = jobs ] && args=(-max_len=65536)
     [ "$target" = sim ] && args=(-dict="$tree/pfx.dict" -max_len=16384)
     echo "fuzz_$target for $seconds s: $exe ${args[*]} CORPUS SEEDS"
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 \
