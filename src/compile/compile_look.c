@@ -91,6 +91,33 @@ PFX_KEY_TABLE(pfx_stretch_table, "stretch", NULL,
               "How long a velocity-aligned sprite is: size x length + |v| x speed metres.",
               stretch_keys);
 
+/* taper: [HEAD, TAIL], each a fraction of the strip's length in [0, 1]. */
+static void read_taper(pfx_reader *r, const pfx_node *map, const pfx_node *v, void *dest) {
+    (void)map;
+    double t[2];
+    if (!pfx_read_numbers(r, v, "taper", t, 2))
+        return;
+    for (int i = 0; i < 2; i++)
+        if (!(t[i] >= 0 && t[i] <= 1)) {
+            pfx_read_error(r, v->items[i], PFX_RULE_OUT_OF_RANGE,
+                           "'taper' takes fractions of the ribbon's length from 0 to 1, got %g",
+                           t[i]);
+            return;
+        }
+    memcpy(((pfx_look *)dest)->ribbon_taper, t, sizeof t);
+}
+
+static const pfx_key ribbon_keys[] = {
+    {"taper", PFX_KEY_CODE, .offset = -1, .hook = read_taper,
+     .schema = "{\"type\": \"array\", \"items\": {\"type\": \"number\", \"minimum\": 0, "
+               "\"maximum\": 1}, \"minItems\": 2, \"maxItems\": 2, \"default\": [0, 0]}",
+     .doc = "[head, tail]: the fractions of the ribbon's length over which its width and alpha "
+            "rise linearly from 0 at the head (the newest end) and fall to 0 at the tail, on top "
+            "of each point's size and alpha over life."},
+};
+PFX_KEY_TABLE(pfx_ribbon_table, "ribbon", NULL,
+              "How a draw: ribbon strip is shaped along its length.", ribbon_keys);
+
 /* ---- The effect's light and image ---- */
 
 static void read_light_direction(pfx_reader *r, const pfx_node *map, const pfx_node *v,
@@ -301,6 +328,8 @@ void pfx_compile_look(pfx_reader *r, const pfx_node *n, pfx_emitter *em, const c
         pfx_read_error(r, v, PFX_RULE_INAPPLICABLE_KEY, "'axis' needs align: axis");
     else if ((v = pfx_node_get(n, "normal")))
         pfx_read_error(r, v, PFX_RULE_INAPPLICABLE_KEY, "'normal' needs align: world");
+    if ((v = pfx_node_get(n, "ribbon")))
+        pfx_read_error(r, v, PFX_RULE_INAPPLICABLE_KEY, "'ribbon' needs draw: ribbon");
     if ((v = pfx_node_get(n, "stretch")) && look->align != PFX_ALIGN_VELOCITY)
         pfx_read_error(r, v, PFX_RULE_INAPPLICABLE_KEY, "'stretch' needs align: velocity");
     if ((v = pfx_node_get(n, "intensity")))

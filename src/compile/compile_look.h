@@ -7,7 +7,7 @@
 #include "compile/keys.h"
 #include "compile/read.h"
 
-extern const pfx_key_table pfx_flipbook_table, pfx_stretch_table, pfx_light_table,
+extern const pfx_key_table pfx_flipbook_table, pfx_stretch_table, pfx_ribbon_table, pfx_light_table,
     pfx_motion_blur_table;
 
 /* The effect's look defaults: dither on, no motion blur (1 sample), the

@@ -179,6 +179,10 @@ typedef struct pfx_look {
     double axis[3];        /* AXIS: the world axis; WORLD: the plane's normal (unit) */
     double stretch_length; /* VELOCITY: length = size * stretch_length + |v| * stretch_speed */
     double stretch_speed;  /* seconds */
+    /* RIBBON: the fractions of a strip's length (from its head, the newest
+     * end, and from its tail) over which width and alpha rise linearly from
+     * 0; [0, 0]: none. */
+    double ribbon_taper[2];
     bool lit;
     bool intensity_curve;                  /* intensity over life from intensity_lut */
     float intensity;                       /* else this constant */

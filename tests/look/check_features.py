@@ -1,0 +1,163 @@
+"""Known answers for the look features of issue 26, through the command
+line (`pfx bake`, `pfx render`): a tangent emission's velocities at right
+angles to the radius; a tapered ribbon's width falling to zero at its ends.
+Each scene states its formula beside it.
+
+usage: check_features.py PFX WORKDIR"""
+import csv
+import math
+import os
+import subprocess
+import sys
+
+import numpy as np
+from PIL import Image
+
+PFX, WORK = sys.argv[1], sys.argv[2]
+failures = []
+
+
+def check(ok, what):
+    print(("ok   " if ok else "FAIL ") + what)
+    if not ok:
+        failures.append(what)
+
+
+def write(name, text):
+    path = os.path.join(WORK, name + ".yaml")
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
+def bake(name, text):
+    """The baked rows of frame 0, as dicts of floats (emitter kept)."""
+    out = os.path.join(WORK, name + ".csv")
+    subprocess.run([PFX, "bake", write(name, text), "-o", out, "-q"], check=True)
+    rows = []
+    with open(out, newline="") as f:
+        for r in csv.DictReader(f):
+            rows.append({k: (v if k == "emitter" else float(v)) for k, v in r.items()})
+    return rows
+
+
+def render(name, text, args=()):
+    """{frame number: float array (H, W, 4) in 0..255}."""
+    out = os.path.join(WORK, name)
+    subprocess.run([PFX, "render", write(name, text), "-o", out, "-q", *args], check=True)
+    return {int(n[-8:-4]): np.asarray(Image.open(os.path.join(out, n)).convert("RGBA"),
+                                      dtype=np.float64)
+            for n in sorted(os.listdir(out)) if n.endswith(".png")}
+
+
+# ---- direction: tangent. A disc rim of radius 1 at (3, 1, -2) and one
+# turned 90 degrees about X (its axis is then world +Z... -Y x: Y -> Z).
+# At birth each velocity is speed x axis x (p - c) / |axis x (p - c)|:
+# at right angles to the radius and the axis, counter-clockwise about it.
+TANGENT = """pfx: 1
+duration: 0.1
+fps: 10
+seed: 5
+camera: { position: [0, 10, 0.001], target: [0, 0, 0], ortho: 4 }
+image: { size: [64, 64] }
+emitters:
+  flat:
+    shape: { type: disc, radius: 1 }
+    position: [3, 1, -2]
+    bursts: [{ time: 0, count: 200 }]
+    direction: tangent
+    speed: 2
+    lifetime: 10
+    forces: []
+  turned:
+    shape: { type: cylinder, radius: 0.5, height: 1 }
+    position: [-1, 0, 0]
+    rotation: [90, 0, 0]
+    bursts: [{ time: 0, count: 200 }]
+    direction: tangent
+    speed: 3
+    lifetime: 10
+    forces: []
+"""
+rows = [r for r in bake("tangent", TANGENT) if r["frame"] == 0]
+cases = {"flat": ((3, 1, -2), (0, 1, 0), 2.0), "turned": ((-1, 0, 0), (0, 0, 1), 3.0)}
+for name, (c, axis, speed) in cases.items():
+    worst = 0.0
+    n = 0
+    for r in (r for r in rows if r["emitter"] == name):
+        d = np.array([r["x"], r["y"], r["z"]]) - c
+        d -= np.dot(d, axis) * np.array(axis)  # from the axis, at the point's height
+        want = np.cross(axis, d)
+        want *= speed / np.linalg.norm(want)
+        v = np.array([r["vx"], r["vy"], r["vz"]])
+        worst = max(worst, float(np.abs(v - want).max()))
+        n += 1
+    check(n == 200 and worst < 1e-5,
+          "tangent %s: %d velocities equal %g x axis x radius / |axis x radius| (normal to the "
+          "radius and the axis), worst error %.2g m/s" % (name, n, speed, worst))
+
+# ---- ribbon taper. As tests/look/check_ribbon.py: a parent moves along +x
+# at 1 m/s from x = -1.5 under an orthographic camera of 4 m over 200 px (50
+# px a metre) and lays 30 points a second; at 1.5 s its strip runs from the
+# first point, x0 = -1.5 + 1/30, to the parent at x = 0: length L = -x0. A
+# flat (square) white additive strip of size 0.4 m is 20 px wide; with
+# taper [0.25, 0.5] its width at x is 20 min(1, -x / (0.25 L),
+# (x - x0) / (0.5 L)) px and its brightness falls with the same factor.
+RIBBON = """pfx: 1
+duration: 2
+fps: 10
+seed: 3
+camera: { position: [0, 0, 5], target: [0, 0, 0], ortho: 4 }
+image: { size: [200, 200], background: "#000000ff" }
+emitters:
+  head:
+    bursts: [{ time: 0, count: 1 }]
+    position: [-1.5, 0, 0]
+    speed: 1
+    direction: [1, 0, 0]
+    lifetime: 10
+    size: 0.1
+    color: "#ff000000"
+    forces: []
+    trail: { emit: ribbon, rate: 30 }
+  ribbon:
+    draw: ribbon
+    sprite: square
+    speed: 0
+    lifetime: 3
+    size: 0.4
+    forces: []
+%s
+"""
+x0 = -1.5 + 1 / 30
+L = -x0
+
+
+def factor(x):
+    return max(0.0, min(1.0, -x / (0.25 * L), (x - x0) / (0.5 * L)))
+
+
+img = render("taper", RIBBON % "    ribbon: { taper: [0.25, 0.5] }")[15][:, :, 0]
+covered = img > 2  # any light at all: the strip's full width at that column
+bad = []
+for col in range(int(100 + x0 * 50) + 1, 99):
+    x = (col + 0.5 - 100) / 50
+    want = 20 * factor(x)
+    got = int(covered[:, col].sum())
+    if abs(got - want) > 1.6 and not (want < 4 and got <= 4):  # the 4 px footprint floor
+        bad.append("x %.2f: %d px, expected %.1f" % (x, got, want))
+check(not bad, "taper: covered width is 20 px x min(1, head / 0.25 L, tail / 0.5 L) at every "
+      "column" + ("; " + ", ".join(bad[:4]) if bad else ""))
+mid = int(100 + (x0 + 0.6 * L) * 50)
+ends = [int(covered[:, c].sum()) for c in (int(100 + x0 * 50), 99)]
+check(max(ends) <= 4 and abs(int(covered[:, mid].sum()) - 20) <= 1,
+      "taper: the width falls to the footprint floor (<= 4 px) at both ends (%d, %d px) and is "
+      "full (20 px) between them (%d px)" % (ends[0], ends[1], int(covered[:, mid].sum())))
+q = int(100 + (x0 + 0.25 * L) * 50)  # half-way up the tail's ramp: brightness 0.5
+check(abs(img[100, q] - 255 * factor((q + 0.5 - 100) / 50)) <= 3,
+      "taper: brightness on the centre line follows the same factor (%.0f, expected %.0f)"
+      % (img[100, q], 255 * factor((q + 0.5 - 100) / 50)))
+plain = render("untapered", RIBBON % "")[15][:, :, 0]
+check(int((plain > 2)[:, 99].sum()) >= 19, "taper: without it the head is full width")
+
+sys.exit(1 if failures else 0)
