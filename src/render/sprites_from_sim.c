@@ -95,7 +95,17 @@ static pfx_sprite sprite_of(const pfx_sim *s, size_t i, uint32_t j) {
     const float u = (float)age / p->lifetime[j], size = pfx_particle_size(em, p, j);
     const float a = c[3], glow = a * pfx_look_intensity(k, u);
     const float variant = variant_of(i, p->id[j]);
-    const float speed = sqrtf(p->vx[j] * p->vx[j] + p->vy[j] * p->vy[j] + p->vz[j] * p->vz[j]);
+    /* What is drawn from motion is the particle's whole motion: its
+     * velocity plus what the vortex moves it by (pfx_motion_drift), which
+     * the velocity column does not hold. */
+    float v[3] = {p->vx[j], p->vy[j], p->vz[j]};
+    if (k->align == PFX_ALIGN_VELOCITY && em->motion) {
+        double drift[3];
+        pfx_motion_drift(em->motion, (const double[3]){p->px[j], p->py[j], p->pz[j]}, drift);
+        for (int a = 0; a < 3; a++)
+            v[a] = (float)(v[a] + drift[a]);
+    }
+    const float speed = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     return (pfx_sprite){.x = p->px[j],
                         .y = p->py[j],
                         .z = p->pz[j],
@@ -108,9 +118,9 @@ static pfx_sprite sprite_of(const pfx_sim *s, size_t i, uint32_t j) {
                         .material = (float)i,
                         .frame = cell_of(&k->flipbook, u, age, variant),
                         .variant = variant,
-                        .vx = p->vx[j],
-                        .vy = p->vy[j],
-                        .vz = p->vz[j],
+                        .vx = v[0],
+                        .vy = v[1],
+                        .vz = v[2],
                         .length =
                             size * (float)k->stretch_length + speed * (float)k->stretch_speed};
 }

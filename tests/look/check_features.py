@@ -1,6 +1,7 @@
 """Known answers for the look features of issue 26, through the command
 line (`pfx bake`, `pfx render`): a tangent emission's velocities at right
-angles to the radius; a tapered ribbon's width falling to zero at its ends.
+angles to the radius; a tapered ribbon's width falling to zero at its ends;
+a vortex-driven stretched sprite elongated along its path.
 Each scene states its formula beside it.
 
 usage: check_features.py PFX WORKDIR"""
@@ -159,5 +160,52 @@ check(abs(img[100, q] - 255 * factor((q + 0.5 - 100) / 50)) <= 3,
       % (img[100, q], 255 * factor((q + 0.5 - 100) / 50)))
 plain = render("untapered", RIBBON % "")[15][:, :, 0]
 check(int((plain > 2)[:, 99].sum()) >= 19, "taper: without it the head is full width")
+
+# ---- What is drawn from motion includes what the vortex moves. One
+# square sprite born still at radius 1 m from a vortex about +Y (strength
+# 120 deg/s at the axis, radius 10 m, d 0: f(r) = r^4 - 2 r^2 + 1) is
+# carried round at |v| = 120 pi / 180 f(0.1) m/s, which its velocity
+# column does not hold. Seen from above (50 px a metre), align: velocity
+# with stretch { length: 1, speed: 0.5 } draws it 0.4 m across the path and
+# 0.4 + 0.5 |v| m along it (old: 0.4 m both ways, |v| = 0). A square
+# sprite's falloff (1 - y^2)^2 covers sqrt(1 - sqrt(2 / 255)) of each
+# half-side above 2 of 255.
+VORTEX = """pfx: 1
+duration: 1
+fps: 10
+seed: 2
+camera: { position: [0, 10, 0], target: [0, 0, 0], up: [0, 0, -1], ortho: 4 }
+image: { size: [200, 200], background: "#000000ff" }
+forces:
+  swirl: { type: vortex, center: [0, 0, 0], axis: [0, 1, 0], strength: 120, radius: 10, d: 0 }
+emitters:
+  leaf:
+    position: [1, 0, 0]
+    bursts: [{ time: 0, count: 1 }]
+    speed: 0
+    lifetime: 10
+    size: 0.4
+    sprite: square
+    align: velocity
+    stretch: { length: 1, speed: 0.5 }
+"""
+speed = math.radians(120) * (0.1 ** 4 - 2 * 0.1 ** 2 + 1)
+cover = math.sqrt(1 - math.sqrt(2 / 255))
+want_along, want_across = (0.4 + 0.5 * speed) * 50 * cover, 0.4 * 50 * cover
+for frame, img in sorted(render("vortex", VORTEX).items()):
+    if frame not in (0, 5):
+        continue
+    ys, xs = np.nonzero(img[:, :, 0] > 2)
+    pts = np.stack([xs + 0.5, ys + 0.5], axis=1)
+    radial = pts.mean(axis=0) - (100, 100)
+    radial /= np.linalg.norm(radial)
+    tangent = np.array([-radial[1], radial[0]])
+    along = pts @ tangent
+    across = pts @ radial
+    got_along, got_across = along.max() - along.min() + 1, across.max() - across.min() + 1
+    check(abs(got_along - want_along) <= 2.5 and abs(got_across - want_across) <= 2.5,
+          "vortex frame %d: the stretched sprite is %.1f px along its path (expected %.1f) and "
+          "%.1f px across it (expected %.1f): elongated %.2fx along the tangent"
+          % (frame, got_along, want_along, got_across, want_across, got_along / got_across))
 
 sys.exit(1 if failures else 0)
