@@ -71,8 +71,9 @@ static const pfx_key flipbook_keys[] = {
      .schema = "{\"const\": \"life\", \"default\": \"life\"}",
      .doc = "life: the sheet plays once from birth to death (the default when fps is absent)."},
     {"start", PFX_KEY_CODE, .offset = -1, .hook = read_start,
-     .schema = "{\"enum\": [0, \"0\", \"random\"], \"default\": 0}",
-     .doc = "0: every particle starts at the first cell; random: each at its own cell."},
+     .schema = "{\"enum\": [0, \"0\", \"random\"]}",
+     .doc = "0: every particle starts at the first cell; random: each at its own cell. Default: "
+            "random with fps, 0 over life."},
     {"blend", PFX_KEY_BOOL, .def = {0}, .offset = B(blend),
      .doc = "Cross-fade between consecutive cells instead of cutting."},
 };
@@ -231,6 +232,11 @@ static void check_flipbook(pfx_reader *r, const pfx_node *v, pfx_look *look) {
         return; /* reported at 'grid' */
     if (!b->frames)
         b->frames = b->cols * b->rows;
+    /* A looping sheet played in step by every particle is the classic
+     * tell: each starts at its own cell unless `start` says otherwise. A
+     * sheet over life (an explosion's stages) starts at its first cell. */
+    if (b->fps > 0 && !pfx_node_get(v, "start"))
+        b->random_start = true;
     const pfx_image *t = look->texture;
     if (!t) {
         pfx_read_error(r, v, PFX_RULE_MISSING_KEY,
@@ -334,6 +340,14 @@ void pfx_compile_look(pfx_reader *r, const pfx_node *n, pfx_emitter *em, const c
         pfx_read_error(r, v, PFX_RULE_INAPPLICABLE_KEY, "'stretch' needs align: velocity");
     if ((v = pfx_node_get(n, "intensity")))
         read_intensity(r, v, look);
+    /* Smoke, dust and cloud sheets have no up, and a field of them all at
+     * one angle repeats visibly: the built-in smoke puff and alpha-blended
+     * textures facing the camera take a random turn unless `angle` is set.
+     * Additive textures (flames that rise, sparks), the symmetric built-in
+     * shapes, square, and aligned sprites keep angle 0. */
+    look->random_angle =
+        !pfx_node_get(n, "angle") && look->align == PFX_ALIGN_CAMERA &&
+        (look->sprite == PFX_SPRITE_SMOKE || (look->texture && em->blend == PFX_BLEND_ALPHA));
     if (look->normal_map && !look->lit)
         pfx_read_warning(r, pfx_node_get(n, "normal_map"), PFX_RULE_INEFFECTIVE_SETTING,
                          "emitter '%s' has a normal map but is not lit: add lit: true", em->name);

@@ -185,7 +185,8 @@ static const pfx_key emitter_keys[] = {
      .doc = "Opacity multiplier over life, 0 to 1: a number, {start, end} (linear) or a curve "
             "[{at, value}]."},
     {"angle", PFX_KEY_VALUE, .lo = -INFINITY, .hi = INFINITY, .def = {0}, .offset = -1,
-     .doc = "Sprite angle at birth in degrees (a value); shows on sprite: square."},
+     .doc = "Sprite angle at birth in degrees (a value). Without it smoke sprites and alpha "
+            "textures facing the camera turn at random, other sprites stay at 0."},
     {"spin", PFX_KEY_CODE,
      .schema =
          "{\"default\": 0, \"oneOf\": [{\"$ref\": \"#/$defs/value\"}, {\"type\": \"array\", "

@@ -184,6 +184,10 @@ typedef struct pfx_look {
      * 0; [0, 0]: none. */
     double ribbon_taper[2];
     bool lit;
+    /* A turn uniform over a full turn per particle on top of `angle`, from
+     * the particle's own hash: the default for sheets with no up (compile
+     * decides; man pfx-effect(5), angle). */
+    bool random_angle;
     bool intensity_curve;                  /* intensity over life from intensity_lut */
     float intensity;                       /* else this constant */
     float intensity_lut[PFX_GRADIENT_LUT]; /* multiplies the colour, not alpha */

@@ -64,6 +64,13 @@ static float variant_of(size_t emitter, uint32_t id) {
     return (float)((double)(h >> 40) / 16777216.0);
 }
 
+/* A second such random, independent of the variant (which also picks the
+ * start cell and the smoke puff), for the random turn. */
+static double turn_of(size_t emitter, uint32_t id) {
+    uint64_t h = pfx_mix64(((uint64_t)emitter << 32) ^ id ^ 0x2545f4914f6cdd1dULL);
+    return (double)(h >> 40) / 16777216.0 * 2 * 3.14159265358979323846;
+}
+
 /* The flipbook cell (plus the fraction to the next) at normalised age u and
  * age in seconds: `fps` cells per second, looping, or the sheet once over
  * life; from the particle's own start cell when random. */
@@ -114,7 +121,8 @@ static pfx_sprite sprite_of(const pfx_sim *s, size_t i, uint32_t j) {
                         .g = c[1] * glow,
                         .b = c[2] * glow,
                         .a = additive ? 0.0f : a,
-                        .angle = turns ? pfx_particle_angle(em, p, j) : 0,
+                        .angle = (float)((turns ? pfx_particle_angle(em, p, j) : 0) +
+                                         (k->random_angle ? turn_of(i, p->id[j]) : 0)),
                         .material = (float)i,
                         .frame = cell_of(&k->flipbook, u, age, variant),
                         .variant = variant,

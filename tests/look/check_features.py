@@ -1,7 +1,8 @@
 """Known answers for the look features of issue 26, through the command
 line (`pfx bake`, `pfx render`): a tangent emission's velocities at right
 angles to the radius; a tapered ribbon's width falling to zero at its ends;
-a vortex-driven stretched sprite elongated along its path.
+a vortex-driven stretched sprite elongated along its path; sprite variety
+by default (random turns, random flipbook start cells).
 Each scene states its formula beside it.
 
 usage: check_features.py PFX WORKDIR"""
@@ -207,5 +208,91 @@ for frame, img in sorted(render("vortex", VORTEX).items()):
           "vortex frame %d: the stretched sprite is %.1f px along its path (expected %.1f) and "
           "%.1f px across it (expected %.1f): elongated %.2fx along the tangent"
           % (frame, got_along, want_along, got_across, want_across, got_along / got_across))
+
+# ---- Sprite variety. 16 emitters of one still particle each on a 4 x 4
+# grid (ortho 8 m over 256 px: 32 px a metre, 48 px apart), each a 1 m
+# sprite of a texture that is a horizontal bar (opaque in its middle 8 of
+# 32 rows). An alpha-blended texture facing the camera turns at random: the
+# bars' angles (from the pixels' second moments) are spread over the half
+# turn; with angle: 0 set, or blend: add, every bar is level.
+def save_png(name, rgba):
+    Image.fromarray(np.asarray(rgba, dtype=np.uint8), "RGBA").save(os.path.join(WORK, name))
+
+
+bar = np.zeros((32, 32, 4))
+bar[12:20, :, :] = 255
+save_png("bar.png", bar)
+quad = np.zeros((16, 16, 4))
+quad[:, :, 3] = 255
+quad[:8, :8, 0] = quad[:8, 8:, 1] = quad[8:, :8, 2] = 255  # red, green; blue, black
+quad[8:, 8:, 3] = 255
+save_png("cells.png", quad)
+GRID = """pfx: 1
+duration: 1
+fps: 10
+seed: 4
+camera: { position: [0, 0, 5], target: [0, 0, 0], ortho: 8 }
+image: { size: [256, 256], background: "#000000ff", dither: false }
+emitters:
+"""
+
+
+def grid(extra):
+    text = GRID
+    for k in range(16):
+        text += ("  e%d:\n    bursts: [{ time: 0, count: 1 }]\n    position: [%g, %g, 0]\n"
+                 "    speed: 0\n    lifetime: 10\n    size: 1\n    forces: []\n%s"
+                 % (k, -2.25 + 1.5 * (k % 4), -2.25 + 1.5 * (k // 4), extra))
+    return text
+
+
+def bar_angles(img):
+    """The long axis of each grid cell's bar, degrees in [0, 180)."""
+    out = []
+    for k in range(16):
+        cx, cy = 128 + 48 * (-1.5 + k % 4), 128 - 48 * (-1.5 + k // 4)
+        w = img[int(cy) - 24:int(cy) + 24, int(cx) - 24:int(cx) + 24, 0]
+        ys, xs = np.nonzero(w > 64)
+        x, y = xs - xs.mean(), -(ys - ys.mean())
+        c = np.cov(np.stack([x, y]))
+        out.append(math.degrees(0.5 * math.atan2(2 * c[0, 1], c[0, 0] - c[1, 1])) % 180)
+    return out
+
+
+def level(a):
+    return min(a, 180 - a)
+
+
+turned = bar_angles(render("turned", grid("    texture: bar.png\n    blend: alpha\n"))[0])
+gaps = np.diff(sorted(turned) + [min(turned) + 180])  # round the half turn
+check(max(gaps) < 60 and sum(level(a) > 10 for a in turned) >= 12,
+      "variety: 16 alpha-blended bars turn at random, angles %s deg (largest gap %.0f, "
+      "expected < 60)" % (" ".join("%.0f" % a for a in turned), max(gaps)))
+for name, extra in (("set", "    texture: bar.png\n    blend: alpha\n    angle: 0\n"),
+                    ("additive", "    texture: bar.png\n    blend: add\n")):
+    angles = bar_angles(render("bars_" + name, grid(extra))[0])
+    check(max(level(a) for a in angles) < 1,
+          "variety: with %s every bar is level (worst %.2f deg)"
+          % ("angle: 0" if name == "set" else "blend: add", max(level(a) for a in angles)))
+
+# A looping flipbook (fps) starts each particle at its own cell: at frame 0
+# the 16 centres show more than one of the four cells; with start: 0, or a
+# sheet over life, all show the first (red).
+def cells(img):
+    out = []
+    for k in range(16):
+        cx, cy = 128 + 48 * (-1.5 + k % 4), 128 - 48 * (-1.5 + k // 4)
+        out.append(tuple(int(v > 127) for v in img[int(cy), int(cx), :3]))
+    return out
+
+
+for name, book, want_many in (("fps", "fps: 2", True), ("start0", "fps: 2, start: 0", False),
+                              ("life", "over: life", False)):
+    seen = cells(render("book_" + name, grid(
+        "    texture: cells.png\n    blend: add\n    flipbook: { grid: [2, 2], %s }\n" % book))[0])
+    red = sum(c == (1, 0, 0) for c in seen)
+    check(len(set(seen)) >= 3 if want_many else red == 16,
+          "variety: flipbook { %s }: %d distinct cells at birth, %d red%s"
+          % (book, len(set(seen)), red, " (expected >= 3)" if want_many else " (expected 16)"))
 
 sys.exit(1 if failures else 0)
