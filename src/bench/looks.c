@@ -10,6 +10,7 @@
 #include <time.h>
 
 #include "base/rng.h"
+#include "render/shadow.h"
 
 enum { SPRITES = 5000, FRAMES = 8, TEXTURE = 64, SHEET = 256 };
 
@@ -66,9 +67,26 @@ static pfx_image make_texture(int side, int cells) {
     return (pfx_image){.path = "bench", .width = side, .height = side, .bits = 8, .pixels = px};
 }
 
-/* Seconds per frame of the sprites drawn with material m. */
+/* The self-shadowed row's opacity shadow map of the field, each sprite a
+ * caster of alpha 0.5 under a light along -y, as the sprite builder makes
+ * one a frame (render/shadow.h). */
+static bool shade(pfx_renderer *r, pfx_shadow_volume *v, const pfx_sprite *s, size_t n,
+                  pfx_diags *d) {
+    pfx_shadow_begin(v, (const double[3]){0, -1, 0});
+    for (size_t i = 0; i < n; i++)
+        pfx_shadow_bound(v, (const float[3]){s[i].x, s[i].y, s[i].z}, 0.5f * s[i].size);
+    pfx_shadow_frame(v);
+    for (size_t i = 0; i < n; i++)
+        pfx_shadow_splat(v, (const float[3]){s[i].x, s[i].y, s[i].z}, 0.5f * s[i].size, 0.5f);
+    pfx_shadow_finish(v);
+    return pfx_renderer_set_shadow(r, v, d);
+}
+
+/* Seconds per frame of the sprites drawn with material m (a shadowed one
+ * building and uploading its shadow map every frame, in the time). */
 static double frame_seconds(pfx_renderer *r, const pfx_camera *cam, const pfx_material *m, int blur,
-                            pfx_sprite *s, size_t n, uint8_t *rgba, pfx_diags *d) {
+                            pfx_sprite *s, size_t n, uint8_t *rgba, pfx_shadow_volume *shadow,
+                            pfx_diags *d) {
     if (!pfx_renderer_set_materials(r, m, 1, d))
         return -1;
     const float clear[4] = {0, 0, 0, 0};
@@ -78,15 +96,15 @@ static double frame_seconds(pfx_renderer *r, const pfx_camera *cam, const pfx_ma
     const pfx_sprite_source src = pfx_sprite_source_array(s, n);
     double t0 = now();
     for (int f = 0; f < FRAMES; f++) {
-        bool ok = true;
-        if (blur > 0) {
+        bool ok = !m->shadowed || shade(r, shadow, s, n, d);
+        if (ok && blur > 0) {
             ok = pfx_renderer_blur_begin(r, d);
             for (int k = 0; ok && k < blur; k++)
                 ok = pfx_renderer_blur_add(r, cam, &set, &src, false, (pfx_ribbons){NULL, 0},
                                            1.0f / blur, d);
             if (ok)
                 pfx_renderer_blur_resolve(r, &set, rgba);
-        } else {
+        } else if (ok) {
             ok =
                 pfx_renderer_draw_frame(r, cam, &set, s, n, false, (pfx_ribbons){NULL, 0}, rgba, d);
         }
@@ -100,7 +118,8 @@ bool pfx_bench_looks(FILE *out, pfx_renderer *r, int width, int height, pfx_diag
     pfx_image tex = make_texture(TEXTURE, 1), sheet = make_texture(SHEET, 4);
     pfx_sprite *s = malloc(SPRITES * sizeof *s);
     uint8_t *rgba = malloc((size_t)width * height * 4);
-    bool ok = tex.pixels && sheet.pixels && s && rgba;
+    pfx_shadow_volume *shadow = malloc(sizeof *shadow);
+    bool ok = tex.pixels && sheet.pixels && s && rgba && shadow;
     if (!ok)
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for the sprite benchmark");
     const pfx_material round = {.sprite = PFX_SPRITE_ROUND, .cols = 1, .rows = 1, .frames = 1};
@@ -115,6 +134,7 @@ bool pfx_bench_looks(FILE *out, pfx_renderer *r, int width, int height, pfx_diag
         {"flipbook 4x4, cross-fade", round, 0},
         {"stretched along velocity", round, 0},
         {"lit (spherical normal)", round, 0},
+        {"lit, self-shadowed (shadow map)", round, 0},
         {"motion blur, 2 samples", round, 2},
         {"motion blur, 4 samples", round, 4},
         {"motion blur, 8 samples", round, 8},
@@ -132,6 +152,7 @@ bool pfx_bench_looks(FILE *out, pfx_renderer *r, int width, int height, pfx_diag
     cases[7].material.frame_blend = true;
     cases[8].material.align = PFX_ALIGN_VELOCITY;
     cases[9].material.lit = true;
+    cases[10].material.lit = cases[10].material.shadowed = true;
     pfx_camera cam = {.position = {0, 0, 5}, .up = {0, 1, 0}, .ortho = true, .ortho_height = 2};
     if (ok)
         make_sprites(s, SPRITES);
@@ -143,8 +164,8 @@ bool pfx_bench_looks(FILE *out, pfx_renderer *r, int width, int height, pfx_diag
                 "vs round");
     double base = 0;
     for (size_t k = 0; ok && k < count; k++) {
-        double t =
-            frame_seconds(r, &cam, &cases[k].material, cases[k].blur_samples, s, SPRITES, rgba, d);
+        double t = frame_seconds(r, &cam, &cases[k].material, cases[k].blur_samples, s, SPRITES,
+                                 rgba, shadow, d);
         ok = t > 0;
         double per = t / SPRITES;
         if (k == 0)
@@ -157,5 +178,6 @@ bool pfx_bench_looks(FILE *out, pfx_renderer *r, int width, int height, pfx_diag
     free(sheet.pixels);
     free(s);
     free(rgba);
+    free(shadow);
     return ok;
 }

@@ -163,6 +163,9 @@ static const pfx_key light_keys[] = {
     {"ambient", PFX_KEY_CODE, .offset = -1, .hook = read_light_ambient,
      .schema = "{\"$ref\": \"#/$defs/hdr_colour\", \"default\": [0.25, 0.25, 0.25]}",
      .doc = "Light from every side, added to the directional light."},
+    {"shadows", PFX_KEY_BOOL, .def = {0}, .offset = E(light_shadows),
+     .doc = "Lit sprites are darkened by the alpha-blended particles between them and the light "
+            "(an opacity shadow map), so smoke shades itself."},
 };
 PFX_KEY_TABLE(pfx_light_table, "light", NULL,
               "One directional light for emitters with lit: true (the default light when absent).",

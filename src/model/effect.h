@@ -389,6 +389,7 @@ typedef struct pfx_effect {
     double light_dir[3];  /* unit: the direction the light travels */
     float light_color[3]; /* linear, may exceed 1 */
     float light_ambient[3];
+    bool light_shadows; /* lit sprites darkened by the particles towards the light */
     size_t force_count;
     pfx_force *forces;
     size_t deflector_count;

@@ -12,6 +12,7 @@
 #include <time.h>
 
 #include "model/kinds.h"
+#include "render/shadow.h"
 
 /* Clip planes. The depth test is off, so these only decide what is cut away:
  * nothing nearer than 1 cm or farther than 1 km is drawn, in either
@@ -739,6 +740,40 @@ double pfx_renderer_bench_raw(pfx_renderer *r, const pfx_camera *cam, const pfx_
         return -1.0;
     double t = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
     return t > 0 ? frames / t : -1.0;
+}
+
+/* The volume as a 3D texture of one float a cell, linear between cell
+ * centres (the optical depth changes smoothly through a slice), clamped
+ * at the edges (a margin cell of 0 across the light). */
+bool pfx_renderer_set_shadow(pfx_renderer *r, const pfx_shadow_volume *v, pfx_diags *d) {
+    r->shadow_on = v && !v->empty;
+    if (!r->shadow_on)
+        return true;
+    if (!make_current(r, d))
+        return false;
+    if (!r->shadow_tex) {
+        r->gl.GenTextures(1, &r->shadow_tex);
+        r->gl.BindTexture(GL_TEXTURE_3D, r->shadow_tex);
+        r->gl.TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        r->gl.TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        r->gl.TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        r->gl.TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        r->gl.TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+    }
+    r->gl.ActiveTexture(GL_TEXTURE2);
+    r->gl.BindTexture(GL_TEXTURE_3D, r->shadow_tex);
+    r->gl.PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    r->gl.TexImage3D(GL_TEXTURE_3D, 0, GL_R32F, PFX_SHADOW_SIDE, PFX_SHADOW_SIDE, PFX_SHADOW_SLICES,
+                     0, GL_RED, GL_FLOAT, v->depth);
+    r->gl.ActiveTexture(GL_TEXTURE0);
+    pfx_shadow_texture_matrix(v, r->shadow_from_world);
+    GLenum e = r->gl.GetError();
+    if (e != GL_NO_ERROR) {
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED,
+                       "OpenGL error 0x%04x while uploading the shadow map", (unsigned)e);
+        return false;
+    }
+    return true;
 }
 
 /* render_internal.h's doors into this file for the passes kept in their

@@ -89,6 +89,7 @@ typedef struct pfx_material {
     pfx_align align;
     double axis[3]; /* AXIS: world axis; WORLD: plane normal (unit) */
     bool lit;
+    bool shadowed; /* lit: the direct light scaled by the shadow volume's exp(-depth) */
 } pfx_material;
 
 /* What turns the float image into bytes, and the light of lit materials.
@@ -188,6 +189,13 @@ bool pfx_renderer_draw_float(pfx_renderer *r, const pfx_camera *cam, const pfx_r
 bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4],
                        const pfx_sprite *sprites, size_t count, bool sort, uint8_t *rgba,
                        pfx_diags *d);
+
+struct pfx_shadow_volume;
+/* Uploads the opacity shadow map that shadowed materials read
+ * (render/shadow.h) for the frames drawn next, until the next call. NULL
+ * or an empty volume: no shadow. False with an error in d on a GL
+ * failure. */
+bool pfx_renderer_set_shadow(pfx_renderer *r, const struct pfx_shadow_volume *v, pfx_diags *d);
 
 /* Motion blur: the float images of several sub-frame times, averaged.
  * begin clears the sum; each add draws the sprites as draw_frame would and

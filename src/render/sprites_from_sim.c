@@ -39,7 +39,8 @@ void pfx_sprites_materials(const pfx_effect *e, pfx_material *out) {
                                 .frame_blend = b->blend,
                                 .align = k->align,
                                 .axis = {k->axis[0], k->axis[1], k->axis[2]},
-                                .lit = k->lit};
+                                .lit = k->lit,
+                                .shadowed = k->lit && e->light_shadows};
     }
 }
 
@@ -146,12 +147,49 @@ size_t pfx_sprites_build(const pfx_sim *s, pfx_sprite *out) {
 bool pfx_sprite_feed_init(pfx_sprite_feed *f, const pfx_effect *e) {
     f->sim = NULL;
     f->start = malloc((e->emitter_count + 1) * sizeof *f->start);
-    return f->start != NULL;
+    f->shadow = e->light_shadows ? malloc(sizeof *f->shadow) : NULL;
+    return f->start != NULL && (f->shadow || !e->light_shadows);
 }
 
 void pfx_sprite_feed_free(pfx_sprite_feed *f) {
     free(f->start);
+    free(f->shadow);
     f->start = NULL;
+    f->shadow = NULL;
+}
+
+/* Casters: every alpha-blended sprite (additive light hides nothing);
+ * receivers: the lit ones. Each a sphere of its sprite's radius. */
+const pfx_shadow_volume *pfx_sprite_feed_shadow(pfx_sprite_feed *f, const pfx_sim *s) {
+    const pfx_effect *e = s->effect;
+    pfx_shadow_volume *v = f->shadow;
+    if (!v)
+        return NULL;
+    pfx_shadow_begin(v, e->light_dir);
+    for (int pass = 0; pass < 2; pass++) {
+        if (pass == 1)
+            pfx_shadow_frame(v);
+        for (size_t i = 0; i < e->emitter_count; i++) {
+            const pfx_emitter *em = &e->emitters[i];
+            const bool casts = em->blend == PFX_BLEND_ALPHA;
+            if (em->look.draw != PFX_DRAW_SPRITE || !(casts || em->look.lit) || (pass && !casts))
+                continue;
+            const pfx_pool *p = &s->pools[i];
+            for (uint32_t j = 0; j < p->count; j++) {
+                const float at[3] = {p->px[j], p->py[j], p->pz[j]};
+                const float r = 0.5f * pfx_particle_size(em, p, j);
+                if (pass == 0) {
+                    pfx_shadow_bound(v, at, r);
+                } else {
+                    float c[4];
+                    pfx_particle_color(em, p, j, c);
+                    pfx_shadow_splat(v, at, r, c[3]);
+                }
+            }
+        }
+    }
+    pfx_shadow_finish(v);
+    return v;
 }
 
 /* The last i with start[i] <= n (emitters without sprites have start[i] =
