@@ -298,12 +298,13 @@ static void read_intensity(pfx_reader *r, const pfx_node *v, pfx_look *look) {
 }
 
 /* A ribbon is a strip through points, not a sprite per point: the keys
- * that place, turn, texture or light a sprite have nothing to act on, and
+ * that place, turn, play a sheet on or light a sprite have nothing to act
+ * on (a texture spans the whole strip), and
  * its cross-section is round (soft edges) or square (flat). Said at the key
  * rather than ignored, so a file never means more than it draws. */
 static void check_ribbon(pfx_reader *r, const pfx_node *n, const pfx_look *look) {
-    static const char *const sprite_only[] = {"texture", "normal_map", "flipbook", "align", "axis",
-                                              "normal",  "stretch",    "lit",      "angle", "spin"};
+    static const char *const sprite_only[] = {"normal_map", "flipbook", "align", "axis", "normal",
+                                              "stretch",    "lit",      "angle", "spin"};
     const pfx_node *v;
     for (size_t i = 0; i < sizeof sprite_only / sizeof *sprite_only; i++)
         if ((v = pfx_node_get(n, sprite_only[i])))
@@ -321,6 +322,8 @@ void pfx_compile_look(pfx_reader *r, const pfx_node *n, pfx_emitter *em, const c
     const pfx_node *v;
     if (look->draw == PFX_DRAW_RIBBON) {
         check_ribbon(r, n, look);
+        if ((v = pfx_node_get(n, "texture"))) /* once along the strip (render/shader.c) */
+            look->texture = read_texture(r, v, "texture", effect_path, true);
         if ((v = pfx_node_get(n, "intensity")))
             read_intensity(r, v, look);
         return;

@@ -212,7 +212,8 @@ static const pfx_key emitter_keys[] = {
     {"texture", PFX_KEY_CODE, .offset = -1, .schema = "{\"type\": \"string\"}",
      .doc = "A PNG (grey, grey + alpha, RGB or RGBA; 8 or 16 bits; at most 8192x8192) relative "
             "to the effect file, instead of the built-in sprite: its alpha is the shape, the "
-            "particle's colour multiplies it."},
+            "particle's colour multiplies it; on a ribbon it spans the strip once, left edge at "
+            "the head."},
     {"normal_map", PFX_KEY_CODE, .offset = -1, .schema = "{\"type\": \"string\"}",
      .doc = "A PNG of tangent-space normals (RGB = (n + 1) / 2, +y up the image) for lit sprites, "
             "instead of the spherical normal."},

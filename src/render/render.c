@@ -92,7 +92,7 @@ static void build_vertex_arrays(pfx_renderer *r) {
     r->gl.BindBuffer(GL_ARRAY_BUFFER, r->ribbon_vbo);
     static const size_t at[3] = {offsetof(pfx_ribbon_vertex, x), offsetof(pfx_ribbon_vertex, r),
                                  offsetof(pfx_ribbon_vertex, profile)};
-    static const GLint size[3] = {4, 4, 1};
+    static const GLint size[3] = {4, 4, 2}; /* profile, along */
     for (GLuint i = 0; i < 3; i++) {
         r->gl.VertexAttribPointer(i, size[i], GL_FLOAT, GL_FALSE, sizeof(pfx_ribbon_vertex),
                                   (const void *)at[i]);
@@ -389,11 +389,15 @@ static bool make_current(pfx_renderer *r, pfx_diags *d) {
     return true;
 }
 
-/* The material sprite i names (material 0 for an index out of range). */
-static const pfx_gpu_material *material_of(const pfx_renderer *r, const pfx_sprite *sp) {
-    size_t k =
-        sp->material >= 0 && sp->material < (float)r->material_count ? (size_t)sp->material : 0;
+/* The material of index m, as sprites and ribbon vertices name it
+ * (material 0 for an index out of range). */
+static const pfx_gpu_material *material_at(const pfx_renderer *r, float m) {
+    size_t k = m >= 0 && m < (float)r->material_count ? (size_t)m : 0;
     return &r->materials[k];
+}
+
+static const pfx_gpu_material *material_of(const pfx_renderer *r, const pfx_sprite *sp) {
+    return material_at(r, sp->material);
 }
 
 /* One instanced draw per run of sprites of one material, over sprites
@@ -428,7 +432,18 @@ static void submit_ribbons(pfx_renderer *r, const pfx_view *v, pfx_ribbons ribbo
     r->gl.BindBuffer(GL_ARRAY_BUFFER, r->ribbon_vbo);
     r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(ribbons.count * sizeof *ribbons.v), ribbons.v,
                      GL_STREAM_DRAW);
-    r->gl.DrawArraysInstanced(GL_TRIANGLES, 0, (GLsizei)ribbons.count, 1);
+    /* One draw per run of triangles of one material, its texture bound
+     * (none: the program skips the read). */
+    for (size_t first = 0; first < ribbons.count;) {
+        const pfx_gpu_material *g = material_at(r, ribbons.v[first].material);
+        size_t end = first + 3;
+        while (end < ribbons.count && ribbons.v[end].material == ribbons.v[first].material)
+            end += 3;
+        r->gl.BindTexture(GL_TEXTURE_2D, g->texture);
+        r->gl.Uniform1i(r->ribbon_textured, g->texture != 0);
+        r->gl.DrawArraysInstanced(GL_TRIANGLES, (GLint)first, (GLsizei)(end - first), 1);
+        first = end;
+    }
 }
 
 /* pfx_renderer_bench_raw's frame: clear everything, upload the sprite

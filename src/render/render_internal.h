@@ -127,7 +127,7 @@ struct pfx_renderer {
     pfx_program programs[PFX_MAX_PROGRAMS];
     size_t program_count;
     GLuint ribbon_vao, ribbon_vbo, ribbon_program; /* ribbons: world-space triangles */
-    GLint ribbon_view, ribbon_proj;
+    GLint ribbon_view, ribbon_proj, ribbon_textured;
     pfx_gpu_material *materials;
     size_t material_count;
     float *pixels; /* width * height * 4 floats read back from the FBO */

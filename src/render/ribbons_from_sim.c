@@ -21,6 +21,7 @@ typedef struct strip_point {
     double half;     /* half-width, m (widened to the minimum footprint by widen) */
     float rgba[4];   /* premultiplied, as a sprite's */
     double px_per_m; /* pixels a metre at its depth, for the widening */
+    double along;    /* the fraction of the strip's length from its head (0) to its tail (1) */
 } strip_point;
 
 struct pfx_ribbon_buffer {
@@ -112,7 +113,7 @@ static void eye_of(const pfx_effect *e, eye_frame *f) {
  * tangent along the line of sight) the previous side is kept, and a side
  * is turned to agree with the previous one, so the strip never twists. */
 static size_t emit_strip(const eye_frame *f, const strip_point *pt, size_t m, float profile,
-                         pfx_ribbon_vertex *out) {
+                         float material, pfx_ribbon_vertex *out) {
     size_t n = 0;
     double prev[3] = {f->side[0], f->side[1], f->side[2]};
     pfx_ribbon_vertex last[2];
@@ -142,7 +143,9 @@ static size_t emit_strip(const eye_frame *f, const strip_point *pt, size_t m, fl
                                        .g = pt[k].rgba[1],
                                        .b = pt[k].rgba[2],
                                        .a = pt[k].rgba[3],
-                                       .profile = profile};
+                                       .profile = profile,
+                                       .along = (float)pt[k].along,
+                                       .material = material};
         }
         if (k > 0) {
             out[n++] = last[0], out[n++] = last[1], out[n++] = c[0];
@@ -176,21 +179,10 @@ static void point_of(const pfx_emitter *em, const pfx_pool *p, uint32_t j, const
     out->rgba[3] = em->blend == PFX_BLEND_ADD ? 0.0f : a;
 }
 
-/* `ribbon: { taper: [head, tail] }`: width and alpha times
- * min(1, h / head, t / tail), h and t the fractions of the strip's length
- * (along its points) from the head (the last point) and from the tail (the
- * first); a fraction of 0 tapers nothing at that end. */
-static void taper(const double frac[2], strip_point *pt, size_t m) {
-    if ((frac[0] <= 0 && frac[1] <= 0) || m < 2)
-        return;
-    double total = 0;
-    for (size_t k = 1; k < m; k++) {
-        double d[3];
-        sub3(pt[k].p, pt[k - 1].p, d);
-        total += sqrt(dot3(d, d));
-    }
-    if (!(total > 0))
-        return;
+/* Each point's `along`: its distance from the head (the last point)
+ * along the points, over the strip's length (0 everywhere for a strip of
+ * no length). */
+static void measure(strip_point *pt, size_t m) {
     double from_tail = 0;
     for (size_t k = 0; k < m; k++) {
         if (k > 0) {
@@ -198,7 +190,21 @@ static void taper(const double frac[2], strip_point *pt, size_t m) {
             sub3(pt[k].p, pt[k - 1].p, d);
             from_tail += sqrt(dot3(d, d));
         }
-        const double t = from_tail / total, h = 1 - t;
+        pt[k].along = from_tail; /* for now: from the tail */
+    }
+    for (size_t k = 0; k < m; k++)
+        pt[k].along = from_tail > 0 ? (from_tail - pt[k].along) / from_tail : 0;
+}
+
+/* `ribbon: { taper: [head, tail] }`: width and alpha times
+ * min(1, h / head, t / tail), h = along and t = 1 - along the fractions of
+ * the strip's length from the head and from the tail; a fraction of 0
+ * tapers nothing at that end. */
+static void taper(const double frac[2], strip_point *pt, size_t m) {
+    if ((frac[0] <= 0 && frac[1] <= 0) || m < 2)
+        return;
+    for (size_t k = 0; k < m; k++) {
+        const double h = pt[k].along, t = 1 - h;
         double w = 1;
         if (frac[0] > 0 && h < frac[0] * w)
             w = h / frac[0];
@@ -273,10 +279,11 @@ pfx_ribbons pfx_ribbons_build(pfx_ribbon_buffer *b, const pfx_sim *s) {
                 if (h->p[0] != last->p[0] || h->p[1] != last->p[1] || h->p[2] != last->p[2])
                     count++;
             }
+            measure(b->points, count);
             taper(em->look.ribbon_taper, b->points, count);
             for (size_t k = 0; k < count; k++)
                 widen(&b->points[k]);
-            n += emit_strip(&f, b->points, count, profile, b->v + n);
+            n += emit_strip(&f, b->points, count, profile, (float)i, b->v + n);
             first = end;
         }
     }

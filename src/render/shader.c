@@ -211,31 +211,40 @@ static const char *fragment_src =
 
 /* Ribbons: world-space triangles (render/ribbons_from_sim.c has already
  * turned them to the camera), premultiplied colour interpolated between
- * the strip's points, times the cross-section over `across`. */
+ * the strip's points, times the cross-section over `across`, times the
+ * texture (when the run's material has one) at u = along, v = (1 -
+ * across) / 2: the image's left edge at the head, its top on the +1 edge. */
 static const char *ribbon_vertex_src =
     "layout(location = 0) in vec4 pos_across;\n"
     "layout(location = 1) in vec4 colour;\n"
-    "layout(location = 2) in float profile;\n"
+    "layout(location = 2) in vec2 profile_along;\n"
     "uniform mat4 view;\n"
     "uniform mat4 proj;\n"
     "out float v_across;\n"
+    "out float v_along;\n"
     "out vec4 v_colour;\n"
     "flat out float v_profile;\n"
     "void main() {\n"
     "    gl_Position = proj * (view * vec4(pos_across.xyz, 1.0));\n"
     "    v_across = pos_across.w;\n"
+    "    v_along = profile_along.y;\n"
     "    v_colour = colour;\n"
-    "    v_profile = profile;\n"
+    "    v_profile = profile_along.x;\n"
     "}\n";
 
-static const char *ribbon_fragment_src = "in float v_across;\n"
-                                         "in vec4 v_colour;\n"
-                                         "flat in float v_profile;\n"
-                                         "layout(location = 0) out vec4 frag;\n"
-                                         "void main() {\n"
-                                         "    float k = max(0.0, 1.0 - v_across * v_across);\n"
-                                         "    frag = v_colour * mix(k * k, 1.0, v_profile);\n"
-                                         "}\n";
+static const char *ribbon_fragment_src =
+    "in float v_across;\n"
+    "in float v_along;\n"
+    "in vec4 v_colour;\n"
+    "flat in float v_profile;\n"
+    "uniform sampler2D tex;\n"
+    "uniform bool textured;\n"
+    "layout(location = 0) out vec4 frag;\n"
+    "void main() {\n"
+    "    float k = max(0.0, 1.0 - v_across * v_across);\n"
+    "    frag = v_colour * mix(k * k, 1.0, v_profile);\n"
+    "    if (textured) frag *= texture(tex, vec2(v_along, 0.5 - 0.5 * v_across));\n"
+    "}\n";
 
 /* One program per combination of what the material switches (sprite
  * kind, texture, cross-fade, light, normal map, alignment), chosen by
@@ -344,6 +353,9 @@ bool pfx_shader_build_ribbon(pfx_renderer *r, pfx_diags *d) {
         return false;
     r->ribbon_view = r->gl.GetUniformLocation(r->ribbon_program, "view");
     r->ribbon_proj = r->gl.GetUniformLocation(r->ribbon_program, "proj");
+    r->ribbon_textured = r->gl.GetUniformLocation(r->ribbon_program, "textured");
+    r->gl.UseProgram(r->ribbon_program);
+    r->gl.Uniform1i(r->gl.GetUniformLocation(r->ribbon_program, "tex"), 0);
     return true;
 }
 

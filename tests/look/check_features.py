@@ -1,6 +1,7 @@
 """Known answers for the look features of issue 26, through the command
 line (`pfx bake`, `pfx render`): a tangent emission's velocities at right
-angles to the radius; a tapered ribbon's width falling to zero at its ends;
+angles to the radius; a tapered ribbon's width falling to zero at its ends
+and a texture along its length;
 a vortex-driven stretched sprite elongated along its path; sprite variety
 by default (random turns, random flipbook start cells); smoke that shades
 itself (light: { shadows: true }).
@@ -162,6 +163,26 @@ check(abs(img[100, q] - 255 * factor((q + 0.5 - 100) / 50)) <= 3,
       % (img[100, q], 255 * factor((q + 0.5 - 100) / 50)))
 plain = render("untapered", RIBBON % "")[15][:, :, 0]
 check(int((plain > 2)[:, 99].sum()) >= 19, "taper: without it the head is full width")
+
+# A textured ribbon spans its texture once along its length, u = 0 at the
+# head: a sheet red on its left half and green on its right draws the
+# strip red from the parent (x = 0) back to its middle, x = x0 / 2, and
+# green from there to its tail.
+sheet = np.zeros((8, 64, 4))
+sheet[:, :, 3] = 255
+sheet[:, :32, 0] = 255
+sheet[:, 32:, 1] = 255
+Image.fromarray(sheet.astype(np.uint8), "RGBA").save(os.path.join(WORK, "halves.png"))
+img = render("textured", RIBBON % "    texture: halves.png")[15]
+row = img[100]
+reds = [c for c in range(200) if row[c, 0] > 127 and row[c, 1] < 64]
+greens = [c for c in range(200) if row[c, 1] > 127 and row[c, 0] < 64]
+mid = 100 + x0 / 2 * 50
+check(reds and greens and abs(min(reds) - mid) <= 1.5 and abs(max(greens) + 1 - mid) <= 1.5 and
+      max(reds) >= 97 and min(greens) <= int(100 + x0 * 50) + 1,
+      "texture: the strip is green from its tail to px %d and red from px %d to the head "
+      "(expected the change at px %.1f, the middle of its length)"
+      % (max(greens or [0]) + 1, min(reds or [0]), mid))
 
 # ---- What is drawn from motion includes what the vortex moves. One
 # square sprite born still at radius 1 m from a vortex about +Y (strength
