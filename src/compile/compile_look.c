@@ -201,6 +201,17 @@ void pfx_compile_light(pfx_reader *r, const pfx_node *v, pfx_effect *e) {
     e->has_light = true;
 }
 
+void pfx_check_shadows(pfx_reader *r, const pfx_node *root, const pfx_effect *e) {
+    if (!e->light_shadows)
+        return;
+    for (size_t i = 0; i < e->emitter_count; i++)
+        if (e->emitters[i].look.lit && e->emitters[i].look.draw == PFX_DRAW_SPRITE)
+            return;
+    pfx_read_warning(r, pfx_node_get(pfx_node_get(root, "light"), "shadows"),
+                     PFX_RULE_INEFFECTIVE_SETTING,
+                     "light 'shadows' has nothing to darken: no emitter is lit (add lit: true)");
+}
+
 /* motion_blur given at all turns it on at its defaults. */
 void pfx_compile_motion_blur(pfx_reader *r, const pfx_node *v, pfx_effect *e) {
     if (!pfx_read_map(r, v, "motion_blur"))
