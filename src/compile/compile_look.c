@@ -166,6 +166,9 @@ static const pfx_key light_keys[] = {
     {"shadows", PFX_KEY_BOOL, .def = {0}, .offset = E(light_shadows),
      .doc = "Lit sprites are darkened by the alpha-blended particles between them and the light "
             "(an opacity shadow map), so smoke shades itself."},
+    {"shadow_density", PFX_KEY_NUMBER, .lo = 0, .hi = 100, .def = {1}, .offset = E(shadow_density),
+     .doc = "Multiplies the optical depth the casters' alpha gives, 0 to 100: below 1 lighter "
+            "shadows for thin smoke, above 1 darker for dense."},
 };
 PFX_KEY_TABLE(pfx_light_table, "light", NULL,
               "One directional light for emitters with lit: true (the default light when absent).",
@@ -187,6 +190,7 @@ void pfx_look_defaults(pfx_effect *e) {
     e->dither = true;
     e->blur_samples = 1;
     e->light_dir[1] = -1;
+    e->shadow_density = 1;
     for (int i = 0; i < 3; i++) {
         e->light_color[i] = 1;
         e->light_ambient[i] = 0.25f;

@@ -389,7 +389,8 @@ typedef struct pfx_effect {
     double light_dir[3];  /* unit: the direction the light travels */
     float light_color[3]; /* linear, may exceed 1 */
     float light_ambient[3];
-    bool light_shadows; /* lit sprites darkened by the particles towards the light */
+    bool light_shadows;    /* lit sprites darkened by the particles towards the light */
+    double shadow_density; /* multiplies the casters' optical depth */
     size_t force_count;
     pfx_force *forces;
     size_t deflector_count;

@@ -183,7 +183,7 @@ const pfx_shadow_volume *pfx_sprite_feed_shadow(pfx_sprite_feed *f, const pfx_si
                 } else {
                     float c[4];
                     pfx_particle_color(em, p, j, c);
-                    pfx_shadow_splat(v, at, r, c[3]);
+                    pfx_shadow_splat(v, at, r, (float)(c[3] * e->shadow_density));
                 }
             }
         }

@@ -362,6 +362,11 @@ check(len(row) >= 5 and all(abs(q - math.exp(-0.8)) <= 0.03 for q in ratios),
       "shadows: behind a puff of alpha 0.8 the lit receiver gets exp(-0.8) = 0.449 of the "
       "light on %d pixels of its centre row, got %.3f..%.3f"
       % (len(row), min(ratios or [0]), max(ratios or [0])))
+half = render("pair_half", PAIR % "true, shadow_density: 0.5", args=("--frames", "0:0"))[0][:, :, 0]
+ratios = [half[99, c] / plain[99, c] for c in row]
+check(len(row) >= 5 and all(abs(q - math.exp(-0.4)) <= 0.03 for q in ratios),
+      "shadows: shadow_density 0.5 halves the optical depth: exp(-0.4) = 0.670 of the light, "
+      "got %.3f..%.3f" % (min(ratios or [0]), max(ratios or [0])))
 check(np.array_equal(shaded[:, :90], plain[:, :90]),
       "shadows: the caster, which nothing shadows and which is not lit, is unchanged")
 
