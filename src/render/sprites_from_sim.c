@@ -110,8 +110,8 @@ static pfx_sprite sprite_of(const pfx_sim *s, size_t i, uint32_t j) {
     if (k->align == PFX_ALIGN_VELOCITY && em->motion) {
         double drift[3];
         pfx_motion_drift(em->motion, (const double[3]){p->px[j], p->py[j], p->pz[j]}, drift);
-        for (int a = 0; a < 3; a++)
-            v[a] = (float)(v[a] + drift[a]);
+        for (int x = 0; x < 3; x++)
+            v[x] = (float)(v[x] + drift[x]);
     }
     const float speed = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     return (pfx_sprite){.x = p->px[j],
