@@ -477,5 +477,6 @@ pfx_effect *pfx_compile(const pfx_node *root, const char *path, const pfx_compil
     check_work(&c, root);
     if (!compile_emitters(&c, root, errors_before))
         return NULL;
+    pfx_check_shadows(&c.r, root, e);
     return d->errors == errors_before ? e : NULL;
 }

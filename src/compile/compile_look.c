@@ -71,8 +71,9 @@ static const pfx_key flipbook_keys[] = {
      .schema = "{\"const\": \"life\", \"default\": \"life\"}",
      .doc = "life: the sheet plays once from birth to death (the default when fps is absent)."},
     {"start", PFX_KEY_CODE, .offset = -1, .hook = read_start,
-     .schema = "{\"enum\": [0, \"0\", \"random\"], \"default\": 0}",
-     .doc = "0: every particle starts at the first cell; random: each at its own cell."},
+     .schema = "{\"enum\": [0, \"0\", \"random\"]}",
+     .doc = "0: every particle starts at the first cell; random: each at its own cell. Default: "
+            "random with fps, 0 over life."},
     {"blend", PFX_KEY_BOOL, .def = {0}, .offset = B(blend),
      .doc = "Cross-fade between consecutive cells instead of cutting."},
 };
@@ -90,6 +91,33 @@ static const pfx_key stretch_keys[] = {
 PFX_KEY_TABLE(pfx_stretch_table, "stretch", NULL,
               "How long a velocity-aligned sprite is: size x length + |v| x speed metres.",
               stretch_keys);
+
+/* taper: [HEAD, TAIL], each a fraction of the strip's length in [0, 1]. */
+static void read_taper(pfx_reader *r, const pfx_node *map, const pfx_node *v, void *dest) {
+    (void)map;
+    double t[2];
+    if (!pfx_read_numbers(r, v, "taper", t, 2))
+        return;
+    for (int i = 0; i < 2; i++)
+        if (!(t[i] >= 0 && t[i] <= 1)) {
+            pfx_read_error(r, v->items[i], PFX_RULE_OUT_OF_RANGE,
+                           "'taper' takes fractions of the ribbon's length from 0 to 1, got %g",
+                           t[i]);
+            return;
+        }
+    memcpy(((pfx_look *)dest)->ribbon_taper, t, sizeof t);
+}
+
+static const pfx_key ribbon_keys[] = {
+    {"taper", PFX_KEY_CODE, .offset = -1, .hook = read_taper,
+     .schema = "{\"type\": \"array\", \"items\": {\"type\": \"number\", \"minimum\": 0, "
+               "\"maximum\": 1}, \"minItems\": 2, \"maxItems\": 2, \"default\": [0, 0]}",
+     .doc = "[head, tail]: the fractions of the ribbon's length over which its width and alpha "
+            "rise linearly from 0 at the head (the newest end) and fall to 0 at the tail, on top "
+            "of each point's size and alpha over life."},
+};
+PFX_KEY_TABLE(pfx_ribbon_table, "ribbon", NULL,
+              "How a draw: ribbon strip is shaped along its length.", ribbon_keys);
 
 /* ---- The effect's light and image ---- */
 
@@ -135,6 +163,12 @@ static const pfx_key light_keys[] = {
     {"ambient", PFX_KEY_CODE, .offset = -1, .hook = read_light_ambient,
      .schema = "{\"$ref\": \"#/$defs/hdr_colour\", \"default\": [0.25, 0.25, 0.25]}",
      .doc = "Light from every side, added to the directional light."},
+    {"shadows", PFX_KEY_BOOL, .def = {0}, .offset = E(light_shadows),
+     .doc = "Lit sprites are darkened by the alpha-blended particles between them and the light "
+            "(an opacity shadow map), so smoke shades itself."},
+    {"shadow_density", PFX_KEY_NUMBER, .lo = 0, .hi = 100, .def = {1}, .offset = E(shadow_density),
+     .doc = "Multiplies the optical depth the casters' alpha gives, 0 to 100: below 1 lighter "
+            "shadows for thin smoke, above 1 darker for dense."},
 };
 PFX_KEY_TABLE(pfx_light_table, "light", NULL,
               "One directional light for emitters with lit: true (the default light when absent).",
@@ -156,6 +190,7 @@ void pfx_look_defaults(pfx_effect *e) {
     e->dither = true;
     e->blur_samples = 1;
     e->light_dir[1] = -1;
+    e->shadow_density = 1;
     for (int i = 0; i < 3; i++) {
         e->light_color[i] = 1;
         e->light_ambient[i] = 0.25f;
@@ -168,6 +203,17 @@ void pfx_compile_light(pfx_reader *r, const pfx_node *v, pfx_effect *e) {
     pfx_keys_check(r, v, &pfx_light_table, "'light'");
     pfx_keys_read(r, v, &pfx_light_table, e);
     e->has_light = true;
+}
+
+void pfx_check_shadows(pfx_reader *r, const pfx_node *root, const pfx_effect *e) {
+    if (!e->light_shadows)
+        return;
+    for (size_t i = 0; i < e->emitter_count; i++)
+        if (e->emitters[i].look.lit && e->emitters[i].look.draw == PFX_DRAW_SPRITE)
+            return;
+    pfx_read_warning(r, pfx_node_get(pfx_node_get(root, "light"), "shadows"),
+                     PFX_RULE_INEFFECTIVE_SETTING,
+                     "light 'shadows' has nothing to darken: no emitter is lit (add lit: true)");
 }
 
 /* motion_blur given at all turns it on at its defaults. */
@@ -215,6 +261,11 @@ static void check_flipbook(pfx_reader *r, const pfx_node *v, pfx_look *look) {
         return; /* reported at 'grid' */
     if (!b->frames)
         b->frames = b->cols * b->rows;
+    /* A looping sheet played in step by every particle is the classic
+     * tell: each starts at its own cell unless `start` says otherwise. A
+     * sheet over life (an explosion's stages) starts at its first cell. */
+    if (b->fps > 0 && !pfx_node_get(v, "start"))
+        b->random_start = true;
     const pfx_image *t = look->texture;
     if (!t) {
         pfx_read_error(r, v, PFX_RULE_MISSING_KEY,
@@ -273,12 +324,13 @@ static void read_intensity(pfx_reader *r, const pfx_node *v, pfx_look *look) {
 }
 
 /* A ribbon is a strip through points, not a sprite per point: the keys
- * that place, turn, texture or light a sprite have nothing to act on, and
+ * that place, turn, play a sheet on or light a sprite have nothing to act
+ * on (a texture spans the whole strip), and
  * its cross-section is round (soft edges) or square (flat). Said at the key
  * rather than ignored, so a file never means more than it draws. */
 static void check_ribbon(pfx_reader *r, const pfx_node *n, const pfx_look *look) {
-    static const char *const sprite_only[] = {"texture", "normal_map", "flipbook", "align", "axis",
-                                              "normal",  "stretch",    "lit",      "angle", "spin"};
+    static const char *const sprite_only[] = {"normal_map", "flipbook", "align", "axis", "normal",
+                                              "stretch",    "lit",      "angle", "spin"};
     const pfx_node *v;
     for (size_t i = 0; i < sizeof sprite_only / sizeof *sprite_only; i++)
         if ((v = pfx_node_get(n, sprite_only[i])))
@@ -296,6 +348,8 @@ void pfx_compile_look(pfx_reader *r, const pfx_node *n, pfx_emitter *em, const c
     const pfx_node *v;
     if (look->draw == PFX_DRAW_RIBBON) {
         check_ribbon(r, n, look);
+        if ((v = pfx_node_get(n, "texture"))) /* once along the strip (render/shader.c) */
+            look->texture = read_texture(r, v, "texture", effect_path, true);
         if ((v = pfx_node_get(n, "intensity")))
             read_intensity(r, v, look);
         return;
@@ -312,10 +366,20 @@ void pfx_compile_look(pfx_reader *r, const pfx_node *n, pfx_emitter *em, const c
         pfx_read_error(r, v, PFX_RULE_INAPPLICABLE_KEY, "'axis' needs align: axis");
     else if ((v = pfx_node_get(n, "normal")))
         pfx_read_error(r, v, PFX_RULE_INAPPLICABLE_KEY, "'normal' needs align: world");
+    if ((v = pfx_node_get(n, "ribbon")))
+        pfx_read_error(r, v, PFX_RULE_INAPPLICABLE_KEY, "'ribbon' needs draw: ribbon");
     if ((v = pfx_node_get(n, "stretch")) && look->align != PFX_ALIGN_VELOCITY)
         pfx_read_error(r, v, PFX_RULE_INAPPLICABLE_KEY, "'stretch' needs align: velocity");
     if ((v = pfx_node_get(n, "intensity")))
         read_intensity(r, v, look);
+    /* Smoke, dust and cloud sheets have no up, and a field of them all at
+     * one angle repeats visibly: the built-in smoke puff and alpha-blended
+     * textures facing the camera take a random turn unless `angle` is set.
+     * Additive textures (flames that rise, sparks), the symmetric built-in
+     * shapes, square, and aligned sprites keep angle 0. */
+    look->random_angle =
+        !pfx_node_get(n, "angle") && look->align == PFX_ALIGN_CAMERA &&
+        (look->sprite == PFX_SPRITE_SMOKE || (look->texture && em->blend == PFX_BLEND_ALPHA));
     if (look->normal_map && !look->lit)
         pfx_read_warning(r, pfx_node_get(n, "normal_map"), PFX_RULE_INEFFECTIVE_SETTING,
                          "emitter '%s' has a normal map but is not lit: add lit: true", em->name);

@@ -7,7 +7,7 @@
 #include "compile/keys.h"
 #include "compile/read.h"
 
-extern const pfx_key_table pfx_flipbook_table, pfx_stretch_table, pfx_light_table,
+extern const pfx_key_table pfx_flipbook_table, pfx_stretch_table, pfx_ribbon_table, pfx_light_table,
     pfx_motion_blur_table;
 
 /* The effect's look defaults: dither on, no motion blur (1 sample), the
@@ -15,6 +15,9 @@ extern const pfx_key_table pfx_flipbook_table, pfx_stretch_table, pfx_light_tabl
 void pfx_look_defaults(pfx_effect *e);
 /* `light:` and `image.motion_blur:` into e. */
 void pfx_compile_light(pfx_reader *r, const pfx_node *v, pfx_effect *e);
+/* After the emitters: warns at light.shadows when no emitter is lit (the
+ * shadows would darken nothing). */
+void pfx_check_shadows(pfx_reader *r, const pfx_node *root, const pfx_effect *e);
 void pfx_compile_motion_blur(pfx_reader *r, const pfx_node *v, pfx_effect *e);
 /* The look keys of emitter mapping n that its key table does not read
  * itself (texture, normal_map, the flipbook's checks, axis/normal,

@@ -107,11 +107,13 @@ static const pfx_key emitter_keys[] = {
      .doc = "Repeat the emission pattern every 'duration' seconds (needs duration)."},
     {"direction", PFX_KEY_CODE,
      .schema = "{\"default\": [0, 1, 0], \"oneOf\": [{\"$ref\": \"#/$defs/vec3\", \"not\": "
-               "{\"items\": {\"const\": 0}}}, {\"enum\": [\"normal\", \"radial\", \"inward\"]}]}",
+               "{\"items\": {\"const\": 0}}}, {\"enum\": [\"normal\", \"radial\", \"inward\", "
+               "\"tangent\"]}]}",
      .offset = -1,
      .doc = "The axis particles leave along, in the emitter's frame: a vector (not [0, 0, 0]), or "
             "normal (the shape's outward normal at the birth point), radial (away from the shape's "
-            "centre) or inward."},
+            "centre), inward, or tangent (about the shape's Y axis, counter-clockwise seen from "
+            "+Y: swirls and portals)."},
     {"spread", PFX_KEY_CODE,
      .schema =
          "{\"default\": 0, \"oneOf\": [{\"description\": \"Half-angle in degrees, 0 to 180.\", "
@@ -183,7 +185,8 @@ static const pfx_key emitter_keys[] = {
      .doc = "Opacity multiplier over life, 0 to 1: a number, {start, end} (linear) or a curve "
             "[{at, value}]."},
     {"angle", PFX_KEY_VALUE, .lo = -INFINITY, .hi = INFINITY, .def = {0}, .offset = -1,
-     .doc = "Sprite angle at birth in degrees (a value); shows on sprite: square."},
+     .doc = "Sprite angle at birth in degrees (a value). Without it smoke sprites and alpha "
+            "textures facing the camera turn at random, other sprites stay at 0."},
     {"spin", PFX_KEY_CODE,
      .schema =
          "{\"default\": 0, \"oneOf\": [{\"$ref\": \"#/$defs/value\"}, {\"type\": \"array\", "
@@ -209,7 +212,8 @@ static const pfx_key emitter_keys[] = {
     {"texture", PFX_KEY_CODE, .offset = -1, .schema = "{\"type\": \"string\"}",
      .doc = "A PNG (grey, grey + alpha, RGB or RGBA; 8 or 16 bits; at most 8192x8192) relative "
             "to the effect file, instead of the built-in sprite: its alpha is the shape, the "
-            "particle's colour multiplies it."},
+            "particle's colour multiplies it; on a ribbon it spans the strip once, left edge at "
+            "the head."},
     {"normal_map", PFX_KEY_CODE, .offset = -1, .schema = "{\"type\": \"string\"}",
      .doc = "A PNG of tangent-space normals (RGB = (n + 1) / 2, +y up the image) for lit sprites, "
             "instead of the spherical normal."},
@@ -226,6 +230,9 @@ static const pfx_key emitter_keys[] = {
      .doc = "align: world: the normal of the plane the sprite lies in (any length)."},
     {"stretch", PFX_KEY_MAP, .offset = M(look), .table = &pfx_stretch_table,
      .doc = "align: velocity: length = size x length + |v| x speed."},
+    {"ribbon", PFX_KEY_MAP, .offset = M(look), .table = &pfx_ribbon_table,
+     .doc = "draw: ribbon: taper: [head, tail], the fractions of its length over which the strip "
+            "narrows and fades to 0 at each end."},
     {"lit", PFX_KEY_BOOL, .def = {0}, .offset = M(look.lit),
      .doc = "Shade by the effect's light with a spherical normal per sprite (or normal_map); "
             "for alpha sprites such as smoke."},
@@ -476,17 +483,16 @@ static void compile_lod(compiler *c, const pfx_node *v, const pfx_node *n, pfx_e
     em->rate_var = fmin(var * em->lod_area, em->rate);
 }
 
-/* `direction` (a vector, or normal | radial | inward), `spread` (a cone
+/* `direction` (a vector, or normal | radial | inward | tangent), `spread` (a cone
  * half-angle, or the thesis's [alpha, beta]), `distance` and
  * `inherit_velocity`. The direction stays in the emitter's frame: the
  * emitter's rotation at each birth turns it. */
 static void compile_direction(compiler *c, const pfx_node *n, pfx_emitter *em) {
-    static const char *const modes[] = {"normal", "radial", "inward", NULL};
     const pfx_node *v;
     double dir[3] = {0, 1, 0};
     if ((v = pfx_node_get(n, "direction"))) {
         if (v->kind == PFX_NODE_SCALAR) {
-            int m = read_enum(c, v, "direction", "direction", modes);
+            int m = read_enum(c, v, "direction", "direction", pfx_direction_mode_names);
             if (m >= 0)
                 em->direction_mode = (pfx_direction_mode)(m + 1);
         } else if (pfx_read_numbers(&c->r, v, "direction", dir, 3) && dir[0] == 0 && dir[1] == 0 &&

@@ -124,6 +124,13 @@ static void estimate_drawing(const pfx_effect *e, unsigned what, double image, p
         pfx_frame_queue_caller_bytes(e->width, e->height, PFX_FRAME_EXR) + scratch;
     out->bytes[PFX_MEMORY_ENCODER] = out->threads * out->per_thread_bytes + caller;
     *fixed += caller;
+    /* light: { shadows: true }: the sprite feed's volume (render/shadow.h)
+     * and its 3D texture, with the driver's copy of the upload. */
+    if (e->light_shadows) {
+        const double shadow = 3.0 * sizeof(pfx_shadow_volume);
+        out->bytes[PFX_MEMORY_DRIVER] += shadow;
+        *fixed += shadow;
+    }
     for (size_t i = 0; i < e->emitter_count; i++)
         if (e->emitters[i].look.texture || e->emitters[i].look.normal_map) {
             out->bytes[PFX_MEMORY_DRIVER] += PFX_RENDER_DRIVER_BYTES_PER_TEXTURED;

@@ -95,7 +95,7 @@ bool pfx_mv_sequence_max(const pfx_effect *e, double *max_px, pfx_diags *d) {
     pfx_sprite *sprites = malloc(PFX_RENDER_CHUNK * sizeof *sprites);
     float *ends = malloc(PFX_RENDER_CHUNK * 4 * sizeof *ends);
     mv_histogram *h = calloc(1, sizeof *h);
-    pfx_sprite_feed feed = {NULL, NULL};
+    pfx_sprite_feed feed = {NULL, NULL, NULL};
     bool ok = sim && view && next && sprites && ends && h && pfx_sprite_feed_init(&feed, e);
     if (!ok && next) /* else pfx_mv_next_create said so */
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory for %zu particles",

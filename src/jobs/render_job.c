@@ -32,6 +32,8 @@ static long draw_frame(pfx_render_job *job, long f, const pfx_render_settings *s
         return -1; /* the sims reported into d */
     const pfx_sprite_source src = pfx_sprite_feed_source(&job->feed, state);
     const size_t n = src.count;
+    if (!pfx_renderer_set_shadow(job->renderer, pfx_sprite_feed_shadow(&job->feed, state), d))
+        return -1;
     pfx_ribbons ribbons = pfx_ribbons_build(job->ribbons, state);
     /* Motion vectors first: the frame's own sprites, before motion blur
      * moves the view on to later times. */
@@ -62,6 +64,9 @@ static long draw_frame(pfx_render_job *job, long f, const pfx_render_settings *s
                 return -1;
             const pfx_sprite_source at = pfx_sprite_feed_source(&job->feed, job->view);
             pfx_ribbons sub = pfx_ribbons_build(job->ribbons, job->view);
+            if (!pfx_renderer_set_shadow(job->renderer,
+                                         pfx_sprite_feed_shadow(&job->feed, job->view), d))
+                return -1;
             if (!pfx_renderer_blur_add(job->renderer, &e->camera, s, &at, sort, sub, weight, d))
                 return -1;
         } else if (!pfx_renderer_blur_add(job->renderer, &e->camera, s, &src, sort, ribbons, weight,

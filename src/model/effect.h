@@ -184,7 +184,15 @@ typedef struct pfx_look {
     double axis[3];        /* AXIS: the world axis; WORLD: the plane's normal (unit) */
     double stretch_length; /* VELOCITY: length = size * stretch_length + |v| * stretch_speed */
     double stretch_speed;  /* seconds */
+    /* RIBBON: the fractions of a strip's length (from its head, the newest
+     * end, and from its tail) over which width and alpha rise linearly from
+     * 0; [0, 0]: none. */
+    double ribbon_taper[2];
     bool lit;
+    /* A turn uniform over a full turn per particle on top of `angle`, from
+     * the particle's own hash: the default for sheets with no up (compile
+     * decides; man pfx-effect(5), angle). */
+    bool random_angle;
     bool intensity_curve;                  /* intensity over life from intensity_lut */
     float intensity;                       /* else this constant */
     float intensity_lut[PFX_GRADIENT_LUT]; /* multiplies the colour, not alpha */
@@ -386,6 +394,8 @@ typedef struct pfx_effect {
     double light_dir[3];  /* unit: the direction the light travels */
     float light_color[3]; /* linear, may exceed 1 */
     float light_ambient[3];
+    bool light_shadows;    /* lit sprites darkened by the particles towards the light */
+    double shadow_density; /* multiplies the casters' optical depth */
     size_t force_count;
     pfx_force *forces;
     size_t deflector_count;

@@ -131,7 +131,8 @@
 #define PFX_DIRECTION_MODES(X)                                                                     \
     X(NORMAL, "normal")                                                                            \
     X(RADIAL, "radial")                                                                            \
-    X(INWARD, "inward")
+    X(INWARD, "inward")                                                                            \
+    X(TANGENT, "tangent")
 #define PFX_FORCE_SPACES(X)                                                                        \
     X(WORLD, "world")                                                                              \
     X(EMITTER, "emitter")

@@ -437,3 +437,48 @@ int pfx_motion_evals_per_step(const pfx_motion *m) {
     }
     return per * (c->steps > 0 ? c->steps : 1);
 }
+
+/* A region's weight at p: 1 inside, 1 - d / falloff at distance d outside,
+ * 0 beyond (sim/motion_impl.h's region_weight, for one point in double). */
+static double region_weight(const pfx_motion_region *g, const double p[3]) {
+    if (g->kind == PFX_REGION_NONE)
+        return 1;
+    double q[3], out;
+    for (int a = 0; a < 3; a++)
+        q[a] = p[a] - g->center[a];
+    if (g->kind == PFX_REGION_SPHERE) {
+        out = norm3(q) - g->radius;
+    } else {
+        for (int a = 0; a < 3; a++)
+            q[a] = fmax(fabs(q[a]) - g->half[a], 0);
+        out = norm3(q);
+    }
+    double w = out <= 0 ? 1 : g->falloff > 0 ? 1 - out / g->falloff : 0;
+    return w > 0 ? w : 0;
+}
+
+void pfx_motion_drift(const pfx_motion *m, const double p[3], double out[3]) {
+    out[0] = out[1] = out[2] = 0;
+    for (size_t f = 0; m && f < m->force_count; f++) {
+        const pfx_motion_force *F = &m->forces[f];
+        if (F->kind != PFX_MOTION_VORTEX)
+            continue;
+        const double *u = F->axis;
+        double r[3], q[3];
+        for (int a = 0; a < 3; a++)
+            r[a] = p[a] - F->center[a];
+        const double al = r[0] * u[0] + r[1] * u[1] + r[2] * u[2];
+        for (int a = 0; a < 3; a++)
+            q[a] = r[a] - al * u[a];
+        const double rp = norm3(q), fr = pfx_vortex_falloff(rp / F->radius, F->sims_d);
+        if (!(fr > 0))
+            continue;
+        /* d/dt of the turn by strength f w t about u: strength f w (u x q);
+         * of the pull by inflow f w t: -inflow f w q / |q|. */
+        const double w = fr * region_weight(&F->region, p), turn = F->strength * w;
+        const double in = rp > 0 ? F->inflow * w / rp : 0;
+        out[0] += turn * (u[1] * q[2] - u[2] * q[1]) - in * q[0];
+        out[1] += turn * (u[2] * q[0] - u[0] * q[2]) - in * q[1];
+        out[2] += turn * (u[0] * q[1] - u[1] * q[0]) - in * q[2];
+    }
+}

@@ -254,6 +254,13 @@ static inline double pfx_vortex_falloff(double r, double d) {
     return (r2 * r2 - 2 * r2 + 1) / (1 + d * r2);
 }
 
+/* The velocity with which the operators that move positions directly (the
+ * Sims vortex: strength f(r) w about its axis, inflow f(r) w towards it,
+ * w the region weight) carry a particle at p, m/s, into out. The velocity
+ * column does not hold it; what is drawn from motion (align: velocity,
+ * stretch) adds it. Zero where no such operator acts. */
+void pfx_motion_drift(const pfx_motion *m, const double p[3], double out[3]);
+
 /* ---- Stability (model/stability.c) ---- */
 
 typedef enum {

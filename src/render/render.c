@@ -12,6 +12,7 @@
 #include <time.h>
 
 #include "model/kinds.h"
+#include "render/shadow.h"
 
 /* Clip planes. The depth test is off, so these only decide what is cut away:
  * nothing nearer than 1 cm or farther than 1 km is drawn, in either
@@ -91,7 +92,7 @@ static void build_vertex_arrays(pfx_renderer *r) {
     r->gl.BindBuffer(GL_ARRAY_BUFFER, r->ribbon_vbo);
     static const size_t at[3] = {offsetof(pfx_ribbon_vertex, x), offsetof(pfx_ribbon_vertex, r),
                                  offsetof(pfx_ribbon_vertex, profile)};
-    static const GLint size[3] = {4, 4, 1};
+    static const GLint size[3] = {4, 4, 2}; /* profile, along */
     for (GLuint i = 0; i < 3; i++) {
         r->gl.VertexAttribPointer(i, size[i], GL_FLOAT, GL_FALSE, sizeof(pfx_ribbon_vertex),
                                   (const void *)at[i]);
@@ -388,11 +389,15 @@ static bool make_current(pfx_renderer *r, pfx_diags *d) {
     return true;
 }
 
-/* The material sprite i names (material 0 for an index out of range). */
-static const pfx_gpu_material *material_of(const pfx_renderer *r, const pfx_sprite *sp) {
-    size_t k =
-        sp->material >= 0 && sp->material < (float)r->material_count ? (size_t)sp->material : 0;
+/* The material of index m, as sprites and ribbon vertices name it
+ * (material 0 for an index out of range). */
+static const pfx_gpu_material *material_at(const pfx_renderer *r, float m) {
+    size_t k = m >= 0 && m < (float)r->material_count ? (size_t)m : 0;
     return &r->materials[k];
+}
+
+static const pfx_gpu_material *material_of(const pfx_renderer *r, const pfx_sprite *sp) {
+    return material_at(r, sp->material);
 }
 
 /* One instanced draw per run of sprites of one material, over sprites
@@ -427,7 +432,18 @@ static void submit_ribbons(pfx_renderer *r, const pfx_view *v, pfx_ribbons ribbo
     r->gl.BindBuffer(GL_ARRAY_BUFFER, r->ribbon_vbo);
     r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(ribbons.count * sizeof *ribbons.v), ribbons.v,
                      GL_STREAM_DRAW);
-    r->gl.DrawArraysInstanced(GL_TRIANGLES, 0, (GLsizei)ribbons.count, 1);
+    /* One draw per run of triangles of one material, its texture bound
+     * (none: the program skips the read). */
+    for (size_t first = 0; first < ribbons.count;) {
+        const pfx_gpu_material *g = material_at(r, ribbons.v[first].material);
+        size_t end = first + 3;
+        while (end < ribbons.count && ribbons.v[end].material == ribbons.v[first].material)
+            end += 3;
+        r->gl.BindTexture(GL_TEXTURE_2D, g->texture);
+        r->gl.Uniform1i(r->ribbon_textured, g->texture != 0);
+        r->gl.DrawArraysInstanced(GL_TRIANGLES, (GLint)first, (GLsizei)(end - first), 1);
+        first = end;
+    }
 }
 
 /* pfx_renderer_bench_raw's frame: clear everything, upload the sprite
@@ -739,6 +755,40 @@ double pfx_renderer_bench_raw(pfx_renderer *r, const pfx_camera *cam, const pfx_
         return -1.0;
     double t = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
     return t > 0 ? frames / t : -1.0;
+}
+
+/* The volume as a 3D texture of one float a cell, linear between cell
+ * centres (the optical depth changes smoothly through a slice), clamped
+ * at the edges (a margin cell of 0 across the light). */
+bool pfx_renderer_set_shadow(pfx_renderer *r, const pfx_shadow_volume *v, pfx_diags *d) {
+    r->shadow_on = v && !v->empty;
+    if (!r->shadow_on)
+        return true;
+    if (!make_current(r, d))
+        return false;
+    if (!r->shadow_tex) {
+        r->gl.GenTextures(1, &r->shadow_tex);
+        r->gl.BindTexture(GL_TEXTURE_3D, r->shadow_tex);
+        r->gl.TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        r->gl.TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        r->gl.TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        r->gl.TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        r->gl.TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+    }
+    r->gl.ActiveTexture(GL_TEXTURE2);
+    r->gl.BindTexture(GL_TEXTURE_3D, r->shadow_tex);
+    r->gl.PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    r->gl.TexImage3D(GL_TEXTURE_3D, 0, GL_R32F, PFX_SHADOW_SIDE, PFX_SHADOW_SIDE, PFX_SHADOW_SLICES,
+                     0, GL_RED, GL_FLOAT, v->depth);
+    r->gl.ActiveTexture(GL_TEXTURE0);
+    pfx_shadow_texture_matrix(v, r->shadow_from_world);
+    GLenum e = r->gl.GetError();
+    if (e != GL_NO_ERROR) {
+        pfx_diag_error(d, PFX_RULE_RENDERER_FAILED,
+                       "OpenGL error 0x%04x while uploading the shadow map", (unsigned)e);
+        return false;
+    }
+    return true;
 }
 
 /* render_internal.h's doors into this file for the passes kept in their

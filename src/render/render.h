@@ -57,16 +57,20 @@ pfx_sprite_source pfx_sprite_source_array(const pfx_sprite *sprites, size_t coun
  * the same pixels. */
 #define PFX_RENDER_CHUNK 4096u
 
-/* One corner of a ribbon, 36 bytes: ribbons come as a triangle list (three
+/* One corner of a ribbon, 44 bytes: ribbons come as a triangle list (three
  * vertices a triangle) in world space, already facing the camera, so the
  * renderer only projects them. Colour is premultiplied as a sprite's is
  * (a = 0 for additive). `across` runs from -1 on one edge of the strip to
  * +1 on the other; `profile` is the cross-section over it: 0 soft, (1 -
- * across^2)^2 like a round sprite's falloff, 1 flat. */
+ * across^2)^2 like a round sprite's falloff, 1 flat. `along` is the
+ * fraction of the strip's length from its head (0) to its tail (1), and
+ * with `across` the texture coordinate of a textured ribbon: the
+ * material's texture (its index as a float, as a sprite's) spans the
+ * strip once, u along, v across. */
 typedef struct pfx_ribbon_vertex {
     float x, y, z, across;
     float r, g, b, a;
-    float profile;
+    float profile, along, material;
 } pfx_ribbon_vertex;
 
 /* The ribbons of a frame: `count` vertices (a multiple of 3), drawn in
@@ -89,6 +93,7 @@ typedef struct pfx_material {
     pfx_align align;
     double axis[3]; /* AXIS: world axis; WORLD: plane normal (unit) */
     bool lit;
+    bool shadowed; /* lit: the direct light scaled by the shadow volume's exp(-depth) */
 } pfx_material;
 
 /* What turns the float image into bytes, and the light of lit materials.
@@ -188,6 +193,13 @@ bool pfx_renderer_draw_float(pfx_renderer *r, const pfx_camera *cam, const pfx_r
 bool pfx_renderer_draw(pfx_renderer *r, const pfx_camera *cam, const float bg[4],
                        const pfx_sprite *sprites, size_t count, bool sort, uint8_t *rgba,
                        pfx_diags *d);
+
+struct pfx_shadow_volume;
+/* Uploads the opacity shadow map that shadowed materials read
+ * (render/shadow.h) for the frames drawn next, until the next call. NULL
+ * or an empty volume: no shadow. False with an error in d on a GL
+ * failure. */
+bool pfx_renderer_set_shadow(pfx_renderer *r, const struct pfx_shadow_volume *v, pfx_diags *d);
 
 /* Motion blur: the float images of several sub-frame times, averaged.
  * begin clears the sum; each add draws the sprites as draw_frame would and

@@ -79,6 +79,7 @@
     X(PFNGLBINDTEXTUREPROC, BindTexture)                                                           \
     X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                                                       \
     X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                                             \
+    X(PFNGLTEXIMAGE3DPROC, TexImage3D)                                                             \
     X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                                       \
     X(PFNGLGENERATEMIPMAPPROC, GenerateMipmap)                                                     \
     X(PFNGLBLENDFUNCSEPARATEPROC, BlendFuncSeparate)
@@ -93,7 +94,8 @@ typedef struct pfx_gl {
 typedef struct pfx_sprite_uniforms {
     GLint view, proj, px_per_unit, min_px, axis, plane_x, plane_y;
     GLint tex, grid, frames, frame_loop, normal_tex, light_dir, light_color, ambient;
-    GLint mv_size; /* the motion-vector variant only (-1 elsewhere) */
+    GLint mv_size;                      /* the motion-vector variant only (-1 elsewhere) */
+    GLint shadow_tex, shadow_from_view; /* shadowed programs only */
 } pfx_sprite_uniforms;
 
 /* A sprite program specialised for one combination of material switches
@@ -125,7 +127,7 @@ struct pfx_renderer {
     pfx_program programs[PFX_MAX_PROGRAMS];
     size_t program_count;
     GLuint ribbon_vao, ribbon_vbo, ribbon_program; /* ribbons: world-space triangles */
-    GLint ribbon_view, ribbon_proj;
+    GLint ribbon_view, ribbon_proj, ribbon_textured;
     pfx_gpu_material *materials;
     size_t material_count;
     float *pixels; /* width * height * 4 floats read back from the FBO */
@@ -157,6 +159,12 @@ struct pfx_renderer {
     float *mv_ends;
     uint32_t *hist;
     pfx_workers *workers; /* the sort's threads; NULL: the caller's alone */
+    /* Self-shadowing (render/shadow.h): the 3D texture of optical depth
+     * (0 until the first pfx_renderer_set_shadow) and the map from world
+     * points to its coordinates; shadow_on false: an empty volume. */
+    GLuint shadow_tex;
+    double shadow_from_world[16];
+    bool shadow_on;
 };
 
 /* Camera matrices, column-major (m[col * 4 + row]) as GL expects. The view

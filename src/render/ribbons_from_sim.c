@@ -18,8 +18,10 @@ typedef struct point_key {
 /* One point of a strip, as the triangles need it. */
 typedef struct strip_point {
     double p[3];
-    double half;   /* half-width, m (widened to the minimum footprint) */
-    float rgba[4]; /* premultiplied, as a sprite's */
+    double half;     /* half-width, m (widened to the minimum footprint by widen) */
+    float rgba[4];   /* premultiplied, as a sprite's */
+    double px_per_m; /* pixels a metre at its depth, for the widening */
+    double along;    /* the fraction of the strip's length from its head (0) to its tail (1) */
 } strip_point;
 
 struct pfx_ribbon_buffer {
@@ -111,7 +113,7 @@ static void eye_of(const pfx_effect *e, eye_frame *f) {
  * tangent along the line of sight) the previous side is kept, and a side
  * is turned to agree with the previous one, so the strip never twists. */
 static size_t emit_strip(const eye_frame *f, const strip_point *pt, size_t m, float profile,
-                         pfx_ribbon_vertex *out) {
+                         float material, pfx_ribbon_vertex *out) {
     size_t n = 0;
     double prev[3] = {f->side[0], f->side[1], f->side[2]};
     pfx_ribbon_vertex last[2];
@@ -141,7 +143,9 @@ static size_t emit_strip(const eye_frame *f, const strip_point *pt, size_t m, fl
                                        .g = pt[k].rgba[1],
                                        .b = pt[k].rgba[2],
                                        .a = pt[k].rgba[3],
-                                       .profile = profile};
+                                       .profile = profile,
+                                       .along = (float)pt[k].along,
+                                       .material = material};
         }
         if (k > 0) {
             out[n++] = last[0], out[n++] = last[1], out[n++] = c[0];
@@ -152,9 +156,8 @@ static size_t emit_strip(const eye_frame *f, const strip_point *pt, size_t m, fl
     return n;
 }
 
-/* Emitter i's points as strip points: width from size (narrower than the
- * minimum footprint on screen: widened, colour scaled down, as a sprite),
- * colour from its colour, alpha and intensity over life. */
+/* Emitter i's points as strip points: width from size, colour from its
+ * colour, alpha and intensity over life, and the scale widen needs. */
 static void point_of(const pfx_emitter *em, const pfx_pool *p, uint32_t j, const eye_frame *f,
                      strip_point *out) {
     float c[4];
@@ -163,22 +166,67 @@ static void point_of(const pfx_emitter *em, const pfx_pool *p, uint32_t j, const
     const float a = c[3], glow = a * pfx_look_intensity(&em->look, u);
     out->p[0] = p->px[j], out->p[1] = p->py[j], out->p[2] = p->pz[j];
     out->half = 0.5 * pfx_particle_size(em, p, j);
-    double px_per_m = f->px_per_m;
+    out->px_per_m = f->px_per_m;
     if (!f->ortho) {
         double d[3];
         sub3(out->p, f->eye, d);
         double depth = dot3(d, f->forward);
-        px_per_m = depth > 1e-9 ? px_per_m / depth : 0;
+        out->px_per_m = depth > 1e-9 ? out->px_per_m / depth : 0;
     }
-    double px = 2 * out->half * px_per_m, grow = 1;
+    out->rgba[0] = c[0] * glow;
+    out->rgba[1] = c[1] * glow;
+    out->rgba[2] = c[2] * glow;
+    out->rgba[3] = em->blend == PFX_BLEND_ADD ? 0.0f : a;
+}
+
+/* Each point's `along`: its distance from the head (the last point)
+ * along the points, over the strip's length (0 everywhere for a strip of
+ * no length). */
+static void measure(strip_point *pt, size_t m) {
+    double from_tail = 0;
+    for (size_t k = 0; k < m; k++) {
+        if (k > 0) {
+            double d[3];
+            sub3(pt[k].p, pt[k - 1].p, d);
+            from_tail += sqrt(dot3(d, d));
+        }
+        pt[k].along = from_tail; /* for now: from the tail */
+    }
+    for (size_t k = 0; k < m; k++)
+        pt[k].along = from_tail > 0 ? (from_tail - pt[k].along) / from_tail : 0;
+}
+
+/* `ribbon: { taper: [head, tail] }`: width and alpha times
+ * min(1, h / head, t / tail), h = along and t = 1 - along the fractions of
+ * the strip's length from the head and from the tail; a fraction of 0
+ * tapers nothing at that end. */
+static void taper(const double frac[2], strip_point *pt, size_t m) {
+    if ((frac[0] <= 0 && frac[1] <= 0) || m < 2)
+        return;
+    for (size_t k = 0; k < m; k++) {
+        const double h = pt[k].along, t = 1 - h;
+        double w = 1;
+        if (frac[0] > 0 && h < frac[0] * w)
+            w = h / frac[0];
+        if (frac[1] > 0 && t < frac[1] * w)
+            w = t / frac[1];
+        w = w < 0 ? 0 : w;
+        pt[k].half *= w;
+        for (int c = 0; c < 4; c++)
+            pt[k].rgba[c] = (float)(pt[k].rgba[c] * w);
+    }
+}
+
+/* A point narrower than the minimum footprint on screen is widened to it
+ * with its colour scaled down by the widening, as a sprite is. */
+static void widen(strip_point *pt) {
+    double px = 2 * pt->half * pt->px_per_m, grow = 1;
     if (px > 0 && px < PFX_MIN_FOOTPRINT_PX) {
         grow = PFX_MIN_FOOTPRINT_PX / px;
-        out->half *= grow;
+        pt->half *= grow;
     }
-    out->rgba[0] = (float)(c[0] * glow / grow);
-    out->rgba[1] = (float)(c[1] * glow / grow);
-    out->rgba[2] = (float)(c[2] * glow / grow);
-    out->rgba[3] = em->blend == PFX_BLEND_ADD ? 0.0f : (float)(a / grow);
+    for (int c = 0; c < 4; c++)
+        pt->rgba[c] = (float)(pt->rgba[c] / grow);
 }
 
 /* The row of the live parent with this id in keys (sorted by id), or -1. */
@@ -231,7 +279,11 @@ pfx_ribbons pfx_ribbons_build(pfx_ribbon_buffer *b, const pfx_sim *s) {
                 if (h->p[0] != last->p[0] || h->p[1] != last->p[1] || h->p[2] != last->p[2])
                     count++;
             }
-            n += emit_strip(&f, b->points, count, profile, b->v + n);
+            measure(b->points, count);
+            taper(em->look.ribbon_taper, b->points, count);
+            for (size_t k = 0; k < count; k++)
+                widen(&b->points[k]);
+            n += emit_strip(&f, b->points, count, profile, (float)i, b->v + n);
             first = end;
         }
     }

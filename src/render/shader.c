@@ -37,6 +37,10 @@ static const char *vertex_src =
     "flat out vec2 v_frame;\n"
     "flat out vec3 v_ax;\n"
     "flat out vec3 v_ay;\n"
+    "#if SHADOWED\n"
+    "uniform mat4 shadow_from_view;\n"
+    "out vec3 v_shadow;\n"
+    "#endif\n"
     "#if MOTION\n"
     "layout(location = 5) in vec4 mv_end;\n" /* centre at the next frame, weight */
     "uniform vec2 mv_size;\n"
@@ -76,6 +80,9 @@ static const char *vertex_src =
     "    v_frame = turn.zw;\n"
     "    v_ax = ax;\n"
     "    v_ay = ay;\n"
+    "#if SHADOWED\n"
+    "    v_shadow = (shadow_from_view * vec4(p, 1.0)).xyz;\n"
+    "#endif\n"
     "#if MOTION\n"
     "    vec4 a = proj * c;\n"
     "    vec4 b = proj * (view * vec4(mv_end.xyz, 1.0));\n"
@@ -88,7 +95,9 @@ static const char *vertex_src =
 /* The built-in sprites as functions of the corner coordinate q (f = 0 is
  * discarded), a texture cell (with the flipbook's cross-fade), and the
  * light: ambient + colour max(0, n . l) with n the sprite's spherical
- * normal (x, y, sqrt(1 - d^2)) in its own axes, or the normal map's. */
+ * normal (x, y, sqrt(1 - d^2)) in its own axes, or the normal map's; the
+ * direct term times exp(-optical depth) from the shadow volume where the
+ * material is shadowed (render/shadow.h). */
 static const char *fragment_src =
     "in vec2 v_corner;\n"
     "in vec4 v_colour;\n"
@@ -106,6 +115,10 @@ static const char *fragment_src =
     "uniform vec3 light_dir;\n" /* towards the light, view space */
     "uniform vec3 light_color;\n"
     "uniform vec3 ambient;\n"
+    "#if SHADOWED\n"
+    "in vec3 v_shadow;\n"
+    "uniform sampler3D shadow_tex;\n"
+    "#endif\n"
     "layout(location = 0) out vec4 frag;\n"
     "float hash(vec2 p) {\n"
     "    uvec2 u = uvec2(ivec2(floor(p)) + 32768);\n"
@@ -188,37 +201,50 @@ static const char *fragment_src =
     "    float d2 = min(dot(q, q), 1.0);\n"
     "    vec3 n = v_ax * q.x + v_ay * q.y + az * sqrt(1.0 - d2);\n"
     "#endif\n"
-    "    frag.rgb *= ambient + light_color * max(0.0, dot(n, light_dir));\n"
+    "    float direct = max(0.0, dot(n, light_dir));\n"
+    "#if SHADOWED\n"
+    "    direct *= exp(-texture(shadow_tex, v_shadow).r);\n"
+    "#endif\n"
+    "    frag.rgb *= ambient + light_color * direct;\n"
     "#endif\n"
     "}\n";
 
 /* Ribbons: world-space triangles (render/ribbons_from_sim.c has already
  * turned them to the camera), premultiplied colour interpolated between
- * the strip's points, times the cross-section over `across`. */
+ * the strip's points, times the cross-section over `across`, times the
+ * texture (when the run's material has one) at u = along, v = (1 -
+ * across) / 2: the image's left edge at the head, its top on the +1 edge. */
 static const char *ribbon_vertex_src =
     "layout(location = 0) in vec4 pos_across;\n"
     "layout(location = 1) in vec4 colour;\n"
-    "layout(location = 2) in float profile;\n"
+    "layout(location = 2) in vec2 profile_along;\n"
     "uniform mat4 view;\n"
     "uniform mat4 proj;\n"
     "out float v_across;\n"
+    "out float v_along;\n"
     "out vec4 v_colour;\n"
     "flat out float v_profile;\n"
     "void main() {\n"
     "    gl_Position = proj * (view * vec4(pos_across.xyz, 1.0));\n"
     "    v_across = pos_across.w;\n"
+    "    v_along = profile_along.y;\n"
     "    v_colour = colour;\n"
-    "    v_profile = profile;\n"
+    "    v_profile = profile_along.x;\n"
     "}\n";
 
-static const char *ribbon_fragment_src = "in float v_across;\n"
-                                         "in vec4 v_colour;\n"
-                                         "flat in float v_profile;\n"
-                                         "layout(location = 0) out vec4 frag;\n"
-                                         "void main() {\n"
-                                         "    float k = max(0.0, 1.0 - v_across * v_across);\n"
-                                         "    frag = v_colour * mix(k * k, 1.0, v_profile);\n"
-                                         "}\n";
+static const char *ribbon_fragment_src =
+    "in float v_across;\n"
+    "in float v_along;\n"
+    "in vec4 v_colour;\n"
+    "flat in float v_profile;\n"
+    "uniform sampler2D tex;\n"
+    "uniform bool textured;\n"
+    "layout(location = 0) out vec4 frag;\n"
+    "void main() {\n"
+    "    float k = max(0.0, 1.0 - v_across * v_across);\n"
+    "    frag = v_colour * mix(k * k, 1.0, v_profile);\n"
+    "    if (textured) frag *= texture(tex, vec2(v_along, 0.5 - 0.5 * v_across));\n"
+    "}\n";
 
 /* One program per combination of what the material switches (sprite
  * kind, texture, cross-fade, light, normal map, alignment), chosen by
@@ -253,7 +279,8 @@ static void find_uniforms(pfx_renderer *r, pfx_program *prog) {
     PFX_UNIFORM(axis) PFX_UNIFORM(plane_x) PFX_UNIFORM(plane_y);
     PFX_UNIFORM(tex) PFX_UNIFORM(grid) PFX_UNIFORM(frames) PFX_UNIFORM(frame_loop);
     PFX_UNIFORM(normal_tex) PFX_UNIFORM(light_dir) PFX_UNIFORM(light_color);
-    PFX_UNIFORM(ambient) PFX_UNIFORM(mv_size);
+    PFX_UNIFORM(ambient) PFX_UNIFORM(mv_size) PFX_UNIFORM(shadow_tex);
+    PFX_UNIFORM(shadow_from_view);
 #undef PFX_UNIFORM
 }
 
@@ -263,7 +290,7 @@ static unsigned program_key(const pfx_gpu_material *g) {
     bool textured = g->texture != 0, lit = m->lit;
     return (unsigned)m->sprite | (unsigned)m->align << 4 | (unsigned)textured << 8 |
            (unsigned)(textured && m->frame_blend) << 9 | (unsigned)lit << 10 |
-           (unsigned)(lit && g->normal_map != 0) << 11;
+           (unsigned)(lit && g->normal_map != 0) << 11 | (unsigned)(lit && m->shadowed) << 13;
 }
 
 /* Compiles both stages with `defines` in front and links them; 0 (with an
@@ -302,13 +329,13 @@ static GLuint build_program(pfx_renderer *r, const char *defines, const char *vs
 #define PFX_PROGRAM_MOTION (1u << 12)
 
 static bool link_program(pfx_renderer *r, pfx_program *prog, pfx_diags *d) {
-    char defines[200];
+    char defines[240];
     unsigned k = prog->key;
     snprintf(defines, sizeof defines,
              "#define KIND %u\n#define ALIGN %u\n#define TEXTURED %u\n#define FRAME_BLEND %u\n"
-             "#define LIT %u\n#define NORMAL_MAPPED %u\n#define MOTION %u\n",
+             "#define LIT %u\n#define NORMAL_MAPPED %u\n#define MOTION %u\n#define SHADOWED %u\n",
              k & 15u, (k >> 4) & 15u, (k >> 8) & 1u, (k >> 9) & 1u, (k >> 10) & 1u, (k >> 11) & 1u,
-             (k >> 12) & 1u);
+             (k >> 12) & 1u, (k >> 13) & 1u);
     prog->id = build_program(r, defines, vertex_src, fragment_src, "sprite", d);
     if (!prog->id)
         return false;
@@ -316,6 +343,7 @@ static bool link_program(pfx_renderer *r, pfx_program *prog, pfx_diags *d) {
     r->gl.UseProgram(prog->id);
     r->gl.Uniform1i(prog->u.tex, 0);
     r->gl.Uniform1i(prog->u.normal_tex, 1);
+    r->gl.Uniform1i(prog->u.shadow_tex, 2);
     return true;
 }
 
@@ -325,6 +353,9 @@ bool pfx_shader_build_ribbon(pfx_renderer *r, pfx_diags *d) {
         return false;
     r->ribbon_view = r->gl.GetUniformLocation(r->ribbon_program, "view");
     r->ribbon_proj = r->gl.GetUniformLocation(r->ribbon_program, "proj");
+    r->ribbon_textured = r->gl.GetUniformLocation(r->ribbon_program, "textured");
+    r->gl.UseProgram(r->ribbon_program);
+    r->gl.Uniform1i(r->gl.GetUniformLocation(r->ribbon_program, "tex"), 0);
     return true;
 }
 
@@ -393,6 +424,36 @@ static void plane_basis(const double n[3], double x[3], double y[3]) {
     y[2] = n[0] * x[1] - n[1] * x[0];
 }
 
+/* The shadow volume's coordinates of a view-space point: its map from
+ * world points times the inverse of the (rigid) view matrix, whose
+ * rotation is R (columns 0..2 of m) and translation t: world = R^T (p - t).
+ * Without a volume the depth reads 0 everywhere: unshadowed. */
+static void set_shadow(pfx_renderer *r, const pfx_sprite_uniforms *u, const pfx_view *v) {
+    const double *m = v->m, *s = r->shadow_from_world;
+    double inv[16] = {0};
+    for (int row = 0; row < 3; row++)
+        for (int col = 0; col < 3; col++)
+            inv[col * 4 + row] = m[row * 4 + col];
+    for (int row = 0; row < 3; row++)
+        inv[12 + row] = -(inv[row] * m[12] + inv[4 + row] * m[13] + inv[8 + row] * m[14]);
+    inv[15] = 1;
+    float f[16];
+    for (int col = 0; col < 4; col++)
+        for (int row = 0; row < 4; row++) {
+            double x = 0;
+            for (int k = 0; k < 4; k++)
+                x += s[k * 4 + row] * inv[col * 4 + k];
+            f[col * 4 + row] = (float)x;
+        }
+    if (!r->shadow_on) /* far outside the volume's texture: depth 0 at its clamped edge */
+        for (int i = 0; i < 16; i++)
+            f[i] = i == 12 || i == 13 || i == 14 ? -1.0f : i == 15 ? 1.0f : 0.0f;
+    r->gl.UniformMatrix4fv(u->shadow_from_view, 1, GL_FALSE, f);
+    r->gl.ActiveTexture(GL_TEXTURE2);
+    r->gl.BindTexture(GL_TEXTURE_3D, r->shadow_tex);
+    r->gl.ActiveTexture(GL_TEXTURE0);
+}
+
 /* Makes `prog` current with g's uniforms. */
 static void use_program(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
                         const pfx_gpu_material *g, const pfx_program *prog) {
@@ -417,6 +478,8 @@ static void use_program(pfx_renderer *r, const pfx_view *v, const pfx_render_set
     r->gl.ActiveTexture(GL_TEXTURE1);
     r->gl.BindTexture(GL_TEXTURE_2D, g->normal_map);
     r->gl.ActiveTexture(GL_TEXTURE0);
+    if (u->shadow_from_view >= 0)
+        set_shadow(r, u, v);
 }
 
 void pfx_shader_material(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
@@ -426,7 +489,7 @@ void pfx_shader_material(pfx_renderer *r, const pfx_view *v, const pfx_render_se
 
 bool pfx_shader_motion(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
                        const pfx_gpu_material *g, pfx_diags *d) {
-    const unsigned lit = 1u << 10 | 1u << 11;
+    const unsigned lit = 1u << 10 | 1u << 11 | 1u << 13;
     size_t i;
     if (!find_program(r, (program_key(g) & ~lit) | PFX_PROGRAM_MOTION, &i, d))
         return false;

@@ -4,6 +4,7 @@
 #define PFX_SPRITES_H
 
 #include "render/render.h"
+#include "render/shadow.h"
 #include "sim/sim.h"
 
 /* True when any emitter blends by alpha: then every sprite, of every
@@ -30,6 +31,7 @@ size_t pfx_sprites_build(const pfx_sim *s, pfx_sprite *out);
 typedef struct pfx_sprite_feed {
     const pfx_sim *sim;
     size_t *start;
+    struct pfx_shadow_volume *shadow; /* light: { shadows: true } only */
 } pfx_sprite_feed;
 /* False when out of memory; the caller frees it with pfx_sprite_feed_free. */
 bool pfx_sprite_feed_init(pfx_sprite_feed *f, const pfx_effect *e);
@@ -38,6 +40,9 @@ void pfx_sprite_feed_free(pfx_sprite_feed *f);
  * source of its sprites. Its callbacks only read s, so the renderer may
  * call them from several threads at once. */
 pfx_sprite_source pfx_sprite_feed_source(pfx_sprite_feed *f, const pfx_sim *s);
+/* The opacity shadow map of state s (render/shadow.h), in f, until the
+ * next call; NULL when the effect's light casts no shadows. */
+const struct pfx_shadow_volume *pfx_sprite_feed_shadow(pfx_sprite_feed *f, const pfx_sim *s);
 /* The emitter whose sprites hold sprite n of f's source: sprite n is
  * particle n - f->start[i] of emitter i's pool. */
 size_t pfx_sprite_feed_emitter(const pfx_sprite_feed *f, size_t n);

@@ -39,7 +39,8 @@ void pfx_sprites_materials(const pfx_effect *e, pfx_material *out) {
                                 .frame_blend = b->blend,
                                 .align = k->align,
                                 .axis = {k->axis[0], k->axis[1], k->axis[2]},
-                                .lit = k->lit};
+                                .lit = k->lit,
+                                .shadowed = k->lit && e->light_shadows};
     }
 }
 
@@ -62,6 +63,13 @@ pfx_render_settings pfx_sprites_settings(const pfx_effect *e) {
 static float variant_of(size_t emitter, uint32_t id) {
     uint64_t h = pfx_mix64(((uint64_t)emitter << 32) ^ id ^ 0x5bd1e9955bd1e995ULL);
     return (float)((double)(h >> 40) / 16777216.0);
+}
+
+/* A second such random, independent of the variant (which also picks the
+ * start cell and the smoke puff), for the random turn. */
+static double turn_of(size_t emitter, uint32_t id) {
+    uint64_t h = pfx_mix64(((uint64_t)emitter << 32) ^ id ^ 0x2545f4914f6cdd1dULL);
+    return (double)(h >> 40) / 16777216.0 * 2 * 3.14159265358979323846;
 }
 
 /* The flipbook cell (plus the fraction to the next) at normalised age u and
@@ -95,7 +103,17 @@ static pfx_sprite sprite_of(const pfx_sim *s, size_t i, uint32_t j) {
     const float u = (float)age / p->lifetime[j], size = pfx_particle_size(em, p, j);
     const float a = c[3], glow = a * pfx_look_intensity(k, u);
     const float variant = variant_of(i, p->id[j]);
-    const float speed = sqrtf(p->vx[j] * p->vx[j] + p->vy[j] * p->vy[j] + p->vz[j] * p->vz[j]);
+    /* What is drawn from motion is the particle's whole motion: its
+     * velocity plus what the vortex moves it by (pfx_motion_drift), which
+     * the velocity column does not hold. */
+    float v[3] = {p->vx[j], p->vy[j], p->vz[j]};
+    if (k->align == PFX_ALIGN_VELOCITY && em->motion) {
+        double drift[3];
+        pfx_motion_drift(em->motion, (const double[3]){p->px[j], p->py[j], p->pz[j]}, drift);
+        for (int x = 0; x < 3; x++)
+            v[x] = (float)(v[x] + drift[x]);
+    }
+    const float speed = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     return (pfx_sprite){.x = p->px[j],
                         .y = p->py[j],
                         .z = p->pz[j],
@@ -104,13 +122,14 @@ static pfx_sprite sprite_of(const pfx_sim *s, size_t i, uint32_t j) {
                         .g = c[1] * glow,
                         .b = c[2] * glow,
                         .a = additive ? 0.0f : a,
-                        .angle = turns ? pfx_particle_angle(em, p, j) : 0,
+                        .angle = (float)((turns ? pfx_particle_angle(em, p, j) : 0) +
+                                         (k->random_angle ? turn_of(i, p->id[j]) : 0)),
                         .material = (float)i,
                         .frame = cell_of(&k->flipbook, u, age, variant),
                         .variant = variant,
-                        .vx = p->vx[j],
-                        .vy = p->vy[j],
-                        .vz = p->vz[j],
+                        .vx = v[0],
+                        .vy = v[1],
+                        .vz = v[2],
                         .length =
                             size * (float)k->stretch_length + speed * (float)k->stretch_speed};
 }
@@ -128,12 +147,49 @@ size_t pfx_sprites_build(const pfx_sim *s, pfx_sprite *out) {
 bool pfx_sprite_feed_init(pfx_sprite_feed *f, const pfx_effect *e) {
     f->sim = NULL;
     f->start = malloc((e->emitter_count + 1) * sizeof *f->start);
-    return f->start != NULL;
+    f->shadow = e->light_shadows ? malloc(sizeof *f->shadow) : NULL;
+    return f->start != NULL && (f->shadow || !e->light_shadows);
 }
 
 void pfx_sprite_feed_free(pfx_sprite_feed *f) {
     free(f->start);
+    free(f->shadow);
     f->start = NULL;
+    f->shadow = NULL;
+}
+
+/* Casters: every alpha-blended sprite (additive light hides nothing);
+ * receivers: the lit ones. Each a sphere of its sprite's radius. */
+const pfx_shadow_volume *pfx_sprite_feed_shadow(pfx_sprite_feed *f, const pfx_sim *s) {
+    const pfx_effect *e = s->effect;
+    pfx_shadow_volume *v = f->shadow;
+    if (!v)
+        return NULL;
+    pfx_shadow_begin(v, e->light_dir);
+    for (int pass = 0; pass < 2; pass++) {
+        if (pass == 1)
+            pfx_shadow_frame(v);
+        for (size_t i = 0; i < e->emitter_count; i++) {
+            const pfx_emitter *em = &e->emitters[i];
+            const bool casts = em->blend == PFX_BLEND_ALPHA;
+            if (em->look.draw != PFX_DRAW_SPRITE || !(casts || em->look.lit) || (pass && !casts))
+                continue;
+            const pfx_pool *p = &s->pools[i];
+            for (uint32_t j = 0; j < p->count; j++) {
+                const float at[3] = {p->px[j], p->py[j], p->pz[j]};
+                const float r = 0.5f * pfx_particle_size(em, p, j);
+                if (pass == 0) {
+                    pfx_shadow_bound(v, at, r);
+                } else {
+                    float c[4];
+                    pfx_particle_color(em, p, j, c);
+                    pfx_shadow_splat(v, at, r, (float)(c[3] * e->shadow_density));
+                }
+            }
+        }
+    }
+    pfx_shadow_finish(v);
+    return v;
 }
 
 /* The last i with start[i] <= n (emitters without sprites have start[i] =

@@ -52,6 +52,17 @@ void pfx_birth_draw(const pfx_emitter *em, double t, pfx_rng *r, const double pl
             base[a] = len > 0 ? sign * local[a] / len : sign * normal[a];
         break;
     }
+    case PFX_DIRECTION_TANGENT: {
+        /* Y x local = (z, 0, -x): the orbit direction about the shape's
+         * axis (counter-clockwise seen from +Y), whatever the height. On
+         * the axis there is no orbit: along the axis (+Y), as `direction`'s
+         * default. */
+        double h = sqrt(local[0] * local[0] + local[2] * local[2]);
+        base[0] = h > 0 ? local[2] / h : 0;
+        base[1] = h > 0 ? 0 : 1;
+        base[2] = h > 0 ? -local[0] / h : 0;
+        break;
+    }
     default:
         memcpy(base, em->direction, sizeof base);
     }

@@ -32,6 +32,7 @@ emitters:
     texture: white.png
     color: "#ffffffff"
     blend: alpha
+    angle: 0   # a square, not turned at random
     forces: []
 EOF
 

@@ -81,8 +81,9 @@ def one(x=0, speed=0, lifetime=10, size=1, color='"#ffffffff"', blend="alpha", e
 
 
 # Texture orientation: the PNG's top-left quadrant (red) is the sprite's
-# top-left as seen on screen, the top-right green, and so on.
-f = render("orientation", one(size=1, extra="    texture: quad.png\n"))[0]
+# top-left as seen on screen, the top-right green, and so on (at angle 0:
+# an alpha-blended texture turns at random unless angle is set).
+f = render("orientation", one(size=1, extra="    texture: quad.png\n    angle: 0\n"))[0]
 for (x, y), want, name in [((24, 24), RED, "red"), ((40, 24), GREEN, "green"),
                            ((24, 40), BLUE, "blue"), ((40, 40), WHITE, "white")]:
     check(np.abs(f[y, x] - want).max() <= 1,
@@ -105,7 +106,7 @@ for k, want, name in [(1, RED, "red"), (3, GREEN, "green"), (5, BLUE, "blue"),
 # played, frame 4 wraps to 0).
 frames = render("flipbook_fps", one(size=1, lifetime=10, extra=(
     "    texture: quad.png\n"
-    "    flipbook: { grid: [2, 2], frames: 4, fps: 2 }\n")), fps=4, duration=3)
+    "    flipbook: { grid: [2, 2], frames: 4, fps: 2, start: 0 }\n")), fps=4, duration=3)
 for k, want, name in [(1, RED, "red"), (3, GREEN, "green"), (5, BLUE, "blue"),
                       (7, WHITE, "white"), (9, RED, "red again")]:
     c = frames[k][32, 32]
