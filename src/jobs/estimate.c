@@ -287,3 +287,12 @@ void pfx_estimate_warn(pfx_loaded *l, const pfx_estimate *est, uint64_t bound) {
                      pfx_memory_format(est->bytes[est->biggest], part, sizeof part));
     }
 }
+
+void pfx_estimate_check(pfx_loaded *l, uint64_t bound) {
+    if (!l->effect)
+        return;
+    pfx_estimate est;
+    pfx_estimate_run(l->effect, 0, pfx_effect_frame_count(l->effect) - 1, true, &est);
+    pfx_estimate_warn(l, &est, bound);
+    pfx_overrides_claim(&l->overrides, &l->diags); /* a warning at a --set value */
+}
