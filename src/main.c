@@ -119,7 +119,8 @@ enum {
     CMD_BENCH = 1 << 4,
     CMD_ASSEMBLE = 1 << 5,
     CMD_SCHEMA = 1 << 6,
-    CMD_ALL = (1 << 7) - 1,
+    CMD_LSP = 1 << 7,
+    CMD_ALL = (1 << 8) - 1,
     CMD_NONE = 0 /* pfx alone: --version */
 };
 
@@ -310,6 +311,8 @@ static const command_row commands[] = {
      "gather the frames of slices (--slice) into OUT, checking each", pfx_cmd_assemble},
     {"schema", CMD_SCHEMA, "pfx schema", "print the JSON Schema of the effect format",
      pfx_cmd_schema},
+    {"lsp", CMD_LSP, "pfx lsp",
+     "serve the Language Server Protocol on stdin and stdout (for editors)", pfx_cmd_lsp},
 };
 enum { COMMAND_COUNT = sizeof commands / sizeof commands[0] };
 
