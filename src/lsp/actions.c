@@ -1,6 +1,8 @@
 /* Quick fixes for the diagnostics the editor sends back: apply the "did
  * you mean 'x'?" of a message (keeping the quotes of a quoted scalar),
- * and acknowledge a warning in the file with the top-level `allow` key
+ * apply the integrator a stability warning names ("emitter 'e': ... use
+ * integrator 'exact'") to that emitter, and acknowledge a warning in the file with the top-level
+ * `allow` key
  * (`allow: {PFXNNNN: "reason"}`): a line added to an existing block, or
  * the block added after the `pfx:` line. */
 #include <stdio.h>
@@ -82,6 +84,57 @@ static void allow(const pfx_lsp_doc *d, json_t *diag, json_t *out) {
     json_array_append_new(out, edit_action(d, title, diag, range, text, false));
 }
 
+/* The block mapping of emitter `name`, or NULL. */
+static const pfx_node *emitter_map(const pfx_node *root, const char *name, size_t n) {
+    const pfx_node *ems =
+        root && root->kind == PFX_NODE_MAP ? pfx_node_get(root, "emitters") : NULL;
+    for (size_t i = 0; ems && ems->kind == PFX_NODE_MAP && i < ems->count; i++)
+        if (ems->pairs[i].key->len == n && !memcmp(ems->pairs[i].key->text, name, n))
+            return ems->pairs[i].value;
+    return NULL;
+}
+
+/* Whether mapping m is written in flow style ({...}). */
+static bool flow(const pfx_lsp_doc *d, const pfx_node *m) {
+    size_t at =
+        pfx_lsp_offset(&d->lines, m->line - 1, pfx_lsp_char_of_col(&d->lines, m->line, m->col));
+    return at < d->lines.len && d->lines.text[at] == '{';
+}
+
+static void integrator_fix(const pfx_lsp_doc *d, json_t *diag, json_t *out) {
+    const char *msg = json_string_value(json_object_get(diag, "message"));
+    const char *code = json_string_value(json_object_get(diag, "code"));
+    if (!msg || !code || strcmp(code, "PFX5001") || strncmp(msg, "emitter '", 9))
+        return;
+    const char *name = msg + 9, *name_end = strchr(name, '\'');
+    const char *use = strstr(msg, "use integrator '");
+    if (!name_end || !use)
+        return;
+    use += strlen("use integrator '");
+    const char *use_end = strchr(use, '\'');
+    const pfx_node *em = emitter_map(d->loaded.doc.root, name, (size_t)(name_end - name));
+    if (!use_end || use_end - use > 32 || !em || em->kind != PFX_NODE_MAP || !em->count)
+        return;
+    char text[96], title[96];
+    json_t *range;
+    const pfx_node *now = pfx_node_get(em, "integrator");
+    if (now && now->kind == PFX_NODE_SCALAR) { /* replace the one chosen */
+        snprintf(text, sizeof text, "%.*s", (int)(use_end - use), use);
+        range = pfx_lsp_range_json(d, now->line, now->col, now->span);
+    } else if (!flow(d, em)) { /* a block: a line before its first key */
+        const pfx_node *first = em->pairs[0].key;
+        snprintf(text, sizeof text, "%*sintegrator: %.*s\n", first->col - 1, "",
+                 (int)(use_end - use), use);
+        json_t *at = json_pack("{s:i, s:i}", "line", first->line - 1, "character", 0);
+        range = json_pack("{s:o, s:O}", "start", at, "end", at);
+    } else {
+        return;
+    }
+    snprintf(title, sizeof title, "Use integrator '%.*s' in emitter '%.*s'", (int)(use_end - use),
+             use, (int)(name_end - name), name);
+    json_array_append_new(out, edit_action(d, title, diag, range, text, true));
+}
+
 json_t *pfx_lsp_code_actions(const pfx_lsp_doc *d, json_t *params) {
     json_t *out = json_array(), *diag;
     json_t *diags = json_object_get(json_object_get(params, "context"), "diagnostics");
@@ -92,6 +145,7 @@ json_t *pfx_lsp_code_actions(const pfx_lsp_doc *d, json_t *params) {
         if (i >= 64)
             break;
         suggestion(d, diag, out);
+        integrator_fix(d, diag, out);
         allow(d, diag, out);
     }
     return out;

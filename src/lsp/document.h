@@ -42,6 +42,8 @@ json_t *pfx_lsp_completion(const pfx_lsp_doc *d, int line, int character);
 json_t *pfx_lsp_symbols(const pfx_lsp_doc *d);
 json_t *pfx_lsp_definition(const pfx_lsp_doc *d, int line, int character);
 json_t *pfx_lsp_references(const pfx_lsp_doc *d, int line, int character, bool declaration);
+/* NULL (not json_null()) refuses the rename: new_name is not a plain key
+ * or another force, deflector or emitter already has it. */
 json_t *pfx_lsp_rename(const pfx_lsp_doc *d, int line, int character, const char *new_name);
 json_t *pfx_lsp_code_actions(const pfx_lsp_doc *d, json_t *params);
 json_t *pfx_lsp_colors(const pfx_lsp_doc *d);

@@ -150,11 +150,29 @@ static bool plain_name(const char *s) {
     return true;
 }
 
+typedef struct taken {
+    pfx_lsp_section section;
+    const char *name;
+    bool found;
+} taken;
+
+static void find_taken(const pfx_lsp_name *n, void *ctx) {
+    taken *t = ctx;
+    t->found |= n->definition && n->section == t->section && !strcmp(n->node->text, t->name);
+}
+
 json_t *pfx_lsp_rename(const pfx_lsp_doc *d, int line, int character, const char *new_name) {
     gather g = {0};
     g.declaration = true;
     g.new_name = new_name;
-    if (!plain_name(new_name) || !gather_at(d, line, character, &g))
-        return json_null();
+    if (!gather_at(d, line, character, &g))
+        return json_null(); /* nothing to rename there */
+    taken t = {g.section, new_name, false};
+    if (plain_name(new_name))
+        pfx_lsp_names(d->loaded.doc.root, find_taken, &t);
+    if (!plain_name(new_name) || t.found) {
+        json_decref(g.out);
+        return NULL; /* refused: two things would share a name */
+    }
     return json_pack("{s:{s:o}}", "changes", d->uri, g.out);
 }

@@ -175,7 +175,7 @@ static void on_shutdown(pfx_lsp_server *s, json_t *params, double now, reply *ou
     out->result = json_null();
 }
 
-static void on_exit(pfx_lsp_server *s, json_t *params, double now, reply *out) {
+static void on_exit_message(pfx_lsp_server *s, json_t *params, double now, reply *out) {
     (void)params, (void)now, (void)out;
     s->state = s->state == SHUT_DOWN ? EXITED : EXITED_EARLY;
 }
@@ -298,8 +298,11 @@ static void position(json_t *params, int *line, int *character) {
         int line, character;                                                                       \
         position(params, &line, &character);                                                       \
         (void)line, (void)character;                                                               \
-        if (d)                                                                                     \
-            out->result = body;                                                                    \
+        if (d && !(out->result = body)) {                                                          \
+            out->code = RPC_INVALID_PARAMS;                                                        \
+            out->message = "the new name must be a plain key (letters, digits, '_', '-') that "    \
+                           "no other of its kind has";                                             \
+        }                                                                                          \
     }
 DOC_REQUEST(on_hover, pfx_lsp_hover(d, line, character))
 DOC_REQUEST(on_completion, pfx_lsp_completion(d, line, character))
@@ -327,7 +330,7 @@ static const method_row methods[] = {
     {"initialize", on_initialize, true},
     {"initialized", on_nothing, false},
     {"shutdown", on_shutdown, false},
-    {"exit", on_exit, true},
+    {"exit", on_exit_message, true},
     {"textDocument/didOpen", on_did_open, false},
     {"textDocument/didChange", on_did_change, false},
     {"textDocument/didClose", on_did_close, false},

@@ -336,7 +336,13 @@ check("rename: gravity to g edits its key and both references (not gravity_scale
 r = c.request("textDocument/rename", {"textDocument": {"uri": uri},
                                       "position": at(fire_text, "gravity: {", 0, 1),
                                       "newName": "no spaces"})
-check("rename: a name that is not a plain key is refused", r.get("result") is None, str(r))
+check("rename: a name that is not a plain key is refused",
+      r.get("error", {}).get("code") == -32602, str(r))
+r = c.request("textDocument/rename", {"textDocument": {"uri": uri},
+                                      "position": at(fire_text, "gravity: {", 0, 1),
+                                      "newName": "flicker"})
+check("rename: a force cannot take another force's name",
+      r.get("error", {}).get("code") == -32602, str(r))
 
 # ---- code actions ----------------------------------------------------------
 c.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 30},
@@ -364,6 +370,27 @@ check("codeAction: a warning can be allowed with an `allow:` block after `pfx:`"
       acts and acts[0]["title"] == "Allow PFX5004 in this file"
       and ed.get("newText") == 'allow:\n  PFX5004: "why this is intended"\n'
       and ed["range"]["start"] == {"line": pfx_line + 1, "character": 0}, json.dumps(acts))
+
+# A stability warning's fix: the integrator it names, in that emitter.
+unstable = ("pfx: 1\nforces:\n  air: { type: drag, k: 500 }\nemitters:\n  puff:\n"
+            "    rate: 10\n    integrator: symplectic\n    forces: [air]\n")
+uuri = "file:///tmp/unstable.yaml"
+c.notify("textDocument/didOpen", doc(uuri, unstable))
+d = c.wait_note("textDocument/publishDiagnostics", uuri)["params"]["diagnostics"]
+r = c.request("textDocument/codeAction", {"textDocument": {"uri": uuri}, "range": d[0]["range"],
+                                          "context": {"diagnostics": d}})
+acts = [a for a in r.get("result") or [] if a["title"].startswith("Use integrator")]
+ed = acts[0]["edit"]["changes"][uuri][0] if acts else {}
+check("codeAction: an unstable integrator is replaced by the one the warning names",
+      d and d[0]["code"] == "PFX5001" and acts
+      and acts[0]["title"] == "Use integrator 'exact' in emitter 'puff'"
+      and ed["newText"] == "exact" and ed["range"]["start"] == at(unstable, "symplectic"),
+      json.dumps([d, r])[:600])
+fixed = unstable.replace("symplectic", "exact")
+c.notify("textDocument/didChange", {"textDocument": {"uri": uuri, "version": 2},
+                                    "contentChanges": [{"text": fixed}]})
+d = c.wait_note("textDocument/publishDiagnostics", uuri)["params"]["diagnostics"]
+check("codeAction: with the fix applied the warning is gone", d == [], json.dumps(d))
 
 # ---- colours ---------------------------------------------------------------
 c.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 40},
