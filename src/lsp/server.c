@@ -16,6 +16,7 @@
 #include "jobs/estimate.h"
 #include "lsp/document.h"
 #include "lsp/rpc.h"
+#include "parse/node.h"
 
 /* JSON-RPC and LSP error codes. */
 enum {
@@ -132,8 +133,12 @@ static void analyse(pfx_lsp_server *s, pfx_lsp_doc *d) {
         notify(s, "textDocument/publishDiagnostics", params);
 }
 
-/* Replaces d's text with the n bytes at text (copied). */
+/* Replaces d's text with the n bytes at text (copied). Past the largest
+ * effect file only one more byte is kept: the load reports the file as too
+ * large, and 64 hostile documents cost at most 64 times 16 MiB. */
 static bool set_text(pfx_lsp_doc *d, const char *text, size_t n) {
+    if (n > PFX_MAX_FILE_BYTES)
+        n = PFX_MAX_FILE_BYTES + 1;
     char *copy = malloc(n + 1);
     if (!copy)
         return false;
@@ -220,6 +225,8 @@ static void on_did_change(pfx_lsp_server *s, json_t *params, double now, reply *
     if (!d)
         return;
     json_array_foreach(changes, i, c) {
+        if (i == PFX_LSP_MAX_CHANGES)
+            break; /* each ranged change costs a pass over the text */
         json_t *text = json_object_get(c, "text");
         json_t *range = json_object_get(c, "range");
         if (!json_is_string(text))
@@ -241,6 +248,10 @@ static void on_did_change(pfx_lsp_server *s, json_t *params, double now, reply *
         if (b < a)
             b = a;
         size_t tn = json_string_length(text), n = d->len - (b - a) + tn;
+        if (n > PFX_MAX_FILE_BYTES + 1) { /* too large: keep it so, as set_text would */
+            tn = tn > n - (PFX_MAX_FILE_BYTES + 1) ? tn - (n - (PFX_MAX_FILE_BYTES + 1)) : 0;
+            n = d->len - (b - a) + tn;
+        }
         char *nt = malloc(n + 1);
         if (!nt)
             continue;

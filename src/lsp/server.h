@@ -14,6 +14,9 @@
 #define PFX_LSP_DEBOUNCE_MS 100
 /* Documents open at once; more are refused (with a message to the user). */
 #define PFX_LSP_MAX_DOCS 64
+/* Ranged changes applied from one didChange (a client asked for full text
+ * sends one). */
+#define PFX_LSP_MAX_CHANGES 256
 
 /* Where the server's framed messages go; false when they cannot. */
 typedef bool (*pfx_lsp_write_fn)(void *ctx, const char *data, size_t n);

@@ -415,6 +415,15 @@ cols = c.request("textDocument/documentColor",
 check("documentColor: [r, g, b] under a colour key",
       len(cols) == 1 and cols[0]["color"] == {"red": 0.5, "green": 0.25, "blue": 1, "alpha": 1},
       json.dumps(cols))
+# A huge document: the load's own limit, and the server goes on.
+huge = "pfx: 1\n" + "#" * (17 << 20) + "\n"
+c.notify("textDocument/didOpen", doc("file:///tmp/huge.yaml", huge))
+d = c.wait_note("textDocument/publishDiagnostics", "file:///tmp/huge.yaml")["params"]
+r = c.request("textDocument/hover", {"textDocument": {"uri": uri},
+                                     "position": at(fire_text, "speed:", 0, 1)})
+check("robust: a 17 MiB document is reported too large (PFX6002) and the server answers on",
+      [g.get("code") for g in d["diagnostics"]] == ["PFX6002"] and "m/s" in json.dumps(r),
+      json.dumps(d)[:300])
 status = c.finish()
 check("lifecycle: a long session ends with status 0", status == 0, "status %d" % status)
 sys.exit(1 if failures else 0)
