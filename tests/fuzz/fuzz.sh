@@ -13,7 +13,8 @@
 #
 # Seeds: effects/*.yaml and tests/diag/*.yaml for the effect targets, the
 # OBJ files of effects/ and tests/diag for fuzz_obj, the PNG textures of
-# effects/textures and tests/diag for fuzz_png. A long campaign is in
+# effects/textures and tests/diag for fuzz_png, and for fuzz_lsp whole LSP
+# sessions on the examples (tests/fuzz/lsp_seeds.py). A long campaign is in
 # tests/fuzz/README.
 set -u
 source "$(dirname "${BASH_SOURCE[0]}")/../harness.sh" fuzz "$@"
@@ -79,6 +80,7 @@ fuzz_run() {
         printf '%s\n' 'emitters.copy.color.1=#ff0000' 'emitters.flame.size={start: 1}' >"$seeds/item-map"
         printf '%s\n' emitters.flam.rate=1 emitters.flame.shape.radiu=2 >"$seeds/typos"
         ;;
+    lsp) "$py" "$src/tests/fuzz/lsp_seeds.py" "$src" "$seeds" ;; # whole sessions
     *) cp "$src"/effects/*.yaml "$src"/tests/diag/*.yaml "$seeds/" ;;
     esac
     local args=(-dict="$tree/pfx.dict" -max_len=65536)
