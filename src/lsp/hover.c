@@ -1,15 +1,18 @@
 /* Hover: what a key means, from the compiler's key tables (its text with
  * the unit, its form, range and default), then what pfx derives there from
- * the compiled effect: on an emitter's `rate`, the pool it implies. On a
+ * the compiled effect: on an emitter's `rate`, the pool it implies; on a
+ * drag's `k`, k*dt and the integrators that stay stable. On a
  * force, deflector or emitter name: what it is and who refers to it. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "compile/compiler.h"
 #include "lsp/document.h"
 #include "lsp/tree.h"
+#include "model/motion.h"
 
 /* A growing markdown text in a fixed buffer (hover texts are short). */
 typedef struct text {
@@ -117,7 +120,35 @@ static const pfx_emitter *compiled_emitter(const pfx_lsp_doc *d, const char *em)
     return NULL;
 }
 
+/* On a drag's k: k*dt at the effect's simulation rate, and which
+ * integrators keep that decay stable (the model's own limits). */
+static void put_drag(text *t, const pfx_lsp_doc *d, const pfx_lsp_hit *h) {
+    const pfx_effect *e = d->loaded.effect;
+    const pfx_node *v = h->in.map ? pfx_node_get(h->in.map, "k") : NULL;
+    char *end;
+    double k = v && v->kind == PFX_NODE_SCALAR ? strtod(v->text, &end) : NAN;
+    if (!e || !(e->sim_rate > 0) || !isfinite(k) || *end)
+        return;
+    double z = k / e->sim_rate;
+    put(t, "---\n\nk*dt = %.3g at sim.rate %g steps/s. Stable:", z, e->sim_rate);
+    int n = 0;
+    for (int i = PFX_INTEGRATOR_AUTO + 1; pfx_integrator_names[i]; i++)
+        if (z < pfx_stability_decay_limit(pfx_integrator_scheme((pfx_integrator)i)))
+            put(t, "%s `%s`", n++ ? "," : "", pfx_integrator_names[i]);
+    put(t, "%s. Unstable:", n ? "" : " none");
+    n = 0;
+    for (int i = PFX_INTEGRATOR_AUTO + 1; pfx_integrator_names[i]; i++)
+        if (!(z < pfx_stability_decay_limit(pfx_integrator_scheme((pfx_integrator)i))))
+            put(t, "%s `%s`", n++ ? "," : "", pfx_integrator_names[i]);
+    put(t, "%s.\n\n", n ? "" : " none");
+}
+
 static void put_derived(text *t, const pfx_lsp_doc *d, const pfx_lsp_hit *h) {
+    if (h->in.table && h->in.table->kind && h->in.family && !strcmp(h->in.family->name, "force") &&
+        !strcmp(h->in.table->kind, "drag") && !strcmp(h->row->name, "k")) {
+        put_drag(t, d, h);
+        return;
+    }
     const pfx_emitter *em = compiled_emitter(d, h->in.emitter);
     if (!em || h->in.table == NULL || strcmp(h->row->name, "rate"))
         return;

@@ -392,6 +392,21 @@ c.notify("textDocument/didChange", {"textDocument": {"uri": uuri, "version": 2},
 d = c.wait_note("textDocument/publishDiagnostics", uuri)["params"]["diagnostics"]
 check("codeAction: with the fix applied the warning is gone", d == [], json.dumps(d))
 
+# Hover on a drag's k: k*dt = 300 / 120 = 2.5; the decay is stable below
+# k*dt = 2 for Euler, symplectic, midpoint and Verlet (|1 - z| < 1 and
+# |1 - z + z^2/2| < 1), below 2.785 for RK4, and always for the exact flow
+# (and Boris' split step, which uses it).
+drag = unstable.replace("k: 500", "k: 300")
+c.notify("textDocument/didChange", {"textDocument": {"uri": uuri, "version": 3},
+                                    "contentChanges": [{"text": drag}]})
+r = c.request("textDocument/hover", {"textDocument": {"uri": uuri},
+                                     "position": at(drag, "k: 300")})
+h = (r.get("result") or {}).get("contents", {}).get("value", "")
+check("hover: a drag's k shows k*dt at the sim rate and the stable integrators",
+      "k*dt = 2.5 at sim.rate 120" in h
+      and "Stable: `rk4`, `exact`, `boris`. Unstable: `euler`, `symplectic`, `midpoint`, "
+          "`verlet`." in h, h)
+
 # ---- colours ---------------------------------------------------------------
 c.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 40},
                                     "contentChanges": [{"text": fire_text}]})
