@@ -3,11 +3,17 @@
  * indentation, and of the flow collections opened on its line) picks a
  * key table. A key position offers the table's keys with their meaning; a
  * value position the key's vocabulary (an enum, a family's `type`, true or
- * false) or this file's force, deflector or emitter names where a
- * reference goes (`forces: [`, `deflectors: [`, `emit:`). */
+ * false), this file's force, deflector or emitter names where a
+ * reference goes (`forces: [`, `deflectors: [`, `emit:`), or the PNG and
+ * OBJ files beside the effect for `texture`, `normal_map` and a mesh's
+ * `file`. */
 #include <ctype.h>
+#include <dirent.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
 
 #include "compile/compiler.h"
 #include "lsp/document.h"
@@ -124,6 +130,7 @@ typedef struct context {
     bool value;             /* a value position: of key path[depth - 1]... */
     char key[NAME_MAX_LEN]; /* ...named key */
     bool in_list;           /* inside `key: [` */
+    size_t value_at;        /* where the value's text starts on the cursor's line */
 } context;
 
 /* The flow part of the cursor's line (cur, n bytes before the cursor):
@@ -154,6 +161,9 @@ static void flow_context(const pfx_lsp_doc *d, context *c, size_t line, const ch
             c->value = true;
             c->in_list = false;
             i += k;
+            c->value_at = i + 1;
+            while (c->value_at < n && cur[c->value_at] == ' ')
+                c->value_at++;
             continue;
         }
         if (ch == '{' && last_key && c->depth < MAX_PATH) {
@@ -243,7 +253,14 @@ static void add_item(json_t *items, const char *label, int kind, const char *det
 }
 
 /* LSP's CompletionItemKind. */
-enum { ITEM_PROPERTY = 10, ITEM_VALUE = 12, ITEM_ENUM_MEMBER = 20, ITEM_REFERENCE = 18 };
+enum {
+    ITEM_PROPERTY = 10,
+    ITEM_VALUE = 12,
+    ITEM_FILE = 17,
+    ITEM_REFERENCE = 18,
+    ITEM_FOLDER = 19,
+    ITEM_ENUM_MEMBER = 20
+};
 
 typedef struct names_ctx {
     pfx_lsp_section section;
@@ -291,6 +308,66 @@ static void table_keys(const pfx_key_table *t, json_t *items) {
     }
 }
 
+static int by_name(const void *a, const void *b) {
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+/* Files for a path key, relative to the effect's directory: the
+ * directories and the files ending in ext under what is typed so far
+ * (typed, n bytes, quotes dropped), sorted, at most 500. Each replaces the
+ * typed text from `from` (byte offset in the document) to the cursor. */
+static void paths(const pfx_lsp_doc *d, const char *typed, size_t n, size_t from, size_t to,
+                  const char *ext, json_t *items) {
+    if (n && (*typed == '"' || *typed == '\'')) {
+        typed++, n--, from++;
+    }
+    const char *slash = NULL;
+    for (size_t i = 0; i < n; i++)
+        if (typed[i] == '/')
+            slash = typed + i;
+    size_t dir_len = slash ? (size_t)(slash - typed) + 1 : 0;
+    const char *base_end = strrchr(d->path, '/');
+    char dir[4096];
+    int w = snprintf(dir, sizeof dir, "%.*s%.*s", base_end ? (int)(base_end - d->path + 1) : 0,
+                     d->path, (int)dir_len, typed);
+    if (w < 0 || (size_t)w >= sizeof dir || (n && *typed == '/'))
+        return; /* relative paths only: the effect's own files */
+    DIR *dp = opendir(*dir ? dir : ".");
+    if (!dp)
+        return;
+    char *names[500];
+    size_t count = 0;
+    struct dirent *e;
+    while (count < 500 && (e = readdir(dp))) {
+        if (e->d_name[0] == '.')
+            continue;
+        char full[4352];
+        struct stat st;
+        snprintf(full, sizeof full, "%s%s", dir, e->d_name);
+        bool is_dir = !stat(full, &st) && S_ISDIR(st.st_mode);
+        size_t ln = strlen(e->d_name), le = strlen(ext);
+        if (!is_dir && (ln < le || strcasecmp(e->d_name + ln - le, ext)))
+            continue;
+        char *name = malloc(dir_len + ln + 2);
+        if (!name)
+            break;
+        snprintf(name, dir_len + ln + 2, "%.*s%s%s", (int)dir_len, typed, e->d_name,
+                 is_dir ? "/" : "");
+        names[count++] = name;
+    }
+    closedir(dp);
+    qsort(names, count, sizeof names[0], by_name);
+    for (size_t i = 0; i < count; i++) {
+        json_t *it =
+            json_pack("{s:s, s:i, s:{s:o, s:s}}", "label", names[i], "kind",
+                      names[i][strlen(names[i]) - 1] == '/' ? ITEM_FOLDER : ITEM_FILE, "textEdit",
+                      "range", pfx_lsp_range_bytes(d, from, to), "newText", names[i]);
+        if (it)
+            json_array_append_new(items, it);
+        free(names[i]);
+    }
+}
+
 json_t *pfx_lsp_completion(const pfx_lsp_doc *d, int line, int character) {
     json_t *items = json_array();
     if (!items || line < 0 || (size_t)line >= d->lines.line_count)
@@ -311,6 +388,20 @@ json_t *pfx_lsp_completion(const pfx_lsp_doc *d, int line, int character) {
         for (size_t i = 0; p.family->kinds[i]; i++)
             add_item(items, p.family->kinds[i], ITEM_ENUM_MEMBER, p.family->name,
                      p.family->tables[i]->doc, NULL);
+        return items;
+    }
+    const char *ext =
+        p.table == &pfx_emitter_table && (!strcmp(c.key, "texture") || !strcmp(c.key, "normal_map"))
+            ? ".png"
+        : p.family && p.table && !strcmp(p.family->name, "shape") &&
+                !strcmp(p.table->kind, "mesh") && !strcmp(c.key, "file")
+            ? ".obj"
+            : NULL;
+    if (ext) {
+        size_t line_start = d->lines.line_starts[line];
+        size_t at = c.value_at < off - line_start ? c.value_at : off - line_start;
+        paths(d, d->lines.text + line_start + at, off - line_start - at, line_start + at, off, ext,
+              items);
         return items;
     }
     if (p.emitter && !strcmp(c.key, "emit")) {

@@ -299,6 +299,18 @@ items = complete(fire_text, 15, at(fire_text, "forces:", 0, 0))
 check("completion: the top level's keys at column 0",
       any(i["label"] == "emitters" for i in items), json.dumps(items)[:200])
 
+half = fire_text.replace("texture: textures/flame_sheet.png", "texture: textures/fl")
+pos = at(half, "textures/fl", 0, 11)
+items = complete(half, 16, pos)
+check("completion: texture offers the PNG files beside the effect, replacing what is typed",
+      [i["label"] for i in items] == ["textures/flame_sheet.png", "textures/smoke_sheet.png"]
+      and items[0]["textEdit"]["range"]["start"]["character"] == pos["character"] - 11,
+      json.dumps(items)[:300])
+half = fire_text.replace("texture: textures/flame_sheet.png", 'texture: "')
+items = complete(half, 17, at(half, 'texture: "', 0, 10))
+check("completion: a quoted texture path starts with the folders beside the effect",
+      [i["label"] for i in items] == ["textures/"], json.dumps(items)[:300])
+
 # ---- outline, definition, references, rename -------------------------------
 c.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 20},
                                     "contentChanges": [{"text": fire_text}]})
