@@ -8,6 +8,7 @@
 #include <errno.h>
 #include <jansson.h>
 #include <poll.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -31,6 +32,8 @@ struct pfx_lsp_server {
     pfx_lsp_write_fn write;
     void *ctx;
     pfx_lsp_reader reader;
+    bool write_failed; /* the client stopped reading: nothing more can be said */
+    int write_errno;
     enum {
         BEFORE_INIT,
         RUNNING,
@@ -59,8 +62,10 @@ static void send(pfx_lsp_server *s, json_t *msg) {
     size_t n;
     char *framed = pfx_lsp_frame_text(body, strlen(body), &n);
     free(body);
-    if (framed)
-        s->write(s->ctx, framed, n);
+    if (framed && !s->write_failed && !s->write(s->ctx, framed, n)) {
+        s->write_failed = true;
+        s->write_errno = errno;
+    }
     free(framed);
 }
 
@@ -451,7 +456,7 @@ bool pfx_lsp_server_feed(pfx_lsp_server *s, const void *data, size_t n, double n
         if (f == PFX_LSP_FRAME_MORE)
             return true;
         handle(s, body, len, now_ms);
-        if (s->state >= EXITED)
+        if (s->state >= EXITED || s->write_failed)
             return false;
     }
 }
@@ -509,6 +514,9 @@ int pfx_lsp_serve(int in, int out, pfx_diags *run) {
         pfx_diag_error(run, PFX_RULE_OUT_OF_MEMORY, "out of memory for the language server");
         return 1;
     }
+    /* A client that goes away mid-answer is a failed write (EPIPE), not a
+     * signal that kills the server before it can say so. */
+    signal(SIGPIPE, SIG_IGN);
     static char buf[65536];
     for (;;) {
         /* Input first: every message waiting is handled before an analysis
@@ -518,6 +526,8 @@ int pfx_lsp_serve(int in, int out, pfx_diags *run) {
             break;
         if (r == 0) {
             pfx_lsp_server_tick(s, now_ms(), false);
+            if (s->write_failed)
+                break;
             continue;
         }
         ssize_t n = read(in, buf, sizeof buf);
@@ -527,6 +537,9 @@ int pfx_lsp_serve(int in, int out, pfx_diags *run) {
             break;
     }
     int status = pfx_lsp_server_exit_code(s);
+    if (s->write_failed)
+        pfx_diag_error(run, PFX_RULE_WRITE_FAILED, "cannot write to the editor: %s",
+                       strerror(s->write_errno));
     pfx_lsp_server_destroy(s);
     return status;
 }

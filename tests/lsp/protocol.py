@@ -112,6 +112,20 @@ status, out, err = raw_session(b"X" * 20000)
 check("framing: a header with no end is refused after 8 KiB",
       status == 1 and b"no end of its header" in err, "status %d, %r" % (status, err))
 
+# A client that stops reading: a failed write, exit status 1, not SIGPIPE.
+p = subprocess.Popen([pfx, "lsp"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                     stderr=subprocess.PIPE)
+p.stdout.close()
+try:
+    p.stdin.write(INIT + INIT + SHUTDOWN + EXIT)
+    p.stdin.close()
+except BrokenPipeError:
+    pass
+status, err = p.wait(10), p.stderr.read()
+check("lifecycle: a client that closed its end gets 'cannot write to the editor', status 1",
+      status == 1 and b"pfx: cannot write to the editor: Broken pipe" in err,
+      "status %d, %r" % (status, err))
+
 # Split messages: a message cut in two reads still parses.
 c = Client(pfx)
 init = INIT
