@@ -119,14 +119,14 @@ static void free_doc(pfx_lsp_doc *d) {
 }
 
 /* Loads and compiles the document's text exactly as `pfx validate` would
- * the file (jobs/load.c, then validate's estimate warnings), then publishes
- * the diagnostics. The memory bound is a fixed 4 GiB rather than half of
- * this machine's memory, so an editor reports the same on every machine. */
+ * the file (jobs/load.c, then validate's estimate warnings against its
+ * default memory bound, half of this machine's memory), then publishes
+ * the diagnostics. */
 static void analyse(pfx_lsp_server *s, pfx_lsp_doc *d) {
     drop_analysis(d);
     pfx_compile_options opt = {0};
     pfx_load_bytes(&d->loaded, d->path, d->text, d->len, &opt);
-    pfx_estimate_check(&d->loaded, 4ULL << 30);
+    pfx_estimate_check(&d->loaded, pfx_memory_default_bound());
     d->analysed = true;
     d->pending = false;
     if (!pfx_lsp_text_init(&d->lines, d->loaded.source ? d->loaded.source : "",
