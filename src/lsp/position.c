@@ -67,6 +67,9 @@ size_t pfx_lsp_offset(const pfx_lsp_text *t, int line, int character) {
 }
 
 void pfx_lsp_position(const pfx_lsp_text *t, size_t off, int *line, int *character) {
+    *line = *character = 0;
+    if (!t->line_count) /* not indexed (out of memory) */
+        return;
     if (off > t->len)
         off = t->len;
     size_t lo = 0, hi = t->line_count; /* the last line start <= off */
