@@ -300,8 +300,44 @@ static void section_names(const pfx_lsp_doc *d, pfx_lsp_section sec, json_t *ite
     }
 }
 
-static void table_keys(const pfx_key_table *t, json_t *items) {
+/* The keys already written in the block mapping the cursor's line belongs
+ * to (not the cursor's own line), up to 64; none in a flow mapping. */
+typedef struct present {
+    char names[64][NAME_MAX_LEN];
+    size_t count;
+} present;
+
+static void present_keys(const pfx_lsp_doc *d, const context *c, size_t line, present *out) {
+    out->count = 0;
+    if (c->depth > 0 && c->path[c->depth - 1].flow)
+        return;
+    bool blank;
+    int own = indent_of(line_at(d, line), &blank);
+    const seg *parent = c->depth > 0 ? &c->path[c->depth - 1] : NULL;
+    for (size_t i = parent ? parent->line + 1 : 0; i < d->lines.line_count && out->count < 64;
+         i++) {
+        line_view l = line_at(d, i);
+        int ind = indent_of(l, &blank);
+        if (blank)
+            continue;
+        if (parent && ind <= parent->indent)
+            break;
+        size_t k = ind == own && i != line ? key_at(l.s + ind, l.n - (size_t)ind) : 0;
+        if (k) {
+            seg g;
+            seg_set(&g, l.s + ind, k, i, ind);
+            memcpy(out->names[out->count++], g.name, NAME_MAX_LEN);
+        }
+    }
+}
+
+static void table_keys(const pfx_key_table *t, const present *have, json_t *items) {
     for (size_t i = 0; i < t->count; i++) {
+        bool written = false;
+        for (size_t h = 0; h < have->count && !written; h++)
+            written = !strcmp(have->names[h], t->keys[i].name);
+        if (written)
+            continue; /* a key once: a second would be a duplicate-key error */
         char insert[NAME_MAX_LEN + 4];
         snprintf(insert, sizeof insert, "%s: ", t->keys[i].name);
         add_item(items, t->keys[i].name, ITEM_PROPERTY, t->doc, t->keys[i].doc, insert);
@@ -377,9 +413,11 @@ json_t *pfx_lsp_completion(const pfx_lsp_doc *d, int line, int character) {
     find_context(d, (size_t)line, off - d->lines.line_starts[line], &c);
     pfx_lsp_place p;
     resolve(d, &c, &p);
-    if (!c.value) { /* a key */
+    if (!c.value) {   /* a key */
+        present have; /* 4 KiB */
+        present_keys(d, &c, (size_t)line, &have);
         if (p.table)
-            table_keys(p.table, items);
+            table_keys(p.table, &have, items);
         else if (p.family)
             add_item(items, "type", ITEM_PROPERTY, p.family->name, p.family->type_doc, "type: ");
         return items;

@@ -295,10 +295,17 @@ check("completion: `blend: ` offers the blend modes", "add" in labels and "alpha
       str(labels))
 half = fire_text.replace("    spread: 10\n", "    spread: 10\n    lif\n", 1)
 items = complete(half, 12, at(half, "    lif", 0, 7))
-life = [i for i in items if i["label"] == "lifetime"]
-check("completion: an emitter's keys, each with its meaning",
-      life and "Seconds a particle lives" in life[0]["documentation"]["value"]
-      and any(i["label"] == "gravity_scale" for i in items), json.dumps(items)[:300])
+charge = [i for i in items if i["label"] == "charge"]
+labels = [i["label"] for i in items]
+check("completion: an emitter's keys not yet written, each with its meaning",
+      charge and "charge in coulombs" in charge[0]["documentation"]["value"]
+      and "lifetime" not in labels and "gravity_scale" not in labels and "mass" in labels,
+      json.dumps(items)[:300])
+half = fire_text.replace("flicker: { type: turbulence,", "flicker: { type: turbulence, s")
+items = complete(half, 18, at(half, "turbulence, s", 0, 13))
+labels = [i["label"] for i in items]
+check("completion: in a flow mapping, the keys of the type it names",
+      "strength" in labels and "octaves" in labels and "accel" not in labels, str(labels))
 half = fire_text.replace("type: turbulence", "type: ")
 items = complete(half, 13, at(half, "flicker: { type: ", 0, 17))
 labels = [i["label"] for i in items]
@@ -310,8 +317,9 @@ items = complete(half, 14, at(half, "emit: }", 0, 6))
 check("completion: `emit:` offers the file's emitters",
       sorted(i["label"] for i in items) == ["flame", "glow", "sparks"], json.dumps(items)[:300])
 items = complete(fire_text, 15, at(fire_text, "forces:", 0, 0))
-check("completion: the top level's keys at column 0",
-      any(i["label"] == "emitters" for i in items), json.dumps(items)[:200])
+labels = [i["label"] for i in items]
+check("completion: the top level's keys at column 0, but those written elsewhere",
+      "forces" in labels and "light" in labels and "emitters" not in labels, str(labels))
 
 half = fire_text.replace("texture: textures/flame_sheet.png", "texture: textures/fl")
 pos = at(half, "textures/fl", 0, 11)
