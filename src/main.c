@@ -233,7 +233,7 @@ static const option_row option_rows[] = {
      "the number of slices for --slice-env"},
     {"alpha", required_argument, OPT_ALPHA, "    --alpha MODE", CMD_RENDER,
      "PNG alpha: straight or premultiplied, overriding\nimage.alpha"},
-    {"quiet", no_argument, 'q', "-q, --quiet", CMD_ALL & ~CMD_SCHEMA,
+    {"quiet", no_argument, 'q', "-q, --quiet", CMD_ALL & ~(CMD_SCHEMA | CMD_LSP),
      "no progress line and no notes"},
     {"help", no_argument, 'h', "-h, --help", CMD_ALL, "show this help"},
     {"version", no_argument, 0, "    --version", CMD_NONE, "show the version"},

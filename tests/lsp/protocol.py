@@ -126,6 +126,11 @@ check("lifecycle: a client that closed its end gets 'cannot write to the editor'
       status == 1 and b"pfx: cannot write to the editor: Broken pipe" in err,
       "status %d, %r" % (status, err))
 
+p = subprocess.run([pfx, "lsp", "effects/fire.yaml"], capture_output=True, text=True)
+check("usage: pfx lsp FILE is a usage error (exit 2): the editor sends the documents",
+      p.returncode == 2 and "pfx: lsp takes no FILE" in p.stderr and not p.stdout,
+      "%d %r" % (p.returncode, p.stderr))
+
 # Split messages: a message cut in two reads still parses.
 c = Client(pfx)
 init = INIT
