@@ -1,11 +1,16 @@
 /* pfx's diagnostics as LSP Diagnostics: each error and warning with its
  * rule id as `code`, its severity, the range of the node it blames, and
- * the notes that follow it as relatedInformation (the emitter a reference
- * should name, the key it conflicts with). Also the position helpers every
+ * the notes that follow it as relatedInformation (the key it conflicts
+ * with), with, for a misspelt force, deflector or emitter, the definition
+ * of the name it suggests. Also the position helpers every
  * feature shares. */
 #include "lsp/document.h"
 
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+
+#include "lsp/tree.h"
 
 json_t *pfx_lsp_pos_json(const pfx_lsp_doc *d, int line, int col) {
     if (line < 1)
@@ -47,6 +52,50 @@ static json_t *diag_range(const pfx_lsp_doc *d, const pfx_diag *g) {
     return pfx_lsp_range_json(d, g->line, g->col, g->span);
 }
 
+typedef struct definition {
+    pfx_lsp_section section;
+    const char *name;
+    size_t len;
+    const pfx_node *found;
+} definition;
+
+static void find_definition(const pfx_lsp_name *n, void *ctx) {
+    definition *f = ctx;
+    if (!f->found && n->definition && n->section == f->section && n->node->len == f->len &&
+        !memcmp(n->node->text, f->name, f->len))
+        f->found = n->node;
+}
+
+/* A reference to an unknown force, deflector or emitter whose message
+ * suggests another name: the suggestion's definition as related
+ * information, so the editor can show and jump to the name meant. The
+ * message is the compiler's (emitter.c, compile_spawn.c). */
+static void suggested_definition(const pfx_lsp_doc *d, const pfx_diag *g, json_t *head) {
+    static const char *const kinds[PFX_LSP_SECTIONS] = {"unknown force '", "unknown deflector '",
+                                                        "names no emitter '"};
+    const char *s = g->rule == PFX_RULE_UNKNOWN_NAME ? strstr(g->message, "did you mean '") : NULL;
+    if (!s)
+        return;
+    s += strlen("did you mean '");
+    const char *e = strchr(s, '\'');
+    definition f = {0, s, e ? (size_t)(e - s) : 0, NULL};
+    for (int k = 0; k < PFX_LSP_SECTIONS && e; k++)
+        if (strstr(g->message, kinds[k])) {
+            f.section = (pfx_lsp_section)k;
+            pfx_lsp_names(d->loaded.doc.root, find_definition, &f);
+        }
+    if (!f.found)
+        return;
+    char msg[160];
+    snprintf(msg, sizeof msg, "'%.*s' is defined here", (int)f.len, f.name);
+    json_t *rel = json_array();
+    json_array_append_new(
+        rel, json_pack("{s:{s:s, s:o}, s:s}", "location", "uri", d->uri, "range",
+                       pfx_lsp_range_json(d, f.found->line, f.found->col, f.found->span), "message",
+                       msg));
+    json_object_set_new(head, "relatedInformation", rel);
+}
+
 /* LSP's DiagnosticSeverity: 1 error, 2 warning, 3 information. */
 static int severity(pfx_severity s) {
     return s == PFX_SEV_ERROR ? 1 : s == PFX_SEV_WARNING ? 2 : 3;
@@ -80,6 +129,7 @@ static void add_list(const pfx_lsp_doc *d, const pfx_diags *list, json_t *out) {
             continue;
         if (*id)
             json_object_set_new(head, "code", json_string(id));
+        suggested_definition(d, g, head);
         json_array_append_new(out, head);
     }
     free(order);

@@ -173,9 +173,13 @@ def got(diags):
     for g in diags:
         e = {"line": g["range"]["start"]["line"], "rule": g.get("code"),
              "severity": g["severity"], "message": g["message"]}
-        if "relatedInformation" in g:
-            e["related"] = [(r["location"]["range"]["start"]["line"], r["message"])
-                            for r in g["relatedInformation"]]
+        # validate's notes; the server's own pointer to a suggested name's
+        # definition is checked on its own below
+        rel = [(r["location"]["range"]["start"]["line"], r["message"])
+               for r in g.get("relatedInformation", []) if not r["message"].endswith(
+                   " is defined here")]
+        if rel:
+            e["related"] = rel
         out.append(e)
     return out
 
@@ -214,6 +218,11 @@ check("diagnostics: from the editor's text, at the node's range, with the rule i
       and g["range"] == {"start": pos, "end": {"line": pos["line"],
                                               "character": pos["character"] + 6}}
       and "did you mean 'gravity'?" in g["message"], json.dumps(d))
+
+rel = g.get("relatedInformation", [{}])[0]
+check("diagnostics: a misspelt force points at the definition of the name suggested",
+      rel.get("message") == "'gravity' is defined here"
+      and rel["location"]["range"]["start"] == at(typo, "gravity: {", 0, 0), json.dumps(g))
 
 inverted = fire_text.replace("lifetime: [0.8, 1.6]", "lifetime: [2.0, 1.2]")
 c.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 2},
