@@ -244,6 +244,19 @@ stale = [m for m in c.notes if m.get("method") == "textDocument/publishDiagnosti
 check("diagnostics: a newer edit supersedes older ones within the debounce",
       d["version"] == 5 and d["diagnostics"] == [] and not stale, json.dumps([d, stale])[:400])
 
+# The debounce: an edit alone is analysed 100 ms after it, not before.
+import time  # noqa: E402
+t0 = time.monotonic()
+c.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 6},
+                                    "contentChanges": [{"text": typo}]})
+d = c.wait_note("textDocument/publishDiagnostics", uri)["params"]
+waited = time.monotonic() - t0
+check("diagnostics: an edit alone is published after the 100 ms debounce",
+      d["version"] == 6 and 0.1 <= waited < 5, "%.3f s" % waited)
+c.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 7},
+                                    "contentChanges": [{"text": fire_text}]})
+c.wait_note("textDocument/publishDiagnostics", uri)
+
 # A note at another place becomes relatedInformation there.
 dup = os.path.join(src, "tests", "diag", "duplicate_emitter.yaml")
 dtext = open(dup).read()
