@@ -124,7 +124,8 @@ enum {
     CMD_SCHEMA = 1 << 6,
     CMD_PREVIEW = 1 << 7,
     CMD_WATCH = 1 << 8, /* takes render's options as well */
-    CMD_ALL = (1 << 9) - 1,
+    CMD_LSP = 1 << 9,
+    CMD_ALL = (1 << 10) - 1,
     CMD_NONE = 0 /* pfx alone: --version */
 };
 
@@ -245,7 +246,7 @@ static const option_row option_rows[] = {
      "preview: listen on ADDR instead of 127.0.0.1 (a warning)"},
     {"no-open", no_argument, OPT_NO_OPEN, "    --no-open", CMD_PREVIEW,
      "preview: do not open the page in a browser"},
-    {"quiet", no_argument, 'q', "-q, --quiet", CMD_ALL & ~CMD_SCHEMA,
+    {"quiet", no_argument, 'q', "-q, --quiet", CMD_ALL & ~(CMD_SCHEMA | CMD_LSP),
      "no progress line, summary line or notes"},
     {"help", no_argument, 'h', "-h, --help", CMD_ALL, "show this help"},
     {"version", no_argument, 0, "    --version", CMD_NONE, "show the version"},
@@ -327,6 +328,8 @@ static const command_row commands[] = {
      "pfx preview FILE [--port N] [--host ADDR] [--size WxH] [--seed N] [--no-open]\n"
      "           [--max-memory SIZE] [--renderer R] [--alpha MODE] [--set PATH=VALUE]",
      "serve a live view of FILE to a browser, re-rendered on every save", pfx_cmd_preview},
+    {"lsp", CMD_LSP, "pfx lsp",
+     "serve the Language Server Protocol on stdin and stdout (for editors)", pfx_cmd_lsp},
     {"schema", CMD_SCHEMA, "pfx schema", "print the JSON Schema of the effect format",
      pfx_cmd_schema},
 };

@@ -73,6 +73,7 @@ int pfx_cmd_assemble(const char *const *operands, int count, const pfx_cli *o);
 int pfx_cmd_bench(const char *const *operands, int count, const pfx_cli *o);
 int pfx_cmd_preview(const char *const *operands, int count, const pfx_cli *o);
 int pfx_cmd_watch(const char *const *operands, int count, const pfx_cli *o);
+int pfx_cmd_lsp(const char *const *operands, int count, const pfx_cli *o);
 
 /* Shared by the commands (commands/common.c). */
 /* Looks up a renderer name; on a bad one prints the usage error, naming

@@ -42,13 +42,7 @@ int pfx_cmd_validate(const char *const *operands, int count, const pfx_cli *o) {
     for (int i = 0; i < count && !run.errors; i++) {
         pfx_loaded l;
         pfx_effect *e = pfx_load(&l, operands[i], &o->compile);
-        if (e) {
-            /* The whole render, every frame: what it would cost. */
-            pfx_estimate est;
-            pfx_estimate_run(e, 0, pfx_effect_frame_count(e) - 1, true, &est);
-            pfx_estimate_warn(&l, &est, o->max_memory);
-            pfx_overrides_claim(&l.overrides, &l.diags); /* a warning at a --set value */
-        }
+        pfx_estimate_check(&l, o->max_memory); /* the whole render: what it would cost */
         if (sarif && !(pfx_sarif_add(sarif, &l.overrides.diags) && pfx_sarif_add(sarif, &l.diags)))
             pfx_diag_error(&run, PFX_RULE_OUT_OF_MEMORY, "out of memory for the SARIF log");
         if (!sarif)

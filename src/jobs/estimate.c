@@ -374,3 +374,13 @@ bool pfx_estimate_fits(const pfx_effect *e, long first, long last, unsigned what
                    pfx_memory_format(est.bytes[est.biggest], part, sizeof part));
     return false;
 }
+
+void pfx_estimate_check(pfx_loaded *l, uint64_t bound) {
+    if (!l->effect)
+        return;
+    pfx_estimate est;
+    pfx_estimate_run(l->effect, 0, pfx_effect_frame_count(l->effect) - 1, PFX_ESTIMATE_RENDER,
+                     &est);
+    pfx_estimate_warn(l, &est, bound);
+    pfx_overrides_claim(&l->overrides, &l->diags); /* a warning at a --set value */
+}

@@ -114,5 +114,9 @@ const char *pfx_memory_format(double n, char *buf, size_t size);
  * the work: work past PFX_WORK_WARN_PARTICLE_STEPS, or past bound bytes of
  * memory (0: no bound), naming the biggest consumer. */
 void pfx_estimate_warn(pfx_loaded *l, const pfx_estimate *est, uint64_t bound);
+/* `validate`'s checks of a file that compiled (l->effect): the warnings of
+ * a render of every frame, against bound bytes (0: none). The one path of
+ * `validate` and the language server, so both report the same. */
+void pfx_estimate_check(pfx_loaded *l, uint64_t bound);
 
 #endif

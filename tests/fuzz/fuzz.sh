@@ -14,7 +14,8 @@
 # Seeds: effects/*.yaml and tests/diag/*.yaml for the effect targets, the
 # OBJ files of effects/ and tests/diag for fuzz_obj, the PNG textures of
 # effects/textures and tests/diag for fuzz_png, tests/fuzz/jobs/*.seed
-# (crafted slice folders) for fuzz_jobs. A long campaign is in
+# (crafted slice folders) for fuzz_jobs, and for fuzz_lsp whole LSP
+# sessions on the examples (tests/fuzz/lsp_seeds.py). A long campaign is in
 # tests/fuzz/README.
 set -u
 source "$(dirname "${BASH_SOURCE[0]}")/../harness.sh" fuzz "$@"
@@ -81,6 +82,7 @@ fuzz_run() {
         printf '%s\n' emitters.flam.rate=1 emitters.flame.shape.radiu=2 >"$seeds/typos"
         ;;
     jobs) cp "$src"/tests/fuzz/jobs/*.seed "$seeds/" ;;
+    lsp) "$py" "$src/tests/fuzz/lsp_seeds.py" "$src" "$seeds" ;; # whole sessions
     *) cp "$src"/effects/*.yaml "$src"/tests/diag/*.yaml "$seeds/" ;;
     esac
     local args=(-dict="$tree/pfx.dict" -max_len=65536)
