@@ -23,8 +23,10 @@
  *   1  0.1.0 up to the newborns' substep levels
  *   2  a newborn's part of a step at the attractor's substep levels
  *   3  EXR chromaticities and framesPerSecond; the atlas JSON's uv and used;
- *      motion vectors from the next frame's positions, scaled by a percentile */
-#define PFX_RESULTS 3
+ *      motion vectors from the next frame's positions, scaled by a percentile
+ *   4  the split step's midpoint half kicks on forces of v; auto's substeps
+ *      for quadratic drag and per particle about an unsoftened attractor */
+#define PFX_RESULTS 4
 
 typedef struct pfx_manifest pfx_manifest;
 
