@@ -25,7 +25,8 @@
  *   3  EXR chromaticities and framesPerSecond; the atlas JSON's uv and used;
  *      motion vectors from the next frame's positions, scaled by a percentile
  *   4  the split step's midpoint half kicks on forces of v; auto's substeps
- *      for quadratic drag and per particle about an unsoftened attractor */
+ *      for quadratic drag and per particle about an unsoftened attractor;
+ *      random deflector responses drawn per particle and hit */
 #define PFX_RESULTS 4
 
 typedef struct pfx_manifest pfx_manifest;

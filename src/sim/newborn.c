@@ -41,6 +41,8 @@ static void write_newborn(pfx_pool *p, uint32_t j, const birth_draws *b, uint64_
         p->bx[j] = (float)b->pos[0], p->by[j] = (float)b->pos[1], p->bz[j] = (float)b->pos[2];
     if (p->stuck)
         p->stuck[j] = 0;
+    if (p->hits)
+        p->hits[j] = 0;
     if (p->tint)
         p->tint[j] = (float)b->tint;
     if (p->angle0)

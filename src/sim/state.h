@@ -40,7 +40,7 @@ typedef struct pfx_emitter_state {
     uint64_t born;            /* births so far (each drawn, alive or not) */
     uint64_t dropped;         /* births lost to a full pool */
     uint64_t draws_per_birth; /* generator outputs one birth takes (fixed) */
-    pfx_rng collide_rng;      /* random resilience and friction per impact */
+    uint64_t hit_key;         /* salt of random resilience and friction (collide.h key) */
     pfx_rng spawn_rng;        /* sub-emitter counts and probabilities it receives */
     pfx_collide_stats collisions;
 } pfx_emitter_state;

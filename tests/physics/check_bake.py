@@ -263,6 +263,46 @@ def check_magdrag(rows, p):
     return check_tolerance("magnetic + quadratic drag", rows, p, lambda a: ref[round(a, 6)])
 
 
+def check_same_response(rows, p):
+    """The same effect baked at another sim.rate (the CSV `other`): a
+    particle's random resilience and friction belong to it and its hit
+    number, so each id's velocity in flight after its bounces is the same
+    at both rates (gravity and the hit times are exact: float rounding
+    apart), up to age `until`; and the draws do vary, over the range: the horizontal
+    speed kept by the first bounce, (1 - mu), spans most of [1 - mu_hi, 1]."""
+    other = {}
+    for r in load(p["other"]):
+        other[(r["frame"], r["id"])] = r
+    worst, compared = 0.0, 0
+    for r in rows:
+        if r["age"] > p["until"]:
+            continue
+        o = other.get((r["frame"], r["id"]))
+        if o is None:
+            return report(False, "same response: id %d missing at frame %d of the other rate"
+                          % (r["id"], r["frame"]))
+        if r["y"] < 1e-3 or o["y"] < 1e-3:
+            continue  # resting or sliding: when a bounce ends in rest depends on the step
+        worst = max(worst, math.sqrt(sum((r[k] - o[k]) ** 2 for k in ("vx", "vy", "vz"))))
+        compared += 1
+    kept = []
+    first = {}
+    for r in sorted(rows, key=lambda r: r["frame"]):
+        if r["vy"] > 0 and r["id"] not in first and r["frame"] > 0:
+            first[r["id"]] = r  # the first frame after its first bounce (launched downwards)
+    for i, r in first.items():
+        h0 = [q for q in rows if q["id"] == i and q["frame"] == 0][0]
+        s0 = math.hypot(h0["vx"], h0["vz"])
+        if s0 > 0.1:
+            kept.append(math.hypot(r["vx"], r["vz"]) / s0)
+    spread = (max(kept) - min(kept)) if kept else 0
+    ok = compared > 0 and worst <= p["tol"] and spread >= 0.8 * p["mu_hi"]
+    return report(ok, "same response: %d rows compared, largest velocity difference %.3g m/s "
+                  "(tolerance %g); the first bounce keeps %.3f to %.3f of the horizontal speed "
+                  "over %d particles" % (compared, worst, p["tol"], min(kept or [0]),
+                                         max(kept or [0]), len(kept)))
+
+
 def check_bounce(rows, p):
     """A drop from h0 (above the plane y = 0) with resilience eps: the
     analytic apex y + vy^2/(2g) of every row after the n-th bounce equals
@@ -341,6 +381,7 @@ CHECKS = {
     "kepler": check_kepler,
     "quadfall": check_quadfall,
     "magdrag": check_magdrag,
+    "same_response": check_same_response,
     "chance": check_chance,
     "rest": check_rest,
 }
@@ -353,7 +394,10 @@ def main():
     p = {}
     for kv in sys.argv[3:]:
         k, v = kv.split("=", 1)
-        p[k] = float(v)
+        try:
+            p[k] = float(v)
+        except ValueError:
+            p[k] = v  # a path
     try:
         rows = load(sys.argv[2])
     except (OSError, ValueError, KeyError) as e:

@@ -509,4 +509,35 @@ for rate in 4 10 30; do
     within_twice "magdrag_$rate" "$rate" "$magdrag_forces" "$magdrag_emitter" 3 magdrag qm=1 B=2 g=9.81 c=0.5 u=3 w=1
 done
 
+# ---------------------------------------------------------------------------
+# 11. Random deflector responses belong to the particle and its hit number,
+# not to the step: 300 particles launched downwards onto a floor with
+# resilience [0.2, 0.8] and friction [0, 0.6], baked at 50 and 240 steps/s,
+# have the same velocities per id (rounding apart) through their bounces,
+# and the draws spread over the range. A stream drawn in pool order gave
+# each impact another particle's numbers when sim.rate changed.
+for rate in 50 240; do
+    cat >"$work/response_$rate.yaml" <<EOF
+pfx: 1
+duration: 1
+fps: 10
+sim: { rate: $rate }
+forces:
+  g: { type: gravity, accel: [0, -9.81, 0] }
+deflectors:
+  floor: { type: plane, point: [0, 0, 0], normal: [0, 1, 0], resilience: [0.2, 0.8], friction: [0, 0.6] }
+emitters:
+  e:
+    shape: { type: point }
+    position: [0, 1, 0]
+    bursts: [{ time: 0, count: 300 }]
+    direction: [0, -1, 0]
+    spread: 60
+    speed: [1, 3]
+    lifetime: 100
+EOF
+    bake "response_$rate"
+done
+check response_50 same_response "other=$work/response_240.csv" until=0.8 tol=1e-3 mu_hi=0.6
+
 summary
