@@ -26,7 +26,8 @@
  *      motion vectors from the next frame's positions, scaled by a percentile
  *   4  the split step's midpoint half kicks on forces of v; auto's substeps
  *      for quadratic drag and per particle about an unsoftened attractor;
- *      random deflector responses drawn per particle and hit */
+ *      random deflector responses drawn per particle and hit; sub-emitter
+ *      children keyed by their event (ids, counts, draws) */
 #define PFX_RESULTS 4
 
 typedef struct pfx_manifest pfx_manifest;

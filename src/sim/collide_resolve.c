@@ -94,8 +94,6 @@ static int respond(const ctx *c, body *b, const hit *h, const double n[3], doubl
         vt[j] = b->v[j] - vn * n[j];
     if (!contact) {
         double eps = draw(c, d, b->i, 0, d->resilience), mu = draw(c, d, b->i, 1, d->friction);
-        if (pool->hits)
-            pool->hits[b->i]++;
         if (d->lifetime_loss > 0) {
             float *life = &pool->lifetime[b->i];
             *life -= (float)(d->lifetime_loss * *life);
@@ -104,6 +102,8 @@ static int respond(const ctx *c, body *b, const hit *h, const double n[3], doubl
             c->stats->impacts++;
         if (c->on_hit)
             c->on_hit(c->user, b->i, h->k, b->x, n, t);
+        if (pool->hits) /* after on_hit, whose event number is the impacts before */
+            pool->hits[b->i]++;
         for (int j = 0; j < 3; j++) {
             vt[j] *= 1 - mu;
             b->v[j] = vt[j] + eps * w * n[j];

@@ -45,7 +45,7 @@ static void init_emitters(pfx_sim *s) {
         st->draws_per_birth = probe.draws - st->rng.draws;
         pfx_schedule_init(&st->sched, em, e->seed, stream);
         st->hit_key = pfx_mix64(e->seed ^ stream ^ 0xc011deULL);
-        pfx_rng_seed(&st->spawn_rng, e->seed, stream ^ 0x5ba3ULL);
+        st->spawn_key = pfx_mix64(e->seed ^ stream ^ 0x5ba3ULL);
     }
 }
 

@@ -852,7 +852,10 @@ static const struct {
      "    trail: { emit: b, rate: 12, depth: 3 }\n"
      "  b:\n    rate: 0\n    speed: 1\n    spread: 180\n    lifetime: 0.4\n"
      "    on_death: { emit: a, count: 1, depth: 3 }\n",
-     300, 0x43a6a71c5c3cf8f3ULL},
+     300,
+     /* re-pinned: children's ids and draws keyed by their event (parent's
+      * emitter, sub-emitter, id, event number), not by processing order */
+     0x964d2066f1f65114ULL},
 };
 
 static void test_subsystem_hashes(void) {
