@@ -611,4 +611,43 @@ else
     fail "children: $(cat "$work/children.out")"
 fi
 
+# ---------------------------------------------------------------------------
+# 13. `pfx bench accuracy`'s charts: the largest error over the run (never
+# below the error at T, and well above it where an orbit comes back on
+# track), auto's tolerance line and the order 1, 2, 4 slopes in every panel,
+# no two labels at one place, and a note where two integrators' points
+# coincide (auto choosing exact on the closed forms).
+if "$pfx" bench accuracy -o "$work/accuracy" >"$work/accuracy.log" 2>&1; then
+    "$py" - "$work/accuracy" >"$work/accuracy.out" 2>&1 <<'EOF'
+import collections, csv, sys
+import xml.etree.ElementTree as ET
+d = sys.argv[1]
+rows = list(csv.DictReader(open(d + "/work-precision.csv")))
+pairs = [(float(r["error"]), float(r["max_error"])) for r in rows]
+below = sum(m < e for e, m in pairs)
+above = sum(m > 10 * e > 0 for e, m in pairs)
+svg = ET.parse(d + "/work-precision.svg").getroot()
+texts = [(t.get("x"), t.get("y"), t.text or "") for t in svg.iter() if t.tag.endswith("text")]
+count = lambda s: sum(s in t for _, _, t in texts)
+panels = count("largest position error (m)")
+places = collections.Counter((x, y) for x, y, _ in texts)
+shared = [p for p, n in places.items() if n > 1]
+print("%d rows: max_error below error in %d, over 10x error in %d; %d panels, %d tolerance "
+      "lines, order labels %d/%d/%d, %d coinciding notes, %d labels sharing a place"
+      % (len(rows), below, above, panels, count("auto's tolerance"), count("order 1"),
+         count("order 2"), count("order 4"), count("lies under"), len(shared)))
+ok = (rows and below == 0 and above > 0 and panels == 8 and count("auto's tolerance") == 8
+      and count("order 1") == count("order 2") == count("order 4") == 8
+      and count("exact lies under auto") >= 1 and not shared and "max_error" in rows[0])
+sys.exit(0 if ok else 1)
+EOF
+    if [ $? -eq 0 ]; then
+        pass "bench accuracy: $(cat "$work/accuracy.out")"
+    else
+        fail "bench accuracy: $(cat "$work/accuracy.out")"
+    fi
+else
+    fail "bench accuracy: exited non-zero: $(tail -3 "$work/accuracy.log")"
+fi
+
 summary
