@@ -51,6 +51,13 @@ static inline uint64_t pfx_mix64(uint64_t z) {
     return z ^ (z >> 31);
 }
 
+/* A uniform double in [0, 1) from the top 53 bits of a hash: a
+ * counter-based draw, keyed by what it belongs to (a particle id and its
+ * hit number, say) instead of by its place in a stream. */
+static inline double pfx_unit_of_hash(uint64_t h) {
+    return (double)(h >> 11) * (1.0 / 9007199254740992.0);
+}
+
 /* Skips the next `delta` outputs in O(log delta) steps (Brown, "Random
  * number generation with arbitrary strides", 1994), as if pfx_rng_next had
  * been called delta times. */

@@ -1,8 +1,9 @@
 /* `pfx bench accuracy`: every integrator on problems with exact solutions,
- * over dt = T/2^j, error at the end time against cost (force evaluations
- * per simulated second, and measured ns per particle-step in the float
- * kernel), plus stability limits measured by bisection. Writes CSV and SVG.
- * It judges nothing: the tests assert; this shows. */
+ * over dt = T/2^j, the largest error over the run (and at the end time)
+ * against cost (force evaluations per simulated second, and measured ns
+ * per particle-step in the float kernel, best of several), plus stability
+ * limits measured by bisection. Writes CSV and SVG. It judges nothing: the
+ * tests assert; this shows. */
 #include "bench/accuracy.h"
 
 #include <errno.h>
@@ -28,6 +29,15 @@ static const pfx_integrator integrators[] = {
     PFX_INTEGRATOR_VERLET, PFX_INTEGRATOR_EXACT,      PFX_INTEGRATOR_BORIS,    PFX_INTEGRATOR_AUTO};
 static const char *const colors[] = {"#d62728", "#ff7f0e", "#2ca02c", "#1f77b4",
                                      "#9467bd", "#000000", "#17becf", "#8c564b"};
+/* A marker each, so that a line under another still shows (exact and
+ * boris never share a panel); X is kept for unstable steps. */
+static const pfx_mark marks[] = {PFX_MARK_DOT,     PFX_MARK_SQUARE, PFX_MARK_TRIANGLE,
+                                 PFX_MARK_DIAMOND, PFX_MARK_RING,   PFX_MARK_PLUS,
+                                 PFX_MARK_PLUS,    PFX_MARK_RING};
+/* auto's default tolerance, m of position error per simulated second */
+#define AUTO_TOLERANCE 1e-3
+/* Runs of the timing, the best kept: one sample is noise on a busy machine */
+#define TIMING_RUNS 5
 #define NINT (sizeof integrators / sizeof integrators[0])
 #define NPROB pfx_acc_problem_count
 #define problems pfx_acc_problems
@@ -156,8 +166,8 @@ double pfx_bench_stability_limit(pfx_integrator integ, int oscillator) {
 #define NRUN (1 + PFX_BIRTH_MODE_COUNT)
 typedef struct result {
     double dt, cost, ns, rate;
-    double err[NRUN], max_rate[NRUN];
-    bool always; /* unstable at any dt (no stability region) */
+    double err[NRUN], max_rate[NRUN], max_err[NRUN]; /* max_err: the largest over the run */
+    bool always;                                     /* unstable at any dt (no stability region) */
     int steps;
     const char *rate_name;
 } result;
@@ -195,7 +205,7 @@ static int write_csv(const char *dir, result (*res)[NINT][NJ], FILE *log) {
         return 1;
     FILE *f = pfx_atomic_stream(a);
     fprintf(f, "problem,integrator,run,dt,substeps,evals_per_s,error,max_error_per_s,"
-               "ns_per_particle_step,unstable_rate_name,unstable_rate\n");
+               "ns_per_particle_step,unstable_rate_name,unstable_rate,max_error\n");
     for (size_t p = 0; p < NPROB; p++)
         for (size_t i = 0; i < NINT; i++) {
             if (!pfx_acc_applies(&problems[p], integrators[i]))
@@ -205,10 +215,10 @@ static int write_csv(const char *dir, result (*res)[NINT][NJ], FILE *log) {
                     const result *r = &res[p][i][j];
                     if (isnan(r->err[run]))
                         continue;
-                    fprintf(f, "\"%s\",%s,\"%s\",%.9g,%d,%.6g,%.6g,%.6g,%.3f,%s,%.4g\n",
+                    fprintf(f, "\"%s\",%s,\"%s\",%.9g,%d,%.6g,%.6g,%.6g,%.3f,%s,%.4g,%.6g\n",
                             problems[p].name, pfx_integrator_name(integrators[i]), run_name(run),
                             r->dt, r->steps, r->cost, r->err[run], r->max_rate[run], r->ns,
-                            r->rate > 0 ? r->rate_name : "", r->rate);
+                            r->rate > 0 ? r->rate_name : "", r->rate, r->max_err[run]);
                 }
         }
     return close_output(a, log);
@@ -228,17 +238,20 @@ static void cost_range(size_t p, result (*res)[NINT][NJ], pfx_chart *c) {
     c->x1 = pow(10, ceil(log10(c->x1)));
 }
 
-/* Integrator i's line on problem p's panel: a dot per stable dt, a cross
- * per unstable one, and one label, at the smallest unstable dt, with the
- * rate that makes it unstable (or that no dt is stable). */
+/* Integrator i's line on problem p's panel: its marker per stable dt, a
+ * cross per unstable one, and a line of text, stacked at the panel's top
+ * (row *rows, counted up) so that no two print over each other, with the
+ * rate that makes the smallest unstable dt unstable (or that no dt is
+ * stable). The error is the largest over the run, not only at age T (an
+ * orbit can be far off mid-way and back on track at T). */
 static void plot_integrator(FILE *f, const pfx_chart *c, size_t p, size_t i, int run,
-                            result (*res)[NINT][NJ]) {
+                            result (*res)[NINT][NJ], int *rows) {
     double x[NJ], y[NJ];
     bool skip[NJ];
     for (int j = 0; j < NJ; j++) {
         x[j] = res[p][i][j].cost;
-        y[j] = fmax(fmin(res[p][i][j].err[run], 1e3), c->y0);
-        skip[j] = isnan(res[p][i][j].err[run]);
+        y[j] = fmax(fmin(res[p][i][j].max_err[run], 1e3), c->y0);
+        skip[j] = isnan(res[p][i][j].max_err[run]);
     }
     pfx_chart_line(f, c, NJ, x, y, skip, colors[i], integrators[i] == PFX_INTEGRATOR_AUTO);
     int labelled = 0, unstable = 0;
@@ -251,22 +264,81 @@ static void plot_integrator(FILE *f, const pfx_chart *c, size_t p, size_t i, int
         if (r->rate > 0) {
             pfx_chart_mark(f, c, x[j], y[j], PFX_MARK_CROSS, colors[i]);
             if (!labelled++) {
-                char lab[48];
+                char lab[80];
                 if (r->always && unstable == NJ)
-                    snprintf(lab, sizeof lab, "unstable at every dt");
+                    snprintf(lab, sizeof lab, "%s: unstable at every dt",
+                             pfx_integrator_name(integrators[i]));
                 else
-                    snprintf(lab, sizeof lab, "%s=%.2g", r->rate_name, r->rate);
-                pfx_svg_text(f, pfx_chart_px(c, x[j]) + 6, pfx_chart_py(c, y[j]) + 12, 9, "start",
+                    snprintf(lab, sizeof lab, "%s: X from %s=%.2g",
+                             pfx_integrator_name(integrators[i]), r->rate_name, r->rate);
+                pfx_svg_text(f, c->left + c->width - 6, c->top + 14 + 12 * (*rows)++, 10, "end",
                              colors[i], lab);
             }
         } else {
-            pfx_chart_mark(f, c, x[j], y[j], PFX_MARK_DOT, colors[i]);
+            pfx_chart_mark(f, c, x[j], y[j], marks[i], colors[i]);
         }
     }
 }
 
-/* The chart of one run kind: file `name`, errors err[run], one panel per
- * problem in a grid of two columns. */
+/* Reference slopes and auto's tolerance on a panel: error falls as
+ * cost^-p for a method of order p (cost ~ 1/dt), drawn as grey segments
+ * over two decades from the panel's top left, each labelled with its
+ * order; and the error auto promises over a run of T seconds (its default
+ * tolerance, in m per simulated second, times T), dashed across. */
+static void reference_lines(FILE *f, const pfx_chart *c, double T) {
+    static const int orders[] = {1, 2, 4};
+    const double xa = c->x0 * 1.5, ya = 10;
+    for (int k = 0; k < 3; k++) {
+        double xb = xa * 100, yb = ya * pow(100, -orders[k]);
+        if (yb < c->y0) { /* stop at the floor */
+            xb = xa * pow(ya / c->y0, 1.0 / orders[k]);
+            yb = c->y0;
+        }
+        pfx_chart_segment(f, c, xa, ya, xb, yb, "#999", false);
+        char lab[16];
+        snprintf(lab, sizeof lab, "order %d", orders[k]);
+        pfx_svg_text(f, pfx_chart_px(c, xb) + 3, pfx_chart_py(c, yb) + 3, 9, "start", "#777", lab);
+    }
+    const double tol = AUTO_TOLERANCE * T;
+    if (tol > c->y0 && tol < c->y1) {
+        pfx_chart_segment(f, c, c->x0, tol, c->x1, tol, "#555", true);
+        char lab[64];
+        snprintf(lab, sizeof lab, "auto's tolerance: %g m/s x T = %.3g m", AUTO_TOLERANCE, tol);
+        pfx_svg_text(f, c->left + 4, pfx_chart_py(c, tol) - 3, 9, "start", "#555", lab);
+    }
+}
+
+/* Two integrators whose points coincide at every step (the same scheme
+ * under two names, or auto choosing one of them at its own substeps) draw
+ * one line over the other: a note at the panel's foot says so. */
+static void note_coinciding(FILE *f, const pfx_chart *c, size_t p, int run,
+                            result (*res)[NINT][NJ]) {
+    int notes = 0;
+    for (size_t a = 0; a < NINT; a++)
+        for (size_t b = a + 1; b < NINT; b++) {
+            if (!pfx_acc_applies(&problems[p], integrators[a]) ||
+                !pfx_acc_applies(&problems[p], integrators[b]))
+                continue;
+            bool same = true;
+            for (int j = 0; j < NJ && same; j++) {
+                const result *ra = &res[p][a][j], *rb = &res[p][b][j];
+                double ea = ra->max_err[run], eb = rb->max_err[run];
+                if (isnan(ea) && isnan(eb))
+                    continue;
+                same = ra->cost == rb->cost && fabs(ea - eb) <= 1e-3 * fmax(fabs(ea), fabs(eb));
+            }
+            if (!same)
+                continue;
+            char lab[80];
+            snprintf(lab, sizeof lab, "%s lies under %s (the same points)",
+                     pfx_integrator_name(integrators[a]), pfx_integrator_name(integrators[b]));
+            pfx_svg_text(f, c->left + c->width - 6, c->top + c->height - 8 - 12 * notes++, 10,
+                         "end", "#333", lab);
+        }
+}
+
+/* The chart of one run kind: file `name`, errors max_err[run], one panel
+ * per problem in a grid of two columns. */
 static int write_work_precision(const char *dir, const char *name, int run, result (*res)[NINT][NJ],
                                 FILE *log) {
     pfx_atomic_file *a = open_output(dir, name, log);
@@ -278,8 +350,8 @@ static int write_work_precision(const char *dir, const char *name, int run, resu
     pfx_svg_begin(f, W, H);
     char title[160];
     snprintf(title, sizeof title,
-             "Work-precision, %s: position error at age T vs force evaluations per simulated "
-             "second",
+             "Work-precision, %s: largest position error over the run vs force evaluations per "
+             "simulated second",
              run_name(run));
     pfx_svg_text(f, W / 2.0, 24, 16, "middle", "#000", title);
     pfx_svg_text(
@@ -300,15 +372,18 @@ static int write_work_precision(const char *dir, const char *name, int run, resu
                        .y1 = 1e3};
         cost_range(p, res, &c);
         pfx_chart_axes(f, &c, problems[p].name, "force evaluations per simulated second",
-                       "position error (m)");
+                       "largest position error (m)");
+        reference_lines(f, &c, problems[p].T);
+        int rows = 0;
         for (size_t i = 0; i < NINT; i++)
             if (pfx_acc_applies(&problems[p], integrators[i]))
-                plot_integrator(f, &c, p, i, run, res);
+                plot_integrator(f, &c, p, i, run, res, &rows);
+        note_coinciding(f, &c, p, run, res);
     }
     const char *labels[NINT];
     for (size_t i = 0; i < NINT; i++)
         labels[i] = pfx_integrator_name(integrators[i]);
-    pfx_svg_legend(f, W - 130, 90, (int)NINT, labels, (const char *const *)colors);
+    pfx_svg_legend_marked(f, W - 130, 90, (int)NINT, labels, (const char *const *)colors, marks);
     pfx_svg_end(f);
     return close_output(a, log);
 }
@@ -435,15 +510,16 @@ int pfx_bench_accuracy(const char *out_dir, FILE *log) {
                 long steps = 1L << (J_MIN + j);
                 result *r = &res[p][i][j];
                 pfx_acc_result mr = pfx_acc_run_model(pr, integrators[i], steps, &m);
-                r->err[0] = mr.error, r->max_rate[0] = mr.max_rate;
+                r->err[0] = mr.error, r->max_rate[0] = mr.max_rate, r->max_err[0] = mr.max_error;
                 for (int b = 0; b < PFX_BIRTH_MODE_COUNT; b++) {
                     double rate = (double)steps / pr->T;
-                    r->err[1 + b] = r->max_rate[1 + b] = NAN;
+                    r->err[1 + b] = r->max_rate[1 + b] = r->max_err[1 + b] = NAN;
                     if (rate < 1 || rate > 1e5)
                         continue;
                     pfx_acc_result er =
                         pfx_acc_run_emitted(pr, integrators[i], steps, (pfx_birth_mode)b);
                     r->err[1 + b] = er.error, r->max_rate[1 + b] = er.max_rate;
+                    r->max_err[1 + b] = er.max_error;
                 }
                 r->dt = pr->T / (double)steps;
                 r->steps = m.choice.steps;
@@ -451,8 +527,11 @@ int pfx_bench_accuracy(const char *out_dir, FILE *log) {
                 r->rate = unstable_rate(&m, &r->rate_name, &r->always);
             }
             /* time at the middle of the sweep: the kernel cost per substep
-             * does not depend on dt */
-            double ns = time_float(pr, integrators[i], pr->T / 256, buf);
+             * does not depend on dt; the best of several runs, since other
+             * work on the machine only ever adds time */
+            double ns = INFINITY;
+            for (int k = 0; k < TIMING_RUNS; k++)
+                ns = fmin(ns, time_float(pr, integrators[i], pr->T / 256, buf));
             for (int j = 0; j < NJ; j++)
                 res[p][i][j].ns = ns;
             fprintf(log,

@@ -236,13 +236,14 @@ pfx_acc_result pfx_acc_run_model(const pfx_acc_problem *pr, pfx_integrator integ
         }
         if (!(fabs(s.x) + fabs(s.y) + fabs(s.z) < 1e12)) {
             r.failed = true;
-            r.error = r.max_rate = INFINITY;
+            r.error = r.max_rate = r.max_error = INFINITY;
             return r;
         }
         double age = (double)(i + 1) * dt;
         pr->exact(age, &e);
         double err = distance(&s, &e);
         r.max_rate = fmax(r.max_rate, err / age);
+        r.max_error = fmax(r.max_error, err);
         r.error = err;
     }
     return r;
@@ -278,7 +279,8 @@ static void effect_text(const pfx_acc_problem *pr, pfx_integrator integ, double 
 
 pfx_acc_result pfx_acc_run_emitted(const pfx_acc_problem *pr, pfx_integrator integ, long steps,
                                    pfx_birth_mode mode) {
-    pfx_acc_result r = {.failed = true, .error = INFINITY, .max_rate = INFINITY};
+    pfx_acc_result r = {
+        .failed = true, .error = INFINITY, .max_rate = INFINITY, .max_error = INFINITY};
     const double rate = (double)steps / pr->T;
     if (!(rate >= 1 && rate <= 1e5))
         return r;
@@ -295,7 +297,7 @@ pfx_acc_result pfx_acc_run_emitted(const pfx_acc_problem *pr, pfx_integrator int
     pfx_sim *s = e ? pfx_sim_create(e, NULL) : NULL;
     if (s) {
         r.failed = false;
-        r.max_rate = 0;
+        r.max_rate = r.max_error = 0;
         r.substeps = e->emitters[0].motion ? e->emitters[0].motion->choice.steps : 1;
         r.evals = e->emitters[0].motion ? pfx_motion_evals_per_step(e->emitters[0].motion) : 1;
         const long limit = 4 * steps + 64;
@@ -311,12 +313,13 @@ pfx_acc_result pfx_acc_run_emitted(const pfx_acc_problem *pr, pfx_integrator int
             pr->exact(age, &want);
             double err = distance(&got, &want);
             r.max_rate = fmax(r.max_rate, err / age);
+            r.max_error = fmax(r.max_error, err);
             r.error = err;
             if (age >= pr->T * (1 - 1e-12))
                 break;
         }
         if (s->failed || !(r.error < INFINITY))
-            r.failed = true, r.error = r.max_rate = INFINITY;
+            r.failed = true, r.error = r.max_rate = r.max_error = INFINITY;
     }
     pfx_sim_destroy(s);
     pfx_doc_free(&doc);

@@ -42,11 +42,12 @@ typedef enum {
 const char *pfx_birth_mode_name(pfx_birth_mode mode);
 
 typedef struct pfx_acc_result {
-    double error;    /* position error at age T, m */
-    double max_rate; /* the largest error(age) / age over every step end, m/s */
-    int substeps;    /* substeps per step the prepared model runs */
-    int evals;       /* force evaluations per step (all substeps) */
-    bool failed;     /* blew up, or (emitted) did not compile or stopped */
+    double error;     /* position error at age T, m */
+    double max_error; /* the largest position error over every step end, m */
+    double max_rate;  /* the largest error(age) / age over every step end, m/s */
+    int substeps;     /* substeps per step the prepared model runs */
+    int evals;        /* force evaluations per step (all substeps) */
+    bool failed;      /* blew up, or (emitted) did not compile or stopped */
 } pfx_acc_result;
 
 /* The problem with `integrator` at dt = T / steps, in double. m receives

@@ -24,7 +24,11 @@
  *   2  a newborn's part of a step at the attractor's substep levels
  *   3  EXR chromaticities and framesPerSecond; the atlas JSON's uv and used;
  *      motion vectors from the next frame's positions, scaled by a percentile
- *   4  random turns and flipbook start cells by default */
+ *   4  random turns and flipbook start cells by default; the split step's
+ *      midpoint half kicks on forces of v; auto's substeps for quadratic
+ *      drag and per particle about an unsoftened attractor; random
+ *      deflector responses drawn per particle and hit; sub-emitter children
+ *      keyed by their event (ids, counts, draws) */
 #define PFX_RESULTS 4
 
 typedef struct pfx_manifest pfx_manifest;

@@ -117,8 +117,12 @@ double pfx_motion_force_damping(const pfx_motion *m, const pfx_motion_force *f) 
  *   magnetic rotation, L the gyroradius      C = 1/24  -> 1/16
  *   attractor, w and L at its reference      C = 0.64  -> 1  (Kepler e = 0.5;
  *                                                     a circular orbit: 0.34)
- *   velocity forces under Verlet or kicks    C = 0.39  -> 0.6 (linear drag;
- *                                                     quadratic drag: 0.008)
+ *   linear velocity forces (drag, damping)   C = 0.39  -> 0.6
+ *   quadratic drag, Verlet                   C = 0.008 -> 0.012
+ *   quadratic drag, split step (midpoint     C = 0.040 -> 0.06
+ *     half kicks)
+ * (quadratic drag measured from rest, k = 2 c v_t, u = v_t; the linear
+ * constant applied to it, as before, over-worked it some 14 times).
  * Turbulence has no closed form to measure; it takes the spring's.
  * force_over_life: kick-drift-kick keeps v exact for an acceleration
  * linear in time and leaves h^3 j / 6 in x per step (j = |da/dt|), a rate
@@ -127,6 +131,8 @@ double pfx_motion_force_damping(const pfx_motion *m, const pfx_motion_force *f) 
 #define AUTO_C_ROTATION (1.0 / 16)
 #define AUTO_C_ATTRACTOR 1.0
 #define AUTO_C_VELOCITY 0.6
+#define AUTO_C_QUADRATIC_VERLET 0.012
+#define AUTO_C_QUADRATIC_SPLIT 0.06
 #define AUTO_C_JERK 0.25
 
 /* Length over which an oscillation's phase error turns into position error:
@@ -203,6 +209,17 @@ bool pfx_motion_split_kicks(const pfx_motion *m) {
     return false;
 }
 
+bool pfx_motion_split_kicks_v(const pfx_motion *m) {
+    for (size_t i = 0; i < m->force_count; i++) {
+        const pfx_motion_force *f = &m->forces[i];
+        const bool folded = pfx_motion_force_folded(f);
+        if ((f->kind == PFX_MOTION_DRAG && (f->c > 0 || !folded)) ||
+            (f->kind == PFX_MOTION_SPRING && f->zeta > 0 && !folded))
+            return true;
+    }
+    return false;
+}
+
 static int ceil_steps(double dt, double h) {
     if (!(h > 0) || !(dt / h < PFX_MOTION_MAX_SUBSTEPS))
         return h > 0 && dt / h < 1 ? 1 : PFX_MOTION_MAX_SUBSTEPS;
@@ -257,6 +274,8 @@ static void survey_forces(const pfx_motion *m, auto_survey *a) {
  * split step), their error terms, and the step limits they and the summed
  * oscillation set. */
 static void limit_by_damping(const pfx_motion *m, const pfx_motion_choice *c, auto_survey *a) {
+    const double c_quad =
+        c->scheme == PFX_SCHEME_SPLIT ? AUTO_C_QUADRATIC_SPLIT : AUTO_C_QUADRATIC_VERLET;
     for (size_t i = 0; i < m->force_count; i++) {
         const pfx_motion_force *f = &m->forces[i];
         double k = pfx_motion_force_damping(m, f);
@@ -266,8 +285,13 @@ static void limit_by_damping(const pfx_motion *m, const pfx_motion_choice *c, au
         if (c->scheme == PFX_SCHEME_SPLIT && unreg && f->kind == PFX_MOTION_DRAG)
             k -= f->k;
         a->kv += k;
+        /* the linear part (what is left of k beyond the quadratic drag's
+         * 2 c v) and the quadratic part, each with its own constant */
+        const double kq =
+            f->kind == PFX_MOTION_DRAG && f->c > 0 ? pfx_motion_force_damping(m, f) - f->k : 0;
+        const double kl = k - kq;
         if (k > 0)
-            a->err += AUTO_C_VELOCITY * velocity_scale(m, f) * k * k;
+            a->err += velocity_scale(m, f) * (AUTO_C_VELOCITY * kl * kl + c_quad * kq * kq);
     }
     if (c->scheme == PFX_SCHEME_VERLET && a->w2 > 0 && 1 / sqrt(a->w2) < a->h)
         a->h = 1 / sqrt(a->w2), a->stiff = "the forces together";
@@ -300,29 +324,34 @@ static void write_auto_why(const auto_survey *a, pfx_motion_choice *c) {
                  a->kv * hh, c->error_rate);
 }
 
-/* The rule per particle (c->radius), where it applies: split step,
- * several substeps, one attractor with a softening (within it the field
- * softens, so r0 is the worst place), beside it only gravity (whose pull a
- * particle's path bound takes in) and spiral and speed_limit (which turn or
- * slow v and move no position). The survey's terms are then the
- * attractor's alone. Its omega, sqrt(S / (L^m r^n)), and C r omega^3 scale
- * with r as r^-(n/2) and r^-(3n/2 - 1). */
+/* The rule per particle (c->radius), where it applies: split step, one
+ * attractor, beside it only gravity (whose pull a particle's path bound
+ * takes in) and spiral and speed_limit (which turn or slow v and move no
+ * position). The survey's terms are then the attractor's alone. Its
+ * omega, sqrt(S / (L^m r^n)), and C r omega^3 scale with r as r^-(n/2)
+ * and r^-(3n/2 - 1). With a softening e (and several substeps) the field
+ * softens within e, so r0 = e is the worst place and the levels run from
+ * 1 substep far out to `steps` near it. Without one the field is singular:
+ * r0 = reference_radius, where `steps` was judged, and a particle that
+ * dips inside it (any eccentric orbit) takes more, up to the cap; judged
+ * at reference_radius alone, an e = 0.5 orbit about it missed 1e-3 m/s by
+ * 4.4 times at 10 steps/s. */
 static void choose_by_radius(const pfx_motion *m, double tol, const auto_survey *a,
                              pfx_motion_choice *c) {
     const pfx_motion_force *at = NULL;
     double gravity = 0;
-    if (c->steps <= 1 || c->scheme != PFX_SCHEME_SPLIT || a->rotation || a->velocity)
+    if (c->scheme != PFX_SCHEME_SPLIT || a->rotation || a->velocity)
         return;
     for (size_t i = 0; i < m->force_count; i++) {
         const pfx_motion_force *f = &m->forces[i];
-        if (f->kind == PFX_MOTION_ATTRACTOR && !at && f->strength > 0 && f->softening > 0)
+        if (f->kind == PFX_MOTION_ATTRACTOR && !at && f->strength > 0)
             at = f;
         else if (f->kind == PFX_MOTION_GRAVITY)
             gravity += norm3(f->accel);
         else if (f->kind != PFX_MOTION_SPIRAL && f->kind != PFX_MOTION_SPEED_LIMIT)
             return;
     }
-    if (!at)
+    if (!at || (at->softening > 0 && c->steps <= 1))
         return;
     const double s = at->strength, e = at->softening, L = at->ref_radius > 0 ? at->ref_radius : 1;
     /* n = 3, 2, 1 for inverse square, linear, constant; the peak of
@@ -333,20 +362,30 @@ static void choose_by_radius(const pfx_motion *m, double tol, const auto_survey 
                    : at->falloff == PFX_FALLOFF_LINEAR       ? 2
                                                              : 1;
     c->radius.on = true;
-    c->radius.r0 = e;
+    c->radius.singular = !(e > 0);
+    c->radius.r0 = c->radius.singular ? L : e;
     c->radius.omega0 = pfx_motion_force_omega(at);
     c->radius.err0 = oscillation_error(at);
     c->radius.tol = tol;
     c->radius.omega_pow2 = pw;
     c->radius.err_pow2 = 3 * pw - 2;
     memcpy(c->radius.center, at->center, sizeof at->center);
-    c->radius.peak = pw == 3   ? 2 * s / (3 * sqrt(3.0) * e * e)
-                     : pw == 2 ? s / (2 * L * e)
-                               : s / (L * L);
+    c->radius.peak = c->radius.singular ? INFINITY
+                     : pw == 3          ? 2 * s / (3 * sqrt(3.0) * e * e)
+                     : pw == 2          ? s / (2 * L * e)
+                                        : s / (L * L);
+    c->radius.peak_coef = pw == 3 ? s : pw == 2 ? s / L : s / (L * L);
     c->radius.gravity = gravity;
+    c->radius.max_steps = c->radius.singular ? PFX_MOTION_MAX_SUBSTEPS : c->steps;
     size_t len = strlen(c->why);
-    snprintf(c->why + len, sizeof c->why - len, "; fewer, per particle, away from '%s'",
-             at->name ? at->name : "-");
+    if (c->radius.singular)
+        snprintf(c->why + len, sizeof c->why - len,
+                 "; per particle by distance to '%s' (no softening: more inside "
+                 "reference_radius, up to %d)",
+                 at->name ? at->name : "-", c->radius.max_steps);
+    else
+        snprintf(c->why + len, sizeof c->why - len, "; fewer, per particle, away from '%s'",
+                 at->name ? at->name : "-");
 }
 
 /* The auto rule, per emitter, from the forces it feels:
@@ -432,7 +471,9 @@ int pfx_motion_evals_per_step(const pfx_motion *m) {
         per = 4;
         break;
     case PFX_SCHEME_SPLIT:
-        per = pfx_motion_split_kicks(m) ? 2 : 1; /* 1: the closed-form update itself */
+        /* 1: the closed-form update itself; kicks that read v: a midpoint
+         * stage each (sim/motion_impl.h, velocity_half_kick) */
+        per = !pfx_motion_split_kicks(m) ? 1 : pfx_motion_split_kicks_v(m) ? 4 : 2;
         break;
     }
     return per * (c->steps > 0 ? c->steps : 1);

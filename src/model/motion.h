@@ -174,12 +174,13 @@ typedef struct pfx_motion_choice {
     double error_rate; /* auto: the expected position error, m per simulated s
                           (0 for other integrators and exact flows) */
     char why[256];     /* one line for `pfx info` */
-    /* auto, where one softened attractor sets the substeps with nothing
-     * beside it but gravity and operators on v: the same rule at each
-     * particle's own distance r from it, so particles far from it take
-     * fewer substeps (never more than `steps`; sim/motion_impl.h). Beyond
-     * r0 (the softening) the attractor's omega and error term fall as
-     * (r0 / r)^(omega_pow2 / 2) and (r0 / r)^(err_pow2 / 2). */
+    /* auto, where one attractor sets the substeps with nothing beside it
+     * but gravity and operators on v: the same rule at each particle's own
+     * distance r from it, so particles far from it take fewer substeps
+     * (sim/motion_impl.h): never more than `steps` with a softening, more
+     * inside reference_radius without one. Beyond r0 (the softening) the
+     * attractor's omega and error term fall as (r0 / r)^(omega_pow2 / 2)
+     * and (r0 / r)^(err_pow2 / 2). */
     struct {
         bool on;
         double r0, omega0, err0, tol; /* the rule's terms at r0, and its tolerance */
@@ -187,6 +188,13 @@ typedef struct pfx_motion_choice {
         double center[3];
         double peak;    /* the attractor's largest acceleration, m/s^2 */
         double gravity; /* the sum of |g| over the gravities, m/s^2 */
+        /* An unsoftened attractor (singular): r0 is reference_radius, the
+         * power laws hold at every r, particles inside r0 take more than
+         * `steps` (up to max_steps), and the pull outside r is
+         * peak_coef / r^(omega_pow2 - 1), unbounded at the centre. */
+        bool singular;
+        double peak_coef;
+        int max_steps; /* the most substeps a particle takes: steps, or more if singular */
     } radius;
 } pfx_motion_choice;
 
@@ -228,6 +236,9 @@ int pfx_motion_substeps_for(const pfx_motion_choice *c, double span);
 bool pfx_motion_force_folded(const pfx_motion_force *f);
 /* Whether the split step kicks: some force is left after folding. */
 bool pfx_motion_split_kicks(const pfx_motion *m);
+/* Whether a force the split step kicks reads v (quadratic drag, drag or
+ * damping in a region): its half kicks are then midpoint stages. */
+bool pfx_motion_split_kicks_v(const pfx_motion *m);
 
 /* Angular frequency of a position force's linearisation (spring sqrt(k),
  * attractor sqrt(s/r^3) at its softening or reference radius, turbulence

@@ -127,10 +127,21 @@ void pfx_chart_line(FILE *f, const pfx_chart *c, int n, const double *x, const d
     fputs("\"/>\n", f);
 }
 
-void pfx_chart_mark(FILE *f, const pfx_chart *c, double x, double y, pfx_mark mark,
-                    const char *color) {
-    double px = pfx_chart_px(c, x), py = pfx_chart_py(c, y);
-    if (mark == PFX_MARK_DOT)
+/* Marker `mark` centred at (px, py) in SVG pixels. */
+static void mark_at(FILE *f, double px, double py, pfx_mark mark, const char *color) {
+    if (mark == PFX_MARK_TRIANGLE)
+        fprintf(f, "<path d=\"M%.1f %.1fl4 7h-8z\" fill=\"%s\"/>\n", px, py - 4, color);
+    else if (mark == PFX_MARK_DIAMOND)
+        fprintf(f, "<path d=\"M%.1f %.1fl4 4l-4 4l-4 -4z\" fill=\"%s\"/>\n", px, py - 4, color);
+    else if (mark == PFX_MARK_RING)
+        fprintf(f,
+                "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"4.5\" fill=\"none\" stroke=\"%s\" "
+                "stroke-width=\"1.5\"/>\n",
+                px, py, color);
+    else if (mark == PFX_MARK_PLUS)
+        fprintf(f, "<path d=\"M%.1f %.1fh10m-5 -5v10\" stroke=\"%s\" stroke-width=\"1.8\"/>\n",
+                px - 5, py, color);
+    else if (mark == PFX_MARK_DOT)
         fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"2.6\" fill=\"%s\"/>\n", px, py, color);
     else if (mark == PFX_MARK_SQUARE)
         fprintf(f, "<rect x=\"%.1f\" y=\"%.1f\" width=\"6\" height=\"6\" fill=\"%s\"/>\n", px - 3,
@@ -138,6 +149,20 @@ void pfx_chart_mark(FILE *f, const pfx_chart *c, double x, double y, pfx_mark ma
     else
         fprintf(f, "<path d=\"M%.1f %.1fl8 8m0 -8l-8 8\" stroke=\"%s\" stroke-width=\"2.2\"/>\n",
                 px - 4, py - 4, color);
+}
+
+void pfx_chart_mark(FILE *f, const pfx_chart *c, double x, double y, pfx_mark mark,
+                    const char *color) {
+    mark_at(f, pfx_chart_px(c, x), pfx_chart_py(c, y), mark, color);
+}
+
+void pfx_chart_segment(FILE *f, const pfx_chart *c, double xa, double ya, double xb, double yb,
+                       const char *color, bool dashed) {
+    fprintf(f,
+            "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\" "
+            "stroke-width=\"1.2\"%s/>\n",
+            pfx_chart_px(c, xa), pfx_chart_py(c, ya), pfx_chart_px(c, xb), pfx_chart_py(c, yb),
+            color, dashed ? " stroke-dasharray=\"6 4\"" : "");
 }
 
 void pfx_chart_rect(FILE *f, const pfx_chart *c, double xa, double ya, double xb, double yb,
@@ -150,12 +175,19 @@ void pfx_chart_rect(FILE *f, const pfx_chart *c, double xa, double ya, double xb
 
 void pfx_svg_legend(FILE *f, double x, double y, int n, const char *const *labels,
                     const char *const *colors) {
+    pfx_svg_legend_marked(f, x, y, n, labels, colors, NULL);
+}
+
+void pfx_svg_legend_marked(FILE *f, double x, double y, int n, const char *const *labels,
+                           const char *const *colors, const pfx_mark *marks) {
     for (int i = 0; i < n; i++) {
         double yy = y + 16 * i;
         fprintf(f,
                 "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\" "
                 "stroke-width=\"3\"/>\n",
                 x, yy, x + 22, yy, colors[i]);
+        if (marks)
+            mark_at(f, x + 11, yy, marks[i], colors[i]);
         pfx_svg_text(f, x + 28, yy + 4, 11, "start", "#000", labels[i]);
     }
 }

@@ -15,7 +15,16 @@ typedef struct pfx_chart {
     bool no_y_ticks;                 /* categories on y: the caller labels them */
 } pfx_chart;
 
-typedef enum { PFX_MARK_DOT, PFX_MARK_CROSS, PFX_MARK_SQUARE } pfx_mark;
+/* (new kinds are added at the end: callers may store these) */
+typedef enum {
+    PFX_MARK_DOT,
+    PFX_MARK_CROSS,
+    PFX_MARK_SQUARE,
+    PFX_MARK_TRIANGLE,
+    PFX_MARK_DIAMOND,
+    PFX_MARK_RING, /* an open circle: shows what lies under it */
+    PFX_MARK_PLUS
+} pfx_mark;
 
 void pfx_svg_begin(FILE *f, int width, int height);
 void pfx_svg_end(FILE *f);
@@ -39,5 +48,13 @@ void pfx_chart_rect(FILE *f, const pfx_chart *c, double xa, double ya, double xb
 /* Legend entries in a column from (x, y) px. */
 void pfx_svg_legend(FILE *f, double x, double y, int n, const char *const *labels,
                     const char *const *colors);
+/* The same with each entry's marker drawn on its line (marks may be NULL:
+ * none). */
+void pfx_svg_legend_marked(FILE *f, double x, double y, int n, const char *const *labels,
+                           const char *const *colors, const pfx_mark *marks);
+/* A straight segment between two data points, clipped to nothing (the
+ * caller keeps it in range): reference lines. dashed as pfx_chart_line. */
+void pfx_chart_segment(FILE *f, const pfx_chart *c, double xa, double ya, double xb, double yb,
+                       const char *color, bool dashed);
 
 #endif

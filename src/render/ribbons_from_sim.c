@@ -8,10 +8,12 @@
 #include <math.h>
 #include <stdlib.h>
 
-/* A live point: its strip (the parent's id) and birth order (its own id),
- * packed so one integer sort orders strips and points within them. */
+/* A live point: its strip (the parent's id) and its place in it (its
+ * birth time; its id breaks ties). A child's id is a hash of its event
+ * (sim/spawn.h), not a count, so birth order is the time itself. */
 typedef struct point_key {
     uint64_t key; /* parent_id << 32 | id: unique within an emitter */
+    double birth; /* s; 0 for the parents' keys */
     uint32_t j;   /* its row in the pool */
 } point_key;
 
@@ -71,6 +73,17 @@ void pfx_ribbons_destroy(pfx_ribbon_buffer *b) {
 static int by_key(const void *a, const void *b) {
     uint64_t x = ((const point_key *)a)->key, y = ((const point_key *)b)->key;
     return (x > y) - (x < y);
+}
+
+/* Strip by strip (the parent's id), then by birth time, then by id. */
+static int by_strip(const void *a, const void *b) {
+    const point_key *p = a, *q = b;
+    uint64_t x = p->key >> 32, y = q->key >> 32;
+    if (x != y)
+        return (x > y) - (x < y);
+    if (p->birth != q->birth)
+        return p->birth < q->birth ? -1 : 1;
+    return by_key(a, b);
 }
 
 static void sub3(const double a[3], const double b[3], double out[3]) {
@@ -255,11 +268,12 @@ pfx_ribbons pfx_ribbons_build(pfx_ribbon_buffer *b, const pfx_sim *s) {
         size_t m = 0;
         for (uint32_t j = 0; j < p->count; j++)
             if (p->parent_id[j] != UINT32_MAX)
-                b->keys[m++] = (point_key){((uint64_t)p->parent_id[j] << 32) | p->id[j], j};
-        qsort(b->keys, m, sizeof *b->keys, by_key);
+                b->keys[m++] =
+                    (point_key){((uint64_t)p->parent_id[j] << 32) | p->id[j], p->birth[j], j};
+        qsort(b->keys, m, sizeof *b->keys, by_strip);
         const pfx_pool *pp = &s->pools[em->ribbon_parent];
         for (uint32_t j = 0; j < pp->count; j++)
-            b->parents[j] = (point_key){pp->id[j], j};
+            b->parents[j] = (point_key){pp->id[j], 0, j};
         qsort(b->parents, pp->count, sizeof *b->parents, by_key);
         const float profile = em->look.sprite == PFX_SPRITE_SQUARE ? 1.0f : 0.0f;
         for (size_t first = 0; first < m;) {

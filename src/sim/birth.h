@@ -38,6 +38,20 @@ static inline bool pfx_needs_mass(const pfx_emitter *em) {
 static inline bool pfx_needs_birth(const pfx_emitter *em) {
     return (pfx_motion_columns_of(em) & PFX_COLUMN_BIRTH) != 0;
 }
+/* A hit count keys the random draws of a deflector response and numbers
+ * on_hit events: needed where some deflector's resilience or friction is
+ * a range, or a sub-emitter fires on hits. */
+static inline bool pfx_needs_hit_count(const pfx_emitter *em) {
+    for (size_t k = 0; k < em->spawn_count; k++)
+        if (em->spawns[k].event == PFX_SPAWN_HIT && em->deflector_count)
+            return true;
+    for (size_t k = 0; k < em->deflector_count; k++) {
+        const pfx_deflector *d = &em->deflectors[k];
+        if (d->resilience[0] != d->resilience[1] || d->friction[0] != d->friction[1])
+            return true;
+    }
+    return false;
+}
 /* Carried accelerations (sim/motion.h, carry_accel) cost 12 bytes a
  * particle; in a pool of fewer than PFX_CARRY_MIN_PARTICLES they would save
  * under 0.1 ms a step, so such a pool evaluates twice and stays small. Both

@@ -18,7 +18,7 @@ bool pfx_deflector_affects(const pfx_deflector *d, uint32_t id) {
     if (d->chance >= 1)
         return true;
     uint64_t h = pfx_mix64(d->seed ^ pfx_mix64((uint64_t)id + 0x9e3779b97f4a7c15ULL));
-    return (double)(h >> 11) * (1.0 / 9007199254740992.0) < d->chance;
+    return pfx_unit_of_hash(h) < d->chance;
 }
 
 /* The side of deflector k a particle starts the step on (see body). */
@@ -265,15 +265,14 @@ static void exact_pass(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *nea
 }
 
 void pfx_collide(const pfx_deflector *defl, size_t n_defl, double dt, const pfx_collide_pool *pool,
-                 const uint8_t *near, pfx_rng *rng, pfx_hit_fn on_hit, void *user,
-                 pfx_collide_stats *stats) {
+                 const uint8_t *near, pfx_hit_fn on_hit, void *user, pfx_collide_stats *stats) {
     assert(n_defl <= PFX_COLLIDE_MAX_DEFLECTORS);
     if (!(dt > 0) || n_defl == 0)
         return;
     prep pr[PFX_COLLIDE_MAX_DEFLECTORS];
     for (size_t k = 0; k < n_defl; k++)
         pfx_collide_prepare(&defl[k], &pr[k]);
-    ctx c = {defl, pr, n_defl, dt, pool, rng, on_hit, user, stats};
+    ctx c = {defl, pr, n_defl, dt, pool, on_hit, user, stats};
     if (near) {
         exact_pass(&c, 0, pool->count, near);
         return;

@@ -31,7 +31,11 @@ typedef struct pfx_collide_pool {
     const float *px0, *py0, *pz0, *vx0, *vy0, *vz0;
     float *px, *py, *pz, *vx, *vy, *vz;
     float *lifetime;    /* kill writes PFX_KILLED; lifetime_loss lowers it */
-    const uint32_t *id; /* key of the chance hash; NULL: the pool index (not stable) */
+    const uint32_t *id; /* key of the chance hash and of random responses; NULL: the pool
+                           index (not stable) */
+    uint32_t *hits;     /* optional: impacts so far, the other key of a random response
+                           (without it every impact draws as the first) */
+    uint64_t key;       /* salt of the random responses: the emitter's */
     uint8_t *stuck;     /* optional: 1 once stuck (see pfx_collide) */
     float *ax;          /* optional: the carried acceleration (sim/columns.h), set to NaN
                            where a position changes: it is no longer the one there */
@@ -59,9 +63,10 @@ typedef struct pfx_collide_stats {
  * step follows the new parabola, up to PFX_COLLIDE_MAX_HITS times. Particles
  * that touch nothing keep the integrator's state bit for bit. `near`: the
  * marks of pfx_collide_near for this pool and dt, or NULL to find them
- * here. Random resilience and friction draw from `rng` (in particle order;
- * NULL is allowed where every deflector's ranges are constants, which draw
- * nothing); on_hit and stats may be NULL; stats are added to. Never
+ * here. Random resilience and friction are drawn per particle and hit
+ * (a hash of the pool's key, the deflector, the id and the hit number,
+ * which each impact raises), so the particles are independent of each
+ * other; on_hit and stats may be NULL; stats are added to. Never
  * allocates.
  * The caller must: run its kill pass afterwards (a killed particle has
  * lifetime == PFX_KILLED); keep `stuck` (when given) as a pool column, 0 at birth and
@@ -71,8 +76,7 @@ typedef struct pfx_collide_stats {
  * particles need nothing: each step they are found in contact again and held
  * exactly on the surface. */
 void pfx_collide(const pfx_deflector *defl, size_t n_defl, double dt, const pfx_collide_pool *pool,
-                 const uint8_t *near, pfx_rng *rng, pfx_hit_fn on_hit, void *user,
-                 pfx_collide_stats *stats);
+                 const uint8_t *near, pfx_hit_fn on_hit, void *user, pfx_collide_stats *stats);
 
 /* The broad phase of pfx_collide on its own: near[i] (pool->count bytes)
  * becomes non-zero where particle i may touch one of defl this step (is

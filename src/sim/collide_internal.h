@@ -60,7 +60,6 @@ typedef struct ctx {
     size_t nd;
     double dt;
     const pfx_collide_pool *pool;
-    pfx_rng *rng;
     pfx_hit_fn on_hit;
     void *user;
     pfx_collide_stats *stats;

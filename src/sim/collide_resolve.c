@@ -7,13 +7,20 @@
 #include <assert.h>
 #include <string.h>
 
-/* A constant range draws nothing (a parallel collide pass passes no
- * generator: sim/step.c). */
-static double draw(pfx_rng *rng, const double range[2]) {
+/* A random resilience or friction (`which` 0 or 1) of particle i's
+ * impact on deflector d: a counter-based draw keyed by the emitter, the
+ * deflector, the particle's id and its hit number, so that a particle's
+ * n-th bounce draws the same numbers whatever the step, the order of the
+ * pool or the thread (a stream drawn in pool order gave another particle
+ * each draw when sim.rate changed). A constant range draws nothing. */
+static double draw(const ctx *c, const pfx_deflector *d, uint32_t i, uint64_t which,
+                   const double range[2]) {
     if (range[0] == range[1])
         return range[0];
-    assert(rng);
-    return pfx_rng_range(rng, range[0], range[1]);
+    const pfx_collide_pool *pool = c->pool;
+    const uint64_t id = pool->id ? pool->id[i] : i, n = pool->hits ? pool->hits[i] : 0;
+    const uint64_t h = pfx_mix64(pool->key ^ d->seed ^ pfx_mix64((id << 32 | n) * 2 + which));
+    return range[0] + (range[1] - range[0]) * pfx_unit_of_hash(h);
 }
 
 /* Rests b on the surface of deflector k with normal n (its velocity's normal
@@ -86,7 +93,7 @@ static int respond(const ctx *c, body *b, const hit *h, const double n[3], doubl
     for (int j = 0; j < 3; j++)
         vt[j] = b->v[j] - vn * n[j];
     if (!contact) {
-        double eps = draw(c->rng, d->resilience), mu = draw(c->rng, d->friction);
+        double eps = draw(c, d, b->i, 0, d->resilience), mu = draw(c, d, b->i, 1, d->friction);
         if (d->lifetime_loss > 0) {
             float *life = &pool->lifetime[b->i];
             *life -= (float)(d->lifetime_loss * *life);
@@ -95,6 +102,8 @@ static int respond(const ctx *c, body *b, const hit *h, const double n[3], doubl
             c->stats->impacts++;
         if (c->on_hit)
             c->on_hit(c->user, b->i, h->k, b->x, n, t);
+        if (pool->hits) /* after on_hit, whose event number is the impacts before */
+            pool->hits[b->i]++;
         for (int j = 0; j < 3; j++) {
             vt[j] *= 1 - mu;
             b->v[j] = vt[j] + eps * w * n[j];

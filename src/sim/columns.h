@@ -39,6 +39,8 @@
     X(angle0, float, STATE, pfx_needs_angle(em), "random sprite angle at birth, rad")              \
     X(spin, float, STATE, pfx_needs_spin(em), "random spin, rad/s")                                \
     X(stuck, uint8_t, STATE, em->sticks, "1 once stuck to a deflector")                            \
+    X(hits, uint32_t, STATE, pfx_needs_hit_count(em),                                              \
+      "impacts so far: with the id, the key of a random resilience or friction")                   \
     X(parent_id, uint32_t, STATE, em->look.draw == PFX_DRAW_RIBBON,                                \
       "id of the particle whose trail made it: its ribbon")                                        \
     X(ax, float, CARRY, pfx_needs_carried_accel(em),                                               \

@@ -74,6 +74,7 @@ static void fold_split(pfx_motion_plan *m) {
             k != PFX_MOTION_SPEED_LIMIT && k != PFX_MOTION_TURBULENCE)
             m->kick_carries = false;
     }
+    m->kick_reads_v = m->has_kick && pfx_motion_split_kicks_v(m->model);
     if (m->drift_k > 0)
         for (int a = 0; a < 3; a++)
             m->drift_wind[a] = kw[a] / m->drift_k;
@@ -110,11 +111,22 @@ static void radius_levels(pfx_motion_plan *p, const pfx_motion *m) {
         top++;
     for (int k = 0; k < top; k++) {
         const double h = p->dt / (double)(1 << k);
-        double r = fmax(1, pow(c->radius.omega0 * h, 2 / a));
+        /* (a softened field is at its worst at r0: no level inside it) */
+        double r = fmax(c->radius.singular ? 0 : 1, pow(c->radius.omega0 * h, 2 / a));
         r = fmax(r, pow(c->radius.err0 * h * h / c->radius.tol, 2 / b));
         p->radius_r[k] = c->radius.r0 * r * (1 + 1e-5);
+        /* The pull a particle that stays outside radius_r[k] can feel: a
+         * softened field's peak, or a singular one's at radius_r[k] itself
+         * (so a path bound by it cannot cross radius_r[k] within the step:
+         * up to the crossing the bound holds). */
+        p->radius_peak[k] =
+            c->radius.singular ? c->radius.peak_coef / pow(p->radius_r[k], a - 1) : c->radius.peak;
     }
     p->radius_top = top;
+    p->radius_radial = true;
+    for (size_t i = 0; i < m->force_count; i++)
+        if (m->forces[i].kind == PFX_MOTION_SPIRAL)
+            p->radius_radial = false;
 }
 
 void pfx_motion_plan_init(pfx_motion_plan *p, const pfx_motion *m) {
@@ -126,6 +138,8 @@ void pfx_motion_plan_init(pfx_motion_plan *p, const pfx_motion *m) {
     p->chosen = m->choice.chosen;
     p->scheme = m->choice.scheme;
     p->steps = m->choice.steps > 0 ? m->choice.steps : 1;
+    if (m->choice.radius.on && m->choice.radius.max_steps > p->steps)
+        p->steps = m->choice.radius.max_steps; /* a singular attractor's innermost level */
     for (size_t i = 0; i < m->force_count; i++) {
         pfx_motion_kind k = m->forces[i].kind;
         if (k == PFX_MOTION_VORTEX || k == PFX_MOTION_SPIRAL || k == PFX_MOTION_SPEED_LIMIT)

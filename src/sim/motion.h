@@ -26,13 +26,15 @@ typedef struct pfx_motion_plan {
     double dt;             /* the step it was chosen for */
     pfx_integrator chosen; /* never AUTO */
     pfx_scheme scheme;
-    int steps;             /* substeps per step, >= 1 */
+    int steps;             /* substeps per step, >= 1 (per particle: the most any takes) */
     bool has_operators;    /* vortex, spiral or speed_limit present */
     bool has_rotation;     /* split: some magnetic B to rotate by */
     bool has_kick;         /* split: some force left to kick with */
     bool kick_carries;     /* split: the kicks read positions only (not v, not t) and no
                               operator moves a position, so a substep's closing kick's
                               acceleration is the next one's opening kick's */
+    bool kick_reads_v;     /* split: a kicked force reads v (drag, or damping, not folded), so
+                              each half kick is a midpoint stage (motion_impl.h) */
     bool carry_accel;      /* kick_carries across steps too: the pool keeps the closing
                               kick's acceleration (ax, ay, az) for the next step's opening
                               one, where a force costs more than that column's traffic */
@@ -48,6 +50,8 @@ typedef struct pfx_motion_plan {
      * level all `steps`; radius_top = 0: off. */
     int radius_top;
     double radius_r[11];
+    double radius_peak[11]; /* the attractor's largest pull outside radius_r[k] */
+    bool radius_radial;     /* the reach counts the approach speed alone (no spiral turns v) */
     const pfx_motion *model;
 } pfx_motion_plan;
 

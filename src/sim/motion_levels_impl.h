@@ -5,35 +5,50 @@
 
 /* The substep level of each particle under the rule per particle (the
  * plan's radius levels, for a full step of dt): the first level k whose
- * radius_r[k] its nearest reach to the attractor in this step passes, its
- * distance r less d = |v| dt + A dt^2 / 2 (A: the attractor's peak pull
- * plus the gravities', scaled); the top level runs all `steps`. r - d >=
- * R is tested as r^2 >= (R + d)^2: one square root a particle. */
+ * radius_r[k] its nearest reach to the attractor in this step passes: its
+ * distance r less d = u dt + A dt^2 / 2, u its speed towards the
+ * attractor (|v| where a spiral may turn v within the step), A the
+ * attractor's largest pull outside radius_r[k] plus the gravities',
+ * scaled; the top level runs all `steps`. r - d >= R is tested as r^2 >=
+ * (R + d)^2. */
 CLONES static bool FN(radius_levels)(const pfx_motion_plan *m, const PFX_POOL *p, size_t i0,
                                      size_t n, const R *X, const R *Y, const R *Z, const R *U,
                                      const R *V, const R *W, unsigned char *lv) {
     const pfx_motion_choice *c = &m->model->choice;
     const R cx = (R)c->radius.center[0], cy = (R)c->radius.center[1], cz = (R)c->radius.center[2],
             dt = (R)m->dt;
-    const R peak = (R)(0.5 * c->radius.peak * m->dt * m->dt);
     const R grav = (R)(0.5 * c->radius.gravity * m->dt * m->dt);
     const R *gs = p->gravity_scale ? p->gravity_scale + i0 : NULL;
-    R r2[BLK], reach[BLK];
+    R r2[BLK], pull[BLK], vdt[BLK];
     /* (separate loops with the choices hoisted, so that each vectorises) */
     if (gs)
         for (size_t j = 0; j < n; j++)
-            reach[j] = peak + grav * fabs(gs[j]);
+            pull[j] = grav * fabs(gs[j]);
     else
         for (size_t j = 0; j < n; j++)
-            reach[j] = peak + grav;
+            pull[j] = grav;
     /* level 0 first: most blocks are far from the attractor, and done */
-    const R r0 = (R)m->radius_r[0];
+    const R r0 = (R)m->radius_r[0], peak0 = (R)(0.5 * m->radius_peak[0] * m->dt * m->dt);
     int any = 0;
+    if (m->radius_radial) {
+        /* r'' = (|v|^2 - v_r^2) / r + a.r/r >= -A: the distance falls no
+         * faster than its own approach speed -v_r and the pull allow, so
+         * a particle passing at its pericentre counts no |v| dt */
+        for (size_t j = 0; j < n; j++) {
+            const R dx = X[j] - cx, dy = Y[j] - cy, dz = Z[j] - cz;
+            r2[j] = dx * dx + dy * dy + dz * dz;
+            const R r = sqrt(r2[j]), in = -(dx * U[j] + dy * V[j] + dz * W[j]) / (r > 0 ? r : 1);
+            vdt[j] = (in > 0 ? in : 0) * dt;
+        }
+    } else {
+        for (size_t j = 0; j < n; j++) {
+            const R dx = X[j] - cx, dy = Y[j] - cy, dz = Z[j] - cz;
+            r2[j] = dx * dx + dy * dy + dz * dz;
+            vdt[j] = sqrt(U[j] * U[j] + V[j] * V[j] + W[j] * W[j]) * dt;
+        }
+    }
     for (size_t j = 0; j < n; j++) {
-        const R dx = X[j] - cx, dy = Y[j] - cy, dz = Z[j] - cz;
-        r2[j] = dx * dx + dy * dy + dz * dz;
-        reach[j] += sqrt(U[j] * U[j] + V[j] * V[j] + W[j] * W[j]) * dt;
-        const R far = r0 + reach[j];
+        const R far = r0 + ((peak0 + pull[j]) + vdt[j]);
         any |= !(r2[j] >= far * far);
     }
     if (!any)
@@ -42,9 +57,9 @@ CLONES static bool FN(radius_levels)(const pfx_motion_plan *m, const PFX_POOL *p
     for (size_t j = 0; j < n; j++)
         lk[j] = 0;
     for (int k = 0; k < m->radius_top; k++) { /* the tests pass from some level on */
-        const R rk = (R)m->radius_r[k];
+        const R rk = (R)m->radius_r[k], pk = (R)(0.5 * m->radius_peak[k] * m->dt * m->dt);
         for (size_t j = 0; j < n; j++) {
-            const R far = rk + reach[j];
+            const R far = rk + ((pk + pull[j]) + vdt[j]);
             lk[j] += !(r2[j] >= far * far);
         }
     }

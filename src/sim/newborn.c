@@ -41,6 +41,8 @@ static void write_newborn(pfx_pool *p, uint32_t j, const birth_draws *b, uint64_
         p->bx[j] = (float)b->pos[0], p->by[j] = (float)b->pos[1], p->bz[j] = (float)b->pos[2];
     if (p->stuck)
         p->stuck[j] = 0;
+    if (p->hits)
+        p->hits[j] = 0;
     if (p->tint)
         p->tint[j] = (float)b->tint;
     if (p->angle0)
@@ -91,15 +93,31 @@ bool pfx_sim_make_particle(pfx_sim *s, size_t i, double tb, double t1, const pfx
     const pfx_emitter *em = &s->effect->emitters[i];
     pfx_emitter_state *st = &s->emitters[i];
     pfx_pool *p = &s->pools[i];
-    uint64_t k = st->born++;
+    /* A scheduled birth: the next id and the next draws of the stream. A
+     * child: its id and draws from its event's key (spawn.h), so that it
+     * is the same child at any sim.rate, whatever order the step's events
+     * come in, and the scheduled births' ids and draws never depend on
+     * how many children came between them. */
+    pfx_rng child_rng, *rng = &st->rng;
+    uint64_t k;
+    if (parent) {
+        k = pfx_child_id(parent);
+        pfx_rng_seed(&child_rng, pfx_mix64(parent->key ^ ((uint64_t)parent->child << 32)),
+                     0xc41dULL);
+        rng = &child_rng;
+    } else {
+        k = st->scheduled++;
+    }
+    st->born++;
     double age = t1 - tb;
     if (p->count == p->capacity || age >= em->max_lifetime) {
         st->dropped += p->count == p->capacity && age < em->max_lifetime;
-        pfx_rng_advance(&st->rng, st->draws_per_birth);
+        if (!parent)
+            pfx_rng_advance(&st->rng, st->draws_per_birth);
         return false;
     }
     birth_draws b;
-    pfx_birth_draw(em, tb, &st->rng, parent ? parent->pos : NULL,
+    pfx_birth_draw(em, tb, rng, parent ? parent->pos : NULL,
                    parent && parent->has_normal ? parent->normal : NULL, &b);
     if (parent && parent->inherit_velocity)
         for (int a = 0; a < 3; a++)
@@ -160,6 +178,7 @@ void pfx_sim_emit(pfx_sim *s, size_t i, double t1) {
         if (n) {
             pfx_rng_advance(&st->rng, n * st->draws_per_birth);
             st->born += n;
+            st->scheduled += n;
             continue;
         }
         double tb = pfx_schedule_peek(&st->sched, em);
@@ -170,14 +189,11 @@ void pfx_sim_emit(pfx_sim *s, size_t i, double t1) {
     }
 }
 
-/* Births a full pool cannot keep: counted, and their draws jumped over so
- * the stream is where it would be had each been drawn. */
+/* Children a full pool cannot keep: counted (their ids and draws are their
+ * events' own, so no stream moves). */
 static void drop_births(pfx_emitter_state *st, uint64_t n) {
-    if (!n)
-        return;
     st->dropped += n;
     st->born += n;
-    pfx_rng_advance(&st->rng, n * st->draws_per_birth);
 }
 
 void pfx_spawn_process(pfx_sim *s, double t1) {
@@ -209,6 +225,7 @@ void pfx_spawn_process(pfx_sim *s, double t1) {
                         drop_births(st, r.births - c);
                         break;
                     }
+                    r.parent.child = (uint32_t)c;
                     pfx_sim_make_particle(s, i, r.t, t1, &r.parent);
                 }
             }

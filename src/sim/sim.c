@@ -44,8 +44,8 @@ static void init_emitters(pfx_sim *s) {
         pfx_birth_draw(em, 0, &probe, NULL, NULL, &b);
         st->draws_per_birth = probe.draws - st->rng.draws;
         pfx_schedule_init(&st->sched, em, e->seed, stream);
-        pfx_rng_seed(&st->collide_rng, e->seed, stream ^ 0xc011deULL);
-        pfx_rng_seed(&st->spawn_rng, e->seed, stream ^ 0x5ba3ULL);
+        st->hit_key = pfx_mix64(e->seed ^ stream ^ 0xc011deULL);
+        st->spawn_key = pfx_mix64(e->seed ^ stream ^ 0x5ba3ULL);
     }
 }
 

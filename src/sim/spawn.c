@@ -58,16 +58,25 @@ bool pfx_spawn_queues_create(pfx_sim *s) {
     return true;
 }
 
-/* Draws the event's count and probability from the target's spawn stream
- * (two draws per event, whatever their values, in the order events are
- * raised) and queues it when it fires: the record to fill in, or NULL when
- * it did not fire or the target's pool cannot take its births (then they
- * are counted to drop). */
-static spawn_record *queue_event(pfx_sim *s, const pfx_spawn *sp, double t) {
-    pfx_emitter_state *st = &s->emitters[sp->target];
-    st->spawn_events++;
-    double count = pfx_sample_value(&sp->count, &st->spawn_rng);
-    double u = pfx_rng_unit(&st->spawn_rng);
+/* The key of sub-emitter k's event number `number` of the particle with
+ * id `id` of emitter i (pfx_parent.key). */
+static uint64_t event_key(const pfx_sim *s, size_t i, size_t k, uint32_t id, uint64_t number) {
+    uint64_t h = pfx_mix64(s->emitters[i].spawn_key ^ (uint64_t)k);
+    h = pfx_mix64(h ^ ((uint64_t)id << 1 | 1));
+    return pfx_mix64(h ^ number);
+}
+
+/* Draws the event's count and probability from a generator seeded by its
+ * key (so whether and how often an event fires is the same at any step
+ * rate and in any order) and queues it when it fires: the record to fill
+ * in, with the key set, or NULL when it did not fire or the target's pool
+ * cannot take its births (then they are counted to drop). */
+static spawn_record *queue_event(pfx_sim *s, const pfx_spawn *sp, double t, uint64_t key) {
+    s->emitters[sp->target].spawn_events++;
+    pfx_rng rng;
+    pfx_rng_seed(&rng, key, 0x5ba3ULL);
+    double count = pfx_sample_value(&sp->count, &rng);
+    double u = pfx_rng_unit(&rng);
     if (u >= sp->probability || count < 1)
         return NULL;
     const uint64_t births = (uint64_t)floor(count);
@@ -80,6 +89,8 @@ static spawn_record *queue_event(pfx_sim *s, const pfx_spawn *sp, double t) {
     spawn_record *r = &q->items[q->count++];
     r->t = t;
     r->births = (uint32_t)births;
+    r->parent.key = key;
+    r->parent.child = 0;
     return r;
 }
 
@@ -97,11 +108,14 @@ void pfx_spawn_event_of(pfx_sim *s, size_t i, pfx_spawn_event event, uint32_t j,
     const pfx_emitter *em = &s->effect->emitters[i];
     const pfx_pool *p = &s->pools[i];
     float generation = p->generation ? p->generation[j] : 0;
+    /* a hit's number: the impacts before it (collide_resolve.c raises the
+     * count after on_hit) */
+    const uint64_t number = event == PFX_SPAWN_HIT && p->hits ? p->hits[j] : 0;
     for (size_t k = 0; k < em->spawn_count; k++) {
         const pfx_spawn *sp = &em->spawns[k];
         if (sp->event != event || (sp->depth && generation >= (float)sp->depth))
             continue;
-        spawn_record *r = queue_event(s, sp, t);
+        spawn_record *r = queue_event(s, sp, t, event_key(s, i, k, p->id[j], number));
         if (!r)
             continue;
         pfx_parent *pa = &r->parent;
@@ -148,7 +162,8 @@ void pfx_spawn_trails(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t
                 if (!(at < life))
                     break;
                 const double back = a1 - at;
-                spawn_record *r = queue_event(s, sp, t1 - back);
+                const uint64_t key = event_key(s, i, k, p->id[j], (uint64_t)m);
+                spawn_record *r = queue_event(s, sp, t1 - back, key);
                 if (!r)
                     continue;
                 r->parent = (pfx_parent){.inherit_velocity = sp->inherit_velocity,
@@ -156,7 +171,8 @@ void pfx_spawn_trails(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t
                                          .inherit_size = sp->inherit_size,
                                          .size = 1,
                                          .generation = generation,
-                                         .id = p->id[j]};
+                                         .id = p->id[j],
+                                         .key = key};
                 const double pos[3] = {p->px[j] - p->vx[j] * back, p->py[j] - p->vy[j] * back,
                                        p->pz[j] - p->vz[j] * back};
                 const double vel[3] = {p->vx[j], p->vy[j], p->vz[j]};

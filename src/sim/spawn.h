@@ -15,7 +15,23 @@ typedef struct pfx_parent {
     float color[3], size;
     float generation;
     uint32_t id; /* the parent's id: a ribbon's points are grouped by it */
+    /* The event's key: a hash of the parent's emitter, the sub-emitter, the
+     * parent's id and the event's number (its hit count, its trail index;
+     * 0 for birth and death), all independent of the step. The children's
+     * ids and draws come from it and `child`, their index in the event. */
+    uint64_t key;
+    uint32_t child;
 } pfx_parent;
+
+/* Ids of sub-emitter children have the top bit set (scheduled births
+ * count up from 0 below it); the other 31 bits are a hash of the event's
+ * key and the child's index, so the same child has the same id at any
+ * sim.rate. Two live children of an emitter share an id with odds of
+ * about n^2 / 2^32 for n alive. */
+#define PFX_CHILD_ID_BIT 0x80000000u
+static inline uint32_t pfx_child_id(const pfx_parent *parent) {
+    return PFX_CHILD_ID_BIT | (uint32_t)(pfx_mix64(parent->key + parent->child) >> 33);
+}
 
 /* One queued event that fired: what the children take from their parent,
  * when, and how many there are (its count and probability were drawn when

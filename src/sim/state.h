@@ -38,10 +38,11 @@ typedef struct pfx_emitter_state {
     uint64_t rng_period;      /* the schedule period rng was last restarted for */
     pfx_schedule sched;       /* when they are born */
     uint64_t born;            /* births so far (each drawn, alive or not) */
+    uint64_t scheduled;       /* scheduled births so far: the next one's id */
     uint64_t dropped;         /* births lost to a full pool */
     uint64_t draws_per_birth; /* generator outputs one birth takes (fixed) */
-    pfx_rng collide_rng;      /* random resilience and friction per impact */
-    pfx_rng spawn_rng;        /* sub-emitter counts and probabilities it receives */
+    uint64_t hit_key;         /* salt of random resilience and friction (collide.h key) */
+    uint64_t spawn_key;       /* salt of its particles' sub-emitter events (spawn.c) */
     pfx_collide_stats collisions;
     /* The work done, for comparing with jobs/estimate.c's bound: particles
      * stepped (each counted once per substep of its integrator), and the

@@ -155,6 +155,7 @@ static pfx_collide_pool collide_view(const pfx_pool *p, uint32_t first, uint32_t
                               .lifetime = p->lifetime + first,
                               .id = p->id + first,
                               .stuck = p->stuck ? p->stuck + first : NULL,
+                              .hits = p->hits ? p->hits + first : NULL,
                               .ax = p->ax ? p->ax + first : NULL};
 }
 
@@ -261,36 +262,28 @@ static void on_hit(void *user, uint32_t index, size_t deflector, const double po
 /* Deflectors for particles [first, first + n) over the step of length dt
  * just integrated: each path is swept from its start state, so nothing
  * tunnels, and hits are resolved at their exact times (src/sim/collide.c).
- * near: the move pass's marks, or NULL; rng: the emitter's stream, or
- * NULL where no response draws from it; the counters go to stats. */
+ * near: the move pass's marks, or NULL; the counters go to stats. */
 static void collide_range(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double dt,
-                          const uint8_t *near, pfx_rng *rng, pfx_collide_stats *stats) {
+                          const uint8_t *near, pfx_collide_stats *stats) {
     const pfx_emitter *em = &s->effect->emitters[i];
-    const pfx_collide_pool view = collide_view(&s->pools[i], first, n);
+    pfx_collide_pool view = collide_view(&s->pools[i], first, n);
+    view.key = s->emitters[i].hit_key;
     hit_context hc = {s, i, first, t0};
     bool hits = em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_HIT);
-    pfx_collide(em->deflectors, em->deflector_count, dt, &view, near, rng, hits ? on_hit : NULL,
-                &hc, stats);
+    pfx_collide(em->deflectors, em->deflector_count, dt, &view, near, hits ? on_hit : NULL, &hc,
+                stats);
 }
 
 void pfx_step_collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double dt) {
-    pfx_emitter_state *st = &s->emitters[i];
-    collide_range(s, i, first, n, t0, dt, NULL, &st->collide_rng, &st->collisions);
+    collide_range(s, i, first, n, t0, dt, NULL, &s->emitters[i].collisions);
 }
 
 /* Whether emitter em's collide pass may run its blocks on any thread: no
- * response draws a random number (every resilience and friction is a
- * constant) and no hit starts a particle, so each particle's result
- * depends on its own state alone, and the counters are sums. */
+ * hit starts a particle, so each particle's result depends on its own
+ * state alone (random responses are keyed by the particle and its hit
+ * number, not drawn from a stream in order), and the counters are sums. */
 static bool collide_order_free(const pfx_emitter *em) {
-    if (em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_HIT))
-        return false;
-    for (size_t k = 0; k < em->deflector_count; k++) {
-        const pfx_deflector *d = &em->deflectors[k];
-        if (d->resilience[0] != d->resilience[1] || d->friction[0] != d->friction[1])
-            return false;
-    }
-    return true;
+    return !(em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_HIT));
 }
 
 typedef struct collide_job {
@@ -314,8 +307,7 @@ static void collide_block(void *arg, size_t b) {
         return;
     const pfx_pool *p = &s->pools[j->emitter];
     const uint32_t first = (uint32_t)(b * PFX_SIM_BLOCK);
-    collide_range(s, j->emitter, first, block_size(p, b), j->t0, j->dt, p->near + first,
-                  j->ordered ? &st->collide_rng : NULL, stats);
+    collide_range(s, j->emitter, first, block_size(p, b), j->t0, j->dt, p->near + first, stats);
     s->block_flags[b] |= PFX_BLOCK_DEATH;
 }
 

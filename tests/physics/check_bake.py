@@ -181,6 +181,128 @@ def check_orbit(rows, p):
                   % (orbits, T, dev, sp))
 
 
+def worst_error_rate(rows, exact):
+    """The largest position error over age (m per simulated second, the
+    unit of sim.tolerance) over every row after birth, against exact(age)
+    -> (x, y, z)."""
+    worst, at = 0.0, 0.0
+    for r in rows:
+        if r["age"] <= 0:
+            continue
+        x, y, z = exact(r["age"])
+        e = math.sqrt((r["x"] - x) ** 2 + (r["y"] - y) ** 2 + (r["z"] - z) ** 2) / r["age"]
+        if e > worst:
+            worst, at = e, r["age"]
+    return worst, at
+
+
+def kepler_position(t, mu, a, ecc):
+    """Kepler orbit from pericentre a (1 - e) on +X moving along +Y: the mean
+    anomaly n t, n = sqrt(mu / a^3), Kepler's equation by Newton."""
+    M = math.sqrt(mu / a ** 3) * t
+    E = M + ecc * math.sin(M)
+    for _ in range(60):
+        d = (E - ecc * math.sin(E) - M) / (1 - ecc * math.cos(E))
+        E -= d
+        if abs(d) < 1e-15:
+            break
+    return a * (math.cos(E) - ecc), a * math.sqrt(1 - ecc * ecc) * math.sin(E), 0.0
+
+
+def check_tolerance(name, rows, p, exact):
+    if not rows:
+        return report(False, "%s: no rows" % name)
+    worst, at = worst_error_rate(rows, exact)
+    return report(worst <= p["tol"], "%s: largest error / age %.3g m/s (at age %.3g s), tolerance %g"
+                  % (name, worst, at, p["tol"]))
+
+
+def check_kepler(rows, p):
+    """An unsoftened attractor's e = ecc orbit of semi-major axis a, from its
+    pericentre: the error per second stays within tol."""
+    return check_tolerance("kepler", rows, p, lambda t: kepler_position(t, p["mu"], p["a"], p["ecc"]))
+
+
+def check_quadfall(rows, p):
+    """A fall from rest under gravity g and quadratic drag c: v_t = sqrt(g/c),
+    y = -(v_t^2 / g) ln cosh(g t / v_t)."""
+    g, c = p["g"], p["c"]
+    vt = math.sqrt(g / c)
+    return check_tolerance("quadratic fall", rows, p,
+                           lambda t: (0.0, -(vt * vt / g) * math.log(math.cosh(g * t / vt)), 0.0))
+
+
+def check_magdrag(rows, p):
+    """A charge (q/m = qm) in B along Z under gravity -g along Y and
+    quadratic drag c from v0 = (u, 0, w): no closed form, so the reference is
+    classical RK4 at h = 1e-4 s (its error, some h^4, is far below tol)."""
+    qm, B, g, c = p["qm"], p["B"], p["g"], p["c"]
+
+    def acc(v):
+        s = math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2)
+        return (qm * v[1] * B - c * s * v[0], -qm * v[0] * B - g - c * s * v[1], -c * s * v[2])
+
+    h, x, v, t = 1e-4, [0.0, 0.0, 0.0], [p["u"], 0.0, p["w"]], 0.0
+    ref = {0: (0.0, 0.0, 0.0)}
+    ages = sorted({round(r["age"], 6) for r in rows if r["age"] > 0})
+    for age in ages:
+        n = int(round((age - t) / h))
+        for _ in range(n):
+            k1v = acc(v)
+            k1x = v
+            v2 = [v[i] + 0.5 * h * k1v[i] for i in range(3)]
+            k2v, k2x = acc(v2), v2
+            v3 = [v[i] + 0.5 * h * k2v[i] for i in range(3)]
+            k3v, k3x = acc(v3), v3
+            v4 = [v[i] + h * k3v[i] for i in range(3)]
+            k4v, k4x = acc(v4), v4
+            x = [x[i] + h / 6 * (k1x[i] + 2 * k2x[i] + 2 * k3x[i] + k4x[i]) for i in range(3)]
+            v = [v[i] + h / 6 * (k1v[i] + 2 * k2v[i] + 2 * k3v[i] + k4v[i]) for i in range(3)]
+        t += n * h
+        ref[age] = tuple(x)
+    return check_tolerance("magnetic + quadratic drag", rows, p, lambda a: ref[round(a, 6)])
+
+
+def check_same_response(rows, p):
+    """The same effect baked at another sim.rate (the CSV `other`): a
+    particle's random resilience and friction belong to it and its hit
+    number, so each id's velocity in flight after its bounces is the same
+    at both rates (gravity and the hit times are exact: float rounding
+    apart), up to age `until`; and the draws do vary, over the range: the horizontal
+    speed kept by the first bounce, (1 - mu), spans most of [1 - mu_hi, 1]."""
+    other = {}
+    for r in load(p["other"]):
+        other[(r["frame"], r["id"])] = r
+    worst, compared = 0.0, 0
+    for r in rows:
+        if r["age"] > p["until"]:
+            continue
+        o = other.get((r["frame"], r["id"]))
+        if o is None:
+            return report(False, "same response: id %d missing at frame %d of the other rate"
+                          % (r["id"], r["frame"]))
+        if r["y"] < 1e-3 or o["y"] < 1e-3:
+            continue  # resting or sliding: when a bounce ends in rest depends on the step
+        worst = max(worst, math.sqrt(sum((r[k] - o[k]) ** 2 for k in ("vx", "vy", "vz"))))
+        compared += 1
+    kept = []
+    first = {}
+    for r in sorted(rows, key=lambda r: r["frame"]):
+        if r["vy"] > 0 and r["id"] not in first and r["frame"] > 0:
+            first[r["id"]] = r  # the first frame after its first bounce (launched downwards)
+    for i, r in first.items():
+        h0 = [q for q in rows if q["id"] == i and q["frame"] == 0][0]
+        s0 = math.hypot(h0["vx"], h0["vz"])
+        if s0 > 0.1:
+            kept.append(math.hypot(r["vx"], r["vz"]) / s0)
+    spread = (max(kept) - min(kept)) if kept else 0
+    ok = compared > 0 and worst <= p["tol"] and spread >= 0.8 * p["mu_hi"]
+    return report(ok, "same response: %d rows compared, largest velocity difference %.3g m/s "
+                  "(tolerance %g); the first bounce keeps %.3f to %.3f of the horizontal speed "
+                  "over %d particles" % (compared, worst, p["tol"], min(kept or [0]),
+                                         max(kept or [0]), len(kept)))
+
+
 def check_bounce(rows, p):
     """A drop from h0 (above the plane y = 0) with resilience eps: the
     analytic apex y + vy^2/(2g) of every row after the n-th bounce equals
@@ -256,6 +378,10 @@ CHECKS = {
     "lorentz": check_lorentz,
     "orbit": check_orbit,
     "bounce": check_bounce,
+    "kepler": check_kepler,
+    "quadfall": check_quadfall,
+    "magdrag": check_magdrag,
+    "same_response": check_same_response,
     "chance": check_chance,
     "rest": check_rest,
 }
@@ -268,7 +394,10 @@ def main():
     p = {}
     for kv in sys.argv[3:]:
         k, v = kv.split("=", 1)
-        p[k] = float(v)
+        try:
+            p[k] = float(v)
+        except ValueError:
+            p[k] = v  # a path
     try:
         rows = load(sys.argv[2])
     except (OSError, ValueError, KeyError) as e:

@@ -21,6 +21,7 @@ typedef struct tpool {
     float *life;
     uint32_t *id;
     uint8_t *stuck;
+    uint32_t *hits;
     pfx_collide_pool view;
 } tpool;
 
@@ -34,6 +35,7 @@ static tpool *tpool_new(uint32_t n, bool with_stuck) {
     p->life = calloc(n, sizeof(float));
     p->id = calloc(n, sizeof(uint32_t));
     p->stuck = with_stuck ? calloc(n, 1) : NULL;
+    p->hits = calloc(n, sizeof(uint32_t));
     for (uint32_t i = 0; i < n; i++)
         p->id[i] = i, p->life[i] = 1e9f;
     p->view = (pfx_collide_pool){.count = n,
@@ -51,14 +53,15 @@ static tpool *tpool_new(uint32_t n, bool with_stuck) {
                                  .vz = p->x[5],
                                  .lifetime = p->life,
                                  .id = p->id,
-                                 .stuck = p->stuck};
+                                 .stuck = p->stuck,
+                                 .hits = p->hits};
     return p;
 }
 
 static void tpool_free(tpool *p) {
     for (int c = 0; c < 6; c++)
         free(p->x0[c]), free(p->x[c]);
-    free(p->life), free(p->id), free(p->stuck), free(p);
+    free(p->life), free(p->id), free(p->stuck), free(p->hits), free(p);
 }
 
 static void set(tpool *p, uint32_t i, double x, double y, double z, double u, double v, double w) {
@@ -70,7 +73,7 @@ static void set(tpool *p, uint32_t i, double x, double y, double z, double u, do
 /* Saves the start state, moves every particle by the exact constant-
  * acceleration update (in float, as the simulation), then collides. */
 static void step(tpool *p, const double g[3], double dt, const pfx_deflector *d, size_t nd,
-                 pfx_rng *rng, pfx_hit_fn fn, void *user, pfx_collide_stats *st) {
+                 pfx_hit_fn fn, void *user, pfx_collide_stats *st) {
     for (int c = 0; c < 6; c++)
         memcpy(p->x0[c], p->x[c], p->n * sizeof(float));
     const float h = (float)(0.5 * dt * dt), fdt = (float)dt;
@@ -80,7 +83,7 @@ static void step(tpool *p, const double g[3], double dt, const pfx_deflector *d,
             p->x[3 + j][i] += (float)g[j] * fdt;
         }
     }
-    pfx_collide(d, nd, dt, &p->view, NULL, rng, fn, user, st);
+    pfx_collide(d, nd, dt, &p->view, NULL, fn, user, st);
 }
 
 static pfx_deflector plane(double px, double py, double pz, double nx, double ny, double nz) {
@@ -146,7 +149,7 @@ static void test_bounce(void) {
     double worst_t = 0, worst_apex = 0;
     for (int k = 0; k < 2000 && bounces < 10; k++) {
         rec r = {0};
-        step(p, gravity, dt, &d, 1, NULL, record, &r, NULL);
+        step(p, gravity, dt, &d, 1, record, &r, NULL);
         if (r.n == 0)
             continue;
         CHECK(r.n == 1);
@@ -182,7 +185,7 @@ static void test_friction(void) {
     double worst = 0;
     for (int k = 0; k < 2000 && bounces < 10; k++) {
         rec r = {0};
-        step(p, gravity, dt, &d, 1, NULL, record, &r, NULL);
+        step(p, gravity, dt, &d, 1, record, &r, NULL);
         bounces += r.n;
         double want = pow(1 - mu, bounces);
         worst = fmax(worst, fabs(p->x[3][0] / u0 - want));
@@ -204,14 +207,14 @@ static void test_resting(void) {
     set(p, 0, 0, 1, 0, 0, 0, 0);
     set(p, 1, 5, 1, 0, 2, 0, 0); /* one sliding away: it stops by friction */
     for (int k = 0; k < 300; k++)
-        step(p, gravity, dt, &d, 1, NULL, NULL, NULL, NULL);
+        step(p, gravity, dt, &d, 1, NULL, NULL, NULL);
     CHECK(p->x[1][0] == 0.0f && p->x[4][0] == 0.0f);
     CHECK(p->x[1][1] == 0.0f && p->x[4][1] == 0.0f);
     CHECK(p->x[3][1] == 0.0f); /* stopped by Coulomb friction 0.4 g */
     float x1 = p->x[0][1];
     pfx_collide_stats st = {0};
     for (int k = 0; k < 100; k++) {
-        step(p, gravity, dt, &d, 1, NULL, NULL, NULL, &st);
+        step(p, gravity, dt, &d, 1, NULL, NULL, &st);
         for (uint32_t i = 0; i < 2; i++)
             CHECK(p->x[1][i] == 0.0f && p->x[4][i] == 0.0f && p->x[3][i] == 0.0f);
         CHECK(p->x[0][0] == 0.0f && p->x[0][1] == x1);
@@ -223,7 +226,7 @@ static void test_resting(void) {
     set(p, 0, 0, 0, 0, 2, 0, 0);
     set(p, 1, 0, 0, 0, -1, 0, 0);
     for (int k = 0; k < 120; k++)
-        step(p, gravity, dt, &d, 1, NULL, NULL, NULL, NULL);
+        step(p, gravity, dt, &d, 1, NULL, NULL, NULL);
     CHECK_NEAR(p->x[0][0], 4 / (2 * 0.4 * G), 1e-5);
     CHECK_NEAR(p->x[0][1], -1 / (2 * 0.4 * G), 1e-5);
     CHECK(p->x[1][0] == 0.0f && p->x[3][0] == 0.0f);
@@ -244,12 +247,12 @@ static void test_slope(void) {
     for (int k = 0; k < 2; k++) {
         set(p, 0, 0, 1e-6, 0, 0, 0, 0); /* just above the plane, at rest */
         for (int s = 0; s < 5; s++)
-            step(p, gravity, dt, &d[k], 1, NULL, NULL, NULL, NULL);
+            step(p, gravity, dt, &d[k], 1, NULL, NULL, NULL);
         double x0[3] = {p->x[0][0], p->x[1][0], p->x[2][0]};
         double u0 = p->x[3][0] * cos(th) - p->x[4][0] * sin(th); /* speed downhill */
         pfx_collide_stats st = {0};
         for (int s = 0; s < 60; s++) {
-            step(p, gravity, dt, &d[k], 1, NULL, NULL, NULL, &st);
+            step(p, gravity, dt, &d[k], 1, NULL, NULL, &st);
             double x[3] = {p->x[0][0], p->x[1][0], p->x[2][0]};
             double dn = x[0] * n[0] + x[1] * n[1];
             CHECK(dn >= 0 && dn < 1e-6);
@@ -282,7 +285,7 @@ static void test_cancellation(void) {
     double c = (double)1e-3f, b = -1000, A = 0.5 * ((double)v1 + 1000) / dt;
     double want = 2 * c / (-b + sqrt(b * b - 4 * A * c));
     rec r = {0};
-    step(p, gravity, dt, &d, 1, NULL, record, &r, NULL);
+    step(p, gravity, dt, &d, 1, record, &r, NULL);
     CHECK(r.n == 1);
     CHECK_NEAR(r.t[0] / want, 1, 1e-14);
     tpool_free(p);
@@ -301,7 +304,7 @@ static void test_tunnelling(void) {
     set(p, 1, 0.0999, 0, -100, 0, 0, 10000);
     set(p, 2, 0.05, 0.05, -100, 0, 0, 10000);
     rec r = {0};
-    step(p, zero, dt, &s, 1, NULL, record, &r, NULL);
+    step(p, zero, dt, &s, 1, record, &r, NULL);
     CHECK(r.n == 3);
     for (int h = 0; h < 3 && h < r.n; h++) {
         double *q = r.pos[h];
@@ -316,7 +319,7 @@ static void test_tunnelling(void) {
     set(p, 1, 0.0999, 0, -100, 0, 0, 10000);
     set(p, 2, 0.05, 0.05, -100, 0, 0, 10000);
     r.n = 0;
-    step(p, zero, dt, &disc, 1, NULL, record, &r, NULL);
+    step(p, zero, dt, &disc, 1, record, &r, NULL);
     CHECK(r.n == 3);
     for (uint32_t i = 0; i < 3; i++)
         CHECK(p->x[2][i] < 0 && p->x[5][i] == -10000.0f);
@@ -333,7 +336,7 @@ static void test_chance(void) {
     tpool *p = tpool_new(n, false);
     for (uint32_t i = 0; i < n; i++)
         set(p, i, 0, 1, 0, 0, -100, 0);
-    step(p, zero, dt, &d, 1, NULL, NULL, NULL, NULL);
+    step(p, zero, dt, &d, 1, NULL, NULL, NULL);
     uint32_t passed = 0, same = 0;
     for (uint32_t i = 0; i < n; i++) {
         bool through = p->x[1][i] < 0;
@@ -354,7 +357,7 @@ static void test_kill_stick_loss(void) {
     set(p, 0, 0.5, 0.01, 0, 1, -2, 0);
     p->life[0] = 3;
     rec r = {0};
-    step(p, gravity, dt, &d, 1, NULL, record, &r, NULL);
+    step(p, gravity, dt, &d, 1, record, &r, NULL);
     CHECK(r.n == 1 && p->life[0] == PFX_KILLED && p->x[1][0] == 0.0f);
 
     /* Stick on a sphere's side: held at the hit point from then on. */
@@ -364,13 +367,13 @@ static void test_kill_stick_loss(void) {
     p->life[0] = 3;
     r.n = 0;
     for (int k = 0; k < 30 && r.n == 0; k++)
-        step(p, gravity, dt, &s, 1, NULL, record, &r, NULL);
+        step(p, gravity, dt, &s, 1, record, &r, NULL);
     CHECK(r.n == 1 && p->stuck[0] == 1);
     float hold[3] = {p->x[0][0], p->x[1][0], p->x[2][0]};
     CHECK_NEAR(hypot(hypot(hold[0], hold[1]), hold[2]), 1, 1e-6);
     CHECK(hypot(hypot(hold[0], hold[1]), hold[2]) >= 1.0);
     for (int k = 0; k < 50; k++)
-        step(p, gravity, dt, &s, 1, NULL, record, &r, NULL);
+        step(p, gravity, dt, &s, 1, record, &r, NULL);
     CHECK(r.n == 1 && p->x[0][0] == hold[0] && p->x[1][0] == hold[1] && p->x[2][0] == hold[2]);
     CHECK(p->x[3][0] == 0 && p->x[4][0] == 0 && p->x[5][0] == 0);
 
@@ -384,7 +387,7 @@ static void test_kill_stick_loss(void) {
     int hits = 0;
     for (int k = 0; k < 600 && hits < 3; k++) {
         r.n = 0;
-        step(p, gravity, dt, &d, 1, NULL, record, &r, NULL);
+        step(p, gravity, dt, &d, 1, record, &r, NULL);
         hits += r.n;
     }
     CHECK(hits == 3);
@@ -411,7 +414,7 @@ static void test_untouched_and_fallback(void) {
     float before[6][100];
     for (int c = 0; c < 6; c++)
         memcpy(before[c], p->x[c], sizeof before[c]);
-    pfx_collide(d, 2, dt, &p->view, NULL, &rng, NULL, NULL, NULL);
+    pfx_collide(d, 2, dt, &p->view, NULL, NULL, NULL, NULL);
     for (int c = 0; c < 6; c++)
         CHECK(memcmp(before[c], p->x[c], sizeof before[c]) == 0);
 
@@ -423,7 +426,7 @@ static void test_untouched_and_fallback(void) {
         p->x0[c][0] = p->x[c][0];
     p->x[1][0] = -0.1f;
     pfx_collide_stats st = {0};
-    pfx_collide(&f, 1, dt, &p->view, NULL, &rng, NULL, NULL, &st);
+    pfx_collide(&f, 1, dt, &p->view, NULL, NULL, NULL, &st);
     CHECK(st.fallbacks == 1 && st.impacts + st.contacts == 1 && p->x[1][0] >= 0);
     tpool_free(p);
 }
@@ -495,7 +498,7 @@ static double stress(pfx_deflector *d, size_t nd, const double lo[3], const doub
     double worst = INFINITY;
     bool finite = true;
     for (int k = 0; k < 300; k++) {
-        step(p, gravity, dt, d, nd, &rng, NULL, NULL, st);
+        step(p, gravity, dt, d, nd, NULL, NULL, st);
         for (uint32_t i = 0; i < n; i++) {
             double x[3] = {p->x[0][i], p->x[1][i], p->x[2][i]};
             for (size_t j = 0; j < nd; j++)
@@ -532,13 +535,11 @@ static void test_marks_given(void) {
         set(a, i, s[0], s[1], s[2], s[3], s[4], s[5]);
         set(b, i, s[0], s[1], s[2], s[3], s[4], s[5]);
     }
-    pfx_rng ra, rb;
-    pfx_rng_seed(&ra, 5, 9), pfx_rng_seed(&rb, 5, 9);
     pfx_collide_stats sa = {0}, sb = {0};
     uint8_t near[N];
     int agree = 0, marked_some = 0, marked_all = 0;
     for (int k = 0; k < 120; k++) {
-        step(a, gravity, dt, d, 4, &ra, NULL, NULL, &sa);
+        step(a, gravity, dt, d, 4, NULL, NULL, &sa);
         /* b: the same move, then the marks, then the exact pass */
         for (int c = 0; c < 6; c++)
             memcpy(b->x0[c], b->x[c], N * sizeof(float));
@@ -554,10 +555,9 @@ static void test_marks_given(void) {
             count += near[i] != 0;
         marked_some += any && count > 0;
         marked_all += count == N;
-        pfx_collide(d, 4, dt, &b->view, near, &rb, NULL, NULL, &sb);
+        pfx_collide(d, 4, dt, &b->view, near, NULL, NULL, &sb);
         bool same = memcmp(a->life, b->life, N * sizeof(float)) == 0 &&
-                    memcmp(a->stuck, b->stuck, N) == 0 && memcmp(&ra, &rb, sizeof ra) == 0 &&
-                    memcmp(&sa, &sb, sizeof sa) == 0;
+                    memcmp(a->stuck, b->stuck, N) == 0 && memcmp(&sa, &sb, sizeof sa) == 0;
         for (int c = 0; c < 6; c++)
             same = same && memcmp(a->x[c], b->x[c], N * sizeof(float)) == 0;
         agree += same;
