@@ -107,7 +107,8 @@ enum {
     OPT_SET,
     OPT_MOTION_VECTORS,
     OPT_MV_MAX,
-    OPT_MV_FLIP_Y
+    OPT_MV_FLIP_Y,
+    OPT_TOLERANCE
 };
 
 /* The commands, as bits: which take an option (and list it in their help). */
@@ -119,7 +120,8 @@ enum {
     CMD_BENCH = 1 << 4,
     CMD_ASSEMBLE = 1 << 5,
     CMD_SCHEMA = 1 << 6,
-    CMD_ALL = (1 << 7) - 1,
+    CMD_TUNE = 1 << 7,
+    CMD_ALL = (1 << 8) - 1,
     CMD_NONE = 0 /* pfx alone: --version */
 };
 
@@ -137,11 +139,12 @@ typedef struct option_row {
 
 static const option_row option_rows[] = {
     {"output", required_argument, 'o', "-o, --output PATH",
-     CMD_RENDER | CMD_BAKE | CMD_BENCH | CMD_ASSEMBLE,
-     "output directory (render, bench accuracy) or file (bake;\n"
+     CMD_RENDER | CMD_BAKE | CMD_BENCH | CMD_ASSEMBLE | CMD_TUNE,
+     "output directory (render, bench accuracy, tune) or file (bake;\n"
      "- is standard output; a run of # in its name, as in\n"
      "cache_####.ply: one file a frame, # the frame number)"},
-    {"frames", required_argument, OPT_FRAMES, "    --frames A:B[:S]", CMD_RENDER | CMD_BAKE,
+    {"frames", required_argument, OPT_FRAMES, "    --frames A:B[:S]",
+     CMD_RENDER | CMD_BAKE | CMD_TUNE,
      "only frames A to B inclusive (with S: every S-th from A),\n"
      "numbered as in a full render"},
     {"size", required_argument, OPT_SIZE, "    --size WxH", CMD_RENDER,
@@ -151,7 +154,7 @@ static const option_row option_rows[] = {
     {"seed", required_argument, OPT_SEED, "    --seed N", CMD_RENDER | CMD_BAKE | CMD_INFO,
      "random seed, overriding seed"},
     {"set", required_argument, OPT_SET, "    --set PATH=VALUE",
-     CMD_VALIDATE | CMD_RENDER | CMD_BAKE | CMD_INFO,
+     CMD_VALIDATE | CMD_RENDER | CMD_BAKE | CMD_INFO | CMD_TUNE,
      "override a value of the file, such as\n"
      "emitters.flame.rate=300 or 'emitters.flame.color=[1,0,0]'\n"
      "(VALUE is YAML; repeatable, applied in order)"},
@@ -209,6 +212,9 @@ static const option_row option_rows[] = {
      "treat warnings in an effect as errors (exit status 1)"},
     {"progress", required_argument, OPT_PROGRESS, "    --progress json", CMD_RENDER,
      "a JSON line on stderr per frame drawn, and one at the end"},
+    {"tolerance", required_argument, OPT_TOLERANCE, "    --tolerance TOL", CMD_TUNE,
+     "tune: the error allowed, on screen (0.5px, the default)\n"
+     "or in space (1mm, 2cm, 0.01m)"},
     {"json", no_argument, OPT_JSON, "    --json", CMD_BENCH,
      "bench: the figures as one JSON object"},
     {"threads", required_argument, OPT_THREADS, "    --threads N", CMD_RENDER | CMD_BAKE | CMD_INFO,
@@ -308,6 +314,9 @@ static const command_row commands[] = {
      "pfx assemble DIR... -o OUT [--atlas[=CxR]] [--preview OUT.webp|OUT.mp4]\n"
      "           [--preview-quality Q]",
      "gather the frames of slices (--slice) into OUT, checking each", pfx_cmd_assemble},
+    {"tune", CMD_TUNE,
+     "pfx tune FILE -o DIR [--tolerance 0.5px|1mm] [--frames A:B] [--set PATH=VALUE]",
+     "chart speed against screen error; recommend the cheapest setting", pfx_cmd_tune},
     {"schema", CMD_SCHEMA, "pfx schema", "print the JSON Schema of the effect format",
      pfx_cmd_schema},
 };
@@ -460,6 +469,9 @@ static int parse_option(int c, int argc, char **argv, pfx_cli *o) {
     }
     case OPT_MV_FLIP_Y:
         o->mv_flip_y = true;
+        break;
+    case OPT_TOLERANCE:
+        o->tolerance = optarg;
         break;
     case OPT_WERROR:
         o->werror = true;

@@ -56,6 +56,7 @@ typedef struct pfx_cli {
     double mv_max;                 /* --mv-max PIXELS; 0: the sequence's largest */
     bool mv_flip_y;                /* --mv-flip-y */
     pfx_frame_format frames_as;    /* render --format png|exr */
+    const char *tolerance;         /* tune --tolerance, as given (0.5px, 1mm) */
     pfx_compile_options compile;
 } pfx_cli;
 
@@ -68,6 +69,7 @@ int pfx_cmd_bake(const char *const *operands, int count, const pfx_cli *o);
 int pfx_cmd_info(const char *const *operands, int count, const pfx_cli *o);
 int pfx_cmd_assemble(const char *const *operands, int count, const pfx_cli *o);
 int pfx_cmd_bench(const char *const *operands, int count, const pfx_cli *o);
+int pfx_cmd_tune(const char *const *operands, int count, const pfx_cli *o);
 
 /* Shared by the commands (commands/common.c). */
 /* Looks up a renderer name; on a bad one prints the usage error, naming

@@ -456,19 +456,8 @@ static void compile_lod(compiler *c, const pfx_node *v, const pfx_node *n, pfx_e
     double per_pixel = 1, var = 0;
     opt_number(c, v, "per_pixel", &per_pixel, 0, false, 1e6);
     opt_number(c, v, "var", &var, 0, false, 1e6);
-    const pfx_camera *k = &c->e->camera;
-    double view[3], to[3], depth = 0, vlen = 0;
-    for (int a = 0; a < 3; a++) {
-        view[a] = k->target[a] - k->position[a];
-        to[a] = em->position[a] - k->position[a];
-        vlen += view[a] * view[a];
-    }
-    vlen = sqrt(vlen);
-    for (int a = 0; a < 3; a++)
-        depth += to[a] * view[a] / (vlen > 0 ? vlen : 1);
     double pixels_per_metre =
-        k->ortho ? c->e->height / k->ortho_height
-                 : (depth > 1e-6 ? 0.5 * c->e->height / (tan(0.5 * k->fov) * depth) : 0);
+        pfx_camera_pixels_per_metre(&c->e->camera, c->e->height, em->position);
     double r_px = shape_radius(&em->shape) * pixels_per_metre;
     em->lod_area = fmax(1.0, M_PI * r_px * r_px);
     em->rate_kind = var > 0 ? PFX_RATE_RANDOM : PFX_RATE_CONSTANT;

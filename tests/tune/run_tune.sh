@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# pfx tune through the command line: closed-form scenes (projectile, linear
+# drag, spring, orbit) whose measured errors must equal each integrator's
+# own error computed in check_tune.py; a recommendation that, applied with
+# --set, meets the tolerance when tune checks again; a method unstable at
+# the file's rate flagged with its rule; the chart, CSV and JSON parsed.
+set -u
+source "$(dirname "${BASH_SOURCE[0]}")/../harness.sh" tune "$@"
+CHECK="$src/tests/tune/check_tune.py"
+
+# scene NAME FORCES [INTEGRATOR [EXTRA-EMITTER-KEYS]]: one particle from the
+# origin (or x = 1 for spring and orbit), frames every 0.1 s to 1.9 s, at
+# 80 steps/s, so that every ladder rate (10 to 640) falls on the frames.
+scene() {
+    local name=$1 forces=$2 integ=${3:-auto} pos=${4:-[0, 0, 0]} dir=${5:-[1, 0, 0]} speed=${6:-3}
+    cat >"$work/$name.yaml" <<EOF
+pfx: 1
+duration: 2
+fps: 10
+sim: { rate: 80, integrator: $integ }
+camera: { position: [0, 0, 10], target: [0, 0, 0], up: [0, 1, 0], ortho: 20 }
+image: { size: [200, 200] }
+forces:
+$forces
+emitters:
+  one:
+    shape: { type: point }
+    position: $pos
+    bursts: [{ time: 0, count: 1 }]
+    direction: $dir
+    spread: 0
+    speed: $speed
+    lifetime: 100
+EOF
+}
+
+# tune NAME ARGS...: pfx tune into $work/NAME; fails the check when pfx does.
+tune() {
+    local name=$1
+    shift
+    if ! "$pfx" tune "$work/$name.yaml" -o "$work/$name" -q "$@" >"$work/$name.out" 2>&1; then
+        fail "$name: pfx tune exited non-zero: $(head -c 600 "$work/$name.out")"
+        return 1
+    fi
+}
+
+scene projectile "  g: { type: gravity, accel: [0, -9.81, 0] }"
+tune projectile --tolerance 1mm && tally "$("$py" "$CHECK" errors projectile "$work/projectile")"
+scene drag "  air: { type: drag, k: 2 }"
+tune drag --tolerance 1mm && tally "$("$py" "$CHECK" errors drag "$work/drag")"
+scene spring "  pull: { type: spring, anchor: [0, 0, 0], k: 4 }" auto "[1, 0, 0]" "[1, 0, 0]" 0
+tune spring --tolerance 1mm && tally "$("$py" "$CHECK" errors spring "$work/spring")"
+scene orbit "  sun: { type: attractor, center: [0, 0, 0], strength: 4, softening: 0 }" auto \
+    "[1, 0, 0]" "[0, 1, 0]" 2
+tune orbit --tolerance 1mm && tally "$("$py" "$CHECK" errors orbit "$work/orbit")"
+tally "$("$py" "$CHECK" files "$work/orbit")"
+
+# The recommendation for the spring at 0.5 px, applied with --set: tune
+# then finds the current setting within the tolerance (0.5 px = 5 cm here)
+# and recommends it.
+tune spring --tolerance 0.5px && {
+    sets=$("$py" -c '
+import json, sys
+d = json.load(open(sys.argv[1]))
+r = d["runs"][d["recommended"]]
+print("--set sim.integrator=%s --set sim.rate=%r" % (r["integrator"], r["rate"])
+      + (" --set sim.substeps=%d" % r["substeps"] if r["substeps"] else ""))' "$work/spring/tune.json")
+    cp "$work/spring.yaml" "$work/applied.yaml"
+    # shellcheck disable=SC2086
+    tune applied --tolerance 0.5px $sets && tally "$("$py" "$CHECK" within "$work/applied" 0.05)"
+}
+
+# A stiff spring (omega = 100 /s) under symplectic Euler at 120 steps/s
+# (omega h = 0.83, stable): explicit Euler at that rate grows by
+# |1 + 0.83i| = 1.3 a step and blows up; the stability rule predicts it.
+scene stiff "  pull: { type: spring, anchor: [0, 0, 0], k: 10000 }" symplectic "[1, 0, 0]" \
+    "[1, 0, 0]" 0
+sed -i 's/rate: 80/rate: 120/' "$work/stiff.yaml"
+tune stiff && tally "$("$py" "$CHECK" unstable "$work/stiff" euler 120)"
+
+summary
