@@ -539,6 +539,19 @@ static void fit_life_force(compiler *c, const pfx_emitter *em, pfx_motion_force 
     f->jerk_hint = slope > 0 ? slope / fmax(life, 1e-9) : 0;
 }
 
+/* auto's tolerance, m per simulated second. Given in pixels: the pixels
+ * as metres at the emitter's depth (pfx_camera_pixels_per_metre), over its
+ * longest lifetime, since auto's error grows with age at that rate; an
+ * emitter at or behind the camera keeps the default 1e-3 m/s. */
+static double motion_tolerance(const pfx_effect *e, const pfx_emitter *em) {
+    if (!(e->tolerance_px > 0))
+        return e->tolerance;
+    double ppm = pfx_camera_pixels_per_metre(&e->camera, e->height, em->position);
+    if (!(ppm > 0))
+        return 1e-3;
+    return fmax(e->tolerance_px / ppm / fmax(em->max_lifetime, 1e-3), 1e-12);
+}
+
 /* Decides how the emitter moves. Only unregioned gravity under `auto`: the
  * exact constant-acceleration kernel, no motion model (the fast path).
  * Anything else: a pfx_motion holding just the forces this emitter feels,
@@ -565,7 +578,7 @@ static void build_motion(compiler *c, pfx_emitter *em, pfx_integrator integrator
         return;
     m->integrator = integrator;
     m->substeps = e->substeps;
-    m->tolerance = e->tolerance;
+    m->tolerance = motion_tolerance(e, em);
     double speed_max = fmax(fabs(pfx_value_max(&em->speed)), fabs(pfx_value_min(&em->speed)));
     double q_max = fmax(fabs(pfx_value_max(&em->charge)), fabs(pfx_value_min(&em->charge)));
     for (size_t i = 0; i < e->force_count; i++) {

@@ -461,7 +461,7 @@ static void find_failures(pfx_tune_result *res) {
         }
         if (lowest_bad > 0 && isfinite(lowest_good))
             snprintf(res->fails_below[in], sizeof res->fails_below[in],
-                     "fails below %g steps/s (blew up at %g: %.40s)", lowest_good, lowest_bad, why);
+                     "fails below %g steps/s (blew up at %g: %.120s)", lowest_good, lowest_bad, why);
         else if (lowest_bad > 0)
             snprintf(res->fails_below[in], sizeof res->fails_below[in],
                      "fails at every rate tried, up to %g steps/s", lowest_bad);

@@ -73,7 +73,7 @@ typedef struct pfx_tune_result {
     long frames_compared;
     pfx_tune_cost costs[16];
     size_t cost_count;
-    char fails_below[PFX_INTEGRATOR_COUNT][96]; /* per integrator: "" or where it fails */
+    char fails_below[PFX_INTEGRATOR_COUNT][200]; /* per integrator: "" or where it fails */
 } pfx_tune_result;
 
 /* Runs the ladder for r. Progress goes to `log` unless NULL. Returns false

@@ -374,6 +374,7 @@ typedef struct pfx_effect {
     double loop_start;         /* simulation time of frame 0 when looping */
     pfx_integrator integrator; /* sim.integrator; emitters may override */
     double tolerance;          /* sim.tolerance, m per simulated second */
+    double tolerance_px;       /* sim.tolerance given in pixels (> 0), else 0 */
     int substeps;              /* sim.substeps; 0: auto */
     pfx_camera camera;
     int width, height;

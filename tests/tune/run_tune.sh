@@ -78,4 +78,20 @@ scene stiff "  pull: { type: spring, anchor: [0, 0, 0], k: 10000 }" symplectic "
 sed -i 's/rate: 80/rate: 120/' "$work/stiff.yaml"
 tune stiff && tally "$("$py" "$CHECK" unstable "$work/stiff" euler 120)"
 
+# sim.tolerance in pixels: 0.01 px through an orthographic camera 20 m tall
+# over 200 px is 1 mm; over the particle's 2 s of life, 5e-4 m/s. auto
+# chooses the same substeps from either spelling (and others from 1 px =
+# 0.05 m/s), and a tune at 0.01 px finds auto's own run within it.
+scene pixels "  pull: { type: spring, anchor: [0, 0, 0], k: 4 }" auto "[1, 0, 0]" "[1, 0, 0]" 0
+sed -i 's/rate: 80, /rate: 10, tolerance: 0.01px, /; s/lifetime: 100/lifetime: 2/' "$work/pixels.yaml"
+begin "sim.tolerance 0.01px is 5e-4 m/s to auto here"
+line() { "$pfx" info "$work/pixels.yaml" --set "sim.tolerance=$1" 2>&1 | grep 'integrator:'; }
+px=$(line 0.01px) ms=$(line 5e-4) coarse=$(line 1px) coarse_ms=$(line 0.05)
+[ -n "$px" ] || flunk "no integrator line from pfx info"
+[ "$px" = "$ms" ] || flunk "0.01px: '$px'; 5e-4: '$ms'"
+[ "$coarse" = "$coarse_ms" ] || flunk "1px: '$coarse'; 0.05: '$coarse_ms'"
+[ "$px" != "$coarse" ] || flunk "0.01px and 1px choose alike: '$px'"
+end
+tune pixels --tolerance 0.01px && tally "$("$py" "$CHECK" within "$work/pixels" 0.001)"
+
 summary
