@@ -32,6 +32,7 @@ int pfx_cmd_tune(const char *const *operands, int count, const pfx_cli *o) {
     if (!pfx_cli_make_dirs(o->output, &run))
         goto done;
     if (!pfx_tune_run_ladder(&q, &res, o->quiet ? NULL : stderr, &run) ||
+        !pfx_tune_scene_costs(&q, &res, &run) ||
         !pfx_tune_report(&q, &res, o->output, stdout, &run))
         goto done;
     status = 0;

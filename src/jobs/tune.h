@@ -83,6 +83,14 @@ typedef struct pfx_tune_result {
 bool pfx_tune_run_ladder(const pfx_tune_request *r, pfx_tune_result *res, FILE *log, pfx_diags *d);
 void pfx_tune_result_free(pfx_tune_result *res);
 
+/* After the ladder: what else the scene pays for (jobs/tune_costs.c),
+ * into res->costs: steps a frame beyond need, pools far above the peak
+ * alive, particle-frames off screen or invisible, a depth sort that
+ * changes no pixel, textures larger than their sprites on screen. One
+ * more run of the file's setting over every frame of the range. False
+ * with the reason in d. */
+bool pfx_tune_scene_costs(const pfx_tune_request *r, pfx_tune_result *res, pfx_diags *d);
+
 /* Writes DIR/tune.csv, tune.json, tune.svg and tune.png (each whole or
  * absent) and prints the summary on out. False with the reason in d. */
 bool pfx_tune_report(const pfx_tune_request *r, const pfx_tune_result *res, const char *dir,

@@ -266,6 +266,31 @@ def check_within(d, tol_m):
      else fail("recommendation applied", "current %s, recommended %d" % (cur, doc["recommended"])))
 
 
+def check_costs(d, off_share, steps_scene):
+    """off_share: the share of particle-frames off screen (None: no such
+    finding expected); steps_scene: expect the steps-a-frame finding with
+    the saving of the recommended rate over the file's."""
+    doc = json.load(open(d + "/tune.json"))
+    costs = doc["scene_costs"]
+    off = [c for c in costs if "off screen" in c["finding"]]
+    if off_share is None:
+        (fail("costs", "unexpected %s" % off) if off else ok("no off-screen finding"))
+    elif len(off) != 1 or abs(off[0]["saving"] - off_share) > 1e-12:
+        fail("costs off screen", "expected a share of %s in %s" % (off_share, costs))
+    else:
+        ok("off screen for %s of its particle-frames: %s" % (off_share, off[0]["finding"]))
+    sort = [c for c in costs if "depth sort" in c["finding"]]
+    (ok("a depth sort that changes no pixel found") if sort
+     else fail("costs sort", "no depth-sort finding in %s" % costs))
+    if steps_scene:
+        cur, rec = doc["runs"][doc["current"]], doc["runs"][doc["recommended"]]
+        want = 1 - rec["rate"] * max(1, rec["substeps"]) / (cur["rate"] * max(1, cur["substeps"]))
+        steps = [c for c in costs if "steps a frame" in c["finding"]]
+        (ok("steps a frame beyond need: saves %.6g" % want)
+         if len(steps) == 1 and abs(steps[0]["saving"] - want) < 1e-9
+         else fail("costs steps", "expected a saving of %s in %s" % (want, costs)))
+
+
 if __name__ == "__main__":
     kind = sys.argv[1]
     if kind == "errors":
@@ -274,5 +299,8 @@ if __name__ == "__main__":
         check_files(sys.argv[2])
     elif kind == "unstable":
         check_unstable(sys.argv[2], sys.argv[3], sys.argv[4])
+    elif kind == "costs":
+        check_costs(sys.argv[2], None if sys.argv[3] == "none" else float(sys.argv[3]),
+                    sys.argv[4] == "steps")
     elif kind == "within":
         check_within(sys.argv[2], sys.argv[3])
