@@ -389,10 +389,30 @@ static const pfx_integrator ladder_order[] = {
     PFX_INTEGRATOR_AUTO,       PFX_INTEGRATOR_EXACT,    PFX_INTEGRATOR_BORIS, PFX_INTEGRATOR_VERLET,
     PFX_INTEGRATOR_SYMPLECTIC, PFX_INTEGRATOR_MIDPOINT, PFX_INTEGRATOR_EULER, PFX_INTEGRATOR_RK4};
 
+/* True when a run of `in` at `work` steps (rate x substeps) a second
+ * cannot beat the cheapest run within tolerance: its cost predicted from
+ * the integrator's dearest stable run so far, scaled by the steps and
+ * halved (fixed costs per frame do not scale), is still above it. */
+static bool cannot_win(const pfx_tune_result *res, pfx_integrator in, double work) {
+    if (res->recommended < 0)
+        return false;
+    const double best = res->runs[res->recommended].seconds_per_s;
+    for (size_t i = 0; i < res->count; i++) {
+        const pfx_tune_run *r = &res->runs[i];
+        if (r->integrator != in || !r->compiled || r->blew_up || r->reference || r->current)
+            continue;
+        double w = r->rate * (r->substeps > 0 ? r->substeps : 1);
+        if (w < work && 0.5 * r->seconds_per_s * work / w > best)
+            return true;
+    }
+    return false;
+}
+
 /* One integrator's rungs, coarsest first. Stops refining once a run is
  * converged (a tenth of the tolerance: finer ones can only cost more), or
  * once a run costs three times the cheapest run within tolerance so far
- * (finer ones cost more still and cannot win). At the file's rate it also
+ * (finer ones cost more still and cannot win), and skips a run whose
+ * predicted cost already loses (cannot_win). At the file's rate it also
  * tries 2 and 4 substeps when one step was not within tolerance. */
 static bool run_integrator(tune_ctx *c, pfx_integrator in, double base_rate, bool px) {
     pfx_tune_result *res = c->res;
@@ -405,6 +425,8 @@ static bool run_integrator(tune_ctx *c, pfx_integrator in, double base_rate, boo
              sub <= (j == 0 && in != PFX_INTEGRATOR_AUTO ? 4 : subs_default);
              sub = sub ? sub * 2 : 1) {
             long at = find_run(res, in, rate, sub);
+            if (at < 0 && cannot_win(res, in, rate * (sub ? sub : 1)))
+                return true;
             if (at < 0) {
                 pfx_tune_run *r = add_run(res, in, rate, sub);
                 if (!r || !measure(c, r, false))
@@ -461,7 +483,8 @@ static void find_failures(pfx_tune_result *res) {
         }
         if (lowest_bad > 0 && isfinite(lowest_good))
             snprintf(res->fails_below[in], sizeof res->fails_below[in],
-                     "fails below %g steps/s (blew up at %g: %.120s)", lowest_good, lowest_bad, why);
+                     "fails below %g steps/s (blew up at %g: %.120s)", lowest_good, lowest_bad,
+                     why);
         else if (lowest_bad > 0)
             snprintf(res->fails_below[in], sizeof res->fails_below[in],
                      "fails at every rate tried, up to %g steps/s", lowest_bad);

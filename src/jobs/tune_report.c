@@ -325,6 +325,11 @@ static void print_summary(const pfx_tune_request *q, const pfx_tune_result *res,
                 "differs; %.3g ms per simulated second, %.4g particle-steps\n",
                 a, cur->err_max_px, cur->err_p99_px, cur->err_max_m, (unsigned long long)cur->fates,
                 cost_ms(cur), cur->particle_steps);
+    if (!res->converged)
+        fprintf(out,
+                "the reference did not converge: every error below is only good to about %.3g "
+                "px, the difference of its two finest runs\n",
+                chk->err_max_px);
     if (res->recommended < 0) {
         fputs("no setting tried is within the tolerance\n", out);
     } else if ((size_t)res->recommended == res->current) {
