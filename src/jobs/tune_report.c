@@ -3,6 +3,7 @@
  * (output/chart_png.h), and the summary on stdout. It runs nothing. */
 #include <jansson.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "jobs/tune.h"
@@ -142,6 +143,25 @@ static size_t pareto(const pfx_tune_result *res, size_t *idx) {
     return n;
 }
 
+/* The stable, plotted runs of integrator `in` into idx, in order of cost:
+ * one line of the chart. Returns how many. */
+static int integrator_runs(const pfx_tune_result *res, pfx_integrator in, size_t *idx) {
+    int n = 0;
+    for (size_t i = 0; i < res->count; i++) {
+        const pfx_tune_run *r = &res->runs[i];
+        if (r->integrator == in && r->compiled && !r->reference && !r->blew_up && !r->current)
+            idx[n++] = i;
+    }
+    for (int a = 1; a < n; a++) /* insertion sort: n is small */
+        for (int b = a;
+             b > 0 && res->runs[idx[b]].seconds_per_s < res->runs[idx[b - 1]].seconds_per_s; b--) {
+            size_t t = idx[b];
+            idx[b] = idx[b - 1];
+            idx[b - 1] = t;
+        }
+    return n;
+}
+
 /* Draws the chart on a canvas: the SVG writer or the PNG rasteriser take
  * the same calls (output/chart_png.h mirrors svg_chart.h). */
 static bool write_svg(const pfx_tune_result *res, const char *path, pfx_diags *d) {
@@ -177,24 +197,9 @@ static bool write_svg(const pfx_tune_result *res, const char *path, pfx_diags *d
         return false;
     }
     for (int in = 0; in < PFX_INTEGRATOR_COUNT; in++) {
-        int n = 0;
-        for (size_t i = 0; i < res->count; i++) {
-            const pfx_tune_run *r = &res->runs[i];
-            if ((int)r->integrator != in || !r->compiled || r->reference || r->blew_up ||
-                r->current)
-                continue;
-            idx[n++] = i;
-        }
+        int n = integrator_runs(res, (pfx_integrator)in, idx);
         if (!n)
             continue;
-        for (int a2 = 1; a2 < n; a2++) /* by cost */
-            for (int b = a2;
-                 b > 0 && res->runs[idx[b]].seconds_per_s < res->runs[idx[b - 1]].seconds_per_s;
-                 b--) {
-                size_t t = idx[b];
-                idx[b] = idx[b - 1];
-                idx[b - 1] = t;
-            }
         fprintf(f, "<g class=\"integrator\" id=\"line-%s\">\n",
                 pfx_integrator_name((pfx_integrator)in));
         for (int k = 0; k < n; k++) {
@@ -267,25 +272,30 @@ static bool write_png(const pfx_tune_result *res, const char *path, pfx_diags *d
     }
     pfx_chart_png_axes(p, &c);
     pfx_chart_png_line(p, &c, c.x0, res->tol_px, c.x1, res->tol_px, 0x555555, true);
+    size_t *idx = malloc((res->count + 1) * sizeof *idx);
+    if (!idx) {
+        pfx_chart_png_destroy(p);
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
+        return false;
+    }
     for (int in = 0; in < PFX_INTEGRATOR_COUNT; in++) {
         unsigned col = (unsigned)strtoul(colours[in] + 1, NULL, 16);
-        const pfx_tune_run *prev = NULL;
-        /* runs of one integrator come in order of rate: join them so */
-        for (size_t i = 0; i < res->count; i++) {
-            const pfx_tune_run *r = &res->runs[i];
-            if ((int)r->integrator != in || !r->compiled || r->reference || r->current)
-                continue;
-            if (r->blew_up) {
-                pfx_chart_png_mark(p, &c, cost_ms(r), c.y1, PFX_MARK_CROSS, col);
-                continue;
-            }
+        int n = integrator_runs(res, (pfx_integrator)in, idx);
+        for (int k = 0; k < n; k++) {
+            const pfx_tune_run *r = &res->runs[idx[k]];
             pfx_chart_png_mark(p, &c, cost_ms(r), shown_error(&c, r), PFX_MARK_DOT, col);
-            if (prev && prev->substeps == r->substeps)
-                pfx_chart_png_line(p, &c, cost_ms(prev), shown_error(&c, prev), cost_ms(r),
+            if (k > 0) {
+                const pfx_tune_run *q = &res->runs[idx[k - 1]];
+                pfx_chart_png_line(p, &c, cost_ms(q), shown_error(&c, q), cost_ms(r),
                                    shown_error(&c, r), col, false);
-            prev = r;
+            }
         }
     }
+    for (size_t i = 0; i < res->count; i++)
+        if (res->runs[i].compiled && res->runs[i].blew_up && !res->runs[i].reference)
+            pfx_chart_png_mark(p, &c, cost_ms(&res->runs[i]), c.y1, PFX_MARK_CROSS,
+                               (unsigned)strtoul(colours[res->runs[i].integrator] + 1, NULL, 16));
+    free(idx);
     const pfx_tune_run *cur = &res->runs[res->current];
     if (cur->compiled && !cur->blew_up)
         pfx_chart_png_mark(p, &c, cost_ms(cur), shown_error(&c, cur), PFX_MARK_SQUARE, 0x000000);
