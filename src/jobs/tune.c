@@ -295,7 +295,7 @@ static bool measure(tune_ctx *c, pfx_tune_run *run, bool record) {
     run->repeats = 1;
     /* Best of several: a cheap run is timed again (noise is largest
      * there); an expensive one is already well above the timer's noise. */
-    for (int k = 1; !blew && k < (best < 0.05 ? 5 : best < 0.5 ? 3 : 1); k++) {
+    for (int k = 1; !blew && k < (best < 0.02 ? 3 : best < 0.2 ? 2 : 1); k++) {
         bool b2;
         double s2, t = simulate(c, e, false, false, &s2, &b2);
         if (t >= 0 && t < best)
