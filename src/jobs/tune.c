@@ -44,6 +44,9 @@ typedef struct tune_ctx {
     FILE *log;
 } tune_ctx;
 
+/* The highest sim.rate the format takes (compile/compiler.h). */
+#define TUNE_MAX_RATE 100000.0
+
 /* The most particle-frames the reference may hold (32 bytes each). */
 #define TUNE_MAX_POINTS (8u << 20)
 
@@ -419,7 +422,7 @@ static bool run_integrator(tune_ctx *c, pfx_integrator in, double base_rate, boo
     const int subs_default = in == PFX_INTEGRATOR_AUTO ? 0 : 1;
     for (int j = PFX_TUNE_RATE_LO; j <= PFX_TUNE_RATE_HI; j++) {
         double rate = base_rate * ldexp(1.0, j);
-        if (rate < 1 || rate > 100000)
+        if (rate < 1 || rate > TUNE_MAX_RATE)
             continue;
         for (int sub = subs_default;
              sub <= (j == 0 && in != PFX_INTEGRATOR_AUTO ? 4 : subs_default);
@@ -525,10 +528,12 @@ bool pfx_tune_run_ladder(const pfx_tune_request *r, pfx_tune_result *res, FILE *
     const double base = e->sim_rate;
     /* The reference: rk4 at the finest rate; the check beside it at half
      * that rate. */
-    pfx_tune_run *ref = add_run(res, PFX_INTEGRATOR_RK4, base * ldexp(1.0, PFX_TUNE_RATE_HI), 1);
+    pfx_tune_run *ref = add_run(res, PFX_INTEGRATOR_RK4,
+                                fmin(base * ldexp(1.0, PFX_TUNE_RATE_HI), TUNE_MAX_RATE), 1);
     if (!ref)
         goto oom;
     ref->reference = true;
+    const double ref_rate = ref->rate;
     if (!measure(&c, ref, true))
         goto oom;
     if (!ref->compiled || ref->blew_up) {
@@ -554,8 +559,7 @@ bool pfx_tune_run_ladder(const pfx_tune_request *r, pfx_tune_result *res, FILE *
     res->current = res->count - 1;
     if (!measure(&c, cur, false))
         goto oom;
-    pfx_tune_run *chk =
-        add_run(res, PFX_INTEGRATOR_RK4, base * ldexp(1.0, PFX_TUNE_RATE_HI - 1), 1);
+    pfx_tune_run *chk = add_run(res, PFX_INTEGRATOR_RK4, 0.5 * ref_rate, 1);
     if (!chk || !measure(&c, chk, false))
         goto oom;
     res->reference = 0;
@@ -563,7 +567,7 @@ bool pfx_tune_run_ladder(const pfx_tune_request *r, pfx_tune_result *res, FILE *
     res->converged = chk->compiled && !chk->blew_up &&
                      (r->tolerance_px ? chk->err_max_px <= 0.1 * res->tol_px
                                       : chk->err_max_m <= 0.1 * res->tol_m);
-    if (within(res, cur, r->tolerance_px))
+    if (within(res, &res->runs[res->current], r->tolerance_px))
         res->recommended = (long)res->current;
     for (size_t k = 0; k < sizeof ladder_order / sizeof ladder_order[0]; k++)
         if (!run_integrator(&c, ladder_order[k], base, r->tolerance_px))

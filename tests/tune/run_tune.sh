@@ -109,4 +109,28 @@ cat >>"$work/spring.yaml" <<'EOF'
 EOF
 tune spring --tolerance 1mm && tally "$("$py" "$CHECK" costs "$work/spring" none steps)"
 
+# Usage and input errors: exit 2 for a tolerance without a unit or not
+# above 0, no -o, two files; exit 1 for a file that is not there, with
+# nothing written.
+for bad in "--tolerance 5" "--tolerance 0px" "--tolerance -1mm" "--tolerance 2ft"; do
+    begin "tune $bad: a usage error"
+    # shellcheck disable=SC2086
+    pfx_run tune "$work/spring.yaml" -o "$work/bad" $bad
+    want_status 2
+    stderr_has "--tolerance takes a number above 0 and a unit"
+    [ ! -e "$work/bad" ] || flunk "it made $work/bad"
+    end
+done
+begin "tune without -o: a usage error"
+pfx_run tune "$work/spring.yaml"
+want_status 2
+stderr_has "tune needs -o DIR"
+end
+begin "tune of a missing file: exit 1, nothing written"
+pfx_run tune "$work/missing.yaml" -o "$work/missing"
+want_status 1
+stderr_has "missing.yaml"
+[ ! -e "$work/missing/tune.csv" ] || flunk "it wrote tune.csv"
+end
+
 summary
