@@ -140,9 +140,10 @@ typedef struct option_row {
 static const option_row option_rows[] = {
     {"output", required_argument, 'o', "-o, --output PATH",
      CMD_RENDER | CMD_BAKE | CMD_BENCH | CMD_ASSEMBLE | CMD_TUNE,
-     "output directory (render, bench accuracy, tune) or file (bake;\n"
-     "- is standard output; a run of # in its name, as in\n"
-     "cache_####.ply: one file a frame, # the frame number)"},
+     "output directory (render, tune, bench accuracy) or\n"
+     "file (bake; - is standard output; a run of # in its\n"
+     "name, as in cache_####.ply: one file a frame, # the\n"
+     "frame number)"},
     {"frames", required_argument, OPT_FRAMES, "    --frames A:B[:S]",
      CMD_RENDER | CMD_BAKE | CMD_TUNE,
      "only frames A to B inclusive (with S: every S-th from A),\n"
@@ -315,7 +316,8 @@ static const command_row commands[] = {
      "           [--preview-quality Q]",
      "gather the frames of slices (--slice) into OUT, checking each", pfx_cmd_assemble},
     {"tune", CMD_TUNE,
-     "pfx tune FILE -o DIR [--tolerance 0.5px|1mm] [--frames A:B] [--set PATH=VALUE]",
+     "pfx tune FILE -o DIR [--tolerance 0.5px|1mm] [--frames A:B]\n"
+     "           [--set PATH=VALUE]",
      "chart speed against screen error; recommend the cheapest setting", pfx_cmd_tune},
     {"schema", CMD_SCHEMA, "pfx schema", "print the JSON Schema of the effect format",
      pfx_cmd_schema},

@@ -11,6 +11,9 @@ int pfx_cmd_tune(const char *const *operands, int count, const pfx_cli *o) {
     if (!o->output)
         return pfx_cli_usage_error("%s", "tune needs -o DIR (for tune.csv, tune.json, tune.svg "
                                          "and tune.png)");
+    if (o->every > 1)
+        return pfx_cli_usage_error("%s", "tune chooses the frames it compares within --frames A:B; "
+                                         "it takes no step");
     pfx_tune_request q = {
         .path = operands[0], .compile = &o->compile, .tolerance = 0.5, .tolerance_px = true};
     if (o->tolerance && !pfx_tune_parse_tolerance(o->tolerance, &q.tolerance, &q.tolerance_px))
