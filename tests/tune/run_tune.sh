@@ -121,6 +121,11 @@ for bad in "--tolerance 5" "--tolerance 0px" "--tolerance -1mm" "--tolerance 2ft
     [ ! -e "$work/bad" ] || flunk "it made $work/bad"
     end
 done
+begin "tune --frames with a step: a usage error"
+pfx_run tune "$work/spring.yaml" -o "$work/bad" --frames 0:9:2
+want_status 2
+stderr_has "it takes no step"
+end
 begin "tune without -o: a usage error"
 pfx_run tune "$work/spring.yaml"
 want_status 2
