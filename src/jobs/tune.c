@@ -412,7 +412,8 @@ static bool cannot_win(const pfx_tune_result *res, pfx_integrator in, double wor
 }
 
 /* One integrator's rungs, coarsest first. Stops refining once a run is
- * converged (a tenth of the tolerance: finer ones can only cost more), or
+ * converged (within a tenth of the tolerance, or twice the reference's own
+ * uncertainty: finer ones can only cost more, or measure nothing), or
  * once a run costs three times the cheapest run within tolerance so far
  * (finer ones cost more still and cannot win), and skips a run whose
  * predicted cost already loses (cannot_win). At the file's rate it also
@@ -458,8 +459,13 @@ static bool run_integrator(tune_ctx *c, pfx_integrator in, double base_rate, boo
                 res->recommended = (long)i;
         long at = find_run(res, in, rate, subs_default);
         const pfx_tune_run *r = at >= 0 ? &res->runs[at] : NULL;
+        /* Converged: within a tenth of the tolerance, or within twice
+         * what the reference itself is good to (its two finest runs'
+         * difference), below which a finer run measures nothing. */
+        const pfx_tune_run *chk = &res->runs[res->check];
         if (r && r->compiled && !r->blew_up &&
-            (px ? r->err_max_px <= 0.1 * res->tol_px : r->err_max_m <= 0.1 * res->tol_m))
+            (px ? r->err_max_px <= fmax(0.1 * res->tol_px, 2 * chk->err_max_px)
+                : r->err_max_m <= fmax(0.1 * res->tol_m, 2 * chk->err_max_m)))
             break;
         if (r && res->recommended >= 0 && !r->blew_up &&
             r->seconds_per_s > 3 * res->runs[res->recommended].seconds_per_s)
