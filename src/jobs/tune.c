@@ -112,13 +112,26 @@ static bool add_fate(tune_ctx *c, uint64_t key) {
     return true;
 }
 
-/* The screen distance of a and b in pixels; NAN when either is not in
- * front of the camera. */
+/* The screen distance of a and b in pixels: NAN (counted in metres only)
+ * when neither lands on the image, or either is not in front of the
+ * camera; each point is first clamped to a margin of one image size
+ * around it, so a point grazing the camera's plane cannot make an error
+ * of millions of pixels out of a few centimetres. */
 static double screen_error(const tune_ctx *c, const double a[3], const double b[3]) {
     double pa[2], pb[2], da, db;
     if (!pfx_camera_project(c->cam, c->width, c->height, a, pa, &da) ||
         !pfx_camera_project(c->cam, c->width, c->height, b, pb, &db))
         return NAN;
+    const double w = c->width, h = c->height;
+    bool on_a = pa[0] >= 0 && pa[0] <= w && pa[1] >= 0 && pa[1] <= h;
+    bool on_b = pb[0] >= 0 && pb[0] <= w && pb[1] >= 0 && pb[1] <= h;
+    if (!on_a && !on_b)
+        return NAN;
+    for (int k = 0; k < 2; k++) {
+        double lo = -(k ? h : w), hi = 2 * (k ? h : w);
+        pa[k] = fmin(fmax(pa[k], lo), hi);
+        pb[k] = fmin(fmax(pb[k], lo), hi);
+    }
     return hypot(pa[0] - pb[0], pa[1] - pb[1]);
 }
 
@@ -320,11 +333,13 @@ static bool measure(tune_ctx *c, pfx_tune_run *run, bool record) {
         for (size_t i = 0; i < c->nfate; i++)
             fates += i == 0 || c->fate_keys[i] != c->fate_keys[i - 1];
         run->fates = fates;
-        /* Huge: further off than the image is wide, ten times over. */
-        double huge_px = 10.0 * (c->width > c->height ? c->width : c->height);
-        if (!isfinite(run->err_max_m) || run->err_max_px > huge_px) {
+        /* Huge: further off than ten image widths span at the emitters'
+         * depth (in metres: a point near the camera's plane makes any
+         * screen distance huge). */
+        double huge_m = 10.0 * (c->width > c->height ? c->width : c->height) * c->res->m_per_px;
+        if (!isfinite(run->err_max_m) || run->err_max_m > huge_m) {
             run->blew_up = true;
-            snprintf(run->why, sizeof run->why, "error beyond 10 image widths; %s",
+            snprintf(run->why, sizeof run->why, "error beyond 10 image widths (%.3g m); %s", huge_m,
                      warned ? why : "no stability rule predicted it");
         }
     }

@@ -14,8 +14,8 @@
 
 Prints `ok   NAME` / `FAIL NAME: ...` lines (the harness counts them).
 The scenes (run_tune.sh): one particle from t = 0, frames every 0.1 s to
-T = 1.9 s, an orthographic camera 20 m tall over 200 px (10 px a metre)
-looking along -Z, all motion in the XY plane.
+T = 1.9 s, an orthographic camera 40 m tall over 400 px (10 px a metre)
+looking along -Z, all motion in the XY plane and on the image.
 """
 import csv
 import json

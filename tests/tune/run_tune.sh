@@ -18,8 +18,8 @@ pfx: 1
 duration: 2
 fps: 10
 sim: { rate: 80, integrator: $integ }
-camera: { position: [0, 0, 10], target: [0, 0, 0], up: [0, 1, 0], ortho: 20 }
-image: { size: [200, 200] }
+camera: { position: [0, 0, 10], target: [0, 0, 0], up: [0, 1, 0], ortho: 40 }
+image: { size: [400, 400] }
 forces:
 $forces
 emitters:
@@ -81,8 +81,8 @@ scene stiff "  pull: { type: spring, anchor: [0, 0, 0], k: 10000 }" symplectic "
 sed -i 's/rate: 80/rate: 120/' "$work/stiff.yaml"
 tune stiff && tally "$("$py" "$CHECK" unstable "$work/stiff" euler 120)"
 
-# sim.tolerance in pixels: 0.01 px through an orthographic camera 20 m tall
-# over 200 px is 1 mm; over the particle's 2 s of life, 5e-4 m/s. auto
+# sim.tolerance in pixels: 0.01 px through an orthographic camera 40 m tall
+# over 400 px is 1 mm; over the particle's 2 s of life, 5e-4 m/s. auto
 # chooses the same substeps from either spelling (and others from 1 px =
 # 0.05 m/s), and a tune at 0.01 px finds auto's own run within it.
 scene pixels "  pull: { type: spring, anchor: [0, 0, 0], k: 4 }" auto "[1, 0, 0]" "[1, 0, 0]" 0
@@ -98,12 +98,12 @@ end
 tune pixels --tolerance 0.01px && tally "$("$py" "$CHECK" within "$work/pixels" 0.001)"
 
 # What else the scene pays for. A red alpha-blended particle 0.1 m across
-# (1 px) at 20 m/s leaves the 200 px (20 m) image past x = 10.05 m, at
-# 0.5025 s: on screen for frames 0 to 5, off for 6 to 19, 14 of 20
+# (1 px) at 40 m/s leaves the 400 px (40 m) image past x = 20.05 m, at
+# 0.50125 s: on screen for frames 0 to 5, off for 6 to 19, 14 of 20
 # particle-frames; one colour under alpha blending needs no depth sort.
 # The spring scene pays for steps a frame beyond need: its saving is that
 # of the recommended rate over the file's 80 steps/s.
-scene offscreen "  none: { type: drag, k: 0 }" auto "[0, 0, 0]" "[1, 0, 0]" 20
+scene offscreen "  none: { type: drag, k: 0 }" auto "[0, 0, 0]" "[1, 0, 0]" 40
 printf '    blend: alpha\n    size: 0.1\n    color: "#ff0000"\n' >>"$work/offscreen.yaml"
 tune offscreen && tally "$("$py" "$CHECK" costs "$work/offscreen" 0.7 no)"
 cat >>"$work/spring.yaml" <<'EOF'
