@@ -95,6 +95,15 @@ px=$(line 0.01px) ms=$(line 5e-4) coarse=$(line 1px) coarse_ms=$(line 0.05)
 [ "$coarse" = "$coarse_ms" ] || flunk "1px: '$coarse'; 0.05: '$coarse_ms'"
 [ "$px" != "$coarse" ] || flunk "0.01px and 1px choose alike: '$px'"
 end
+# Through a perspective camera: fov 60 at 10 m from the emitter, one pixel
+# of 400 spans 2 x 10 x tan(30 deg) / 400 = 0.0288675 m, so 0.01 px over
+# the 2 s life is 1.443376e-4 m/s.
+sed 's/ortho: 40 }/fov: 60 }/' "$work/pixels.yaml" >"$work/perspective.yaml"
+begin "sim.tolerance 0.01px through a perspective camera is 1.443376e-4 m/s"
+px=$("$pfx" info "$work/perspective.yaml" 2>&1 | grep 'integrator:')
+ms=$("$pfx" info "$work/perspective.yaml" --set sim.tolerance=1.443376e-4 2>&1 | grep 'integrator:')
+[ -n "$px" ] && [ "$px" = "$ms" ] || flunk "0.01px: '$px'; 1.443376e-4: '$ms'"
+end
 tune pixels --tolerance 0.01px && tally "$("$py" "$CHECK" within "$work/pixels" 0.001)"
 
 # What else the scene pays for. A red alpha-blended particle 0.1 m across
