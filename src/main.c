@@ -110,7 +110,8 @@ enum {
     OPT_MV_FLIP_Y,
     OPT_PORT,
     OPT_HOST,
-    OPT_NO_OPEN
+    OPT_NO_OPEN,
+    OPT_TOLERANCE
 };
 
 /* The commands, as bits: which take an option (and list it in their help). */
@@ -125,7 +126,8 @@ enum {
     CMD_PREVIEW = 1 << 7,
     CMD_WATCH = 1 << 8, /* takes render's options as well */
     CMD_LSP = 1 << 9,
-    CMD_ALL = (1 << 10) - 1,
+    CMD_TUNE = 1 << 10,
+    CMD_ALL = (1 << 11) - 1,
     CMD_NONE = 0 /* pfx alone: --version */
 };
 
@@ -143,11 +145,13 @@ typedef struct option_row {
 
 static const option_row option_rows[] = {
     {"output", required_argument, 'o', "-o, --output PATH",
-     CMD_RENDER | CMD_BAKE | CMD_BENCH | CMD_ASSEMBLE,
-     "output directory (render, bench accuracy) or file (bake;\n"
-     "- is standard output; a run of # in its name, as in\n"
-     "cache_####.ply: one file a frame, # the frame number)"},
-    {"frames", required_argument, OPT_FRAMES, "    --frames A:B[:S]", CMD_RENDER | CMD_BAKE,
+     CMD_RENDER | CMD_BAKE | CMD_BENCH | CMD_ASSEMBLE | CMD_TUNE,
+     "output directory (render, tune, bench accuracy) or\n"
+     "file (bake; - is standard output; a run of # in its\n"
+     "name, as in cache_####.ply: one file a frame, # the\n"
+     "frame number)"},
+    {"frames", required_argument, OPT_FRAMES, "    --frames A:B[:S]",
+     CMD_RENDER | CMD_BAKE | CMD_TUNE,
      "only frames A to B inclusive (with S: every S-th from A),\n"
      "numbered as in a full render"},
     {"size", required_argument, OPT_SIZE, "    --size WxH", CMD_RENDER | CMD_PREVIEW,
@@ -157,7 +161,7 @@ static const option_row option_rows[] = {
     {"seed", required_argument, OPT_SEED, "    --seed N",
      CMD_RENDER | CMD_BAKE | CMD_INFO | CMD_PREVIEW, "random seed, overriding seed"},
     {"set", required_argument, OPT_SET, "    --set PATH=VALUE",
-     CMD_VALIDATE | CMD_RENDER | CMD_BAKE | CMD_INFO | CMD_PREVIEW,
+     CMD_VALIDATE | CMD_RENDER | CMD_BAKE | CMD_INFO | CMD_PREVIEW | CMD_TUNE,
      "override a value of the file, such as\n"
      "emitters.flame.rate=300 or 'emitters.flame.color=[1,0,0]'\n"
      "(VALUE is YAML; repeatable, applied in order)"},
@@ -216,6 +220,9 @@ static const option_row option_rows[] = {
      "except those its 'allow:' acknowledges"},
     {"progress", required_argument, OPT_PROGRESS, "    --progress json", CMD_RENDER,
      "a JSON line on stderr per frame drawn, and one at the end"},
+    {"tolerance", required_argument, OPT_TOLERANCE, "    --tolerance TOL", CMD_TUNE,
+     "tune: the error allowed, on screen (0.5px, the default)\n"
+     "or in space (1mm, 2cm, 0.01m)"},
     {"json", no_argument, OPT_JSON, "    --json", CMD_BENCH,
      "bench: the figures as one JSON object"},
     {"threads", required_argument, OPT_THREADS, "    --threads N", CMD_RENDER | CMD_BAKE | CMD_INFO,
@@ -328,6 +335,10 @@ static const command_row commands[] = {
      "pfx preview FILE [--port N] [--host ADDR] [--size WxH] [--seed N] [--no-open]\n"
      "           [--max-memory SIZE] [--renderer R] [--alpha MODE] [--set PATH=VALUE]",
      "serve a live view of FILE to a browser, re-rendered on every save", pfx_cmd_preview},
+    {"tune", CMD_TUNE,
+     "pfx tune FILE -o DIR [--tolerance 0.5px|1mm] [--frames A:B]\n"
+     "           [--set PATH=VALUE]",
+     "chart speed against screen error; recommend the cheapest setting", pfx_cmd_tune},
     {"lsp", CMD_LSP, "pfx lsp",
      "serve the Language Server Protocol on stdin and stdout (for editors)", pfx_cmd_lsp},
     {"schema", CMD_SCHEMA, "pfx schema", "print the JSON Schema of the effect format",
@@ -482,6 +493,9 @@ static int parse_option(int c, int argc, char **argv, pfx_cli *o) {
     }
     case OPT_MV_FLIP_Y:
         o->mv_flip_y = true;
+        break;
+    case OPT_TOLERANCE:
+        o->tolerance = optarg;
         break;
     case OPT_WERROR:
         o->werror = true;

@@ -59,6 +59,7 @@ typedef struct pfx_cli {
     unsigned port;                 /* preview --port N; 0: a free one */
     const char *host;              /* preview --host ADDR; NULL: 127.0.0.1 */
     bool no_open;                  /* preview --no-open */
+    const char *tolerance;         /* tune --tolerance, as given (0.5px, 1mm) */
     pfx_compile_options compile;
 } pfx_cli;
 
@@ -74,6 +75,7 @@ int pfx_cmd_bench(const char *const *operands, int count, const pfx_cli *o);
 int pfx_cmd_preview(const char *const *operands, int count, const pfx_cli *o);
 int pfx_cmd_watch(const char *const *operands, int count, const pfx_cli *o);
 int pfx_cmd_lsp(const char *const *operands, int count, const pfx_cli *o);
+int pfx_cmd_tune(const char *const *operands, int count, const pfx_cli *o);
 
 /* Shared by the commands (commands/common.c). */
 /* Looks up a renderer name; on a bad one prints the usage error, naming

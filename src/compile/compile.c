@@ -22,6 +22,49 @@
 
 /* ---- sim ---- */
 
+/* sim.tolerance: m per simulated second as a number, or a screen error as
+ * "0.5px" (kept in pixels; the emitters convert it at their depth). */
+static void read_tolerance(pfx_reader *r, const pfx_node *map, const pfx_node *v, void *dest) {
+    (void)map;
+    pfx_effect *e = dest;
+    if (v->kind == PFX_NODE_SCALAR && v->len > 2 && !strcmp(v->text + v->len - 2, "px")) {
+        char buf[64], *end;
+        snprintf(buf, sizeof buf, "%.*s", (int)(v->len - 2), v->text);
+        double px = strtod(buf, &end);
+        if (end == buf || *end || !(px > 0 && px <= 1e6))
+            pfx_read_error(r, v, PFX_RULE_OUT_OF_RANGE,
+                           "'tolerance' in pixels must be a number above 0 and at most 1e6 "
+                           "before 'px', got '%s'",
+                           v->text);
+        else
+            e->tolerance_px = px;
+        return;
+    }
+    double t;
+    if (v->kind == PFX_NODE_SCALAR && !v->plain) {
+        pfx_read_error(r, v, PFX_RULE_WRONG_TYPE,
+                       "'tolerance' must be a number of m/s or pixels such as '0.5px', got '%s'",
+                       v->text);
+        return;
+    }
+    if (v->kind == PFX_NODE_SCALAR) {
+        char *end;
+        strtod(v->text, &end);
+        if (end == v->text || *end) {
+            pfx_read_error(r, v, PFX_RULE_WRONG_TYPE,
+                           "'tolerance' must be a number of m/s or pixels such as '0.5px', got "
+                           "'%s'",
+                           v->text);
+            return;
+        }
+    }
+    if (!pfx_read_number(r, v, "tolerance", &t))
+        return;
+    if (pfx_check_above(r, v, "tolerance", t, 1e-12, false) &&
+        pfx_check_below(r, v, "tolerance", t, 1e6, false))
+        e->tolerance = t;
+}
+
 static const pfx_key sim_keys[] = {
     {"rate", PFX_KEY_NUMBER, .lo = 1, .hi = MAX_SIM_RATE, .def = {120}, .offset = E(sim_rate),
      .doc = "Fixed simulation steps per second, 1 to 100000."},
@@ -33,7 +76,13 @@ static const pfx_key sim_keys[] = {
             "symplectic, midpoint, rk4, verlet, exact (closed form / split step) or boris (split "
             "step with the Boris rotation)."},
     {"tolerance", PFX_KEY_NUMBER, .lo = 1e-12, .hi = 1e6, .def = {1e-3}, .offset = E(tolerance),
-     .doc = "For auto: the position error allowed, metres per simulated second, 1e-12 to 1e6."},
+     .hook = read_tolerance,
+     .schema = "{\"oneOf\": [{\"type\": \"number\", \"minimum\": 1e-12, \"maximum\": 1e6}, "
+               "{\"type\": \"string\", \"pattern\": "
+               "\"^[0-9]*\\\\.?[0-9]+([eE][-+]?[0-9]+)?px$\"}], \"default\": 0.001}",
+     .doc = "For auto: the position error allowed, metres per simulated second (1e-12 to 1e6), "
+            "or on screen in pixels ('0.5px', above 0, at most 1e6): at each emitter's depth "
+            "through the camera, spread over its longest lifetime."},
     {"substeps", PFX_KEY_WHOLE, PFX_KEY_NO_DEFAULT, .lo = 1, .hi = PFX_MOTION_MAX_SUBSTEPS,
      .offset = E(substeps),
      .doc = "Substeps per step, 1 to 1024, for every emitter with a motion model (default: auto "

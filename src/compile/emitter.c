@@ -463,19 +463,8 @@ static void compile_lod(compiler *c, const pfx_node *v, const pfx_node *n, pfx_e
     double per_pixel = 1, var = 0;
     opt_number(c, v, "per_pixel", &per_pixel, 0, false, 1e6);
     opt_number(c, v, "var", &var, 0, false, 1e6);
-    const pfx_camera *k = &c->e->camera;
-    double view[3], to[3], depth = 0, vlen = 0;
-    for (int a = 0; a < 3; a++) {
-        view[a] = k->target[a] - k->position[a];
-        to[a] = em->position[a] - k->position[a];
-        vlen += view[a] * view[a];
-    }
-    vlen = sqrt(vlen);
-    for (int a = 0; a < 3; a++)
-        depth += to[a] * view[a] / (vlen > 0 ? vlen : 1);
     double pixels_per_metre =
-        k->ortho ? c->e->height / k->ortho_height
-                 : (depth > 1e-6 ? 0.5 * c->e->height / (tan(0.5 * k->fov) * depth) : 0);
+        pfx_camera_pixels_per_metre(&c->e->camera, c->e->height, em->position);
     double r_px = shape_radius(&em->shape) * pixels_per_metre;
     em->lod_area = fmax(1.0, M_PI * r_px * r_px);
     em->rate_kind = var > 0 ? PFX_RATE_RANDOM : PFX_RATE_CONSTANT;
@@ -556,6 +545,19 @@ static void fit_life_force(compiler *c, const pfx_emitter *em, pfx_motion_force 
     f->jerk_hint = slope > 0 ? slope / fmax(life, 1e-9) : 0;
 }
 
+/* auto's tolerance, m per simulated second. Given in pixels: the pixels
+ * as metres at the emitter's depth (pfx_camera_pixels_per_metre), over its
+ * longest lifetime, since auto's error grows with age at that rate; an
+ * emitter at or behind the camera keeps the default 1e-3 m/s. */
+static double motion_tolerance(const pfx_effect *e, const pfx_emitter *em) {
+    if (!(e->tolerance_px > 0))
+        return e->tolerance;
+    double ppm = pfx_camera_pixels_per_metre(&e->camera, e->height, em->position);
+    if (!(ppm > 0))
+        return 1e-3;
+    return fmax(e->tolerance_px / ppm / fmax(em->max_lifetime, 1e-3), 1e-12);
+}
+
 /* Decides how the emitter moves. Only unregioned gravity under `auto`: the
  * exact constant-acceleration kernel, no motion model (the fast path).
  * Anything else: a pfx_motion holding just the forces this emitter feels,
@@ -582,7 +584,7 @@ static void build_motion(compiler *c, pfx_emitter *em, pfx_integrator integrator
         return;
     m->integrator = integrator;
     m->substeps = e->substeps;
-    m->tolerance = e->tolerance;
+    m->tolerance = motion_tolerance(e, em);
     double speed_max = fmax(fabs(pfx_value_max(&em->speed)), fabs(pfx_value_min(&em->speed)));
     double q_max = fmax(fabs(pfx_value_max(&em->charge)), fabs(pfx_value_min(&em->charge)));
     for (size_t i = 0; i < e->force_count; i++) {

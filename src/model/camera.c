@@ -68,3 +68,17 @@ bool pfx_camera_project(const pfx_camera *cam, int width, int height, const doub
     *depth = w;
     return true;
 }
+
+double pfx_camera_pixels_per_metre(const pfx_camera *cam, int height, const double p[3]) {
+    if (cam->ortho)
+        return height / cam->ortho_height;
+    double view[3], len = 0, depth = 0;
+    for (int a = 0; a < 3; a++) {
+        view[a] = cam->target[a] - cam->position[a];
+        len += view[a] * view[a];
+    }
+    len = sqrt(len);
+    for (int a = 0; a < 3; a++)
+        depth += (p[a] - cam->position[a]) * view[a] / (len > 0 ? len : 1);
+    return depth > 1e-6 ? 0.5 * height / (tan(0.5 * cam->fov) * depth) : 0;
+}

@@ -368,6 +368,13 @@ pfx_camera_fault pfx_camera_frame(const pfx_camera *cam, double side[3], double 
 bool pfx_camera_project(const pfx_camera *cam, int width, int height, const double p[3],
                         double px[2], double *depth);
 
+/* Pixels one metre spans on screen at world point p, seen through cam in
+ * an image `height` pixels tall: height / (2 tan(fov / 2) depth) for a
+ * perspective camera (depth along the view direction), height /
+ * ortho_height for an orthographic one. 0 for a point at or behind the
+ * camera. */
+double pfx_camera_pixels_per_metre(const pfx_camera *cam, int height, const double p[3]);
+
 typedef struct pfx_effect {
     const char *path; /* the file it came from */
     double duration;
@@ -380,6 +387,7 @@ typedef struct pfx_effect {
     double loop_start;         /* simulation time of frame 0 when looping */
     pfx_integrator integrator; /* sim.integrator; emitters may override */
     double tolerance;          /* sim.tolerance, m per simulated second */
+    double tolerance_px;       /* sim.tolerance given in pixels (> 0), else 0 */
     int substeps;              /* sim.substeps; 0: auto */
     pfx_camera camera;
     int width, height;
