@@ -6,13 +6,32 @@
                    its shape in alpha, so the emitter's colour tints it)
   smoke_sheet.png  4x4 cells of 64 px: a billowing puff that swells and
                    thins over the 16 cells (white, shape in alpha)
+  fire_sheet.png   4x4 cells of 128 px: a loop of flame tongues (grey, hot
+                   core to cool tips, shape in alpha) whose noise scrolls
+                   up one whole period over the 16 cells, so played with
+                   flipbook `fps` it loops without a jump
+  smoke_puffs.png  4x4 cells of 128 px: a cauliflower puff that billows,
+                   swells and breaks up over the 16 cells (white, shape in
+                   alpha); smoke_puffs_normal.png is its normal map (its
+                   density as a height), for `lit: true` sprites that are
+                   dark on the side away from the light
+  spark_sheet.png  4x4 cells of 32 px: 16 glints, a hot streak along +y with
+                   a ragged tail, each its own, for `align: velocity`
+                   sparks with `start: random` (or a twinkle with `fps`)
+
+Every noise field is periodic (it tiles) across its image and is scrolled
+by whole periods, so no cell shows a seam and looping sheets loop. Each
+cell fades to zero before its border, so mipmaps do not bleed between
+cells.
 
 Cells run row by row from the top left, as every engine reads them. The
 noise is seeded, so the files are the same on every run (the committed
 copies are what the examples read; rerun this only to change them).
 Needs python3-numpy and python3-pil.
 
-usage: make_textures.py [OUT_DIR]"""
+usage: make_textures.py [OUT_DIR]
+(tests/docs/run_textures.sh checks that it regenerates the committed files
+byte for byte)"""
 import os
 import sys
 
@@ -48,15 +67,41 @@ def fbm(shape, rng, octaves=4, base=4):
     return total / norm
 
 
-def sheet(cell_alpha):
-    img = np.zeros((CELL * GRID, CELL * GRID, 4), dtype=np.float64)
+def sheet(cell_alpha, cell=CELL, last=GRID * GRID - 1):
+    """A 4x4 sheet of white cells of `cell` px whose alpha is cell_alpha(t)
+    for t from 0 to 1 (last: the cell index that is t = 1; 16 for a loop,
+    whose cell 16 would be cell 0 again). cell_alpha may return (grey,
+    alpha) instead of alpha alone."""
+    img = np.zeros((cell * GRID, cell * GRID, 4), dtype=np.float64)
     for k in range(GRID * GRID):
         r, c = divmod(k, GRID)
-        a = np.clip(cell_alpha(k / (GRID * GRID - 1)), 0, 1)
-        block = img[r * CELL:(r + 1) * CELL, c * CELL:(c + 1) * CELL]
-        block[..., :3] = 1.0
-        block[..., 3] = a
+        out = cell_alpha(k / last)
+        grey, a = out if isinstance(out, tuple) else (1.0, out)
+        block = img[r * cell:(r + 1) * cell, c * cell:(c + 1) * cell]
+        block[..., :3] = np.clip(grey, 0, 1)[..., None] if np.ndim(grey) else grey
+        block[..., 3] = np.clip(a, 0, 1)
+    return img
+
+
+def to_image(img):
     return Image.fromarray(np.round(img * 255).astype(np.uint8), "RGBA")
+
+
+def smoothstep(e0, e1, x):
+    t = np.clip((x - e0) / (e1 - e0), 0, 1)
+    return t * t * (3 - 2 * t)
+
+
+def stretch(field):
+    """The field rescaled to span 0..1 (fbm crowds the middle)."""
+    return (field - field.min()) / (field.max() - field.min())
+
+
+def border(cell, margin=0.06):
+    """1 inside the cell, falling to 0 over its outer `margin`."""
+    u = np.linspace(0, 1, cell)
+    e = smoothstep(0, margin, np.minimum(u, 1 - u))
+    return e[:, None] * e[None, :]
 
 
 def flame(rng):
@@ -82,7 +127,7 @@ def flame(rng):
         base = np.clip(y * 10, 0, 1)
         return body * breakup * fade * base * (y < height)
 
-    return sheet(cell)
+    return to_image(sheet(cell))
 
 
 def smoke(rng):
@@ -98,7 +143,105 @@ def smoke(rng):
         billow = np.clip((n - 0.3 + 0.25 * (1 - np.sqrt(np.clip(d2, 0, 1)))) * 2.2, 0, 1)
         return falloff * billow * (1.0 - 0.45 * t)
 
-    return sheet(cell)
+    return to_image(sheet(cell))
+
+
+def fire(rng):
+    """Flame tongues: a teardrop body, round and hot at the base, whose
+    outline is warped sideways and eaten by noise that rises through it,
+    more strongly with height, so its top splits into tongues that lick up
+    and break off. Grey carries the heat (1 in the core, about 0.3 at the
+    tips), so a tinting colour gets inner structure."""
+    n = 128
+    coarse = stretch(fbm((n * 2, n), rng, octaves=4, base=3))  # periodic in y over 2n
+    fine = stretch(fbm((n * 2, n), rng, octaves=4, base=6))
+    y, x = np.mgrid[0:n, 0:n] / (n - 1.0)
+    y = 1.0 - y  # 0 at the bottom
+    edge = border(n)
+
+    def cell(t):
+        # rise one whole period (2n rows) over the loop, so cell 16 = cell 0;
+        # the fine noise rises twice as fast (two periods)
+        s = int(round(t * 2 * n))
+        rows = np.arange(n)[::-1]
+        c = coarse[(rows - s) % (2 * n)]
+        f = fine[(rows - 2 * s) % (2 * n)]
+        v = np.clip((y - 0.04) / 0.9, 0, 1)
+        warp = 0.3 * (c - 0.5) * v + 0.12 * (f - 0.5) * v
+        half = 0.38 * np.sqrt(np.clip(v / 0.18, 0, 1)) * (1 - v) ** 0.9 + 0.01
+        d = np.abs(x - 0.5 - warp) / half
+        erode = (2.2 * v + 0.2) * (0.9 - 2.0 * (0.55 * c + 0.45 * f))
+        body = 1 - d * d + erode - 0.25 * v
+        alpha = smoothstep(0.0, 0.3, body) * smoothstep(0.0, 0.06, y)
+        heat = smoothstep(0.0, 1.2, body) * (1 - 0.6 * v)
+        return 0.3 + 0.7 * heat, alpha * edge
+
+    return to_image(sheet(cell, n, GRID * GRID))
+
+
+def puffs(rng):
+    """A cauliflower puff: a sphere whose surface is pushed out by billows
+    (ridged noise, so it reads as rounded lobes), that swells, thins and
+    breaks up over the 16 cells. Returns the sheet and its normal map, made
+    from the density as a height field (flat where the puff is not)."""
+    n = 128
+    lobes = stretch(fbm((n, n), rng, octaves=4, base=4))
+    detail = stretch(fbm((n, n), rng, octaves=3, base=16))
+    y, x = np.mgrid[0:n, 0:n] / (n - 1.0) * 2 - 1
+    edge = border(n)
+    heights = []
+
+    def cell(t):
+        r = 0.6 + 0.3 * t
+        shift = int(round(t * n / 2))
+        l = np.roll(lobes, (shift, shift // 2), (0, 1))
+        d = np.sqrt(x * x + y * y) / r
+        billow = 1 - np.abs(2 * l - 1)  # ridges where the noise crosses its middle
+        dens = (1 - d * d) * 1.2 + 0.7 * (billow - 0.6) + 0.35 * (detail - 0.5) - 0.6 * t * (1 - detail)
+        a = smoothstep(0.0, 0.9, dens) * (1 - 0.45 * t * t) * edge
+        # broad shapes only: the dome and its lobes (fine noise would speckle the light)
+        heights.append(np.where(dens > 0, np.sqrt(np.clip(1 - d * d, 0, 1)) + 0.35 * billow, 0))
+        return 0.75 + 0.25 * smoothstep(0.0, 1.0, dens), a
+
+    img = sheet(cell, n)
+    normal = np.zeros_like(img)
+    for k, h in enumerate(heights):
+        r, c = divmod(k, GRID)
+        gy, gx = np.gradient(h * 10.0)
+        nx, ny, nz = -gx, gy, np.ones_like(h)  # +y up the image: rows grow downwards
+        length = np.sqrt(nx * nx + ny * ny + nz * nz)
+        block = normal[r * n:(r + 1) * n, c * n:(c + 1) * n]
+        for i, comp in enumerate((nx, ny, nz)):
+            block[..., i] = np.where(h > 0, (comp / length + 1) / 2, 0.5 + 0.5 * (i == 2))
+        block[..., 3] = 1
+    return to_image(img), to_image(normal)
+
+
+def sparks(rng):
+    """16 glints of 32 px, each a streak along +y (the top of the cell is
+    the direction of motion): a white-hot head, a tail that thins and
+    flickers, a slight bend, each drawn with its own random numbers."""
+    n = 32
+    y, x = np.mgrid[0:n, 0:n] / (n - 1.0) * 2 - 1
+    y = -y  # +1 at the top
+    edge = border(n, 0.1)
+    params = [(rng.uniform(0.45, 0.85), rng.uniform(-0.15, 0.15), rng.uniform(0, 6.28),
+               rng.uniform(6, 14)) for _ in range(GRID * GRID)]
+    k = iter(range(GRID * GRID))
+
+    def cell(t):
+        head, bend, phase, freq = params[next(k)]
+        v = (y + 1) / 2  # 0 at the tail end, 1 at the top
+        cx = bend * (1 - v) ** 2
+        width = 0.05 + 0.10 * v
+        across = np.exp(-((x - cx) / width) ** 2)
+        along = smoothstep(0.0, head, v) * smoothstep(1.0, 0.85, v)
+        flicker = 0.75 + 0.25 * np.sin(freq * v + phase)
+        core = np.exp(-(((x - cx) / 0.12) ** 2 + ((v - head) / 0.12) ** 2))
+        a = np.clip(across * along * flicker + core, 0, 1) * edge
+        return np.clip(0.6 + 0.4 * core + 0.3 * v, 0, 1), a
+
+    return to_image(sheet(cell, n))
 
 
 def main(argv):
@@ -107,6 +250,11 @@ def main(argv):
     os.makedirs(out, exist_ok=True)
     flame(np.random.default_rng(11)).save(os.path.join(out, "flame_sheet.png"), optimize=True)
     smoke(np.random.default_rng(23)).save(os.path.join(out, "smoke_sheet.png"), optimize=True)
+    fire(np.random.default_rng(31)).save(os.path.join(out, "fire_sheet.png"), optimize=True)
+    sheet_img, normal_img = puffs(np.random.default_rng(37))
+    sheet_img.save(os.path.join(out, "smoke_puffs.png"), optimize=True)
+    normal_img.save(os.path.join(out, "smoke_puffs_normal.png"), optimize=True)
+    sparks(np.random.default_rng(41)).save(os.path.join(out, "spark_sheet.png"), optimize=True)
 
 
 if __name__ == "__main__":
