@@ -172,7 +172,7 @@ def fire(rng):
         d = np.abs(x - 0.5 - warp) / half
         erode = (2.2 * v + 0.2) * (0.9 - 2.0 * (0.55 * c + 0.45 * f))
         body = 1 - d * d + erode - 0.25 * v
-        alpha = smoothstep(0.0, 0.3, body) * smoothstep(0.0, 0.06, y)
+        alpha = smoothstep(0.0, 0.8, body) * smoothstep(0.0, 0.3, y)
         heat = smoothstep(0.0, 1.2, body) * (1 - 0.6 * v)
         return 0.3 + 0.7 * heat, alpha * edge
 

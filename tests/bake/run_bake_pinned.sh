@@ -10,7 +10,10 @@
 #
 # Like tests/unit/test_sim.c's EXPECTED_HASH, a change here means bakes
 # changed: a commit that changes the simulation on purpose updates these
-# and says why.
+# and says why. Re-recorded for the examples reworked for issue 26 (new
+# sizes, colours, rates and textures in fire, campfire and explosion), by
+# a pfx whose row view and writers were unchanged; each pinned effect keeps
+# the emitter count and particle numbers that make it worth pinning.
 #
 #   bash run_bake_pinned.sh PATH-TO-PFX SOURCE-DIR
 set -u
@@ -22,9 +25,9 @@ cd "$src" || exit 2
 
 # effect frames format sha256
 pinned=(
-    "fire 10:14 csv 72528f76b23e532dde604658a22bd2fc0a0866b660c1df3844a386ec94a688c1"
-    "fire 10:14 ply 3d46fc28200f0b346bfe62dadac74a46cf650bcf651342d25674b738cd768be0"
-    "fire 10:14 pcache ddf76ef9f2e2dab2460333d68e51cb4e27bbdf2f702adb58b7634aa1fa12fcbc"
+    "fire 10:14 csv 3b36ec4074e18ec52f4a8746aa529593d331b2ba54dffc197989b596b8157f03"
+    "fire 10:14 ply e5f963e51ea414747c2cbd9d231088774726dfbfeb68f6e811b5866e2256ce22"
+    "fire 10:14 pcache 2132130d6d9a79182184bec42ebafe53067c5409a3b7d94f371c8bb7c2ae0b61"
     "campfire 28:30 csv d03d712262a4fd9a03a85f1ce5c337e972cf3bbb0081b2093842624274496676"
     "campfire 28:30 ply f574594b7ea026757105358ea6ff42ce612c0c3731465b650d64175d4b69e4de"
     "campfire 28:30 pcache 0389306fd1c198fa4192cd69b91613dcb65996c3a6ae163487052e13ccddd635"
