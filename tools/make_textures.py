@@ -19,6 +19,9 @@
                    a ragged tail, each its own, for `align: velocity`
                    sparks with `start: random` (or a twinkle with `fps`)
 
+  steel_plate.png  64 px: an opaque brushed steel plate with a bevelled
+                   rim, for a target that particles strike (particle_gun)
+
 Every noise field is periodic (it tiles) across its image and is scrolled
 by whole periods, so no cell shows a seam and looping sheets loop. Each
 cell fades to zero before its border, so mipmaps do not bleed between
@@ -244,6 +247,23 @@ def sparks(rng):
     return to_image(sheet(cell, n))
 
 
+def steel(rng):
+    """Brushed steel: noise stretched along x (the brushing), a rim one
+    tenth wide, lighter on its top and left edges and darker on the
+    others, as if lit from the upper left."""
+    n = 64
+    brush = stretch(fbm((n, n // 8), rng, octaves=3, base=2))
+    brush = np.repeat(brush, 8, axis=1)  # long along x
+    y, x = np.mgrid[0:n, 0:n] / (n - 1.0)
+    grey = 0.42 + 0.12 * (brush - 0.5) + 0.08 * (0.5 - y)
+    rim = np.minimum(np.minimum(x, 1 - x), np.minimum(y, 1 - y)) < 0.08
+    lit = (x < 0.08) | (y < 0.08)
+    grey = np.where(rim, np.where(lit & ~((x > 0.92) | (y > 0.92)), 0.62, 0.22), grey)
+    img = np.ones((n, n, 4))
+    img[..., :3] = grey[..., None]
+    return to_image(img)
+
+
 def main(argv):
     here = os.path.dirname(os.path.abspath(__file__))
     out = argv[1] if len(argv) > 1 else os.path.join(here, "..", "effects", "textures")
@@ -255,6 +275,7 @@ def main(argv):
     sheet_img.save(os.path.join(out, "smoke_puffs.png"), optimize=True)
     normal_img.save(os.path.join(out, "smoke_puffs_normal.png"), optimize=True)
     sparks(np.random.default_rng(41)).save(os.path.join(out, "spark_sheet.png"), optimize=True)
+    steel(np.random.default_rng(43)).save(os.path.join(out, "steel_plate.png"), optimize=True)
 
 
 if __name__ == "__main__":
