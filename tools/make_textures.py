@@ -22,6 +22,18 @@
   steel_plate.png  64 px: an opaque brushed steel plate with a bevelled
                    rim, for a target that particles strike (particle_gun)
 
+  stone_tile.png   128 px: opaque stone slabs in a 2x2 bond with dark
+                   grout, tileable
+  stone_rim.png    128 px: the same stone in a square frame (its border
+                   5 % of the side, transparent inside): a basin's rim
+                   coping seen from above
+  stone_band.png   128 px: a band of the stone across the middle, 11.5 %
+                   of the height, transparent above and below (a basin's
+                   wall, 0.3 m of a 2.6 m sprite)
+  stone_riser.png  128 px: the same with a band 40 % high (a stair riser,
+                   0.4 m of a 1 m sprite)
+  These let examples draw solid surfaces with world-aligned sprites.
+
 Every noise field is periodic (it tiles) across its image and is scrolled
 by whole periods, so no cell shows a seam and looping sheets loop. Each
 cell fades to zero before its border, so mipmaps do not bleed between
@@ -264,6 +276,43 @@ def steel(rng):
     return to_image(img)
 
 
+def stone(rng):
+    """Stone slabs: two rows of two slabs each (a 2x2 bond, the second row
+    offset by half a slab), each slab its own shade, speckled by noise,
+    with a thin dark grout line between them; tileable (periodic)."""
+    n = 128
+    grain = stretch(fbm((n, n), rng, octaves=4, base=8))
+    shade = rng.uniform(0.8, 1.05, size=(2, 3))
+    y, x = np.mgrid[0:n, 0:n] / float(n)
+    row = (y * 2).astype(int) % 2
+    xs = (x + 0.25 * row) % 1.0
+    col = (xs * 2).astype(int)
+    base = shade[row, col] * (0.55 + 0.3 * grain)
+    fy, fx = (y * 2) % 1.0, (xs * 2) % 1.0
+    grout = np.minimum(np.minimum(fy, 1 - fy), np.minimum(fx, 1 - fx)) < 0.025
+    return np.where(grout, 0.25, base)
+
+
+def stone_images(rng):
+    """The stone texture alone, as a frame, and as bands across the middle
+    (11.5 % and 40 % of the height)."""
+    grey = stone(rng)
+    n = grey.shape[0]
+    y, x = (np.mgrid[0:n, 0:n] + 0.5) / n
+
+    def rgba(alpha):
+        img = np.zeros((n, n, 4))
+        img[..., :3] = grey[..., None] * np.array([1.0, 0.97, 0.92])
+        img[..., 3] = alpha
+        return to_image(img)
+
+    edge = np.minimum(np.minimum(x, 1 - x), np.minimum(y, 1 - y))
+    out = {"stone_tile.png": rgba(np.ones((n, n))), "stone_rim.png": rgba(edge < 0.05)}
+    for name, frac in (("stone_band.png", 0.115), ("stone_riser.png", 0.4)):
+        out[name] = rgba(np.abs(y - 0.5) < frac / 2)
+    return out
+
+
 def main(argv):
     here = os.path.dirname(os.path.abspath(__file__))
     out = argv[1] if len(argv) > 1 else os.path.join(here, "..", "effects", "textures")
@@ -276,6 +325,8 @@ def main(argv):
     normal_img.save(os.path.join(out, "smoke_puffs_normal.png"), optimize=True)
     sparks(np.random.default_rng(41)).save(os.path.join(out, "spark_sheet.png"), optimize=True)
     steel(np.random.default_rng(43)).save(os.path.join(out, "steel_plate.png"), optimize=True)
+    for name, img in stone_images(np.random.default_rng(47)).items():
+        img.save(os.path.join(out, name), optimize=True)
 
 
 if __name__ == "__main__":
