@@ -32,6 +32,9 @@
                    wall, 0.3 m of a 2.6 m sprite)
   stone_riser.png  128 px: the same with a band 40 % high (a stair riser,
                    0.4 m of a 1 m sprite)
+  stone_stairs.png 256 px: the front of a flight of five steps in the
+                   stone, 1 m treads and 0.4 m risers on a 5 m sprite
+                   (sparks_steps), transparent above the steps
   These let examples draw solid surfaces with world-aligned sprites.
 
 Every noise field is periodic (it tiles) across its image and is scrolled
@@ -310,6 +313,16 @@ def stone_images(rng):
     out = {"stone_tile.png": rgba(np.ones((n, n))), "stone_rim.png": rgba(edge < 0.05)}
     for name, frac in (("stone_band.png", 0.115), ("stone_riser.png", 0.4)):
         out[name] = rgba(np.abs(y - 0.5) < frac / 2)
+    # five steps down to the right over the 5 m sprite: step k (0..4) spans
+    # x in [k, k + 1) m and rises to 2 - 0.4 k m; rows run from the top
+    big = np.tile(grey, (2, 2))
+    m = big.shape[0]
+    yy, xx = (np.mgrid[0:m, 0:m] + 0.5) / m * 5
+    top = 2.0 - 0.4 * np.floor(xx)
+    img = np.zeros((m, m, 4))
+    img[..., :3] = big[..., None] * np.array([1.0, 0.97, 0.92])
+    img[..., 3] = (5 - yy) < top
+    out["stone_stairs.png"] = to_image(img)
     return out
 
 
