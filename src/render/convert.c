@@ -50,7 +50,10 @@
  * transparent), ACES with dither: 2.5 ms a frame pixel by pixel in double,
  * 1.1 ms four at a time in double, 0.88 ms eight at a time in float; in a
  * whole render (perf) its share of the CPU fell from 6.1 % to 3.2 %. Float
- * changed 10 of 18.9 million bytes of that render, each by 1. */
+ * changed 10 of 18.9 million bytes of that render, each by 1. preserve_hue
+ * costs a second curve and a division a pixel: on a 512x512 frame with
+ * every pixel covered, ACES with dither took 1.2 ms, with preserve_hue 1
+ * 1.6 ms (a loop over pfx_float_image_to_rgba8, 100 frames, -O2). */
 #include "render/image.h"
 #include "render/render.h"
 
