@@ -225,7 +225,7 @@ def puffs(rng):
     normal = np.zeros_like(img)
     for k, h in enumerate(heights):
         r, c = divmod(k, GRID)
-        gy, gx = np.gradient(h * 10.0)
+        gy, gx = np.gradient(h * 5.0)
         nx, ny, nz = -gx, gy, np.ones_like(h)  # +y up the image: rows grow downwards
         length = np.sqrt(nx * nx + ny * ny + nz * nz)
         block = normal[r * n:(r + 1) * n, c * n:(c + 1) * n]
