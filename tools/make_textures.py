@@ -22,6 +22,10 @@
   steel_plate.png  64 px: an opaque brushed steel plate with a bevelled
                    rim, for a target that particles strike (particle_gun)
 
+  shock_ring.png   256 px: a shockwave's ring: a thin bright leading edge
+                   near the rim with a soft glow trailing inwards, broken
+                   up a little by noise along its circumference (white,
+                   shape in alpha)
   stone_tile.png   128 px: opaque stone slabs in a 2x2 bond with dark
                    grout, tileable
   stone_rim.png    128 px: the same stone in a square frame (its border
@@ -279,6 +283,24 @@ def steel(rng):
     return to_image(img)
 
 
+def shock_ring(rng):
+    """A thin hot edge at radius 0.9 (a Gaussian 0.02 wide) over a glow
+    that rises from radius 0.55 to the edge, both modulated by noise
+    round the circle so the ring is not a perfect band."""
+    n = 256
+    y, x = (np.mgrid[0:n, 0:n] + 0.5) / n * 2 - 1
+    r = np.sqrt(x * x + y * y)
+    ang = (np.arctan2(y, x) / (2 * np.pi)) % 1.0
+    wobble = stretch(fbm((1, 64), rng, octaves=3, base=4))[0]
+    w = wobble[(ang * 64).astype(int) % 64]
+    edge = np.exp(-((r - 0.9) / 0.02) ** 2)
+    trail = smoothstep(0.55, 0.9, r) * (r < 0.9) * 0.35
+    a = np.clip((edge + trail) * (0.6 + 0.4 * w), 0, 1) * (r < 0.97)
+    img = np.ones((n, n, 4))
+    img[..., 3] = a
+    return to_image(img)
+
+
 def stone(rng):
     """Stone slabs: two rows of two slabs each (a 2x2 bond, the second row
     offset by half a slab), each slab its own shade, speckled by noise,
@@ -338,6 +360,7 @@ def main(argv):
     normal_img.save(os.path.join(out, "smoke_puffs_normal.png"), optimize=True)
     sparks(np.random.default_rng(41)).save(os.path.join(out, "spark_sheet.png"), optimize=True)
     steel(np.random.default_rng(43)).save(os.path.join(out, "steel_plate.png"), optimize=True)
+    shock_ring(np.random.default_rng(53)).save(os.path.join(out, "shock_ring.png"), optimize=True)
     for name, img in stone_images(np.random.default_rng(47)).items():
         img.save(os.path.join(out, name), optimize=True)
 
