@@ -3,7 +3,10 @@
 # makes, byte for byte (its noise is seeded, so a rerun must not change a
 # committed file, and every file there comes from it), and they keep what
 # its header promises: no cell reaches its border (mipmaps do not bleed
-# between cells) and the normal map holds unit normals facing the camera.
+# between cells), the normal map holds unit normals facing the camera,
+# the fire sheet loops (its last cell steps to its first no more than its
+# cells step to each other) and the stone tile tiles (the step across its
+# wrapped edge is no larger than the steps inside it).
 #
 #   bash run_textures.sh PATH-TO-PFX SOURCE-DIR
 set -u
@@ -46,6 +49,17 @@ n = np.asarray(Image.open(os.path.join(d, "smoke_puffs_normal.png")).convert("RG
 length = np.sqrt((n * n).sum(-1))
 ok = n.shape[:2] == (512, 512) and np.abs(length - 1).max() < 0.02 and n[..., 2].min() > 0
 print(("ok   " if ok else "FAIL ") + f"smoke_puffs_normal.png: unit normals within {np.abs(length - 1).max():.4f}, z > 0")
+f = np.asarray(Image.open(os.path.join(d, "fire_sheet.png")).convert("RGBA"), dtype=np.float64)
+cells = [f[r * 128:(r + 1) * 128, c * 128:(c + 1) * 128, 3] for r in range(4) for c in range(4)]
+steps = [np.abs(cells[k + 1] - cells[k]).mean() for k in range(15)]
+seam = np.abs(cells[0] - cells[15]).mean()
+print(("ok   " if seam <= 1.2 * max(steps) else "FAIL ")
+      + f"fire_sheet.png loops: cell 15 -> 0 differs by {seam:.2f}, steps inside up to {max(steps):.2f}")
+t = np.asarray(Image.open(os.path.join(d, "stone_tile.png")).convert("L"), dtype=np.float64)
+inside = max(np.abs(np.diff(t, axis=a)).mean() for a in (0, 1))
+wrap = max(np.abs(t[0] - t[-1]).mean(), np.abs(t[:, 0] - t[:, -1]).mean())
+print(("ok   " if wrap <= 1.5 * inside else "FAIL ")
+      + f"stone_tile.png tiles: the wrapped edge steps {wrap:.2f}, rows and columns inside {inside:.2f}")
 PY
 )"
 summary
