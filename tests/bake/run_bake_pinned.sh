@@ -31,9 +31,9 @@ pinned=(
     "campfire 28:30 csv fecb95ca1b7f91be650ba71d2fce0cf4fa825a20b7637a411b8b11607937c60b"
     "campfire 28:30 ply fe54ad8afcab11a457d13151ed3549e2b8c2b8daf48804d3d1ee959d1500bb22"
     "campfire 28:30 pcache 5e79e5dd00192f99a6d14fa27dd22df1a95d3ca92b01dac20b5f2e44e92f3973"
-    "explosion 6:8 csv b7b8715ef2163ebfaa6795b527ef49ba0a75670964ef2b2bd298651d836eb5c1"
-    "explosion 6:8 ply 7e81f5d195a7e0f3516d0c9dce76c86295ce9334e93885236d65cd8784f3905e"
-    "explosion 6:8 pcache e8172143d2b40a240f4f1d84c64d253a510c5d516c9be5221eba1b51a6e36e27"
+    "explosion 6:8 csv 9da189a0a6ba50d6c1216dc9ca8e790d60a935ea34e919cc3b71cf4aef1305cf"
+    "explosion 6:8 ply df9b32735629983f2480fa5bdabddddf131bc17969f9221402f36a2948a2fcb6"
+    "explosion 6:8 pcache 20c2288751761f5d415ab881021eadaf2b861ba68de23b0a021d7eba1f4064d5"
 )
 
 for p in "${pinned[@]}"; do
