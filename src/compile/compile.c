@@ -236,6 +236,10 @@ static const pfx_key image_keys[] = {
      .what = "tone curve",
      .doc = "none (values above 1 clip), reinhard (x / (1 + x)) or aces (the ACES filmic fit of "
             "Narkowicz 2015)."},
+    {"preserve_hue", PFX_KEY_NUMBER, .lo = 0, .hi = 1, .def = {0}, .offset = E(preserve_hue),
+     .doc = "0 to 1: how far the tone curve keeps the hue of bright colours; 0 maps each channel "
+            "by itself (bright colours go to white), 1 maps the brightest channel and scales the "
+            "others with it (fire stays orange)."},
     {"alpha", PFX_KEY_ENUM, .names = pfx_alpha_mode_names, .def = {0}, .offset = E(alpha_mode),
      .what = "alpha mode",
      .doc = "straight (colour and coverage apart) or premultiplied (colour times coverage; "

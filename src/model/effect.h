@@ -394,6 +394,7 @@ typedef struct pfx_effect {
     float background[4]; /* straight RGBA 0..1 */
     double exposure;     /* EV: colours times 2^exposure before the tone curve */
     pfx_tonemap tonemap;
+    double preserve_hue; /* 0..1: per-channel curve (0) to hue-keeping (1) */
     pfx_alpha_mode alpha_mode;
     bool dither;          /* before 8-bit quantisation */
     double shutter;       /* motion blur: open fraction of the frame interval (0: none) */

@@ -36,6 +36,7 @@ static inline const float *pfx_float_image_at(const pfx_float_image *img, int x,
 typedef struct pfx_tone {
     double exposure; /* EV: colour x 2^exposure */
     pfx_tonemap tonemap;
+    double preserve_hue; /* 0: each channel by itself; 1: by the brightest */
     pfx_alpha_mode alpha;
     bool dither;
 } pfx_tone;

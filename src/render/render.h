@@ -103,6 +103,7 @@ typedef struct pfx_render_settings {
     float background[4]; /* straight RGBA */
     double exposure;     /* EV */
     pfx_tonemap tonemap;
+    double preserve_hue; /* 0..1, render/convert.c */
     pfx_alpha_mode alpha;
     bool dither;
     double light_dir[3]; /* the direction light travels, unit */

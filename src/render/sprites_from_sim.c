@@ -48,6 +48,7 @@ pfx_render_settings pfx_sprites_settings(const pfx_effect *e) {
     pfx_render_settings s = pfx_render_settings_plain(e->background);
     s.exposure = e->exposure;
     s.tonemap = e->tonemap;
+    s.preserve_hue = e->preserve_hue;
     s.alpha = e->alpha_mode;
     s.dither = e->dither;
     for (int a = 0; a < 3; a++) {

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The bytes of pfx bake, pinned: the SHA-256 of CSV, PLY and pcache bakes of
-# three effects (fire: three emitters; campfire: five; explosion: 1500
-# debris particles, more than one block of jobs/bake_view.c's rows),
+# three effects (fire: three emitters; campfire: five; explosion: 400
+# sparks, more than one block of jobs/bake_view.c's rows),
 # recorded with the pfx of 954f29e, before the writers took plain rows
 # (output/bake.c read the sim pools itself then). The row view must hand
 # the writers the same rows in the same order, so every file is unchanged,
@@ -10,7 +10,10 @@
 #
 # Like tests/unit/test_sim.c's EXPECTED_HASH, a change here means bakes
 # changed: a commit that changes the simulation on purpose updates these
-# and says why.
+# and says why. Re-recorded for the examples reworked for issue 26 (new
+# sizes, colours, rates and textures in fire, campfire and explosion), by
+# a pfx whose row view and writers were unchanged; each pinned effect keeps
+# the emitter count and particle numbers that make it worth pinning.
 #
 #   bash run_bake_pinned.sh PATH-TO-PFX SOURCE-DIR
 set -u
@@ -22,15 +25,15 @@ cd "$src" || exit 2
 
 # effect frames format sha256
 pinned=(
-    "fire 10:14 csv 72528f76b23e532dde604658a22bd2fc0a0866b660c1df3844a386ec94a688c1"
-    "fire 10:14 ply 3d46fc28200f0b346bfe62dadac74a46cf650bcf651342d25674b738cd768be0"
-    "fire 10:14 pcache ddf76ef9f2e2dab2460333d68e51cb4e27bbdf2f702adb58b7634aa1fa12fcbc"
-    "campfire 28:30 csv d03d712262a4fd9a03a85f1ce5c337e972cf3bbb0081b2093842624274496676"
-    "campfire 28:30 ply f574594b7ea026757105358ea6ff42ce612c0c3731465b650d64175d4b69e4de"
-    "campfire 28:30 pcache 0389306fd1c198fa4192cd69b91613dcb65996c3a6ae163487052e13ccddd635"
-    "explosion 6:8 csv da1e9bbb6bb73839bcd75d13c13599a03598f21089e81114fcace6d6ec203d8c"
-    "explosion 6:8 ply 9c5b84230e6b9511ec8e0406f1e91e1b88e310c7b98613976a99e57a33a98bde"
-    "explosion 6:8 pcache 314cb4ba92e7c9241abd2388d5c2594a40c2476272e0b02cf06bc4ecc80cd40e"
+    "fire 10:14 csv 5392da3892db64b6f053035f2fa08e6b55b4459dccf978b2613d7270cb8b02f0"
+    "fire 10:14 ply 525e96a3b0f79e86494bc197657990cf11902f9bb7d5d38c83fba627aef8069b"
+    "fire 10:14 pcache eafa3b87a7e3654b0f28489a63a034936bd915854ee19a0f83af27e66fb79e3d"
+    "campfire 28:30 csv fecb95ca1b7f91be650ba71d2fce0cf4fa825a20b7637a411b8b11607937c60b"
+    "campfire 28:30 ply fe54ad8afcab11a457d13151ed3549e2b8c2b8daf48804d3d1ee959d1500bb22"
+    "campfire 28:30 pcache 5e79e5dd00192f99a6d14fa27dd22df1a95d3ca92b01dac20b5f2e44e92f3973"
+    "explosion 6:8 csv 9da189a0a6ba50d6c1216dc9ca8e790d60a935ea34e919cc3b71cf4aef1305cf"
+    "explosion 6:8 ply df9b32735629983f2480fa5bdabddddf131bc17969f9221402f36a2948a2fcb6"
+    "explosion 6:8 pcache 20c2288751761f5d415ab881021eadaf2b861ba68de23b0a021d7eba1f4064d5"
 )
 
 for p in "${pinned[@]}"; do

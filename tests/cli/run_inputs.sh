@@ -55,21 +55,21 @@ end
 
 begin "a texture as the depfile of a render, or as a bake, is refused"
 snapshot a.snap
-pfx_run render tex/fire.yaml -o tex/out --frames 0:1 --size 16x16 --depfile tex/textures/flame_sheet.png
+pfx_run render tex/fire.yaml -o tex/out --frames 0:1 --size 16x16 --depfile tex/textures/fire_sheet.png
 want_status 1
-stderr_has "cannot write 'tex/textures/flame_sheet.png': it is the input 'tex/textures/flame_sheet.png'"
-pfx_run bake tex/fire.yaml --frames 0:1 -o tex/textures/flame_sheet.png --format csv
+stderr_has "cannot write 'tex/textures/fire_sheet.png': it is the input 'tex/textures/fire_sheet.png'"
+pfx_run bake tex/fire.yaml --frames 0:1 -o tex/textures/fire_sheet.png --format csv
 want_status 1
-stderr_has "cannot write 'tex/textures/flame_sheet.png': it is the input"
+stderr_has "cannot write 'tex/textures/fire_sheet.png': it is the input"
 snapshot b.snap
 cmp -s a.snap b.snap || flunk "files changed: $(diff a.snap b.snap | head -3)"
 [ ! -e tex/out ] || flunk "the output directory was made"
 end
 
 begin "a frame that would land on a texture is refused"
-mkdir -p tex2/textures && cp tex/fire.yaml tex2/ && cp tex/textures/smoke_sheet.png tex2/textures/
-cp tex/textures/flame_sheet.png tex2/textures/fire_0001.png
-sed -i 's#textures/flame_sheet.png#textures/fire_0001.png#' tex2/fire.yaml
+mkdir -p tex2/textures && cp tex/fire.yaml tex2/ && cp tex/textures/spark_sheet.png tex2/textures/
+cp tex/textures/fire_sheet.png tex2/textures/fire_0001.png
+sed -i 's#textures/fire_sheet.png#textures/fire_0001.png#' tex2/fire.yaml
 before=$(sum tex2/textures/fire_0001.png)
 pfx_run render tex2/fire.yaml -o tex2/textures --frames 0:2 --size 16x16
 want_status 1

@@ -116,6 +116,7 @@ fi
 twice=$(awk -v d="$duration" 'BEGIN { print 2 * d }')
 sed -e 's/^loop:[[:space:]]*true/loop: false/' -e "s/^duration:.*/duration: $twice/" \
     "$effect" >"$work/fire_once.yaml"
+ln -s "$src/effects/textures" "$work/textures" # the copy's textures, relative to it
 if ! grep -q '^loop: false' "$work/fire_once.yaml"; then
     fail "fire_once: a loop: false copy" "no top-level 'loop: true' to replace"
 elif run once "$pfx" render "$work/fire_once.yaml" -o "$work/once" "${small[@]}" --frames "0:$n"; then

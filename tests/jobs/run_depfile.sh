@@ -111,15 +111,15 @@ done
 # texture makes the render stale.
 mkdir -p tex/textures
 cp "$src/effects/fire.yaml" tex/
-cp "$src/effects/textures/flame_sheet.png" tex/textures/
+cp "$src/effects/textures/fire_sheet.png" "$src/effects/textures/spark_sheet.png" tex/textures/
 begin "the depfile names the effect's texture, and editing it renders again"
 pfx_run render tex/fire.yaml -o tex/out --frames 0:1 --size 32x32 --depfile tex/fire.d
 want_status 0
-grep -q 'tex/textures/flame_sheet.png' tex/fire.d || flunk "fire.d: $(cat tex/fire.d)"
-grep -q 'flame_sheet.png' tex/out/fire.manifest.json || flunk "the manifest lists no texture"
+grep -q 'tex/textures/fire_sheet.png' tex/fire.d || flunk "fire.d: $(cat tex/fire.d)"
+grep -q 'fire_sheet.png' tex/out/fire.manifest.json || flunk "the manifest lists no texture"
 pfx_run render tex/fire.yaml -o tex/out --frames 0:1 --size 32x32 --depfile tex/fire.d
 stderr_has "is up to date"
-printf 'x' >>tex/textures/flame_sheet.png
+printf 'x' >>tex/textures/fire_sheet.png
 pfx_run render tex/fire.yaml -o tex/out --frames 0:1 --size 32x32 --depfile tex/fire.d
 want_status 0
 stderr_has "rendered 'tex/fire.yaml'"

@@ -187,6 +187,38 @@ for image, want, what in [
     check(abs(f[32, 32, 0] - 255 * want) <= 0.5 + 1e-9,
           f"tonemap: {what}: {f[32, 32, 0]:.0f}, formula {255 * want:.2f}")
 
+
+# preserve_hue: orange (1, 0.5, 0) at exposure 3 (8x) under ACES. Per
+# channel it goes to yellow-white, (aces(8), aces(4), 0) ~ (1, 0.97, 0), a
+# hue near 58 degrees; with preserve_hue 1 every channel is scaled by
+# min(1, aces(8)) / 8, so the hue stays 30 degrees at every pixel of the
+# sprite, its soft edge included; with 0.5 green is half way between.
+def aces(x):
+    return min(1.0, x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14))
+
+
+def hue(rgb):
+    r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+    return np.degrees(np.arctan2(np.sqrt(3) * (g - b), 2 * r - g - b)) % 360
+
+
+ORANGE = dict(size=1.5, blend="add", color="[1, 0.5, 0]")
+for k, want_g in [(1, 0.5), (0.5, aces(4) + 0.5 * (0.5 - aces(4))), (0, aces(4))]:
+    flat = render("hue_flat", one(extra="    texture: white.png\n", **ORANGE),
+                  image=f", tonemap: aces, exposure: 3, preserve_hue: {k}, dither: false")[0]
+    got = tuple(flat[32, 32, :3].astype(int))
+    check(got[0] == 255 and abs(got[1] - 255 * want_g) <= 0.5 + 1e-9 and got[2] == 0,
+          f"preserve_hue {k}: orange at 8x is {got}, formula (255, {255 * want_g:.2f}, 0)")
+soft = render("hue_soft", one(**ORANGE),
+              image=", tonemap: aces, exposure: 3, preserve_hue: 1, dither: false")[0]
+lit = soft[..., 0] >= 64
+err = np.abs(hue(soft[..., :3])[lit] - 30).max()
+check(lit.sum() > 500 and err <= 2,
+      f"preserve_hue 1: {lit.sum()} px of a soft orange sprite at 8x within {err:.2f} deg of 30")
+plain = render("hue_plain", one(**ORANGE), image=", tonemap: aces, exposure: 3, dither: false")[0]
+check(hue(plain[32:33, 32, :3])[0] > 50,
+      f"preserve_hue 0: the per-channel curve turns the core yellow, hue {hue(plain[32:33, 32, :3])[0]:.1f}")
+
 # Motion blur: a 4 px sprite moving 3 m/s at 10 fps with the shutter open
 # the whole interval sweeps |v| S / fps = 0.3 m = 9.6 px; its summed
 # brightness is the unblurred sprite's.

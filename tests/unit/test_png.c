@@ -690,7 +690,6 @@ static void test_queue_converts(void) {
  * pixels equal to the background, boxes of every width (so runs end at any
  * lane), every tone curve, both alpha modes, dither on and off. */
 static float spec_curve(const pfx_tone *t, float x) {
-    x *= (float)exp2(t->exposure);
     if (t->tonemap == PFX_TONEMAP_REINHARD)
         return x > 0 ? (x < INFINITY ? x / (1 + x) : 1) : 0;
     if (t->tonemap == PFX_TONEMAP_ACES) {
@@ -729,10 +728,24 @@ static void spec_pixel(const pfx_tone *t, const float src[4], const float clear[
     memcpy(bits, src, sizeof bits);
     if ((bits[0] | bits[1] | bits[2] | bits[3]) == 0)
         return;
-    const bool plain = t->exposure == 0 && t->tonemap == PFX_TONEMAP_NONE;
-    float p[4] = {src[0], src[1], src[2], src[3]};
-    for (int c = 0; c < 3 && !plain; c++)
-        p[c] = spec_curve(t, p[c]);
+    const bool plain = t->exposure == 0 && t->tonemap == PFX_TONEMAP_NONE && t->preserve_hue == 0;
+    float p[4] = {src[0], src[1], src[2], src[3]}, g[3];
+    for (int c = 0; c < 3 && !plain; c++) {
+        g[c] = p[c] * (float)exp2(t->exposure);
+        p[c] = spec_curve(t, g[c]);
+    }
+    if (!plain && t->preserve_hue > 0) {
+        /* the brightest channel, a NaN giving way to the other operand */
+        float m = (g[1] > g[0] || g[0] != g[0]) ? g[1] : g[0];
+        m = (g[2] > m || m != m) ? g[2] : m;
+        float cm = spec_curve(t, m);
+        cm = cm < 1 ? cm : 1;
+        const float s = cm / (m > 0 ? m : 1), k = (float)t->preserve_hue;
+        for (int c = 0; c < 3 && m > 0 && m < INFINITY; c++) {
+            const float q = p[c] < 1 ? p[c] : 1;
+            p[c] = q + k * (g[c] * s - q);
+        }
+    }
     if (t->alpha == PFX_ALPHA_STRAIGHT) {
         float ap = p[3];
         for (int c = 0; c < 3; c++)
@@ -798,6 +811,7 @@ static void test_conversion_formula(void) {
         }
         const pfx_tone tone = {.exposure = trial % 4 == 0 ? 0 : (trial % 9) / 2.0 - 2,
                                .tonemap = (pfx_tonemap)(trial % 3),
+                               .preserve_hue = trial % 7 < 3 ? 0 : (trial % 7 - 2) / 4.0,
                                .alpha = trial % 2 ? PFX_ALPHA_PREMULTIPLIED : PFX_ALPHA_STRAIGHT,
                                .dither = trial % 5 != 0};
         pfx_float_image img = {
