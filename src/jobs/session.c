@@ -6,10 +6,13 @@
  * calls pfx_session_reload on every change. No protocol lives here. */
 #include "jobs/session.h"
 
+#include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <jansson.h>
 #include <math.h>
 #include <pthread.h>
+#include <signal.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -372,6 +375,43 @@ static void *worker_main(void *arg) {
     return NULL;
 }
 
+#define SCRATCH_PREFIX "pfx-preview-"
+
+/* Removes dir/pfx-preview-PID-XXXXXX of every PID that is no longer
+ * running (kill(pid, 0) says ESRCH), with the frames in it: what a
+ * session killed by SIGKILL left behind. A live pid's, another user's
+ * (EPERM) and any other name are left alone; the directory holds only
+ * plain files (frames and their temporaries), removed without following
+ * links. */
+static void sweep_stale_scratch(const char *tmp) {
+    DIR *dir = opendir(tmp);
+    if (!dir)
+        return;
+    for (struct dirent *de; (de = readdir(dir));) {
+        if (strncmp(de->d_name, SCRATCH_PREFIX, strlen(SCRATCH_PREFIX)))
+            continue;
+        char *end;
+        const char *digits = de->d_name + strlen(SCRATCH_PREFIX);
+        long pid = strtol(digits, &end, 10);
+        if (end == digits || *end != '-' || strlen(end) != 7 || pid <= 0 || pid == (long)getpid() ||
+            kill((pid_t)pid, 0) == 0 || errno != ESRCH)
+            continue;
+        int fd = openat(dirfd(dir), de->d_name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW);
+        DIR *stale = fd >= 0 ? fdopendir(fd) : NULL;
+        if (!stale) {
+            if (fd >= 0)
+                close(fd);
+            continue;
+        }
+        for (struct dirent *f; (f = readdir(stale));)
+            if (strcmp(f->d_name, ".") && strcmp(f->d_name, ".."))
+                unlinkat(fd, f->d_name, 0);
+        closedir(stale);
+        unlinkat(dirfd(dir), de->d_name, AT_REMOVEDIR);
+    }
+    closedir(dir);
+}
+
 pfx_session *pfx_session_create(const pfx_session_options *o, pfx_diags *d) {
     pfx_session *s = calloc(1, sizeof *s);
     if (!s) {
@@ -386,9 +426,13 @@ pfx_session *pfx_session_create(const pfx_session_options *o, pfx_diags *d) {
     pthread_cond_init(&s->news_cv, NULL);
     pthread_cond_init(&s->frame_cv, NULL);
     /* Frames go through files as `pfx render` writes them; a RAM-backed
-     * directory where there is one keeps that off the disk. */
+     * directory where there is one keeps that off the disk. Its name holds
+     * the pid, so that a later session can sweep the scratch of one that
+     * was killed (SIGKILL runs no cleanup). */
     const char *tmp = access("/dev/shm", W_OK) == 0 ? "/dev/shm" : getenv("TMPDIR");
-    snprintf(s->scratch, sizeof s->scratch, "%s/pfx-preview-XXXXXX", tmp && *tmp ? tmp : "/tmp");
+    tmp = tmp && *tmp ? tmp : "/tmp";
+    sweep_stale_scratch(tmp);
+    snprintf(s->scratch, sizeof s->scratch, "%s/" SCRATCH_PREFIX "%ld-XXXXXX", tmp, (long)getpid());
     if (!mkdtemp(s->scratch)) {
         pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot create a scratch directory '%s': %s",
                        s->scratch, strerror(errno));

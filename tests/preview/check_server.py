@@ -308,6 +308,29 @@ check("--host 127.0.0.2: its URL, a warning, Host checked against it",
       m and statuses == [200, 200, 403] and "warning: serving on 127.0.0.2, not 127.0.0.1" in err,
       "%r %s %r" % (line, statuses, err))
 
+# SIGKILL runs no cleanup: the scratch directory (named with the pid) of
+# a killed preview is swept by the next one; a live process's is kept.
+shm = "/dev/shm" if os.access("/dev/shm", os.W_OK) else os.environ.get("TMPDIR") or "/tmp"
+live = os.path.join(shm, "pfx-preview-%d-abcdef" % os.getpid())
+os.makedirs(live, exist_ok=True)
+with Preview(pfx, "dot.yaml", cwd=work) as p:
+    killed = [os.path.join(shm, d) for d in os.listdir(shm)
+              if d.startswith("pfx-preview-%d-" % p.proc.pid)]
+    st, _, _ = p.get("/frame/0.png")
+    for d in killed:
+        open(os.path.join(d, "v1_0001.png.tmp"), "w").write("half a frame")
+    p.proc.kill()
+    p.proc.wait()
+left = [d for d in killed if os.path.exists(d)]
+with Preview(pfx, "dot.yaml", cwd=work) as p:
+    st2, _, _ = p.get("/frame/0.png")
+    p.stop()
+check("a preview killed by SIGKILL: its scratch dir is swept by the next, a live pid's kept",
+      len(killed) == 1 and left == killed and st == st2 == 200 and
+      not any(os.path.exists(d) for d in killed) and os.path.isdir(live),
+      "%s %s %s %s" % (killed, left, st, st2))
+shutil.rmtree(live, ignore_errors=True)
+
 r = subprocess.run([pfx, "preview", "missing.yaml", "--no-open"], cwd=work, capture_output=True,
                    text=True, timeout=30)
 check("a file that is not there: one line, exit 1, no URL",
