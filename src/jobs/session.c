@@ -52,6 +52,7 @@ typedef struct session_model {
     frame_slot *slots;
     uint32_t *alive; /* frames x emitters: live particles, when rendered */
     size_t bytes;    /* PNG bytes held in slots */
+    size_t cap;      /* at most this many (cache_cap) */
     char *error;     /* a render failure (malloc'd), or NULL */
 } session_model;
 
@@ -121,6 +122,23 @@ static void describe_diags(pfx_session *s, const pfx_loaded *l) {
     s->diag_json = list;
 }
 
+/* The frame cache's cap for a version: every frame's PNG at most, as
+ * estimated (pfx_estimate_png_bytes), but no more than half of what
+ * --max-memory leaves beside the estimate of the render itself (256 MiB
+ * where no bound is known); the options' cache_bytes instead when set. */
+static size_t cache_cap(const pfx_session *s, const pfx_effect *e, long frames) {
+    if (s->o.cache_bytes)
+        return s->o.cache_bytes;
+    double room = 256.0 * 1024 * 1024;
+    if (s->o.max_memory) {
+        pfx_estimate est;
+        pfx_estimate_run(e, 0, frames - 1, PFX_ESTIMATE_RENDER, &est);
+        room = fmax(0, floor(((double)s->o.max_memory - est.total_bytes) / 2));
+    }
+    const double cap = fmin(pfx_estimate_png_bytes(e, frames), room);
+    return cap >= (double)SIZE_MAX ? SIZE_MAX : (size_t)cap;
+}
+
 bool pfx_session_reload(pfx_session *s) {
     session_model *m = calloc(1, sizeof *m);
     if (!m)
@@ -131,6 +149,7 @@ bool pfx_session_reload(pfx_session *s) {
         m->e = e;
         m->refs = 1;
         m->frames = pfx_effect_frame_count(e);
+        m->cap = cache_cap(s, e, m->frames);
         m->lines = calloc(e->emitter_count + 1, sizeof *m->lines);
         m->slots = calloc((size_t)m->frames, sizeof *m->slots);
         m->alive = calloc((size_t)m->frames * (e->emitter_count + 1), sizeof *m->alive);
@@ -181,7 +200,7 @@ static bool next_work(const pfx_session *s, const session_model *m, long *first,
         *first = *last = k;
         return true;
     }
-    if (m->bytes >= s->o.cache_bytes / 10 * 9)
+    if (m->bytes >= m->cap / 10 * 9)
         return false;
     for (long f = k + 1; f < m->frames; f++)
         if (!m->slots[f].png) {
@@ -203,7 +222,7 @@ static bool next_work(const pfx_session *s, const session_model *m, long *first,
 /* Drops the cached frames farthest from the playhead until `more` bytes
  * fit under the cap (never frame keep). Called with the lock held. */
 static void make_room(pfx_session *s, session_model *m, size_t more, long keep) {
-    while (m->bytes + more > s->o.cache_bytes) {
+    while (m->bytes + more > m->cap) {
         long far = -1, best = -1;
         for (long f = 0; f < m->frames; f++) {
             long dist = labs(f - s->playhead);
@@ -270,7 +289,7 @@ static void take_frames(job_watch *w, long upto, bool end) {
         m->slots[w->next].rendered = true;
         m->bytes += len;
         /* A full cache stops prefetching past the playhead. */
-        if (w->next > s->playhead && m->bytes >= s->o.cache_bytes / 10 * 9)
+        if (w->next > s->playhead && m->bytes >= m->cap / 10 * 9)
             atomic_store(&s->cancel, true);
         pthread_cond_broadcast(&s->frame_cv);
         pthread_mutex_unlock(&s->mu);
@@ -419,8 +438,6 @@ pfx_session *pfx_session_create(const pfx_session_options *o, pfx_diags *d) {
         return NULL;
     }
     s->o = *o;
-    if (!s->o.cache_bytes)
-        s->o.cache_bytes = (size_t)256 << 20;
     pthread_mutex_init(&s->mu, NULL);
     pthread_cond_init(&s->work_cv, NULL);
     pthread_cond_init(&s->news_cv, NULL);
@@ -606,6 +623,12 @@ char *pfx_session_state_json(pfx_session *s) {
         json_object_set_new(o, "size", json_pack("[i, i]", e->width, e->height));
         json_object_set_new(o, "emitters", emitters);
         json_object_set_new(o, "stats", stats);
+        long held = 0;
+        for (long f = 0; f < m->frames; f++)
+            held += m->slots[f].png != NULL;
+        json_object_set_new(o, "cache",
+                            json_pack("{s:i, s:I, s:I}", "frames", (json_int_t)held, "bytes",
+                                      (json_int_t)m->bytes, "cap", (json_int_t)m->cap));
         json_object_set_new(o, "render_error", m->error ? json_string(m->error) : json_null());
         json_object_set_new(o, "alpha", json_string(pfx_alpha_mode_names[e->alpha_mode]));
     } else {

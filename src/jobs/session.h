@@ -22,7 +22,7 @@ typedef struct pfx_session_options {
     const char *path;            /* the effect file (kept, not copied) */
     pfx_compile_options compile; /* as `pfx render` takes them (--size, --seed, ...) */
     pfx_renderer_kind renderer;
-    size_t cache_bytes;  /* the frame cache's cap in PNG bytes; 0: 256 MiB */
+    size_t cache_bytes;  /* the frame cache's cap in PNG bytes; 0: from the estimate */
     uint64_t max_memory; /* --max-memory: a version estimated to need more is refused */
 } pfx_session_options;
 
@@ -52,7 +52,8 @@ void pfx_session_stop(pfx_session *s);
  * news, frames, fps, size [w, h], diagnostics [{line, column, severity,
  * rule, message}], diagnostics_text (as `pfx validate` prints them),
  * emitters [{name, line, start, end, loop, bursts [s...], spawns [{event,
- * emitter}]}] and the per-frame stats rendered so far. NULL when out of memory. */
+ * emitter}]}], the per-frame stats rendered so far and the frame cache
+ * {frames, bytes, cap}. NULL when out of memory. */
 char *pfx_session_state_json(pfx_session *s);
 
 /* Frame k of the current version as the PNG file `pfx render --frames k`

@@ -248,6 +248,37 @@ with Preview(pfx, "dot.yaml", "--max-memory", "1K", cwd=work) as p:
           "%s / %r" % (s["diagnostics"], r.stderr))
     p.stop()
 
+# The frame cache's cap (man pfx(1)): every frame's PNG at most, (4w + 1)h
+# + that / 64 + 1024 bytes a frame, but at most half of what --max-memory
+# leaves beside the render's estimate (pfx info's); a tiny one evicts and
+# every frame is still served, byte for byte as pfx render writes it.
+info = json.loads(subprocess.run([pfx, "info", "dot.yaml", "--format", "json"], cwd=work,
+                                 capture_output=True, text=True, check=True).stdout)
+rows = (4 * 96 + 1) * 96
+with Preview(pfx, "dot.yaml", cwd=work) as p:
+    s = p.state()
+    cache = s.get("cache") or {}
+    check("the frame cache's cap: all frames' PNG bytes at most (--max-memory's default is larger)",
+          cache.get("cap") == 10 * (rows + rows // 64 + 1024) and cache.get("bytes", -1) >= 0,
+          str(cache))
+    p.stop()
+bound = int(info["memory"]["total_bytes"]) + 1 + 2 * 1500
+with Preview(pfx, "dot.yaml", "--max-memory", str(bound), cwd=work) as p:
+    served = []
+    for k in range(10):
+        st, _, png = p.get("/frame/%d.png" % k)
+        r = subprocess.run([pfx, "render", "dot.yaml", "--frames", str(k), "-o", "cap%d" % k,
+                            "--max-memory", str(bound)], cwd=work, capture_output=True)
+        with open(os.path.join(work, "cap%d" % k, "dot_%04d.png" % k), "rb") as f:
+            served.append(st == 200 and png == f.read() and near(pixel(png, 48, 48), (255, 0, 0, 255)))
+    cache = p.state().get("cache") or {}
+    check("a tiny --max-memory: cap = (bound - the render's estimate) / 2, frames evicted, "
+          "every frame still served as pfx render writes it",
+          all(served) and cache.get("cap") == (bound - info["memory"]["total_bytes"]) // 2 and
+          cache.get("bytes", 1e9) <= max(cache["cap"], 3000) and cache.get("frames", 10) < 10,
+          "%s %s" % (served, cache))
+    p.stop()
+
 # What the file reads is watched too: a texture rewritten in place, then
 # replaced by a rename (as editors and exporters save).
 tex = os.path.join(work, "tex.yaml")
