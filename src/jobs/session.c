@@ -171,7 +171,8 @@ bool pfx_session_reload(pfx_session *s) {
         m->version = ++s->version;
         old = s->good;
         s->good = m;
-        /* Stale work stops after the frame it is drawing. */
+        /* Stale work stops at once: within a simulation step or a motion-blur
+         * sample (jobs/render_job.c). */
         atomic_store(&s->cancel, true);
         pthread_cond_broadcast(&s->work_cv);
         /* Under the lock: another reload cannot free e meanwhile. */
@@ -522,7 +523,7 @@ unsigned pfx_session_wait(pfx_session *s, unsigned seen, int timeout_ms) {
     return news;
 }
 
-int pfx_session_frame(pfx_session *s, long k, int timeout_ms, void **png, size_t *len,
+int pfx_session_frame(pfx_session *s, long k, bool ahead, int timeout_ms, void **png, size_t *len,
                       unsigned *version) {
     struct timespec until = deadline_in(timeout_ms);
     int result = -1;
@@ -545,14 +546,23 @@ int pfx_session_frame(pfx_session *s, long k, int timeout_ms, void **png, size_t
         }
         if (m->error)
             break;
-        if (s->playhead != k) {
+        /* A look-ahead waits while the worker renders this version (it
+         * goes on past the playhead by itself); it takes the playhead only
+         * from an idle worker, which a full cache leaves idle. */
+        const bool wait_behind = ahead && s->busy == m;
+        if (!wait_behind && s->playhead != k) {
             s->playhead = k;
             /* Work that does not hold the new playhead gives way to it. */
             if (s->busy && (s->busy != m || k < s->busy_first || k > s->busy_last))
                 atomic_store(&s->cancel, true);
             pthread_cond_broadcast(&s->work_cv);
         }
-        if (pthread_cond_timedwait(&s->frame_cv, &s->mu, &until) == ETIMEDOUT)
+        struct timespec soon = deadline_in(50);
+        const bool sooner =
+            wait_behind && (soon.tv_sec < until.tv_sec ||
+                            (soon.tv_sec == until.tv_sec && soon.tv_nsec < until.tv_nsec));
+        if (pthread_cond_timedwait(&s->frame_cv, &s->mu, sooner ? &soon : &until) == ETIMEDOUT &&
+            !sooner)
             break;
     }
     pthread_mutex_unlock(&s->mu);

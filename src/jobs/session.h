@@ -58,11 +58,13 @@ char *pfx_session_state_json(pfx_session *s);
 
 /* Frame k of the current version as the PNG file `pfx render --frames k`
  * writes (malloc'd into *png, *len bytes; the caller frees it), rendering
- * it first if it is not cached and moving the playhead there. Waits at
+ * it first if it is not cached and moving the playhead there; `ahead` (a
+ * look-ahead) leaves the playhead where it is while the worker renders
+ * this version, so it never cancels the playhead's frame. Waits at
  * most timeout_ms. Returns 1 with the frame, 0 when there is no good model
  * or k is outside it, -1 on a timeout or a render failure. *version is the
  * version the frame belongs to. */
-int pfx_session_frame(pfx_session *s, long k, int timeout_ms, void **png, size_t *len,
+int pfx_session_frame(pfx_session *s, long k, bool ahead, int timeout_ms, void **png, size_t *len,
                       unsigned *version);
 
 /* The emitters whose sprites cover pixel (x right, y down) of frame k as

@@ -116,7 +116,10 @@ static enum MHD_Result route_frame(const pfx_route_ctx *c, struct MHD_Connection
     void *png = NULL;
     size_t len = 0;
     unsigned version = 0;
-    int got = k < 0 ? 0 : pfx_session_frame(c->session, k, FRAME_WAIT_MS, &png, &len, &version);
+    const char *ahead = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "ahead");
+    int got = k < 0 ? 0
+                    : pfx_session_frame(c->session, k, ahead && !strcmp(ahead, "1"), FRAME_WAIT_MS,
+                                        &png, &len, &version);
     if (got == 0)
         return pfx_route_text(conn, MHD_HTTP_NOT_FOUND, "text/plain", "pfx: no such frame\n");
     if (got < 0)

@@ -248,14 +248,66 @@ with Preview(pfx, "dot.yaml", "--max-memory", "1K", cwd=work) as p:
           "%s / %r" % (s["diagnostics"], r.stderr))
     p.stop()
 
+# A save cancels the stale render at once, mid-frame (between simulation
+# steps and motion-blur samples), and renders the playhead's frame first:
+# frame 9 of slow.yaml costs a long run-up and 32 blur samples; a save 20%
+# into it gets the new (cheap) version's frame 9 in well under what the
+# rest of the stale frame would cost. Timed against that frame's own cost
+# measured here, so a loaded machine stretches both.
+slow = os.path.join(work, "slow.yaml")
+with open(slow, "w") as f:
+    f.write("""pfx: 1
+duration: 1
+fps: 10
+seed: 1
+sim: { rate: 10000 }
+camera: { position: [0, 0, 5], target: [0, 0, 0], fov: 40 }
+image: { size: [96, 96], background: "#000000", motion_blur: { shutter: 0.5, samples: 32 } }
+emitters:
+  dot:
+    rate: 50000
+    speed: 1
+    lifetime: 1
+    size: 0.05
+    sprite: round
+    color: "#ff0000"
+    blend: add
+""")
+with Preview(pfx, "slow.yaml", cwd=work) as p:
+    t0 = time.time()
+    st1, _, _ = p.get("/frame/9.png")
+    full = time.time() - t0
+    p.stop()
+with Preview(pfx, "slow.yaml", cwd=work) as p:
+    import threading
+    stale = threading.Thread(target=lambda: p.get("/frame/9.png"))
+    stale.start()
+    time.sleep(0.2 * full)
+    news = p.state()["news"]
+    saved = time.time()
+    edit(slow, "    rate: 50000", "    rate: 50")
+    s = p.wait_news(news)
+    st2, h2, _ = p.get("/frame/9.png")
+    latency = time.time() - saved
+    stale.join()
+    check("a save mid-frame cancels the stale render: the new frame 9 in under a quarter of the old "
+          "frame's cost",
+          st1 == st2 == 200 and s["version"] == 2 and h2.get("X-Pfx-Version") == "2" and
+          latency < 0.25 * full,
+          "%s %s v%s: %.0f ms after the save, the stale frame costs %.0f ms" %
+          (st1, st2, h2.get("X-Pfx-Version"), latency * 1e3, full * 1e3))
+    print("# save -> new frame 9: %.0f ms; the stale frame alone: %.0f ms" % (latency * 1e3, full * 1e3))
+    p.stop()
+
 # The frame cache's cap (man pfx(1)): every frame's PNG at most, (4w + 1)h
 # + that / 64 + 1024 bytes a frame, but at most half of what --max-memory
 # leaves beside the render's estimate (pfx info's); a tiny one evicts and
 # every frame is still served, byte for byte as pfx render writes it.
-info = json.loads(subprocess.run([pfx, "info", "dot.yaml", "--format", "json"], cwd=work,
+shutil.copy(os.path.join(src, "tests/preview/dot.yaml"), os.path.join(work, "cap.yaml"))
+info = json.loads(subprocess.run([pfx, "info", "cap.yaml", "--format", "json"], cwd=work,
                                  capture_output=True, text=True, check=True).stdout)
 rows = (4 * 96 + 1) * 96
-with Preview(pfx, "dot.yaml", cwd=work) as p:
+with Preview(pfx, "cap.yaml", cwd=work) as p:
     s = p.state()
     cache = s.get("cache") or {}
     check("the frame cache's cap: all frames' PNG bytes at most (--max-memory's default is larger)",
@@ -263,13 +315,13 @@ with Preview(pfx, "dot.yaml", cwd=work) as p:
           str(cache))
     p.stop()
 bound = int(info["memory"]["total_bytes"]) + 1 + 2 * 1500
-with Preview(pfx, "dot.yaml", "--max-memory", str(bound), cwd=work) as p:
+with Preview(pfx, "cap.yaml", "--max-memory", str(bound), cwd=work) as p:
     served = []
     for k in range(10):
         st, _, png = p.get("/frame/%d.png" % k)
-        r = subprocess.run([pfx, "render", "dot.yaml", "--frames", str(k), "-o", "cap%d" % k,
+        r = subprocess.run([pfx, "render", "cap.yaml", "--frames", str(k), "-o", "cap%d" % k,
                             "--max-memory", str(bound)], cwd=work, capture_output=True)
-        with open(os.path.join(work, "cap%d" % k, "dot_%04d.png" % k), "rb") as f:
+        with open(os.path.join(work, "cap%d" % k, "cap_%04d.png" % k), "rb") as f:
             served.append(st == 200 and png == f.read() and near(pixel(png, 48, 48), (255, 0, 0, 255)))
     cache = p.state().get("cache") or {}
     check("a tiny --max-memory: cap = (bound - the render's estimate) / 2, frames evicted, "

@@ -81,12 +81,12 @@ function showState() {
 
 // ---- frames
 
-async function fetchFrame(k) {
+async function fetchFrame(k, ahead) {
   const key = state.version + ':' + k;
   if (inflight.has(key) || !state.version) return;
   inflight.add(key);
   try {
-    const r = await fetch(q('/frame/' + k + '.png'));
+    const r = await fetch(q('/frame/' + k + '.png' + (ahead ? '?ahead=1' : '')));
     if (!r.ok) return;
     const v = Number(r.headers.get('X-Pfx-Version'));
     const bmp = await createImageBitmap(await r.blob(), { premultiplyAlpha: 'none' });
@@ -123,15 +123,16 @@ function frameFor(k) {
   return null;
 }
 
-// Asks for the playhead's frame, then a few ahead, one request at a time
-// beyond the first two so the server renders in order.
+// Asks for the playhead's frame alone until it is here (after a save the
+// server renders it before anything else), then a few ahead as
+// look-aheads (?ahead=1), which never take the server's playhead from it.
 function pump() {
   if (!state || !state.version) return;
   const k = frameAt(time), cur = cacheOf(state.version);
-  if (!cur.has(k)) fetchFrame(k);
+  if (!cur.has(k)) { fetchFrame(k, false); return; }
   for (let i = 1, asked = 0; i <= 8 && inflight.size < 2 && asked < 1; i++) {
     const f = k + i > lastFrame() ? loopIn + (k + i - lastFrame() - 1) : k + i;
-    if (f < frames() && !cur.has(f)) { fetchFrame(f); asked++; }
+    if (f < frames() && !cur.has(f)) { fetchFrame(f, true); asked++; }
   }
 }
 
