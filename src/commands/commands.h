@@ -59,6 +59,7 @@ typedef struct pfx_cli {
     unsigned port;                 /* preview --port N; 0: a free one */
     const char *host;              /* preview --host ADDR; NULL: 127.0.0.1 */
     bool no_open;                  /* preview --no-open */
+    const char *compare;           /* preview --compare FILE: A/B against it */
     pfx_compile_options compile;
 } pfx_cli;
 

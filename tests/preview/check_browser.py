@@ -250,6 +250,87 @@ def alpha_checks(d):
             p.stop()
 
 
+def compare_checks(d):
+    """A/B against another file (--compare, and typed in the page) and
+    another seed (typed in the page): side by side and the difference."""
+    dot = os.path.join(work, "dot.yaml")
+    shutil.copy(os.path.join(src, "tests/preview/dot.yaml"), dot)
+    with open(dot) as f:
+        text = f.read()
+    with open(os.path.join(work, "blue.yaml"), "w") as f:
+        f.write(text.replace("#ff0000", "#0000ff"))
+    with open(os.path.join(work, "white.yaml"), "w") as f:
+        f.write(text.replace("#ff0000", "#ffffff"))
+    with open(os.path.join(work, "seedy.yaml"), "w") as f:
+        f.write(text.replace("    speed: 0\n    lifetime: 100\n    size: 1.2",
+                             "    speed: 1\n    spread: 180\n    lifetime: 100\n    size: 0.3"))
+    K = 5
+    with Preview(pfx, "dot.yaml", "--compare", "blue.yaml", cwd=work) as p:
+        d.get(p.url)
+        wait(d, "window.pfx.state && window.pfx.state.version === 1 && window.pfxShown")
+        d.execute_script("window.pfx.seek(%d)" % K)
+        Select(d.find_element(By.ID, "bg")).select_by_value("black")
+        ok = wait(d, "window.pfx.compareFrames.has(%d) && window.pfx.shown.frame === %d" % (K, K))
+        time.sleep(0.2)
+        c = canvas(d)
+        check("--compare blue.yaml: the page opens side by side, blue.yaml (A) left, the file right",
+              ok and d.find_element(By.ID, "ab").get_attribute("value") == "side" and
+              c.size == (192, 96) and near(c.getpixel((48, 48)), (0, 0, 255, 255)) and
+              near(c.getpixel((96 + 48, 48)), (255, 0, 0, 255)),
+              (ok, c.size, c.getpixel((48, 48)), c.getpixel((96 + 48, 48))))
+        Select(d.find_element(By.ID, "ab")).select_by_value("diff")
+        time.sleep(0.2)
+        c = canvas(d)
+        check("against a file, difference: |blue - red| in the middle, black where equal",
+              near(c.getpixel((48, 48)), (255, 0, 255, 255)) and
+              near(c.getpixel((79, 48)), (0, 0, 0, 255)), c.getpixel((48, 48)))
+        # Another file, typed in the page.
+        Select(d.find_element(By.ID, "ab")).select_by_value("wipe")
+        box = d.find_element(By.ID, "against-file")
+        box.clear()
+        box.send_keys("white.yaml\n")
+        ok = wait(d, "window.pfx.compare && window.pfx.compare.file === 'white.yaml' && "
+                  "window.pfx.compareFrames.has(%d)" % K)
+        d.execute_script("document.getElementById('wipe-handle').hidden = true")
+        time.sleep(0.3)
+        c = canvas(d)
+        check("a file typed in the page, wipe at the middle: white left of it, red right",
+              ok and near(c.getpixel((47, 48)), (255, 255, 255, 255)) and
+              near(c.getpixel((48, 48)), (255, 0, 0, 255)),
+              (ok, c.getpixel((47, 48)), c.getpixel((48, 48))))
+        box.clear()
+        box.send_keys("nothere.yaml\n")
+        err = wait(d, "document.getElementById('against-error').textContent")
+        check("a file that is not there: the server's one line in the page",
+              err == "pfx: cannot open 'nothere.yaml': No such file or directory [PFX4002]\n", err)
+        p.stop()
+    with Preview(pfx, "seedy.yaml", cwd=work) as p:
+        d.get(p.url)
+        wait(d, "window.pfx.state && window.pfx.state.version === 1 && window.pfxShown")
+        d.execute_script("window.pfx.seek(%d)" % K)
+        Select(d.find_element(By.ID, "bg")).select_by_value("black")
+        Select(d.find_element(By.ID, "against")).select_by_value("seed")
+        box = d.find_element(By.ID, "against-seed")
+        box.send_keys("7\n")
+        ok = wait(d, "window.pfx.compare && window.pfx.state.compare && "
+                  "window.pfx.state.compare.seed === 7 && window.pfx.compareFrames.has(%d) && "
+                  "window.pfx.shown.frame === %d" % (K, K))
+        time.sleep(0.3)
+        c = canvas(d)
+        for seed in ("1", "7"):
+            subprocess.run([pfx, "render", "seedy.yaml", "--frames", str(K), "-o", "s" + seed,
+                            "--seed", seed, "-q"], cwd=work, check=True)
+        a = Image.open(os.path.join(work, "s7/seedy_%04d.png" % K)).convert("RGBA")
+        b = Image.open(os.path.join(work, "s1/seedy_%04d.png" % K)).convert("RGBA")
+        left, right = c.crop((0, 0, 96, 96)), c.crop((96, 0, 192, 96))
+        dl = max(max(abs(x - y) for x, y in zip(pa, pb)) for pa, pb in zip(left.getdata(), a.getdata()))
+        dr = max(max(abs(x - y) for x, y in zip(pa, pb)) for pa, pb in zip(right.getdata(), b.getdata()))
+        check("seed 7 typed in the page: left is pfx render --seed 7, right the file's seed",
+              ok and c.size == (192, 96) and dl <= 1 and dr <= 1 and a.tobytes() != b.tobytes(),
+              (ok, c.size, dl, dr))
+        p.stop()
+
+
 def take_screenshot(d, out):
     """The page over a real example (fireworks: bursts, sub-emitters), paused
     mid-effect after a pick."""
@@ -313,6 +394,7 @@ try:
         status = main_checks(d)
         check("the server stops cleanly after the browser session", status == 0, status)
         alpha_checks(d)
+        compare_checks(d)
         if screenshot:
             take_screenshot(d, screenshot)
             print("# screenshot: %s" % screenshot)

@@ -391,6 +391,76 @@ check("--host 127.0.0.2: its URL, a warning, Host checked against it",
       m and statuses == [200, 200, 403] and "warning: serving on 127.0.0.2, not 127.0.0.1" in err,
       "%r %s %r" % (line, statuses, err))
 
+# A/B against another file (--compare, or POST /api/compare?file=) and
+# another seed (?seed=): a second session under the same token, its frames
+# at /frame/K.png?variant=compare, each the file pfx render writes for it.
+with open(os.path.join(src, "tests/preview/dot.yaml")) as f:
+    text = f.read()
+for name, body in (("ab.yaml", text), ("other.yaml", text.replace("#ff0000", "#0000ff")),
+                   ("seedy.yaml", text.replace("    speed: 0\n    lifetime: 100\n    size: 1.2",
+                                               "    speed: 1\n    spread: 180\n    lifetime: 100\n    size: 0.3"))):
+    with open(os.path.join(work, name), "w") as f:
+        f.write(body)
+
+
+def rendered(name, k, *args):
+    out = os.path.join(work, "ab-" + name + "".join(args))
+    subprocess.run([pfx, "render", name, "--frames", str(k), "-o", out, *args], cwd=work,
+                   check=True, capture_output=True)
+    with open(os.path.join(out, "%s_%04d.png" % (name[:-5], k)), "rb") as f:
+        return f.read()
+
+
+with Preview(pfx, "ab.yaml", "--compare", "other.yaml", cwd=work) as p:
+    s = p.state()
+    st, h, png = p.get("/frame/%d.png?variant=compare" % K)
+    st0, _, png0 = p.get("/frame/%d.png" % K)
+    cs = json.loads(p.get("/api/state?variant=compare")[2])
+    check("--compare FILE: /api/state says so; ?variant=compare serves FILE's frame K (blue) as "
+          "pfx render writes it, the edited file's stays red",
+          s.get("compare") == {"file": "other.yaml", "seed": None} and st == st0 == 200 and
+          png == rendered("other.yaml", K) and near(pixel(png, 48, 48), (0, 0, 255, 255)) and
+          png0 == rendered("ab.yaml", K) and near(pixel(png0, 48, 48), (255, 0, 0, 255)) and
+          cs["file"] == "other.yaml" and cs["version"] == 1,
+          "%s %s %s %s" % (s.get("compare"), st, st0, cs.get("file")))
+    edit(os.path.join(work, "other.yaml"), "#0000ff", "#ffffff")
+    end = time.time() + 20
+    while time.time() < end and json.loads(p.get("/api/state?variant=compare")[2])["version"] < 2:
+        time.sleep(0.01)
+    st, h, png = p.get("/frame/%d.png?variant=compare" % K)
+    check("the compared file is watched: a save gives it version 2 (white)",
+          st == 200 and h.get("X-Pfx-Version") == "2" and near(pixel(png, 48, 48), (255,) * 4),
+          "%s %s %s" % (st, h.get("X-Pfx-Version"), pixel(png, 48, 48) if st == 200 else ""))
+    st, _, body = p.get("/api/compare?file=missing.yaml", method="POST")
+    st2, _, _ = p.get("/frame/0.png?variant=compare")
+    check("POST /api/compare?file=missing: 400, one line, nothing compared (404)",
+          st == 400 and st2 == 404 and
+          body == b"pfx: cannot open 'missing.yaml': No such file or directory [PFX4002]\n",
+          "%s %s %r" % (st, st2, body))
+    st, _, _ = p.get("/api/compare?seed=x", method="POST")
+    st2, _, _ = p.get("/api/compare?seed=7", method="GET")
+    check("a seed that is not a number: 400; GET /api/compare: 404", st == 400 and st2 == 404,
+          "%s %s" % (st, st2))
+    p.stop()
+with Preview(pfx, "seedy.yaml", cwd=work) as p:
+    _, _, png0 = p.get("/frame/%d.png" % K)
+    threads0 = p.threads()
+    st, _, body = p.get("/api/compare?seed=7", method="POST")
+    s = p.state()
+    st1, _, png = p.get("/frame/%d.png?variant=compare" % K)
+    check("POST /api/compare?seed=7: the same file at seed 7, as pfx render --seed 7 writes it",
+          st == st1 == 200 and json.loads(body) == {"file": "seedy.yaml", "seed": 7} and
+          s["compare"] == {"file": "seedy.yaml", "seed": 7} and
+          png == rendered("seedy.yaml", K, "--seed", "7") and png0 == rendered("seedy.yaml", K) and
+          png != png0, "%s %s %r" % (st, st1, body))
+    st, _, body = p.get("/api/compare", method="POST")
+    time.sleep(0.2)
+    st2, _, _ = p.get("/frame/0.png?variant=compare")
+    check("POST /api/compare with neither: compare with nothing, its threads gone",
+          st == 200 and body == b"null" and st2 == 404 and p.state()["compare"] is None and
+          p.threads() <= threads0, "%s %r %s %d > %d" % (st, body, st2, p.threads(), threads0))
+    p.stop()
+
 # SIGKILL runs no cleanup: the scratch directory (named with the pid) of
 # a killed preview is swept by the next one; a live process's is kept.
 shm = "/dev/shm" if os.access("/dev/shm", os.W_OK) else os.environ.get("TMPDIR") or "/tmp"

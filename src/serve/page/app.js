@@ -1,8 +1,10 @@
 // pfx preview: plays the frames the server renders, shows the diagnostics
 // of the file as `pfx validate` prints them, the emitters' tracks, pick and
 // A/B. It uses only the routes man pfx(1) lists: /api/state, /frame/K.png,
-// /events and /pick. Frames are kept per version: the current one, and the
-// one before it (A in A/B, and what plays while a new version renders).
+// /events, /pick and /api/compare. Frames are kept per version: the current
+// one, and the one before it (A in A/B, and what plays while a new version
+// renders); A may instead be another file or seed (the server's comparison,
+// ?variant=compare), whose frames are kept for its version alone.
 'use strict';
 
 const token = new URLSearchParams(location.search).get('token') || '';
@@ -13,6 +15,9 @@ let state = null;            // the last /api/state
 const caches = new Map();    // version -> Map(frame -> {bmp, opaque})
 let previous = 0;            // the version before the current one
 let pinned = 0;              // a version kept as A (0: A is the one before)
+let compare = null;          // the comparison's /api/state?variant=compare, or null
+let compareFrames = new Map(); // frame -> {bmp, opaque} of compare.version
+let compareAsked = -1;       // the comparison's frame being fetched
 const inflight = new Set();  // "version:frame" being fetched
 let time = 0;                // the playhead, seconds from frame 0
 let playing = true, speed = 1, fit = true;
@@ -49,6 +54,8 @@ async function refreshState() {
 
   }
   if (time * fps() >= frames()) time = 0;
+  if (s.compare && !old) showCompareChoice(s.compare);
+  if (!s.compare !== !compare || (s.compare && compare && s.compare.file !== compare.file)) await refreshCompare();
   showState();
   drawGraphs();
   requestDraw();
@@ -130,9 +137,69 @@ function pump() {
   if (!state || !state.version) return;
   const k = frameAt(time), cur = cacheOf(state.version);
   if (!cur.has(k)) { fetchFrame(k, false); return; }
+  if ($('ab').value !== 'off' && comparing() && k < compare.frames && !compareFrames.has(k))
+    fetchCompareFrame(k);
   for (let i = 1, asked = 0; i <= 8 && inflight.size < 2 && asked < 1; i++) {
     const f = k + i > lastFrame() ? loopIn + (k + i - lastFrame() - 1) : k + i;
     if (f < frames() && !cur.has(f)) { fetchFrame(f, true); asked++; }
+  }
+}
+
+// ---- A against another file or seed: the server's second session
+
+// The page's controls set to what the server compares (--compare FILE
+// chooses a file, side by side, at start).
+function showCompareChoice(c) {
+  $('against').value = c.seed === null ? 'file' : 'seed';
+  $('against-file').value = c.seed === null ? c.file : '';
+  $('against-seed').value = c.seed === null ? '' : c.seed;
+  $('against-file').hidden = c.seed !== null;
+  $('against-seed').hidden = c.seed === null;
+  if ($('ab').value === 'off') $('ab').value = 'side';
+}
+
+function dropCompareFrames() {
+  for (const e of compareFrames.values()) { e.bmp.close(); if (e.opaque) e.opaque.close(); }
+  compareFrames = new Map();
+}
+
+// Re-reads the comparison's state; its frames go when its version changes.
+async function refreshCompare() {
+  const r = state && state.compare ? await fetch(q('/api/state?variant=compare')) : null;
+  const c = r && r.ok ? await r.json() : null;
+  if (!c || !compare || c.version !== compare.version || c.file !== compare.file) dropCompareFrames();
+  compare = c;
+  requestDraw();
+}
+
+// Asks the server to compare with a file or a seed (or nothing).
+async function setCompare() {
+  const how = $('against').value, file = $('against-file').value.trim();
+  const seed = $('against-seed').value.trim();
+  const arg = how === 'file' && file ? '?file=' + encodeURIComponent(file)
+    : how === 'seed' && seed !== '' ? '?seed=' + encodeURIComponent(seed) : '';
+  const r = await fetch(q('/api/compare' + arg), { method: 'POST' });
+  $('against-error').textContent = r.ok ? '' : await r.text();
+  await refreshState();
+  await refreshCompare();
+}
+
+const comparing = () => $('against').value !== 'version' && compare && compare.version;
+
+async function fetchCompareFrame(k) {
+  if (compareAsked >= 0) return;
+  compareAsked = k;
+  const v = compare.version;
+  try {
+    const r = await fetch(q('/frame/' + k + '.png?variant=compare'));
+    if (!r.ok) return;
+    const bmp = await createImageBitmap(await r.blob(), { premultiplyAlpha: 'none' });
+    const entry = { bmp, opaque: compare.alpha === 'premultiplied' ? await opaqueOf(bmp) : null };
+    if (compare && Number(r.headers.get('X-Pfx-Version')) === compare.version && v === compare.version)
+      compareFrames.set(k, entry);
+    requestDraw();
+  } finally {
+    compareAsked = -1;
   }
 }
 
@@ -174,7 +241,7 @@ function draw() {
   if (!state || !state.size) return;
   const [w, h] = state.size, k = frameAt(time), mode = $('ab').value;
   const b = frameFor(k), av = pinned || previous;
-  const a = caches.get(av) && caches.get(av).get(k);
+  const a = comparing() ? compareFrames.get(k) : caches.get(av) && caches.get(av).get(k);
   const width = mode === 'side' ? 2 * w : w;
   if (view.width !== width || view.height !== h) { view.width = width; view.height = h; }
   $('wipe-handle').hidden = mode !== 'wipe';
@@ -359,6 +426,16 @@ $('loop-clear').onclick = () => { loopIn = 0; loopOut = -1; requestDraw(); };
 $('bg').onchange = (e) => { $('bg-colour').hidden = e.target.value !== 'colour'; requestDraw(); };
 $('bg-colour').oninput = requestDraw;
 $('ab').onchange = requestDraw;
+$('against').onchange = () => {
+  const how = $('against').value;
+  $('against-file').hidden = how !== 'file';
+  $('against-seed').hidden = how !== 'seed';
+  $('pin').hidden = how !== 'version';
+  if ($('ab').value === 'off') $('ab').value = 'side';
+  setCompare();
+};
+$('against-file').onchange = setCompare;
+$('against-seed').onchange = setCompare;
 // Pin: the current version stays A, however many saves follow (its frames
 // are those the page fetched while it was current).
 $('pin').onclick = () => {
@@ -426,6 +503,8 @@ const events = new EventSource(q('/events'));
 events.addEventListener('news', () => refreshState());
 events.addEventListener('open', () => refreshState());
 setInterval(() => { if (state && state.stats && state.stats.includes(null)) refreshState(); }, 1000);
+// The compared file is watched by the server too; its news are read here.
+setInterval(() => { if (state && state.compare) refreshCompare(); }, 500);
 $('stage').classList.toggle('fit', fit);
 setPlaying(true);
 refreshState().then(() => requestAnimationFrame(tick));
@@ -435,6 +514,8 @@ window.pfx = {
   get state() { return state; },
   get frame() { return frameAt(time); },
   get shown() { return lastDrawn; },
+  get compare() { return compare; },
+  get compareFrames() { return compareFrames; },
   seek: (k) => { setPlaying(false); seek(k); },
   pause: () => setPlaying(false),
 };
