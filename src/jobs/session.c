@@ -50,10 +50,11 @@ typedef struct session_model {
     long frames;
     int *lines; /* the line of each emitter's key, in emitter order */
     frame_slot *slots;
-    uint32_t *alive; /* frames x emitters: live particles, when rendered */
-    size_t bytes;    /* PNG bytes held in slots */
-    size_t cap;      /* at most this many (cache_cap) */
-    char *error;     /* a render failure (malloc'd), or NULL */
+    uint32_t *alive;  /* frames x emitters: live particles, when rendered */
+    uint64_t *raised; /* frames x emitters: sub-emitter events raised into it so far */
+    size_t bytes;     /* PNG bytes held in slots */
+    size_t cap;       /* at most this many (cache_cap) */
+    char *error;      /* a render failure (malloc'd), or NULL */
 } session_model;
 
 static double now_ms(void) {
@@ -69,6 +70,7 @@ static void model_release(session_model *m) {
         free(m->slots[f].png);
     free(m->slots);
     free(m->alive);
+    free(m->raised);
     free(m->lines);
     free(m->error);
     pfx_loaded_free(&m->l);
@@ -153,7 +155,8 @@ bool pfx_session_reload(pfx_session *s) {
         m->lines = calloc(e->emitter_count + 1, sizeof *m->lines);
         m->slots = calloc((size_t)m->frames, sizeof *m->slots);
         m->alive = calloc((size_t)m->frames * (e->emitter_count + 1), sizeof *m->alive);
-        good = m->lines && m->slots && m->alive;
+        m->raised = calloc((size_t)m->frames * (e->emitter_count + 1), sizeof *m->raised);
+        good = m->lines && m->slots && m->alive && m->raised;
         if (good)
             find_emitter_lines(m);
         else
@@ -310,8 +313,10 @@ static void on_frame(void *ctx, long f, size_t sprites) {
     pthread_mutex_lock(&w->s->mu);
     slot->ms = t - w->t;
     slot->sprites = sprites;
-    for (size_t i = 0; state && i < n; i++)
+    for (size_t i = 0; state && i < n; i++) {
         w->m->alive[(size_t)f * (n + 1) + i] = state->pools[i].count;
+        w->m->raised[(size_t)f * (n + 1) + i] = state->emitters[i].spawn_events;
+    }
     pthread_mutex_unlock(&w->s->mu);
     take_frames(w, f - 1, false);
     w->t = now_ms();
@@ -603,6 +608,23 @@ static json_t *emitter_json(const session_model *m, size_t i) {
                      spawns);
 }
 
+/* The sub-emitter events raised into each emitter between frame f - 1
+ * and frame f (from time 0 for frame 0), from the counts the render
+ * recorded; null until both frames are rendered. A looping effect's
+ * wrap (the count restarts) counts from the period's start. */
+static json_t *events_json(const session_model *m, long f) {
+    const size_t n = m->e->emitter_count;
+    if (f > 0 && !m->slots[f - 1].rendered)
+        return json_null();
+    json_t *list = json_array();
+    for (size_t i = 0; i < n; i++) {
+        const uint64_t now = m->raised[(size_t)f * (n + 1) + i];
+        const uint64_t before = f > 0 ? m->raised[(size_t)(f - 1) * (n + 1) + i] : 0;
+        json_array_append_new(list, json_integer((json_int_t)(now >= before ? now - before : now)));
+    }
+    return list;
+}
+
 char *pfx_session_state_json(pfx_session *s) {
     pthread_mutex_lock(&s->mu);
     const session_model *m = s->good;
@@ -625,8 +647,10 @@ char *pfx_session_state_json(pfx_session *s) {
             for (size_t i = 0; i < e->emitter_count; i++)
                 json_array_append_new(
                     alive, json_integer(m->alive[(size_t)f * (e->emitter_count + 1) + i]));
-            json_array_append_new(stats, json_pack("{s:f, s:i, s:o}", "ms", slot->ms, "sprites",
-                                                   (json_int_t)slot->sprites, "alive", alive));
+            json_t *row = json_pack("{s:f, s:i, s:o}", "ms", slot->ms, "sprites",
+                                    (json_int_t)slot->sprites, "alive", alive);
+            json_object_set_new(row, "events", events_json(m, f));
+            json_array_append_new(stats, row);
         }
         json_object_set_new(o, "frames", json_integer(m->frames));
         json_object_set_new(o, "fps", json_real(e->fps));

@@ -331,6 +331,31 @@ def compare_checks(d):
         p.stop()
 
 
+def events_checks(d):
+    """The emitter tracks: bursts as ticks at their times, and the frames
+    where a parent's sub-emitter events fire marked on its lane."""
+    shutil.copy(os.path.join(src, "tests/preview/events.yaml"), os.path.join(work, "events.yaml"))
+    with Preview(pfx, "events.yaml", cwd=work) as p:
+        d.get(p.url)
+        ok = wait(d, "window.pfx.state && window.pfx.state.stats.every((s) => s && s.events)", 60)
+        time.sleep(0.3)
+        lanes = d.find_elements(By.CSS_SELECTOR, ".track .lane")
+        width = lanes[0].size["width"]
+        ticks = [round(t.location["x"] - lanes[0].location["x"])
+                 for t in lanes[0].find_elements(By.CLASS_NAME, "tick")]
+        marks = [(m.get_attribute("data-first"), m.get_attribute("data-last"),
+                  round(m.location["x"] - lanes[0].location["x"]), m.get_attribute("title"))
+                 for m in lanes[0].find_elements(By.CLASS_NAME, "event")]
+        others = lanes[1].find_elements(By.CLASS_NAME, "event")
+        check("tracks: shell's bursts as ticks at 0 and 0.7 s; its on_death events marked at "
+              "frame 5 (half the lane), spark's lane unmarked",
+              ok and ticks == [0, round(0.7 * width)] and len(marks) == 1 and
+              marks[0][:3] == ("5", "5", round(0.5 * width)) and
+              marks[0][3].startswith("2 sub-emitter events (on death") and not others,
+              (ok, ticks, width, marks, len(others)))
+        p.stop()
+
+
 def take_screenshot(d, out):
     """The page over a real example (fireworks: bursts, sub-emitters), paused
     mid-effect after a pick."""
@@ -395,6 +420,7 @@ try:
         check("the server stops cleanly after the browser session", status == 0, status)
         alpha_checks(d)
         compare_checks(d)
+        events_checks(d)
         if screenshot:
             take_screenshot(d, screenshot)
             print("# screenshot: %s" % screenshot)

@@ -461,6 +461,22 @@ with Preview(pfx, "seedy.yaml", cwd=work) as p:
           p.threads() <= threads0, "%s %r %s %d > %d" % (st, body, st2, p.threads(), threads0))
     p.stop()
 
+# Emitter tracks: bursts per emitter from the model's list, and the
+# sub-emitter events each frame raised (the count the session records as it
+# simulates): events.yaml's two shells die at 0.45 s, in frame 5 (0.4, 0.5].
+shutil.copy(os.path.join(src, "tests/preview/events.yaml"), os.path.join(work, "events.yaml"))
+with Preview(pfx, "events.yaml", cwd=work) as p:
+    for k in range(10):
+        p.get("/frame/%d.png" % k)
+    s = p.state()
+    events = [st and st.get("events") for st in s["stats"]]
+    check("/api/state: bursts per emitter, and events per frame: 2 into spark in frame 5 only",
+          [e["bursts"] for e in s["emitters"]] == [[0, 0.7], []] and
+          events == [[0, 0]] * 5 + [[0, 2]] + [[0, 0]] * 4 and
+          s["emitters"][0]["spawns"] == [{"event": "on_death", "emitter": "spark"}],
+          "%s %s" % ([e["bursts"] for e in s["emitters"]], events))
+    p.stop()
+
 # SIGKILL runs no cleanup: the scratch directory (named with the pid) of
 # a killed preview is swept by the next one; a live process's is kept.
 shm = "/dev/shm" if os.access("/dev/shm", os.W_OK) else os.environ.get("TMPDIR") or "/tmp"

@@ -352,10 +352,43 @@ function buildTracks() {
       row.title += '; ' + sp.event.replace('_', ' ') + ' \u2192 ' + sp.emitter;
     if (e.spawns && e.spawns.length)
       name.appendChild(el('small', 'spawns', ' \u2192 ' + e.spawns.map((sp) => sp.emitter).join(', ')));
+    lane.appendChild(el('div', 'events'));
     lane.appendChild(el('span', 'alive'));
     row.append(name, lane);
     tracks.appendChild(row);
   }
+}
+
+// The frames where an emitter's particles raised sub-emitter events (into
+// the emitters its spawns name), as runs of frames on its lane, from the
+// per-frame event counts of the frames rendered so far.
+function drawEvents() {
+  const lanes = document.querySelectorAll('.track .events'), n = frames();
+  const index = new Map((state.emitters || []).map((e, i) => [e.name, i]));
+  (state.emitters || []).forEach((e, i) => {
+    const box = lanes[i];
+    if (!box) return;
+    const targets = (e.spawns || []).map((sp) => index.get(sp.emitter));
+    const fired = (f) => {
+      const s = state.stats[f];
+      return s && s.events ? targets.reduce((sum, t) => sum + s.events[t], 0) : 0;
+    };
+    box.replaceChildren();
+    for (let f = 0; f < n; f++) {
+      if (!fired(f)) continue;
+      let last = f, count = 0;
+      while (last + 1 < n && fired(last + 1)) last++;
+      for (let g = f; g <= last; g++) count += fired(g);
+      const mark = el('div', 'event', undefined, f / n * 100, (last + 1 - f) / n * 100);
+      mark.dataset.first = f;
+      mark.dataset.last = last;
+      mark.title = count + ' sub-emitter event' + (count === 1 ? '' : 's') + ' (' +
+        e.spawns.map((sp) => sp.event.replace('_', ' ') + ' \u2192 ' + sp.emitter).join(', ') +
+        '), frame' + (last > f ? 's ' + f + '\u2013' + last : ' ' + f);
+      box.appendChild(mark);
+      f = last;
+    }
+  });
 }
 
 // Live particles over time in each lane, from the frames rendered so far:
@@ -363,6 +396,7 @@ function buildTracks() {
 function drawGraphs() {
   const graphs = document.querySelectorAll('.track .graph');
   if (!state || !state.stats) return;
+  drawEvents();
   graphs.forEach((c, i) => {
     const g2 = c.getContext('2d'), n = state.stats.length;
     let peak = 1;
