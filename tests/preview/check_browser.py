@@ -357,20 +357,20 @@ def events_checks(d):
 
 
 def take_screenshot(d, out):
-    """The page over a real example (fireworks: bursts, sub-emitters), paused
-    mid-effect after a pick."""
+    """The page over a real example that reads at a glance (campfire:
+    flames, smoke, sparks, a track each), paused mid-effect after a pick on
+    the flames, every frame rendered so the tracks are whole."""
     eff = os.path.join(work, "shot")
     shutil.copytree(os.path.join(src, "effects"), eff, dirs_exist_ok=True)
-    with Preview(pfx, "fireworks.yaml", cwd=eff) as p:
+    with Preview(pfx, "campfire.yaml", cwd=eff) as p:
         d.get(p.url)
         wait(d, "window.pfx.state && window.pfx.state.version === 1")
-        # Every frame rendered, so that the tracks show when each emitter runs.
-        wait(d, "window.pfx.state.stats.every((s) => s)", 120)
-        k = p.state()["frames"] * 55 // 100
+        wait(d, "window.pfx.state.stats.every((s) => s)", 300)
+        k = p.state()["frames"] * 40 // 100
         d.execute_script("window.pfx.seek(%d)" % k)
         wait(d, "window.pfx.shown && window.pfx.shown.frame === %d" % k, 60)
         view = d.find_element(By.ID, "view")
-        ActionChains(d).move_to_element_with_offset(view, 0, -40).click().perform()
+        ActionChains(d).move_to_element_with_offset(view, 0, view.size["height"] // 10).click().perform()
         time.sleep(1.5)
         d.save_screenshot(out)
         p.stop()

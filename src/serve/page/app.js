@@ -244,6 +244,7 @@ function draw() {
   const a = comparing() ? compareFrames.get(k) : caches.get(av) && caches.get(av).get(k);
   const width = mode === 'side' ? 2 * w : w;
   if (view.width !== width || view.height !== h) { view.width = width; view.height = h; }
+  fitView();
   $('wipe-handle').hidden = mode !== 'wipe';
   if (mode === 'side') {
     paintBackground(0, w, h); if (a) paintFrame(a, 0);
@@ -272,6 +273,19 @@ function draw() {
       window.pfxShown = { version: b.version, frame: k, at: Date.now() };
   }
   showClock(k);
+}
+
+// fit: the canvas as large as the stage holds, up or down, keeping its
+// aspect (1:1: its own size). Set through the CSSOM, which the page's CSP
+// allows (style attributes in markup it does not).
+function fitView() {
+  const wrap = $('stage-wrap'), pad = 16;
+  if (!fit) { view.style.width = view.style.height = ''; return; }
+  const s = Math.min((wrap.clientWidth - pad) / view.width, (wrap.clientHeight - pad) / view.height);
+  if (s > 0) {
+    view.style.width = Math.floor(view.width * s) + 'px';
+    view.style.height = Math.floor(view.height * s) + 'px';
+  }
 }
 
 function requestDraw() {
@@ -340,12 +354,15 @@ function buildTracks() {
     row.title = e.name + ': line ' + e.line + '; runs ' + e.start.toFixed(2) + ' to ' +
       e.end.toFixed(2) + ' s' + (e.bursts.length ? '; bursts at ' +
       e.bursts.map((t) => t.toFixed(2)).join(', ') + ' s' : '');
+    const swatch = el('span', 'swatch');
+    swatch.style.background = hue(state.emitters.indexOf(e), 1);
+    name.prepend(swatch);
     name.appendChild(el('small', '', ':' + e.line));
     const lane = el('div', 'lane');
     lane.appendChild(el('div', 'run', undefined, e.start / dur * 100,
       Math.max(0, e.end - e.start) / dur * 100));
     const graph = el('canvas', 'graph');
-    graph.width = 600; graph.height = 16;
+    graph.width = 600; graph.height = 22;
     lane.appendChild(graph);
     for (const t of e.bursts) lane.appendChild(el('div', 'tick', undefined, t / dur * 100));
     for (const sp of e.spawns || [])
@@ -391,6 +408,9 @@ function drawEvents() {
   });
 }
 
+// An emitter's colour on the tracks: hues far apart, in emitter order.
+const hue = (i, a) => 'hsla(' + ((200 + i * 137.5) % 360) + ', 65%, 62%, ' + a + ')';
+
 // Live particles over time in each lane, from the frames rendered so far:
 // when an emitter (and what its sub-emitters feed) is busy.
 function drawGraphs() {
@@ -402,7 +422,7 @@ function drawGraphs() {
     let peak = 1;
     for (const s of state.stats) if (s) peak = Math.max(peak, s.alive[i]);
     g2.clearRect(0, 0, c.width, c.height);
-    g2.fillStyle = 'rgba(110, 160, 225, 0.6)';
+    g2.fillStyle = hue(i, 0.55);
     state.stats.forEach((s, f) => {
       if (!s) return;
       const h = s.alive[i] / peak * c.height;
