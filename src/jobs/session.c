@@ -29,7 +29,8 @@
 
 /* A prefetch job runs on to the next cached frame (or the end), and its
  * frames are taken in as their files appear, so that one simulation serves
- * them all; a change cancels it after the frame being drawn. */
+ * them all; a change cancels it at once, within a simulation step or a
+ * motion-blur sample of the frame being drawn. */
 
 /* A rendered frame: the PNG's bytes and what the page shows beside it. */
 typedef struct frame_slot {
