@@ -111,7 +111,8 @@ enum {
     OPT_PORT,
     OPT_HOST,
     OPT_NO_OPEN,
-    OPT_TOLERANCE
+    OPT_TOLERANCE,
+    OPT_COMPARE
 };
 
 /* The commands, as bits: which take an option (and list it in their help). */
@@ -253,6 +254,8 @@ static const option_row option_rows[] = {
      "preview: listen on ADDR instead of 127.0.0.1 (a warning)"},
     {"no-open", no_argument, OPT_NO_OPEN, "    --no-open", CMD_PREVIEW,
      "preview: do not open the page in a browser"},
+    {"compare", required_argument, OPT_COMPARE, "    --compare FILE", CMD_PREVIEW,
+     "preview: A/B against FILE (the page can also pick\na file or a seed)"},
     {"quiet", no_argument, 'q', "-q, --quiet", CMD_ALL & ~(CMD_SCHEMA | CMD_LSP),
      "no progress line, summary line or notes"},
     {"help", no_argument, 'h', "-h, --help", CMD_ALL, "show this help"},
@@ -333,7 +336,8 @@ static const command_row commands[] = {
      "render, then render again on every save (unchanged files skipped)", pfx_cmd_watch},
     {"preview", CMD_PREVIEW,
      "pfx preview FILE [--port N] [--host ADDR] [--size WxH] [--seed N] [--no-open]\n"
-     "           [--max-memory SIZE] [--renderer R] [--alpha MODE] [--set PATH=VALUE]",
+     "           [--max-memory SIZE] [--renderer R] [--alpha MODE] [--set PATH=VALUE]\n"
+     "           [--compare FILE]",
      "serve a live view of FILE to a browser, re-rendered on every save", pfx_cmd_preview},
     {"tune", CMD_TUNE,
      "pfx tune FILE -o DIR [--tolerance 0.5px|1mm] [--frames A:B]\n"
@@ -646,6 +650,9 @@ static int parse_option(int c, int argc, char **argv, pfx_cli *o) {
     case OPT_NO_OPEN:
         o->no_open = true;
         break;
+    case OPT_COMPARE:
+        o->compare = optarg;
+        break;
     case ':':
         return pfx_cli_usage_error("option '%s' needs a value", option_word(argv, optopt));
     default:
@@ -761,8 +768,8 @@ static int check_options(int argc, char **argv, pfx_cli *o) {
     if (o->compile.set_count &&
         (!strcmp(argv[1], "bench") || !strcmp(argv[1], "assemble") || !strcmp(argv[1], "schema")))
         return pfx_cli_usage_error("--set is for a command that reads an effect, not %s", argv[1]);
-    if ((o->port || o->host || o->no_open) && strcmp(argv[1], "preview"))
-        return pfx_cli_usage_error("%s", "--port, --host and --no-open are for preview");
+    if ((o->port || o->host || o->no_open || o->compare) && strcmp(argv[1], "preview"))
+        return pfx_cli_usage_error("%s", "--port, --host, --no-open and --compare are for preview");
     if (o->list_rules && strcmp(argv[1], "validate"))
         return pfx_cli_usage_error("%s", "--list-rules is for validate");
     return -1;

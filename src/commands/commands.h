@@ -60,6 +60,7 @@ typedef struct pfx_cli {
     const char *host;              /* preview --host ADDR; NULL: 127.0.0.1 */
     bool no_open;                  /* preview --no-open */
     const char *tolerance;         /* tune --tolerance, as given (0.5px, 1mm) */
+    const char *compare;           /* preview --compare FILE: A/B against it */
     pfx_compile_options compile;
 } pfx_cli;
 

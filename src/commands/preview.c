@@ -11,6 +11,7 @@
 
 #include "commands/commands.h"
 #include "output/atomic_file.h"
+#include "serve/compare.h"
 #include "serve/server.h"
 
 extern char **environ;
@@ -60,6 +61,7 @@ int pfx_cmd_preview(const char *const *operands, int count, const pfx_cli *o) {
         .path = operands[0], .compile = o->compile, .renderer = kind, .max_memory = o->max_memory};
     pfx_session *session = NULL;
     pfx_server *server = NULL;
+    pfx_compare *compare = NULL;
     if (pipe(stop_pipe)) {
         pfx_diag_error(&run, PFX_RULE_OUT_OF_MEMORY, "cannot make a pipe: %s", strerror(errno));
         goto done;
@@ -83,6 +85,16 @@ int pfx_cmd_preview(const char *const *operands, int count, const pfx_cli *o) {
     if (!session)
         goto done;
     pfx_server_set_session(server, session);
+    /* A/B against another file or seed: none until --compare or the page
+     * asks for one. */
+    compare = pfx_compare_create(&so);
+    if (!compare) {
+        pfx_diag_error(&run, PFX_RULE_OUT_OF_MEMORY, "out of memory for the comparison");
+        goto done;
+    }
+    if (o->compare && !pfx_compare_set(compare, o->compare, false, 0, &run))
+        goto done;
+    pfx_server_set_compare(server, compare);
     char url[256];
     snprintf(url, sizeof url, "http://%s%s%s:%u/?token=%s", strchr(host, ':') ? "[" : "", host,
              strchr(host, ':') ? "]" : "", pfx_server_port(server), pfx_server_token(server));
@@ -103,6 +115,7 @@ done:
     if (session)
         pfx_session_stop(session);
     pfx_server_stop(server);
+    pfx_compare_destroy(compare);
     pfx_session_destroy(session);
     pfx_diags_print(&run, stderr, false);
     pfx_diags_free(&run);

@@ -251,6 +251,11 @@ json_t *pfx_estimate_json(const pfx_estimate *est) {
                      memory);
 }
 
+double pfx_estimate_png_bytes(const pfx_effect *e, long frames) {
+    const double rows = (4.0 * e->width + 1) * e->height;
+    return (double)frames * (rows + floor(rows / 64) + 1024);
+}
+
 uint64_t pfx_memory_default_bound(void) {
     long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
     if (pages <= 0 || page <= 0)

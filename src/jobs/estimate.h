@@ -100,6 +100,12 @@ bool pfx_estimate_fits(const pfx_effect *e, long first, long last, unsigned what
  * fixed_bytes, bound_bytes}. NULL when out of memory. */
 json_t *pfx_estimate_json(const pfx_estimate *est);
 
+/* The bytes of `frames` frames of e as the PNG files a render writes, at
+ * most: per frame the filtered rows, n = (4 x width + 1) x height, plus
+ * n / 64 + 1024 for deflate's and PNG's framing (stored blocks, chunk
+ * headers). The live session's frame cache is capped by it. */
+double pfx_estimate_png_bytes(const pfx_effect *e, long frames);
+
 /* Half of physical memory: --max-memory's default (0 where unknown). */
 uint64_t pfx_memory_default_bound(void);
 

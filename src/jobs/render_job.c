@@ -17,16 +17,42 @@ static bool frame_path(const pfx_render_job *job, long frame, char *out, size_t 
     return n > 0 && (size_t)n < size;
 }
 
+/* draw_frame's answer when the job was cancelled part way: no error. */
+#define CANCELLED (-2)
+
+static bool cancelled(const pfx_render_job *job) { return job->cancel && atomic_load(job->cancel); }
+
+/* Steps the simulation towards frame f one step at a time, a cancel
+ * checked before each, up to a step short of the frame (pfx_sim_frame
+ * takes the rest, so the steps are the same ones, and so are the bytes).
+ * A new version in the live session so stops a stale simulation within a
+ * step rather than at the end of a long run-up to the playhead. False
+ * when cancelled. */
+static bool run_towards(pfx_render_job *job, long f) {
+    if (!job->cancel)
+        return true;
+    const double t = pfx_sim_frame_time(job->effect, f), rate = job->effect->sim_rate;
+    while (!job->sim->failed && (double)(job->sim->step + 2) < t * rate) {
+        if (cancelled(job))
+            return false;
+        pfx_sim_step(job->sim);
+    }
+    return !cancelled(job);
+}
+
 /* One frame's float image, into img (a frame of the queue). Without motion blur: the state at the
  * frame's time, drawn. With it: `samples` states at fixed times t_k = t + k / (samples - 1) x
  * shutter / fps (k = 0 .. samples - 1; the shutter opens at the frame's time), each drawn with
  * weight 1 / samples and summed in that order, so a moving particle leaves a streak |v| shutter /
  * fps long and its summed brightness is kept. The times depend only on the frame, so slices and
- * reruns give the same bytes. Returns the sprites drawn at the frame's own time, or -1 on failure
- * (reported into d). */
+ * reruns give the same bytes. Returns the sprites drawn at the frame's own time, -1 on failure
+ * (reported into d), or CANCELLED when job->cancel was set before the simulation reached the frame
+ * or between two samples of its motion blur. */
 static long draw_frame(pfx_render_job *job, long f, const pfx_render_settings *s, bool sort,
                        pfx_float_image *img, pfx_mv_frame *mv, pfx_diags *d) {
     const pfx_effect *e = job->effect;
+    if (!run_towards(job, f))
+        return CANCELLED;
     const pfx_sim *state = pfx_sim_frame(job->sim, job->view, f);
     if (job->sim->failed || job->view->failed)
         return -1; /* the sims reported into d */
@@ -56,6 +82,8 @@ static long draw_frame(pfx_render_job *job, long f, const pfx_render_settings *s
     if (!pfx_renderer_blur_begin(job->renderer, d))
         return -1;
     for (int k = 0; k < samples; k++) {
+        if (k > 0 && cancelled(job))
+            return CANCELLED;
         if (k > 0) {
             double t = t0 + open * k / (samples - 1);
             pfx_sim_run_to(job->sim, t);
@@ -123,9 +151,11 @@ bool pfx_render_job_run(pfx_render_job *job, pfx_diags *d) {
     char name[4600];
     const long step = job->step > 1 ? job->step : 1;
     for (long f = job->first; !failed && f <= job->last && !pfx_frame_queue_failed(q); f += step) {
-        if (job->cancel && atomic_load(job->cancel))
+        if (cancelled(job))
             break;
         long drawn = draw_frame(job, f, &settings, sort, pfx_frame_queue_buffer(q), &mv, d);
+        if (drawn == CANCELLED)
+            break;
         failed = drawn < 0;
         size_t n = failed ? 0 : (size_t)drawn;
         if (!failed && !frame_path(job, f, name, sizeof name)) {

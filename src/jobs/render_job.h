@@ -34,8 +34,9 @@ typedef struct pfx_render_job {
     const struct pfx_mv_meta *motion;
     int threads; /* encoder threads; 0: the effect's threads (--threads), else one
                     per online core */
-    /* When set (by another thread), the job stops after the frame it is
-     * drawing, with no error: frames_done says how far it got. NULL: never.
+    /* When set (by another thread), the job stops with no error, within a
+     * simulation step or a motion-blur sample, the frame being drawn left
+     * unwritten: frames_done says how far it got. NULL: never.
      * The live session (jobs/session.c) cancels stale work with it. */
     const atomic_bool *cancel;
 

@@ -6,10 +6,13 @@
  * calls pfx_session_reload on every change. No protocol lives here. */
 #include "jobs/session.h"
 
+#include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <jansson.h>
 #include <math.h>
 #include <pthread.h>
+#include <signal.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -26,7 +29,8 @@
 
 /* A prefetch job runs on to the next cached frame (or the end), and its
  * frames are taken in as their files appear, so that one simulation serves
- * them all; a change cancels it after the frame being drawn. */
+ * them all; a change cancels it at once, within a simulation step or a
+ * motion-blur sample of the frame being drawn. */
 
 /* A rendered frame: the PNG's bytes and what the page shows beside it. */
 typedef struct frame_slot {
@@ -47,9 +51,11 @@ typedef struct session_model {
     long frames;
     int *lines; /* the line of each emitter's key, in emitter order */
     frame_slot *slots;
-    uint32_t *alive; /* frames x emitters: live particles, when rendered */
-    size_t bytes;    /* PNG bytes held in slots */
-    char *error;     /* a render failure (malloc'd), or NULL */
+    uint32_t *alive;  /* frames x emitters: live particles, when rendered */
+    uint64_t *raised; /* frames x emitters: sub-emitter events raised into it so far */
+    size_t bytes;     /* PNG bytes held in slots */
+    size_t cap;       /* at most this many (cache_cap) */
+    char *error;      /* a render failure (malloc'd), or NULL */
 } session_model;
 
 static double now_ms(void) {
@@ -65,6 +71,7 @@ static void model_release(session_model *m) {
         free(m->slots[f].png);
     free(m->slots);
     free(m->alive);
+    free(m->raised);
     free(m->lines);
     free(m->error);
     pfx_loaded_free(&m->l);
@@ -118,6 +125,23 @@ static void describe_diags(pfx_session *s, const pfx_loaded *l) {
     s->diag_json = list;
 }
 
+/* The frame cache's cap for a version: every frame's PNG at most, as
+ * estimated (pfx_estimate_png_bytes), but no more than half of what
+ * --max-memory leaves beside the estimate of the render itself (256 MiB
+ * where no bound is known); the options' cache_bytes instead when set. */
+static size_t cache_cap(const pfx_session *s, const pfx_effect *e, long frames) {
+    if (s->o.cache_bytes)
+        return s->o.cache_bytes;
+    double room = 256.0 * 1024 * 1024;
+    if (s->o.max_memory) {
+        pfx_estimate est;
+        pfx_estimate_run(e, 0, frames - 1, PFX_ESTIMATE_RENDER, &est);
+        room = fmax(0, floor(((double)s->o.max_memory - est.total_bytes) / 2));
+    }
+    const double cap = fmin(pfx_estimate_png_bytes(e, frames), room);
+    return cap >= (double)SIZE_MAX ? SIZE_MAX : (size_t)cap;
+}
+
 bool pfx_session_reload(pfx_session *s) {
     session_model *m = calloc(1, sizeof *m);
     if (!m)
@@ -128,10 +152,12 @@ bool pfx_session_reload(pfx_session *s) {
         m->e = e;
         m->refs = 1;
         m->frames = pfx_effect_frame_count(e);
+        m->cap = cache_cap(s, e, m->frames);
         m->lines = calloc(e->emitter_count + 1, sizeof *m->lines);
         m->slots = calloc((size_t)m->frames, sizeof *m->slots);
         m->alive = calloc((size_t)m->frames * (e->emitter_count + 1), sizeof *m->alive);
-        good = m->lines && m->slots && m->alive;
+        m->raised = calloc((size_t)m->frames * (e->emitter_count + 1), sizeof *m->raised);
+        good = m->lines && m->slots && m->alive && m->raised;
         if (good)
             find_emitter_lines(m);
         else
@@ -149,7 +175,8 @@ bool pfx_session_reload(pfx_session *s) {
         m->version = ++s->version;
         old = s->good;
         s->good = m;
-        /* Stale work stops after the frame it is drawing. */
+        /* Stale work stops at once: within a simulation step or a motion-blur
+         * sample (jobs/render_job.c). */
         atomic_store(&s->cancel, true);
         pthread_cond_broadcast(&s->work_cv);
         /* Under the lock: another reload cannot free e meanwhile. */
@@ -178,7 +205,7 @@ static bool next_work(const pfx_session *s, const session_model *m, long *first,
         *first = *last = k;
         return true;
     }
-    if (m->bytes >= s->o.cache_bytes / 10 * 9)
+    if (m->bytes >= m->cap / 10 * 9)
         return false;
     for (long f = k + 1; f < m->frames; f++)
         if (!m->slots[f].png) {
@@ -200,7 +227,7 @@ static bool next_work(const pfx_session *s, const session_model *m, long *first,
 /* Drops the cached frames farthest from the playhead until `more` bytes
  * fit under the cap (never frame keep). Called with the lock held. */
 static void make_room(pfx_session *s, session_model *m, size_t more, long keep) {
-    while (m->bytes + more > s->o.cache_bytes) {
+    while (m->bytes + more > m->cap) {
         long far = -1, best = -1;
         for (long f = 0; f < m->frames; f++) {
             long dist = labs(f - s->playhead);
@@ -267,7 +294,7 @@ static void take_frames(job_watch *w, long upto, bool end) {
         m->slots[w->next].rendered = true;
         m->bytes += len;
         /* A full cache stops prefetching past the playhead. */
-        if (w->next > s->playhead && m->bytes >= s->o.cache_bytes / 10 * 9)
+        if (w->next > s->playhead && m->bytes >= m->cap / 10 * 9)
             atomic_store(&s->cancel, true);
         pthread_cond_broadcast(&s->frame_cv);
         pthread_mutex_unlock(&s->mu);
@@ -287,8 +314,10 @@ static void on_frame(void *ctx, long f, size_t sprites) {
     pthread_mutex_lock(&w->s->mu);
     slot->ms = t - w->t;
     slot->sprites = sprites;
-    for (size_t i = 0; state && i < n; i++)
+    for (size_t i = 0; state && i < n; i++) {
         w->m->alive[(size_t)f * (n + 1) + i] = state->pools[i].count;
+        w->m->raised[(size_t)f * (n + 1) + i] = state->emitters[i].spawn_events;
+    }
     pthread_mutex_unlock(&w->s->mu);
     take_frames(w, f - 1, false);
     w->t = now_ms();
@@ -372,6 +401,43 @@ static void *worker_main(void *arg) {
     return NULL;
 }
 
+#define SCRATCH_PREFIX "pfx-preview-"
+
+/* Removes dir/pfx-preview-PID-XXXXXX of every PID that is no longer
+ * running (kill(pid, 0) says ESRCH), with the frames in it: what a
+ * session killed by SIGKILL left behind. A live pid's, another user's
+ * (EPERM) and any other name are left alone; the directory holds only
+ * plain files (frames and their temporaries), removed without following
+ * links. */
+static void sweep_stale_scratch(const char *tmp) {
+    DIR *dir = opendir(tmp);
+    if (!dir)
+        return;
+    for (struct dirent *de; (de = readdir(dir));) {
+        if (strncmp(de->d_name, SCRATCH_PREFIX, strlen(SCRATCH_PREFIX)))
+            continue;
+        char *end;
+        const char *digits = de->d_name + strlen(SCRATCH_PREFIX);
+        long pid = strtol(digits, &end, 10);
+        if (end == digits || *end != '-' || strlen(end) != 7 || pid <= 0 || pid == (long)getpid() ||
+            kill((pid_t)pid, 0) == 0 || errno != ESRCH)
+            continue;
+        int fd = openat(dirfd(dir), de->d_name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW);
+        DIR *stale = fd >= 0 ? fdopendir(fd) : NULL;
+        if (!stale) {
+            if (fd >= 0)
+                close(fd);
+            continue;
+        }
+        for (struct dirent *f; (f = readdir(stale));)
+            if (strcmp(f->d_name, ".") && strcmp(f->d_name, ".."))
+                unlinkat(fd, f->d_name, 0);
+        closedir(stale);
+        unlinkat(dirfd(dir), de->d_name, AT_REMOVEDIR);
+    }
+    closedir(dir);
+}
+
 pfx_session *pfx_session_create(const pfx_session_options *o, pfx_diags *d) {
     pfx_session *s = calloc(1, sizeof *s);
     if (!s) {
@@ -379,16 +445,18 @@ pfx_session *pfx_session_create(const pfx_session_options *o, pfx_diags *d) {
         return NULL;
     }
     s->o = *o;
-    if (!s->o.cache_bytes)
-        s->o.cache_bytes = (size_t)256 << 20;
     pthread_mutex_init(&s->mu, NULL);
     pthread_cond_init(&s->work_cv, NULL);
     pthread_cond_init(&s->news_cv, NULL);
     pthread_cond_init(&s->frame_cv, NULL);
     /* Frames go through files as `pfx render` writes them; a RAM-backed
-     * directory where there is one keeps that off the disk. */
+     * directory where there is one keeps that off the disk. Its name holds
+     * the pid, so that a later session can sweep the scratch of one that
+     * was killed (SIGKILL runs no cleanup). */
     const char *tmp = access("/dev/shm", W_OK) == 0 ? "/dev/shm" : getenv("TMPDIR");
-    snprintf(s->scratch, sizeof s->scratch, "%s/pfx-preview-XXXXXX", tmp && *tmp ? tmp : "/tmp");
+    tmp = tmp && *tmp ? tmp : "/tmp";
+    sweep_stale_scratch(tmp);
+    snprintf(s->scratch, sizeof s->scratch, "%s/" SCRATCH_PREFIX "%ld-XXXXXX", tmp, (long)getpid());
     if (!mkdtemp(s->scratch)) {
         pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot create a scratch directory '%s': %s",
                        s->scratch, strerror(errno));
@@ -461,7 +529,7 @@ unsigned pfx_session_wait(pfx_session *s, unsigned seen, int timeout_ms) {
     return news;
 }
 
-int pfx_session_frame(pfx_session *s, long k, int timeout_ms, void **png, size_t *len,
+int pfx_session_frame(pfx_session *s, long k, bool ahead, int timeout_ms, void **png, size_t *len,
                       unsigned *version) {
     struct timespec until = deadline_in(timeout_ms);
     int result = -1;
@@ -484,14 +552,23 @@ int pfx_session_frame(pfx_session *s, long k, int timeout_ms, void **png, size_t
         }
         if (m->error)
             break;
-        if (s->playhead != k) {
+        /* A look-ahead waits while the worker renders this version (it
+         * goes on past the playhead by itself); it takes the playhead only
+         * from an idle worker, which a full cache leaves idle. */
+        const bool wait_behind = ahead && s->busy == m;
+        if (!wait_behind && s->playhead != k) {
             s->playhead = k;
             /* Work that does not hold the new playhead gives way to it. */
             if (s->busy && (s->busy != m || k < s->busy_first || k > s->busy_last))
                 atomic_store(&s->cancel, true);
             pthread_cond_broadcast(&s->work_cv);
         }
-        if (pthread_cond_timedwait(&s->frame_cv, &s->mu, &until) == ETIMEDOUT)
+        struct timespec soon = deadline_in(50);
+        const bool sooner =
+            wait_behind && (soon.tv_sec < until.tv_sec ||
+                            (soon.tv_sec == until.tv_sec && soon.tv_nsec < until.tv_nsec));
+        if (pthread_cond_timedwait(&s->frame_cv, &s->mu, sooner ? &soon : &until) == ETIMEDOUT &&
+            !sooner)
             break;
     }
     pthread_mutex_unlock(&s->mu);
@@ -532,6 +609,23 @@ static json_t *emitter_json(const session_model *m, size_t i) {
                      spawns);
 }
 
+/* The sub-emitter events raised into each emitter between frame f - 1
+ * and frame f (from time 0 for frame 0), from the counts the render
+ * recorded; null until both frames are rendered. A looping effect's
+ * wrap (the count restarts) counts from the period's start. */
+static json_t *events_json(const session_model *m, long f) {
+    const size_t n = m->e->emitter_count;
+    if (f > 0 && !m->slots[f - 1].rendered)
+        return json_null();
+    json_t *list = json_array();
+    for (size_t i = 0; i < n; i++) {
+        const uint64_t now = m->raised[(size_t)f * (n + 1) + i];
+        const uint64_t before = f > 0 ? m->raised[(size_t)(f - 1) * (n + 1) + i] : 0;
+        json_array_append_new(list, json_integer((json_int_t)(now >= before ? now - before : now)));
+    }
+    return list;
+}
+
 char *pfx_session_state_json(pfx_session *s) {
     pthread_mutex_lock(&s->mu);
     const session_model *m = s->good;
@@ -554,14 +648,22 @@ char *pfx_session_state_json(pfx_session *s) {
             for (size_t i = 0; i < e->emitter_count; i++)
                 json_array_append_new(
                     alive, json_integer(m->alive[(size_t)f * (e->emitter_count + 1) + i]));
-            json_array_append_new(stats, json_pack("{s:f, s:i, s:o}", "ms", slot->ms, "sprites",
-                                                   (json_int_t)slot->sprites, "alive", alive));
+            json_t *row = json_pack("{s:f, s:i, s:o}", "ms", slot->ms, "sprites",
+                                    (json_int_t)slot->sprites, "alive", alive);
+            json_object_set_new(row, "events", events_json(m, f));
+            json_array_append_new(stats, row);
         }
         json_object_set_new(o, "frames", json_integer(m->frames));
         json_object_set_new(o, "fps", json_real(e->fps));
         json_object_set_new(o, "size", json_pack("[i, i]", e->width, e->height));
         json_object_set_new(o, "emitters", emitters);
         json_object_set_new(o, "stats", stats);
+        long held = 0;
+        for (long f = 0; f < m->frames; f++)
+            held += m->slots[f].png != NULL;
+        json_object_set_new(o, "cache",
+                            json_pack("{s:i, s:I, s:I}", "frames", (json_int_t)held, "bytes",
+                                      (json_int_t)m->bytes, "cap", (json_int_t)m->cap));
         json_object_set_new(o, "render_error", m->error ? json_string(m->error) : json_null());
         json_object_set_new(o, "alpha", json_string(pfx_alpha_mode_names[e->alpha_mode]));
     } else {

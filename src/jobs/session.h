@@ -22,7 +22,7 @@ typedef struct pfx_session_options {
     const char *path;            /* the effect file (kept, not copied) */
     pfx_compile_options compile; /* as `pfx render` takes them (--size, --seed, ...) */
     pfx_renderer_kind renderer;
-    size_t cache_bytes;  /* the frame cache's cap in PNG bytes; 0: 256 MiB */
+    size_t cache_bytes;  /* the frame cache's cap in PNG bytes; 0: from the estimate */
     uint64_t max_memory; /* --max-memory: a version estimated to need more is refused */
 } pfx_session_options;
 
@@ -52,16 +52,19 @@ void pfx_session_stop(pfx_session *s);
  * news, frames, fps, size [w, h], diagnostics [{line, column, severity,
  * rule, message}], diagnostics_text (as `pfx validate` prints them),
  * emitters [{name, line, start, end, loop, bursts [s...], spawns [{event,
- * emitter}]}] and the per-frame stats rendered so far. NULL when out of memory. */
+ * emitter}]}], the per-frame stats rendered so far and the frame cache
+ * {frames, bytes, cap}. NULL when out of memory. */
 char *pfx_session_state_json(pfx_session *s);
 
 /* Frame k of the current version as the PNG file `pfx render --frames k`
  * writes (malloc'd into *png, *len bytes; the caller frees it), rendering
- * it first if it is not cached and moving the playhead there. Waits at
+ * it first if it is not cached and moving the playhead there; `ahead` (a
+ * look-ahead) leaves the playhead where it is while the worker renders
+ * this version, so it never cancels the playhead's frame. Waits at
  * most timeout_ms. Returns 1 with the frame, 0 when there is no good model
  * or k is outside it, -1 on a timeout or a render failure. *version is the
  * version the frame belongs to. */
-int pfx_session_frame(pfx_session *s, long k, int timeout_ms, void **png, size_t *len,
+int pfx_session_frame(pfx_session *s, long k, bool ahead, int timeout_ms, void **png, size_t *len,
                       unsigned *version);
 
 /* The emitters whose sprites cover pixel (x right, y down) of frame k as

@@ -3,6 +3,7 @@
  * 404; files come from the binary (page_assets.c), never the disk. */
 #include "serve/routes.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -78,10 +79,83 @@ static enum MHD_Result route_css(const pfx_route_ctx *c, struct MHD_Connection *
     return send_asset(conn, &pfx_page_style_css, NULL);
 }
 
+/* True when the request names the comparison: ?variant=compare. */
+static bool wants_compare(struct MHD_Connection *conn) {
+    const char *v = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "variant");
+    return v && !strcmp(v, "compare");
+}
+
+static enum MHD_Result no_compare(struct MHD_Connection *conn) {
+    return pfx_route_text(conn, MHD_HTTP_NOT_FOUND, "text/plain", "pfx: nothing is compared\n");
+}
+
+/* The edited file's state with what it is compared with ("compare": null
+ * or {file, seed}) as its last key; with ?variant=compare, the
+ * comparison's own state. */
 static enum MHD_Result route_state(const pfx_route_ctx *c, struct MHD_Connection *conn,
                                    const char *url) {
     (void)url;
-    char *json = pfx_session_state_json(c->session);
+    char *json = NULL;
+    if (wants_compare(conn)) {
+        pfx_compare_ref *r = c->compare ? pfx_compare_hold(c->compare) : NULL;
+        if (!r)
+            return no_compare(conn);
+        json = pfx_session_state_json(pfx_compare_session(r));
+        pfx_compare_release(c->compare, r);
+    } else {
+        char *state = pfx_session_state_json(c->session);
+        char *with = c->compare ? pfx_compare_json(c->compare) : strdup("null");
+        size_t n = state ? strlen(state) : 0;
+        /* state is one compact object: its closing brace gives way. */
+        if (state && with && n > 2 && (json = malloc(n + strlen(with) + 16)))
+            sprintf(json, "%.*s,\"compare\":%s}", (int)(n - 1), state, with);
+        free(state);
+        free(with);
+    }
+    if (!json)
+        return pfx_route_text(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, "text/plain",
+                              "out of memory\n");
+    return send_owned(conn, "application/json", json, strlen(json));
+}
+
+/* POST /api/compare?file=PATH&seed=N: compare with another file (relative
+ * to pfx's directory; none: the edited one) and/or another seed; neither:
+ * compare with nothing. The comparison's state, or 400 with the reason. */
+static enum MHD_Result route_compare(const pfx_route_ctx *c, struct MHD_Connection *conn,
+                                     const char *url) {
+    (void)url;
+    const char *file = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "file");
+    const char *seed = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "seed");
+    if (!c->compare)
+        return no_compare(conn);
+    if (!(file && *file) && !(seed && *seed)) {
+        pfx_compare_clear(c->compare);
+        return pfx_route_text(conn, MHD_HTTP_OK, "application/json", "null");
+    }
+    char *end = NULL;
+    errno = 0;
+    unsigned long long n = seed && *seed ? strtoull(seed, &end, 10) : 0;
+    if (seed && *seed && (*end || errno || *seed == '-'))
+        return pfx_route_text(conn, MHD_HTTP_BAD_REQUEST, "text/plain",
+                              "pfx: seed takes a whole number from 0 to 2^64 - 1\n");
+    pfx_diags d;
+    pfx_diags_init_runtime(&d);
+    bool ok = pfx_compare_set(c->compare, file, seed && *seed, n, &d);
+    char *text = NULL;
+    size_t len = 0;
+    FILE *f = ok ? NULL : open_memstream(&text, &len);
+    if (f) {
+        pfx_diags_print(&d, f, false);
+        fclose(f);
+    }
+    pfx_diags_free(&d);
+    if (!ok) {
+        enum MHD_Result ret = pfx_route_text(conn, MHD_HTTP_BAD_REQUEST, "text/plain",
+                                             text ? text : "pfx: cannot compare\n");
+        free(text);
+        return ret;
+    }
+    char *json = pfx_compare_json(c->compare);
     if (!json)
         return pfx_route_text(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, "text/plain",
                               "out of memory\n");
@@ -116,7 +190,18 @@ static enum MHD_Result route_frame(const pfx_route_ctx *c, struct MHD_Connection
     void *png = NULL;
     size_t len = 0;
     unsigned version = 0;
-    int got = k < 0 ? 0 : pfx_session_frame(c->session, k, FRAME_WAIT_MS, &png, &len, &version);
+    const char *ahead = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "ahead");
+    /* ?variant=compare: the comparison's frame, the comparison held
+     * meanwhile (a new one may replace it). */
+    pfx_compare_ref *held = NULL;
+    if (wants_compare(conn) && !(held = c->compare ? pfx_compare_hold(c->compare) : NULL))
+        return no_compare(conn);
+    pfx_session *session = held ? pfx_compare_session(held) : c->session;
+    int got = k < 0 ? 0
+                    : pfx_session_frame(session, k, ahead && !strcmp(ahead, "1"), FRAME_WAIT_MS,
+                                        &png, &len, &version);
+    if (held)
+        pfx_compare_release(c->compare, held);
     if (got == 0)
         return pfx_route_text(conn, MHD_HTTP_NOT_FOUND, "text/plain", "pfx: no such frame\n");
     if (got < 0)
@@ -206,7 +291,7 @@ static const struct {
     {"GET", "/", NULL, route_index},         {"GET", "/app.js", NULL, route_js},
     {"GET", "/style.css", NULL, route_css},  {"GET", "/api/state", NULL, route_state},
     {"GET", "/events", NULL, route_events},  {"GET", "/pick", NULL, route_pick},
-    {"GET", "/frame/", ".png", route_frame},
+    {"GET", "/frame/", ".png", route_frame}, {"POST", "/api/compare", NULL, route_compare},
 };
 
 pfx_route_fn pfx_route_find(const char *method, const char *url) {

@@ -8,10 +8,12 @@
 #include <stdbool.h>
 
 #include "jobs/session.h"
+#include "serve/compare.h"
 
 /* What a handler may use: the session, and the flag that ends streams. */
 typedef struct pfx_route_ctx {
     pfx_session *session;
+    pfx_compare *compare; /* A/B against another file or seed; NULL: none can be set */
     atomic_bool *stopping;
     /* The page's Set-Cookie: the token, for requests that do not carry
      * it in the query (the page's script and style sheet). */

@@ -173,6 +173,7 @@ pfx_server *pfx_server_start(const pfx_server_options *o, pfx_diags *d) {
 }
 
 void pfx_server_set_session(pfx_server *s, pfx_session *session) { s->ctx.session = session; }
+void pfx_server_set_compare(pfx_server *s, pfx_compare *compare) { s->ctx.compare = compare; }
 
 unsigned pfx_server_port(const pfx_server *s) { return s->port; }
 const char *pfx_server_token(const pfx_server *s) { return s->token; }

@@ -8,6 +8,7 @@
 
 #include "base/diag.h"
 #include "jobs/session.h"
+#include "serve/compare.h"
 
 typedef struct pfx_server pfx_server;
 
@@ -24,6 +25,9 @@ typedef struct pfx_server_options {
 pfx_server *pfx_server_start(const pfx_server_options *o, pfx_diags *d);
 /* The session the routes answer from; set before the token is shown. */
 void pfx_server_set_session(pfx_server *s, pfx_session *session);
+/* The comparison the routes answer `variant=compare` from (the caller's,
+ * freed after pfx_server_stop). */
+void pfx_server_set_compare(pfx_server *s, pfx_compare *compare);
 /* The port bound (the one picked when 0 was asked for). */
 unsigned pfx_server_port(const pfx_server *s);
 /* The token every request must carry; owned by s. */

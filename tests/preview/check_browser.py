@@ -250,21 +250,127 @@ def alpha_checks(d):
             p.stop()
 
 
+def compare_checks(d):
+    """A/B against another file (--compare, and typed in the page) and
+    another seed (typed in the page): side by side and the difference."""
+    dot = os.path.join(work, "dot.yaml")
+    shutil.copy(os.path.join(src, "tests/preview/dot.yaml"), dot)
+    with open(dot) as f:
+        text = f.read()
+    with open(os.path.join(work, "blue.yaml"), "w") as f:
+        f.write(text.replace("#ff0000", "#0000ff"))
+    with open(os.path.join(work, "white.yaml"), "w") as f:
+        f.write(text.replace("#ff0000", "#ffffff"))
+    with open(os.path.join(work, "seedy.yaml"), "w") as f:
+        f.write(text.replace("    speed: 0\n    lifetime: 100\n    size: 1.2",
+                             "    speed: 1\n    spread: 180\n    lifetime: 100\n    size: 0.3"))
+    K = 5
+    with Preview(pfx, "dot.yaml", "--compare", "blue.yaml", cwd=work) as p:
+        d.get(p.url)
+        wait(d, "window.pfx.state && window.pfx.state.version === 1 && window.pfxShown")
+        d.execute_script("window.pfx.seek(%d)" % K)
+        Select(d.find_element(By.ID, "bg")).select_by_value("black")
+        ok = wait(d, "window.pfx.compareFrames.has(%d) && window.pfx.shown.frame === %d" % (K, K))
+        time.sleep(0.2)
+        c = canvas(d)
+        check("--compare blue.yaml: the page opens side by side, blue.yaml (A) left, the file right",
+              ok and d.find_element(By.ID, "ab").get_attribute("value") == "side" and
+              c.size == (192, 96) and near(c.getpixel((48, 48)), (0, 0, 255, 255)) and
+              near(c.getpixel((96 + 48, 48)), (255, 0, 0, 255)),
+              (ok, c.size, c.getpixel((48, 48)), c.getpixel((96 + 48, 48))))
+        Select(d.find_element(By.ID, "ab")).select_by_value("diff")
+        time.sleep(0.2)
+        c = canvas(d)
+        check("against a file, difference: |blue - red| in the middle, black where equal",
+              near(c.getpixel((48, 48)), (255, 0, 255, 255)) and
+              near(c.getpixel((79, 48)), (0, 0, 0, 255)), c.getpixel((48, 48)))
+        # Another file, typed in the page.
+        Select(d.find_element(By.ID, "ab")).select_by_value("wipe")
+        box = d.find_element(By.ID, "against-file")
+        box.clear()
+        box.send_keys("white.yaml\n")
+        ok = wait(d, "window.pfx.compare && window.pfx.compare.file === 'white.yaml' && "
+                  "window.pfx.compareFrames.has(%d)" % K)
+        d.execute_script("document.getElementById('wipe-handle').hidden = true")
+        time.sleep(0.3)
+        c = canvas(d)
+        check("a file typed in the page, wipe at the middle: white left of it, red right",
+              ok and near(c.getpixel((47, 48)), (255, 255, 255, 255)) and
+              near(c.getpixel((48, 48)), (255, 0, 0, 255)),
+              (ok, c.getpixel((47, 48)), c.getpixel((48, 48))))
+        box.clear()
+        box.send_keys("nothere.yaml\n")
+        err = wait(d, "document.getElementById('against-error').textContent")
+        check("a file that is not there: the server's one line in the page",
+              err == "pfx: cannot open 'nothere.yaml': No such file or directory [PFX4002]\n", err)
+        p.stop()
+    with Preview(pfx, "seedy.yaml", cwd=work) as p:
+        d.get(p.url)
+        wait(d, "window.pfx.state && window.pfx.state.version === 1 && window.pfxShown")
+        d.execute_script("window.pfx.seek(%d)" % K)
+        Select(d.find_element(By.ID, "bg")).select_by_value("black")
+        Select(d.find_element(By.ID, "against")).select_by_value("seed")
+        box = d.find_element(By.ID, "against-seed")
+        box.send_keys("7\n")
+        ok = wait(d, "window.pfx.compare && window.pfx.state.compare && "
+                  "window.pfx.state.compare.seed === 7 && window.pfx.compareFrames.has(%d) && "
+                  "window.pfx.shown.frame === %d" % (K, K))
+        time.sleep(0.3)
+        c = canvas(d)
+        for seed in ("1", "7"):
+            subprocess.run([pfx, "render", "seedy.yaml", "--frames", str(K), "-o", "s" + seed,
+                            "--seed", seed, "-q"], cwd=work, check=True)
+        a = Image.open(os.path.join(work, "s7/seedy_%04d.png" % K)).convert("RGBA")
+        b = Image.open(os.path.join(work, "s1/seedy_%04d.png" % K)).convert("RGBA")
+        left, right = c.crop((0, 0, 96, 96)), c.crop((96, 0, 192, 96))
+        dl = max(max(abs(x - y) for x, y in zip(pa, pb)) for pa, pb in zip(left.getdata(), a.getdata()))
+        dr = max(max(abs(x - y) for x, y in zip(pa, pb)) for pa, pb in zip(right.getdata(), b.getdata()))
+        check("seed 7 typed in the page: left is pfx render --seed 7, right the file's seed",
+              ok and c.size == (192, 96) and dl <= 1 and dr <= 1 and a.tobytes() != b.tobytes(),
+              (ok, c.size, dl, dr))
+        p.stop()
+
+
+def events_checks(d):
+    """The emitter tracks: bursts as ticks at their times, and the frames
+    where a parent's sub-emitter events fire marked on its lane."""
+    shutil.copy(os.path.join(src, "tests/preview/events.yaml"), os.path.join(work, "events.yaml"))
+    with Preview(pfx, "events.yaml", cwd=work) as p:
+        d.get(p.url)
+        ok = wait(d, "window.pfx.state && window.pfx.state.stats.every((s) => s && s.events)", 60)
+        time.sleep(0.3)
+        lanes = d.find_elements(By.CSS_SELECTOR, ".track .lane")
+        width = lanes[0].size["width"]
+        ticks = [round(t.location["x"] - lanes[0].location["x"])
+                 for t in lanes[0].find_elements(By.CLASS_NAME, "tick")]
+        marks = [(m.get_attribute("data-first"), m.get_attribute("data-last"),
+                  round(m.location["x"] - lanes[0].location["x"]), m.get_attribute("title"))
+                 for m in lanes[0].find_elements(By.CLASS_NAME, "event")]
+        others = lanes[1].find_elements(By.CLASS_NAME, "event")
+        check("tracks: shell's bursts as ticks at 0 and 0.7 s; its on_death events marked at "
+              "frame 5 (half the lane), spark's lane unmarked",
+              ok and ticks == [0, round(0.7 * width)] and len(marks) == 1 and
+              marks[0][:3] == ("5", "5", round(0.5 * width)) and
+              marks[0][3].startswith("2 sub-emitter events (on death") and not others,
+              (ok, ticks, width, marks, len(others)))
+        p.stop()
+
+
 def take_screenshot(d, out):
-    """The page over a real example (fireworks: bursts, sub-emitters), paused
-    mid-effect after a pick."""
+    """The page over a real example that reads at a glance (campfire:
+    flames, smoke, sparks, a track each), paused mid-effect after a pick on
+    the flames, every frame rendered so the tracks are whole."""
     eff = os.path.join(work, "shot")
     shutil.copytree(os.path.join(src, "effects"), eff, dirs_exist_ok=True)
-    with Preview(pfx, "fireworks.yaml", cwd=eff) as p:
+    with Preview(pfx, "campfire.yaml", cwd=eff) as p:
         d.get(p.url)
         wait(d, "window.pfx.state && window.pfx.state.version === 1")
-        # Every frame rendered, so that the tracks show when each emitter runs.
-        wait(d, "window.pfx.state.stats.every((s) => s)", 120)
-        k = p.state()["frames"] * 55 // 100
+        wait(d, "window.pfx.state.stats.every((s) => s)", 300)
+        k = p.state()["frames"] * 40 // 100
         d.execute_script("window.pfx.seek(%d)" % k)
         wait(d, "window.pfx.shown && window.pfx.shown.frame === %d" % k, 60)
         view = d.find_element(By.ID, "view")
-        ActionChains(d).move_to_element_with_offset(view, 0, -40).click().perform()
+        ActionChains(d).move_to_element_with_offset(view, 0, view.size["height"] // 10).click().perform()
         time.sleep(1.5)
         d.save_screenshot(out)
         p.stop()
@@ -313,6 +419,8 @@ try:
         status = main_checks(d)
         check("the server stops cleanly after the browser session", status == 0, status)
         alpha_checks(d)
+        compare_checks(d)
+        events_checks(d)
         if screenshot:
             take_screenshot(d, screenshot)
             print("# screenshot: %s" % screenshot)

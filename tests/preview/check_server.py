@@ -248,6 +248,89 @@ with Preview(pfx, "dot.yaml", "--max-memory", "1K", cwd=work) as p:
           "%s / %r" % (s["diagnostics"], r.stderr))
     p.stop()
 
+# A save cancels the stale render at once, mid-frame (between simulation
+# steps and motion-blur samples), and renders the playhead's frame first:
+# frame 9 of slow.yaml costs a long run-up and 32 blur samples; a save 20%
+# into it gets the new (cheap) version's frame 9 in well under what the
+# rest of the stale frame would cost. Timed against that frame's own cost
+# measured here, so a loaded machine stretches both.
+slow = os.path.join(work, "slow.yaml")
+with open(slow, "w") as f:
+    f.write("""pfx: 1
+duration: 1
+fps: 10
+seed: 1
+sim: { rate: 10000 }
+camera: { position: [0, 0, 5], target: [0, 0, 0], fov: 40 }
+image: { size: [96, 96], background: "#000000", motion_blur: { shutter: 0.5, samples: 32 } }
+emitters:
+  dot:
+    rate: 50000
+    speed: 1
+    lifetime: 1
+    size: 0.05
+    sprite: round
+    color: "#ff0000"
+    blend: add
+""")
+with Preview(pfx, "slow.yaml", cwd=work) as p:
+    t0 = time.time()
+    st1, _, _ = p.get("/frame/9.png")
+    full = time.time() - t0
+    p.stop()
+with Preview(pfx, "slow.yaml", cwd=work) as p:
+    import threading
+    stale = threading.Thread(target=lambda: p.get("/frame/9.png"))
+    stale.start()
+    time.sleep(0.2 * full)
+    news = p.state()["news"]
+    saved = time.time()
+    edit(slow, "    rate: 50000", "    rate: 50")
+    s = p.wait_news(news)
+    st2, h2, _ = p.get("/frame/9.png")
+    latency = time.time() - saved
+    stale.join()
+    check("a save mid-frame cancels the stale render: the new frame 9 in under a quarter of the old "
+          "frame's cost",
+          st1 == st2 == 200 and s["version"] == 2 and h2.get("X-Pfx-Version") == "2" and
+          latency < 0.25 * full,
+          "%s %s v%s: %.0f ms after the save, the stale frame costs %.0f ms" %
+          (st1, st2, h2.get("X-Pfx-Version"), latency * 1e3, full * 1e3))
+    print("# save -> new frame 9: %.0f ms; the stale frame alone: %.0f ms" % (latency * 1e3, full * 1e3))
+    p.stop()
+
+# The frame cache's cap (man pfx(1)): every frame's PNG at most, (4w + 1)h
+# + that / 64 + 1024 bytes a frame, but at most half of what --max-memory
+# leaves beside the render's estimate (pfx info's); a tiny one evicts and
+# every frame is still served, byte for byte as pfx render writes it.
+shutil.copy(os.path.join(src, "tests/preview/dot.yaml"), os.path.join(work, "cap.yaml"))
+info = json.loads(subprocess.run([pfx, "info", "cap.yaml", "--format", "json"], cwd=work,
+                                 capture_output=True, text=True, check=True).stdout)
+rows = (4 * 96 + 1) * 96
+with Preview(pfx, "cap.yaml", cwd=work) as p:
+    s = p.state()
+    cache = s.get("cache") or {}
+    check("the frame cache's cap: all frames' PNG bytes at most (--max-memory's default is larger)",
+          cache.get("cap") == 10 * (rows + rows // 64 + 1024) and cache.get("bytes", -1) >= 0,
+          str(cache))
+    p.stop()
+bound = int(info["memory"]["total_bytes"]) + 1 + 2 * 1500
+with Preview(pfx, "cap.yaml", "--max-memory", str(bound), cwd=work) as p:
+    served = []
+    for k in range(10):
+        st, _, png = p.get("/frame/%d.png" % k)
+        r = subprocess.run([pfx, "render", "cap.yaml", "--frames", str(k), "-o", "cap%d" % k,
+                            "--max-memory", str(bound)], cwd=work, capture_output=True)
+        with open(os.path.join(work, "cap%d" % k, "cap_%04d.png" % k), "rb") as f:
+            served.append(st == 200 and png == f.read() and near(pixel(png, 48, 48), (255, 0, 0, 255)))
+    cache = p.state().get("cache") or {}
+    check("a tiny --max-memory: cap = (bound - the render's estimate) / 2, frames evicted, "
+          "every frame still served as pfx render writes it",
+          all(served) and cache.get("cap") == (bound - info["memory"]["total_bytes"]) // 2 and
+          cache.get("bytes", 1e9) <= max(cache["cap"], 3000) and cache.get("frames", 10) < 10,
+          "%s %s" % (served, cache))
+    p.stop()
+
 # What the file reads is watched too: a texture rewritten in place, then
 # replaced by a rename (as editors and exporters save).
 tex = os.path.join(work, "tex.yaml")
@@ -307,6 +390,115 @@ finally:
 check("--host 127.0.0.2: its URL, a warning, Host checked against it",
       m and statuses == [200, 200, 403] and "warning: serving on 127.0.0.2, not 127.0.0.1" in err,
       "%r %s %r" % (line, statuses, err))
+
+# A/B against another file (--compare, or POST /api/compare?file=) and
+# another seed (?seed=): a second session under the same token, its frames
+# at /frame/K.png?variant=compare, each the file pfx render writes for it.
+with open(os.path.join(src, "tests/preview/dot.yaml")) as f:
+    text = f.read()
+for name, body in (("ab.yaml", text), ("other.yaml", text.replace("#ff0000", "#0000ff")),
+                   ("seedy.yaml", text.replace("    speed: 0\n    lifetime: 100\n    size: 1.2",
+                                               "    speed: 1\n    spread: 180\n    lifetime: 100\n    size: 0.3"))):
+    with open(os.path.join(work, name), "w") as f:
+        f.write(body)
+
+
+def rendered(name, k, *args):
+    out = os.path.join(work, "ab-" + name + "".join(args))
+    subprocess.run([pfx, "render", name, "--frames", str(k), "-o", out, *args], cwd=work,
+                   check=True, capture_output=True)
+    with open(os.path.join(out, "%s_%04d.png" % (name[:-5], k)), "rb") as f:
+        return f.read()
+
+
+with Preview(pfx, "ab.yaml", "--compare", "other.yaml", cwd=work) as p:
+    s = p.state()
+    st, h, png = p.get("/frame/%d.png?variant=compare" % K)
+    st0, _, png0 = p.get("/frame/%d.png" % K)
+    cs = json.loads(p.get("/api/state?variant=compare")[2])
+    check("--compare FILE: /api/state says so; ?variant=compare serves FILE's frame K (blue) as "
+          "pfx render writes it, the edited file's stays red",
+          s.get("compare") == {"file": "other.yaml", "seed": None} and st == st0 == 200 and
+          png == rendered("other.yaml", K) and near(pixel(png, 48, 48), (0, 0, 255, 255)) and
+          png0 == rendered("ab.yaml", K) and near(pixel(png0, 48, 48), (255, 0, 0, 255)) and
+          cs["file"] == "other.yaml" and cs["version"] == 1,
+          "%s %s %s %s" % (s.get("compare"), st, st0, cs.get("file")))
+    edit(os.path.join(work, "other.yaml"), "#0000ff", "#ffffff")
+    end = time.time() + 20
+    while time.time() < end and json.loads(p.get("/api/state?variant=compare")[2])["version"] < 2:
+        time.sleep(0.01)
+    st, h, png = p.get("/frame/%d.png?variant=compare" % K)
+    check("the compared file is watched: a save gives it version 2 (white)",
+          st == 200 and h.get("X-Pfx-Version") == "2" and near(pixel(png, 48, 48), (255,) * 4),
+          "%s %s %s" % (st, h.get("X-Pfx-Version"), pixel(png, 48, 48) if st == 200 else ""))
+    st, _, body = p.get("/api/compare?file=missing.yaml", method="POST")
+    st2, _, _ = p.get("/frame/0.png?variant=compare")
+    check("POST /api/compare?file=missing: 400, one line, nothing compared (404)",
+          st == 400 and st2 == 404 and
+          body == b"pfx: cannot open 'missing.yaml': No such file or directory [PFX4002]\n",
+          "%s %s %r" % (st, st2, body))
+    st, _, _ = p.get("/api/compare?seed=x", method="POST")
+    st2, _, _ = p.get("/api/compare?seed=7", method="GET")
+    check("a seed that is not a number: 400; GET /api/compare: 404", st == 400 and st2 == 404,
+          "%s %s" % (st, st2))
+    p.stop()
+with Preview(pfx, "seedy.yaml", cwd=work) as p:
+    _, _, png0 = p.get("/frame/%d.png" % K)
+    threads0 = p.threads()
+    st, _, body = p.get("/api/compare?seed=7", method="POST")
+    s = p.state()
+    st1, _, png = p.get("/frame/%d.png?variant=compare" % K)
+    check("POST /api/compare?seed=7: the same file at seed 7, as pfx render --seed 7 writes it",
+          st == st1 == 200 and json.loads(body) == {"file": "seedy.yaml", "seed": 7} and
+          s["compare"] == {"file": "seedy.yaml", "seed": 7} and
+          png == rendered("seedy.yaml", K, "--seed", "7") and png0 == rendered("seedy.yaml", K) and
+          png != png0, "%s %s %r" % (st, st1, body))
+    st, _, body = p.get("/api/compare", method="POST")
+    time.sleep(0.2)
+    st2, _, _ = p.get("/frame/0.png?variant=compare")
+    check("POST /api/compare with neither: compare with nothing, its threads gone",
+          st == 200 and body == b"null" and st2 == 404 and p.state()["compare"] is None and
+          p.threads() <= threads0, "%s %r %s %d > %d" % (st, body, st2, p.threads(), threads0))
+    p.stop()
+
+# Emitter tracks: bursts per emitter from the model's list, and the
+# sub-emitter events each frame raised (the count the session records as it
+# simulates): events.yaml's two shells die at 0.45 s, in frame 5 (0.4, 0.5].
+shutil.copy(os.path.join(src, "tests/preview/events.yaml"), os.path.join(work, "events.yaml"))
+with Preview(pfx, "events.yaml", cwd=work) as p:
+    for k in range(10):
+        p.get("/frame/%d.png" % k)
+    s = p.state()
+    events = [st and st.get("events") for st in s["stats"]]
+    check("/api/state: bursts per emitter, and events per frame: 2 into spark in frame 5 only",
+          [e["bursts"] for e in s["emitters"]] == [[0, 0.7], []] and
+          events == [[0, 0]] * 5 + [[0, 2]] + [[0, 0]] * 4 and
+          s["emitters"][0]["spawns"] == [{"event": "on_death", "emitter": "spark"}],
+          "%s %s" % ([e["bursts"] for e in s["emitters"]], events))
+    p.stop()
+
+# SIGKILL runs no cleanup: the scratch directory (named with the pid) of
+# a killed preview is swept by the next one; a live process's is kept.
+shm = "/dev/shm" if os.access("/dev/shm", os.W_OK) else os.environ.get("TMPDIR") or "/tmp"
+live = os.path.join(shm, "pfx-preview-%d-abcdef" % os.getpid())
+os.makedirs(live, exist_ok=True)
+with Preview(pfx, "dot.yaml", cwd=work) as p:
+    killed = [os.path.join(shm, d) for d in os.listdir(shm)
+              if d.startswith("pfx-preview-%d-" % p.proc.pid)]
+    st, _, _ = p.get("/frame/0.png")
+    for d in killed:
+        open(os.path.join(d, "v1_0001.png.tmp"), "w").write("half a frame")
+    p.proc.kill()
+    p.proc.wait()
+left = [d for d in killed if os.path.exists(d)]
+with Preview(pfx, "dot.yaml", cwd=work) as p:
+    st2, _, _ = p.get("/frame/0.png")
+    p.stop()
+check("a preview killed by SIGKILL: its scratch dir is swept by the next, a live pid's kept",
+      len(killed) == 1 and left == killed and st == st2 == 200 and
+      not any(os.path.exists(d) for d in killed) and os.path.isdir(live),
+      "%s %s %s %s" % (killed, left, st, st2))
+shutil.rmtree(live, ignore_errors=True)
 
 r = subprocess.run([pfx, "preview", "missing.yaml", "--no-open"], cwd=work, capture_output=True,
                    text=True, timeout=30)

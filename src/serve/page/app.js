@@ -1,8 +1,10 @@
 // pfx preview: plays the frames the server renders, shows the diagnostics
 // of the file as `pfx validate` prints them, the emitters' tracks, pick and
 // A/B. It uses only the routes man pfx(1) lists: /api/state, /frame/K.png,
-// /events and /pick. Frames are kept per version: the current one, and the
-// one before it (A in A/B, and what plays while a new version renders).
+// /events, /pick and /api/compare. Frames are kept per version: the current
+// one, and the one before it (A in A/B, and what plays while a new version
+// renders); A may instead be another file or seed (the server's comparison,
+// ?variant=compare), whose frames are kept for its version alone.
 'use strict';
 
 const token = new URLSearchParams(location.search).get('token') || '';
@@ -13,6 +15,9 @@ let state = null;            // the last /api/state
 const caches = new Map();    // version -> Map(frame -> {bmp, opaque})
 let previous = 0;            // the version before the current one
 let pinned = 0;              // a version kept as A (0: A is the one before)
+let compare = null;          // the comparison's /api/state?variant=compare, or null
+let compareFrames = new Map(); // frame -> {bmp, opaque} of compare.version
+let compareAsked = -1;       // the comparison's frame being fetched
 const inflight = new Set();  // "version:frame" being fetched
 let time = 0;                // the playhead, seconds from frame 0
 let playing = true, speed = 1, fit = true;
@@ -49,6 +54,8 @@ async function refreshState() {
 
   }
   if (time * fps() >= frames()) time = 0;
+  if (s.compare && !old) showCompareChoice(s.compare);
+  if (!s.compare !== !compare || (s.compare && compare && s.compare.file !== compare.file)) await refreshCompare();
   showState();
   drawGraphs();
   requestDraw();
@@ -81,12 +88,12 @@ function showState() {
 
 // ---- frames
 
-async function fetchFrame(k) {
+async function fetchFrame(k, ahead) {
   const key = state.version + ':' + k;
   if (inflight.has(key) || !state.version) return;
   inflight.add(key);
   try {
-    const r = await fetch(q('/frame/' + k + '.png'));
+    const r = await fetch(q('/frame/' + k + '.png' + (ahead ? '?ahead=1' : '')));
     if (!r.ok) return;
     const v = Number(r.headers.get('X-Pfx-Version'));
     const bmp = await createImageBitmap(await r.blob(), { premultiplyAlpha: 'none' });
@@ -123,15 +130,76 @@ function frameFor(k) {
   return null;
 }
 
-// Asks for the playhead's frame, then a few ahead, one request at a time
-// beyond the first two so the server renders in order.
+// Asks for the playhead's frame alone until it is here (after a save the
+// server renders it before anything else), then a few ahead as
+// look-aheads (?ahead=1), which never take the server's playhead from it.
 function pump() {
   if (!state || !state.version) return;
   const k = frameAt(time), cur = cacheOf(state.version);
-  if (!cur.has(k)) fetchFrame(k);
+  if (!cur.has(k)) { fetchFrame(k, false); return; }
+  if ($('ab').value !== 'off' && comparing() && k < compare.frames && !compareFrames.has(k))
+    fetchCompareFrame(k);
   for (let i = 1, asked = 0; i <= 8 && inflight.size < 2 && asked < 1; i++) {
     const f = k + i > lastFrame() ? loopIn + (k + i - lastFrame() - 1) : k + i;
-    if (f < frames() && !cur.has(f)) { fetchFrame(f); asked++; }
+    if (f < frames() && !cur.has(f)) { fetchFrame(f, true); asked++; }
+  }
+}
+
+// ---- A against another file or seed: the server's second session
+
+// The page's controls set to what the server compares (--compare FILE
+// chooses a file, side by side, at start).
+function showCompareChoice(c) {
+  $('against').value = c.seed === null ? 'file' : 'seed';
+  $('against-file').value = c.seed === null ? c.file : '';
+  $('against-seed').value = c.seed === null ? '' : c.seed;
+  $('against-file').hidden = c.seed !== null;
+  $('against-seed').hidden = c.seed === null;
+  if ($('ab').value === 'off') $('ab').value = 'side';
+}
+
+function dropCompareFrames() {
+  for (const e of compareFrames.values()) { e.bmp.close(); if (e.opaque) e.opaque.close(); }
+  compareFrames = new Map();
+}
+
+// Re-reads the comparison's state; its frames go when its version changes.
+async function refreshCompare() {
+  const r = state && state.compare ? await fetch(q('/api/state?variant=compare')) : null;
+  const c = r && r.ok ? await r.json() : null;
+  if (!c || !compare || c.version !== compare.version || c.file !== compare.file) dropCompareFrames();
+  compare = c;
+  requestDraw();
+}
+
+// Asks the server to compare with a file or a seed (or nothing).
+async function setCompare() {
+  const how = $('against').value, file = $('against-file').value.trim();
+  const seed = $('against-seed').value.trim();
+  const arg = how === 'file' && file ? '?file=' + encodeURIComponent(file)
+    : how === 'seed' && seed !== '' ? '?seed=' + encodeURIComponent(seed) : '';
+  const r = await fetch(q('/api/compare' + arg), { method: 'POST' });
+  $('against-error').textContent = r.ok ? '' : await r.text();
+  await refreshState();
+  await refreshCompare();
+}
+
+const comparing = () => $('against').value !== 'version' && compare && compare.version;
+
+async function fetchCompareFrame(k) {
+  if (compareAsked >= 0) return;
+  compareAsked = k;
+  const v = compare.version;
+  try {
+    const r = await fetch(q('/frame/' + k + '.png?variant=compare'));
+    if (!r.ok) return;
+    const bmp = await createImageBitmap(await r.blob(), { premultiplyAlpha: 'none' });
+    const entry = { bmp, opaque: compare.alpha === 'premultiplied' ? await opaqueOf(bmp) : null };
+    if (compare && Number(r.headers.get('X-Pfx-Version')) === compare.version && v === compare.version)
+      compareFrames.set(k, entry);
+    requestDraw();
+  } finally {
+    compareAsked = -1;
   }
 }
 
@@ -173,9 +241,10 @@ function draw() {
   if (!state || !state.size) return;
   const [w, h] = state.size, k = frameAt(time), mode = $('ab').value;
   const b = frameFor(k), av = pinned || previous;
-  const a = caches.get(av) && caches.get(av).get(k);
+  const a = comparing() ? compareFrames.get(k) : caches.get(av) && caches.get(av).get(k);
   const width = mode === 'side' ? 2 * w : w;
   if (view.width !== width || view.height !== h) { view.width = width; view.height = h; }
+  fitView();
   $('wipe-handle').hidden = mode !== 'wipe';
   if (mode === 'side') {
     paintBackground(0, w, h); if (a) paintFrame(a, 0);
@@ -204,6 +273,19 @@ function draw() {
       window.pfxShown = { version: b.version, frame: k, at: Date.now() };
   }
   showClock(k);
+}
+
+// fit: the canvas as large as the stage holds, up or down, keeping its
+// aspect (1:1: its own size). Set through the CSSOM, which the page's CSP
+// allows (style attributes in markup it does not).
+function fitView() {
+  const wrap = $('stage-wrap'), pad = 16;
+  if (!fit) { view.style.width = view.style.height = ''; return; }
+  const s = Math.min((wrap.clientWidth - pad) / view.width, (wrap.clientHeight - pad) / view.height);
+  if (s > 0) {
+    view.style.width = Math.floor(view.width * s) + 'px';
+    view.style.height = Math.floor(view.height * s) + 'px';
+  }
 }
 
 function requestDraw() {
@@ -272,35 +354,75 @@ function buildTracks() {
     row.title = e.name + ': line ' + e.line + '; runs ' + e.start.toFixed(2) + ' to ' +
       e.end.toFixed(2) + ' s' + (e.bursts.length ? '; bursts at ' +
       e.bursts.map((t) => t.toFixed(2)).join(', ') + ' s' : '');
+    const swatch = el('span', 'swatch');
+    swatch.style.background = hue(state.emitters.indexOf(e), 1);
+    name.prepend(swatch);
     name.appendChild(el('small', '', ':' + e.line));
     const lane = el('div', 'lane');
     lane.appendChild(el('div', 'run', undefined, e.start / dur * 100,
       Math.max(0, e.end - e.start) / dur * 100));
     const graph = el('canvas', 'graph');
-    graph.width = 600; graph.height = 16;
+    graph.width = 600; graph.height = 22;
     lane.appendChild(graph);
     for (const t of e.bursts) lane.appendChild(el('div', 'tick', undefined, t / dur * 100));
     for (const sp of e.spawns || [])
       row.title += '; ' + sp.event.replace('_', ' ') + ' \u2192 ' + sp.emitter;
     if (e.spawns && e.spawns.length)
       name.appendChild(el('small', 'spawns', ' \u2192 ' + e.spawns.map((sp) => sp.emitter).join(', ')));
+    lane.appendChild(el('div', 'events'));
     lane.appendChild(el('span', 'alive'));
     row.append(name, lane);
     tracks.appendChild(row);
   }
 }
 
+// The frames where an emitter's particles raised sub-emitter events (into
+// the emitters its spawns name), as runs of frames on its lane, from the
+// per-frame event counts of the frames rendered so far.
+function drawEvents() {
+  const lanes = document.querySelectorAll('.track .events'), n = frames();
+  const index = new Map((state.emitters || []).map((e, i) => [e.name, i]));
+  (state.emitters || []).forEach((e, i) => {
+    const box = lanes[i];
+    if (!box) return;
+    const targets = (e.spawns || []).map((sp) => index.get(sp.emitter));
+    const fired = (f) => {
+      const s = state.stats[f];
+      return s && s.events ? targets.reduce((sum, t) => sum + s.events[t], 0) : 0;
+    };
+    box.replaceChildren();
+    for (let f = 0; f < n; f++) {
+      if (!fired(f)) continue;
+      let last = f, count = 0;
+      while (last + 1 < n && fired(last + 1)) last++;
+      for (let g = f; g <= last; g++) count += fired(g);
+      const mark = el('div', 'event', undefined, f / n * 100, (last + 1 - f) / n * 100);
+      mark.dataset.first = f;
+      mark.dataset.last = last;
+      mark.title = count + ' sub-emitter event' + (count === 1 ? '' : 's') + ' (' +
+        e.spawns.map((sp) => sp.event.replace('_', ' ') + ' \u2192 ' + sp.emitter).join(', ') +
+        '), frame' + (last > f ? 's ' + f + '\u2013' + last : ' ' + f);
+      box.appendChild(mark);
+      f = last;
+    }
+  });
+}
+
+// An emitter's colour on the tracks: hues far apart, in emitter order.
+const hue = (i, a) => 'hsla(' + ((200 + i * 137.5) % 360) + ', 65%, 62%, ' + a + ')';
+
 // Live particles over time in each lane, from the frames rendered so far:
 // when an emitter (and what its sub-emitters feed) is busy.
 function drawGraphs() {
   const graphs = document.querySelectorAll('.track .graph');
   if (!state || !state.stats) return;
+  drawEvents();
   graphs.forEach((c, i) => {
     const g2 = c.getContext('2d'), n = state.stats.length;
     let peak = 1;
     for (const s of state.stats) if (s) peak = Math.max(peak, s.alive[i]);
     g2.clearRect(0, 0, c.width, c.height);
-    g2.fillStyle = 'rgba(110, 160, 225, 0.6)';
+    g2.fillStyle = hue(i, 0.55);
     state.stats.forEach((s, f) => {
       if (!s) return;
       const h = s.alive[i] / peak * c.height;
@@ -358,6 +480,16 @@ $('loop-clear').onclick = () => { loopIn = 0; loopOut = -1; requestDraw(); };
 $('bg').onchange = (e) => { $('bg-colour').hidden = e.target.value !== 'colour'; requestDraw(); };
 $('bg-colour').oninput = requestDraw;
 $('ab').onchange = requestDraw;
+$('against').onchange = () => {
+  const how = $('against').value;
+  $('against-file').hidden = how !== 'file';
+  $('against-seed').hidden = how !== 'seed';
+  $('pin').hidden = how !== 'version';
+  if ($('ab').value === 'off') $('ab').value = 'side';
+  setCompare();
+};
+$('against-file').onchange = setCompare;
+$('against-seed').onchange = setCompare;
 // Pin: the current version stays A, however many saves follow (its frames
 // are those the page fetched while it was current).
 $('pin').onclick = () => {
@@ -425,6 +557,8 @@ const events = new EventSource(q('/events'));
 events.addEventListener('news', () => refreshState());
 events.addEventListener('open', () => refreshState());
 setInterval(() => { if (state && state.stats && state.stats.includes(null)) refreshState(); }, 1000);
+// The compared file is watched by the server too; its news are read here.
+setInterval(() => { if (state && state.compare) refreshCompare(); }, 500);
 $('stage').classList.toggle('fit', fit);
 setPlaying(true);
 refreshState().then(() => requestAnimationFrame(tick));
@@ -434,6 +568,8 @@ window.pfx = {
   get state() { return state; },
   get frame() { return frameAt(time); },
   get shown() { return lastDrawn; },
+  get compare() { return compare; },
+  get compareFrames() { return compareFrames; },
   seek: (k) => { setPlaying(false); seek(k); },
   pause: () => setPlaying(false),
 };
