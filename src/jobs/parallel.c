@@ -81,6 +81,7 @@ bool pfx_render_job_run_parallel(pfx_render_job *job, pfx_renderer_kind kind, in
             job->sim = c->job.sim;
             job->view = c->job.view;
             job->feed = c->job.feed;
+            job->ribbons = c->job.ribbons;
             job->sprite_count = c->job.sprite_count;
         } else {
             pfx_render_job_free(&c->job);
