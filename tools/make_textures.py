@@ -41,6 +41,12 @@
                    (sparks_steps), transparent above the steps
   These let examples draw solid surfaces with world-aligned sprites.
 
+  swipe_streaks.png 256x64 px: a textured ribbon's strip (u, left to
+                   right, from its head to its tail; v across it): fine
+                   streaks along the length, solid at the head and
+                   breaking into separate strands towards the tail, as
+                   a sword swipe's trail (grey streaks, shape in alpha)
+
 Every noise field is periodic (it tiles) across its image and is scrolled
 by whole periods, so no cell shows a seam and looping sheets loop. Each
 cell fades to zero before its border, so mipmaps do not bleed between
@@ -301,6 +307,26 @@ def shock_ring(rng):
     return to_image(img)
 
 
+def swipe_streaks(rng):
+    """Streaks along u: a noise field 64 rows across and 8 columns along,
+    each row read with linear interpolation over the 256 px length (so a
+    streak changes 32 times more slowly along the strip than across it).
+    The alpha is 1 at the head (u = 0) and falls to the streaks alone, cut
+    to strands by a threshold, at the tail; the grey keeps the streaks
+    from head to tail so the strip is never flat."""
+    h, w = 64, 256
+    field = stretch(fbm((h, 64), rng, octaves=3, base=16))[:, :9]
+    u = (np.arange(w) + 0.5) / w
+    cols = np.arange(9) / 8.0
+    streak = np.stack([np.interp(u, cols, row) for row in field])
+    strands = smoothstep(0.35, 0.75, streak)
+    a = (1 - u) ** 2 + (1 - (1 - u) ** 2) * strands
+    img = np.ones((h, w, 4))
+    img[..., :3] = (0.55 + 0.45 * streak)[..., None]
+    img[..., 3] = np.clip(a, 0, 1)
+    return to_image(img)
+
+
 def stone(rng):
     """Stone slabs: two rows of two slabs each (a 2x2 bond, the second row
     offset by half a slab), each slab its own shade, speckled by noise,
@@ -363,6 +389,7 @@ def main(argv):
     shock_ring(np.random.default_rng(53)).save(os.path.join(out, "shock_ring.png"), optimize=True)
     for name, img in stone_images(np.random.default_rng(47)).items():
         img.save(os.path.join(out, name), optimize=True)
+    swipe_streaks(np.random.default_rng(59)).save(os.path.join(out, "swipe_streaks.png"), optimize=True)
 
 
 if __name__ == "__main__":
