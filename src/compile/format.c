@@ -12,10 +12,11 @@
 
 const char *const pfx_schema_title = "pfx effect, format version 1";
 
-const pfx_key_table *const pfx_schema_tables[] = {
-    &pfx_sim_table,     &pfx_camera_table,      &pfx_image_table,
-    &pfx_emitter_table, &pfx_flipbook_table,    &pfx_stretch_table,
-    &pfx_light_table,   &pfx_motion_blur_table, NULL};
+const pfx_key_table *const pfx_schema_tables[] = {&pfx_sim_table,         &pfx_camera_table,
+                                                  &pfx_image_table,       &pfx_emitter_table,
+                                                  &pfx_flipbook_table,    &pfx_stretch_table,
+                                                  &pfx_ribbon_table,      &pfx_light_table,
+                                                  &pfx_motion_blur_table, NULL};
 
 const pfx_schema_family pfx_schema_families[] = {
     {"shape",

@@ -3,13 +3,17 @@
  * description); each table a definition; each kinded family (forces,
  * shapes, deflectors, regions) a `type`-discriminated choice of its kinds'
  * tables. Syntaxes that code reads (a random value, a colour, a gradient)
- * are fragments beside their readers' rows. JSON goes through jansson. */
+ * are fragments beside their readers' rows. Each property carries the
+ * row's text for editors (title, description, markdownDescription: the
+ * text pfx lsp's hover shows, from compile/key_doc.c) and each colour form
+ * a colour's error message. JSON goes through jansson. */
 #include "compile/schema.h"
 
 #include <jansson.h>
 #include <math.h>
 #include <string.h>
 
+#include "compile/key_doc.h"
 #include "compile/keys.h"
 #include "compile/read.h"
 
@@ -197,8 +201,86 @@ static const char *table_doc(const pfx_key_table *t) {
     return type ? type->doc : NULL;
 }
 
+/* The descriptions of the forms a property's value may take: its oneOf
+ * branches, or those of the fragment it refers to (a branch without one
+ * says it through the definition it refers to). */
+static json_t *forms_of(json_t *p, json_t *fragments) {
+    json_t *one = json_object_get(p, "oneOf");
+    const char *r = json_string_value(json_object_get(p, "$ref"));
+    if (!one && r && !strncmp(r, "#/$defs/", 8))
+        one = json_object_get(json_object_get(fragments, r + 8), "oneOf");
+    return one;
+}
+
+static const char *form_doc(json_t *branch, json_t *fragments) {
+    const char *d = json_string_value(json_object_get(branch, "description"));
+    const char *r = json_string_value(json_object_get(branch, "$ref"));
+    if (!d && r && !strncmp(r, "#/$defs/", 8))
+        d = json_string_value(json_object_get(json_object_get(fragments, r + 8), "description"));
+    return d;
+}
+
+/* The first sentence of a doc, as a title. */
+static json_t *first_sentence(const char *doc) {
+    size_t n = 0;
+    while (doc[n] &&
+           !(doc[n] == '.' && doc[n + 1] == ' ' && doc[n + 2] >= 'A' && doc[n + 2] <= 'Z'))
+        n++;
+    return json_stringn(doc, doc[n] ? n + 1 : n);
+}
+
+/* md (of length m, in size bytes) with the forms' descriptions after it. */
+static void put_forms(char *md, size_t m, size_t size, json_t *form, json_t *fragments) {
+    json_t *branch;
+    size_t i;
+    json_array_foreach(forms_of(form, fragments), i, branch) {
+        const char *d = form_doc(branch, fragments);
+        if (d && m < size)
+            m += (size_t)snprintf(md + m, size - m, "%s- %s", i ? "\n" : "\n\nForms:\n\n", d);
+    }
+}
+
+/* A property's annotations. yaml-language-server's hover shows the first
+ * title and the first (markdown)Description among the schemas the value
+ * matched, innermost first, and a schema without a title inherits its
+ * parent's: so the title, the meaning with its unit, heads the hover and
+ * the matched form's description follows it. description and
+ * markdownDescription are the whole text (for a row, pfx lsp's hover:
+ * meaning, form, range, default), the markdown one with the forms'
+ * descriptions after. */
+static void annotate(json_t *p, const pfx_key *k, json_t *form, json_t *fragments) {
+    char text[2048], md[4096];
+    json_object_set_new(p, "title", first_sentence(k->doc));
+    pfx_key_doc(k, false, text, sizeof text);
+    json_object_set_new(p, "description", json_string(text));
+    put_forms(md, pfx_key_doc(k, true, md, sizeof md), sizeof md, form, fragments);
+    json_object_set_new(p, "markdownDescription", json_string(md));
+}
+
+/* The same for the properties of the hand-written fragments (a burst's
+ * count, a gradient stop's colour), whose text is their description. */
+static void annotate_fragment(json_t *node, json_t *fragments) {
+    json_t *props = json_object_get(node, "properties"), *v;
+    const char *key;
+    size_t i;
+    json_object_foreach(props, key, v) {
+        const char *d = json_string_value(json_object_get(v, "description"));
+        if (d && !json_object_get(v, "title")) {
+            char md[4096];
+            snprintf(md, sizeof md, "%s", d);
+            put_forms(md, strlen(md), sizeof md, v, fragments);
+            json_object_set_new(v, "title", first_sentence(d));
+            json_object_set_new(v, "markdownDescription", json_string(md));
+        }
+    }
+    if (json_is_object(node))
+        json_object_foreach(node, key, v) annotate_fragment(v, fragments);
+    else if (json_is_array(node))
+        json_array_foreach(node, i, v) annotate_fragment(v, fragments);
+}
+
 /* A table as an object schema: its rows as properties, its extra rules. */
-static json_t *table_schema(const pfx_key_table *t) {
+static json_t *table_schema(const pfx_key_table *t, json_t *fragments) {
     json_t *o = json_object(), *props = json_object(), *req = json_array();
     const char *doc = table_doc(t);
     if (doc)
@@ -208,14 +290,15 @@ static json_t *table_schema(const pfx_key_table *t) {
     for (size_t i = 0; i < t->count; i++) {
         const pfx_key *k = &t->keys[i];
         json_t *p = json_object(), *s = row_schema(t, k);
-        /* a kind's type row says what the kind is */
-        const char *rdoc = t->kind && !strcmp(k->name, "type") && doc ? doc : k->doc;
-        if (rdoc && rdoc[0])
-            json_object_set_new(p, "description", json_string(rdoc));
+        const bool kind_type = t->kind && !strcmp(k->name, "type");
+        if (kind_type && doc) /* a kind's type row says what the kind is */
+            json_object_set_new(p, "description", json_string(doc));
+        else if (k->doc && k->doc[0])
+            annotate(p, k, s, fragments);
         json_object_update(p, s);
         json_decref(s);
         json_object_set_new(props, k->name, p);
-        if ((k->flags & PFX_KEY_REQUIRED) || (t->kind && !strcmp(k->name, "type")))
+        if ((k->flags & PFX_KEY_REQUIRED) || kind_type)
             json_array_append_new(req, json_string(k->name));
     }
     json_object_set_new(o, "properties", props);
@@ -243,8 +326,14 @@ static json_t *family_schema(const pfx_schema_family *f) {
     json_object_set_new(type, "enum", names_array(f->kinds));
     json_object_set_new(props, "type", type);
     json_object_set_new(o, "properties", props);
-    for (size_t i = 0; f->tables[i]; i++)
-        json_array_append_new(one, ref(f->tables[i]->name));
+    for (size_t i = 0; f->tables[i]; i++) {
+        /* each kind says what it is, for the forms listed under a key */
+        json_t *kind = ref(f->tables[i]->name);
+        const char *doc = table_doc(f->tables[i]);
+        if (doc)
+            json_object_set_new(kind, "description", json_string(doc));
+        json_array_append_new(one, kind);
+    }
     json_object_set_new(o, "oneOf", one);
     return o;
 }
@@ -262,10 +351,21 @@ static void allow_names(json_t *allow) {
     json_object_set_new(allow, "propertyNames", names);
 }
 
+/* What an HDR colour accepts, for its error message. */
+static const char *const hdr_colour_forms =
+    "a colour: #rrggbb, #rrggbbaa, [r, g, b(, a)] with r, g, b in 0..1000 (above 1: brighter "
+    "than white) and a in 0..1, or a CSS name such as 'orange'";
+
 /* The colour fragments take the CSS colour names too: an enum from the
- * reader's table, so the schema and pfx accept the same names. */
-static void add_colour_names(const char *name, json_t *fragment) {
-    if (strcmp(name, "colour") && strcmp(name, "hdr_colour"))
+ * reader's table, so the schema and pfx accept the same names. Each form
+ * carries the colour's error message (errorMessage, and
+ * patternErrorMessage where a pattern is what failed): editors built on
+ * vscode-json-languageservice or yaml-language-server report a failed
+ * oneOf through its closest branch's own message, so a bad colour reads
+ * as a colour error, not as a regular expression or 148 names. */
+static void finish_colour(const char *name, json_t *fragment) {
+    const bool hdr = !strcmp(name, "hdr_colour");
+    if (!hdr && strcmp(name, "colour"))
         return;
     json_t *names = names_array(pfx_css_colour_names), *branch = json_object();
     json_object_set_new(branch, "description",
@@ -274,6 +374,21 @@ static void add_colour_names(const char *name, json_t *fragment) {
     json_object_set_new(branch, "type", json_string("string"));
     json_object_set_new(branch, "enum", names);
     json_array_append_new(json_object_get(fragment, "oneOf"), branch);
+    char message[256];
+    snprintf(message, sizeof message, "expected %s", hdr ? hdr_colour_forms : pfx_colour_forms);
+    size_t i;
+    json_array_foreach(json_object_get(fragment, "oneOf"), i, branch) {
+        /* the type as a list: yaml-language-server rebuilds a mismatch of
+         * one type from all the alternatives' types ("Incorrect type.
+         * Expected string | array"), but reports a list's through
+         * errorMessage */
+        json_t *type = json_object_get(branch, "type");
+        if (json_is_string(type))
+            json_object_set_new(branch, "type", json_pack("[O]", type));
+        json_object_set_new(branch, "errorMessage", json_string(message));
+        if (json_object_get(branch, "pattern"))
+            json_object_set_new(branch, "patternErrorMessage", json_string(message));
+    }
 }
 
 char *pfx_schema_text(void) {
@@ -282,24 +397,33 @@ char *pfx_schema_text(void) {
                         json_string("https://json-schema.org/draft/2020-12/schema"));
     json_object_set_new(root, "title", json_string(pfx_schema_title));
     json_object_set_new(root, "description", json_string(pfx_schema_top.doc));
-    json_t *top = table_schema(&pfx_schema_top);
+    for (size_t i = 0; pfx_schema_fragments[i].name; i++) {
+        json_t *fragment = parse_fragment(pfx_schema_fragments[i].json);
+        finish_colour(pfx_schema_fragments[i].name, fragment);
+        json_object_set_new(defs, pfx_schema_fragments[i].name, fragment);
+    }
+    /* what a property may refer to for its forms: the fragments and the
+     * families (kept here, put in $defs in their own place below) */
+    json_t *fragments = json_copy(defs);
+    for (size_t i = 0; pfx_schema_families[i].name; i++)
+        json_object_set_new(fragments, pfx_schema_families[i].name,
+                            family_schema(&pfx_schema_families[i]));
+    annotate_fragment(defs, fragments);
+    json_t *top = table_schema(&pfx_schema_top, fragments);
     json_object_del(top, "description");
     allow_names(json_object_get(json_object_get(top, "properties"), "allow"));
     json_object_update(root, top);
     json_decref(top);
-    for (size_t i = 0; pfx_schema_fragments[i].name; i++) {
-        json_t *fragment = parse_fragment(pfx_schema_fragments[i].json);
-        add_colour_names(pfx_schema_fragments[i].name, fragment);
-        json_object_set_new(defs, pfx_schema_fragments[i].name, fragment);
-    }
     for (size_t i = 0; pfx_schema_tables[i]; i++)
-        json_object_set_new(defs, pfx_schema_tables[i]->name, table_schema(pfx_schema_tables[i]));
+        json_object_set_new(defs, pfx_schema_tables[i]->name,
+                            table_schema(pfx_schema_tables[i], fragments));
     for (size_t i = 0; pfx_schema_families[i].name; i++) {
         const pfx_schema_family *f = &pfx_schema_families[i];
-        json_object_set_new(defs, f->name, family_schema(f));
+        json_object_set(defs, f->name, json_object_get(fragments, f->name));
         for (size_t k = 0; f->tables[k]; k++)
-            json_object_set_new(defs, f->tables[k]->name, table_schema(f->tables[k]));
+            json_object_set_new(defs, f->tables[k]->name, table_schema(f->tables[k], fragments));
     }
+    json_decref(fragments);
     json_object_set_new(root, "$defs", defs);
     char *text = json_dumps(root, JSON_INDENT(2) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(15));
     json_decref(root);

@@ -1,6 +1,7 @@
 /* Hover: what a key means, from the compiler's key tables (its text with
- * the unit, its form, range and default), then what pfx derives there from
- * the compiled effect: on an emitter's `rate`, the pool it implies; on a
+ * the unit, its form, range and default, from compile/key_doc.c as the
+ * schema's descriptions are), then what pfx derives there from the
+ * compiled effect: on an emitter's `rate`, the pool it implies; on a
  * drag's `k`, k*dt and the integrators that stay stable. On a
  * force, deflector or emitter name: what it is and who refers to it. */
 #include <math.h>
@@ -10,6 +11,7 @@
 #include <string.h>
 
 #include "compile/compiler.h"
+#include "compile/key_doc.h"
 #include "lsp/document.h"
 #include "lsp/tree.h"
 #include "model/motion.h"
@@ -35,80 +37,12 @@ static void put_names(text *t, const char *const *names) {
         put(t, "%s`%s`", i ? ", " : "", names[i]);
 }
 
-/* The form a row's value takes, in words. */
-static void put_form(text *t, const pfx_key *k) {
-    switch (k->type) {
-    case PFX_KEY_NUMBER:
-        put(t, "a number%s", k->flags & PFX_KEY_DEGREES ? " (degrees)" : "");
-        break;
-    case PFX_KEY_WHOLE:
-        put(t, "a whole number");
-        break;
-    case PFX_KEY_BOOL:
-        put(t, "`true` or `false`");
-        break;
-    case PFX_KEY_VEC3:
-        put(t, "[x, y, z]");
-        break;
-    case PFX_KEY_ENUM:
-        put(t, "one of ");
-        put_names(t, k->names);
-        break;
-    case PFX_KEY_VALUE:
-        put(t, "a value: a number, [min, max], {mean, var} or {normal: [mean, sd], clamp}");
-        break;
-    case PFX_KEY_RANGE:
-        put(t, "a number or [min, max]");
-        break;
-    case PFX_KEY_COLOUR:
-        put(t, "a colour: \"#rrggbb\", \"#rrggbbaa\" or [r, g, b(, a)]");
-        break;
-    case PFX_KEY_STRING:
-        put(t, "a string");
-        break;
-    case PFX_KEY_MAP:
-        put(t, "a mapping");
-        break;
-    case PFX_KEY_CODE:
-        put(t, "see pfx-effect(5)");
-        break;
-    }
-}
-
-static bool has_range(const pfx_key *k) {
-    return (k->type == PFX_KEY_NUMBER || k->type == PFX_KEY_WHOLE || k->type == PFX_KEY_VALUE ||
-            k->type == PFX_KEY_RANGE) &&
-           (isfinite(k->lo) || isfinite(k->hi));
-}
-
+/* The row's own text (shared with the schema's descriptions) under its name
+ * and where it sits. */
 static void put_row(text *t, const pfx_key *k, const char *where) {
-    put(t, "**%s** (%s)\n\n", k->name, where);
-    if (k->doc)
-        put(t, "%s\n\n", k->doc);
-    put(t, "Form: ");
-    put_form(t, k);
-    put(t, "\n\n");
-    if (has_range(k)) {
-        put(t, "Range: ");
-        if (isfinite(k->lo))
-            put(t, "%s %g", k->flags & PFX_KEY_LO_STRICT ? "above" : "from", k->lo);
-        if (isfinite(k->lo) && isfinite(k->hi))
-            put(t, ", ");
-        if (isfinite(k->hi))
-            put(t, "%s %g", k->flags & PFX_KEY_HI_STRICT ? "below" : "at most", k->hi);
-        put(t, "\n\n");
-    }
-    if (!(k->flags & PFX_KEY_NO_DEFAULT)) {
-        if (k->type == PFX_KEY_ENUM && k->names)
-            put(t, "Default: `%s`\n\n", k->names[(int)k->def[0]]);
-        else if (k->type == PFX_KEY_BOOL)
-            put(t, "Default: `%s`\n\n", k->def[0] ? "true" : "false");
-        else if (k->type == PFX_KEY_VEC3)
-            put(t, "Default: [%g, %g, %g]\n\n", k->def[0], k->def[1], k->def[2]);
-        else if (k->type == PFX_KEY_NUMBER || k->type == PFX_KEY_WHOLE ||
-                 k->type == PFX_KEY_VALUE || k->type == PFX_KEY_RANGE)
-            put(t, "Default: %g\n\n", k->def[0]);
-    }
+    char doc[2048];
+    pfx_key_doc(k, true, doc, sizeof doc);
+    put(t, "**%s** (%s)\n\n%s\n\n", k->name, where, doc);
 }
 
 /* The compiled emitter named em, or NULL (the effect did not compile). */

@@ -14,4 +14,29 @@ else
     fail "schemas/pfx-effect.schema.json differs from pfx schema" \
         "$(diff "$src/schemas/pfx-effect.schema.json" "$work/schema.json" | head -20)"
 fi
+# Every "#/$defs/x" names a definition: yaml-language-server resolves them
+# all when it loads the schema and drops the whole schema on one it cannot
+# (python's jsonschema only resolves the ones an example reaches).
+if missing=$("$py" - "$src/schemas/pfx-effect.schema.json" <<'PY'
+import json, sys
+schema = json.load(open(sys.argv[1]))
+def refs(node):
+    if isinstance(node, dict):
+        for k, v in node.items():
+            if k == "$ref":
+                yield v
+            yield from refs(v)
+    elif isinstance(node, list):
+        for v in node:
+            yield from refs(v)
+bad = sorted({r for r in refs(schema)
+              if not r.startswith("#/$defs/") or r[len("#/$defs/"):] not in schema["$defs"]})
+print(" ".join(bad))
+sys.exit(1 if bad else 0)
+PY
+); then
+    pass "every \$ref of the schema names a definition"
+else
+    fail "the schema refers to definitions it lacks" "$missing"
+fi
 summary
