@@ -16,6 +16,7 @@
 #include "base/json_text.h"
 #include "base/regular_file.h"
 #include "base/strmap.h"
+#include "jobs/input_files.h"
 #include "output/json_file.h"
 
 #define MANIFEST_FORMAT 1
@@ -367,6 +368,13 @@ bool pfx_manifest_up_to_date(const pfx_manifest *prev, const char *key, const ch
 size_t pfx_manifest_remove_stale(const pfx_manifest *prev, const pfx_manifest *now, const char *dir,
                                  pfx_diags *d) {
     size_t removed = 0;
+    /* A frame of an earlier run can be this run's texture: stale by the
+     * manifest, it is still read, so it stays. */
+    pfx_input_files inputs;
+    if (!pfx_input_files_of(now, &inputs)) {
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
+        return 0;
+    }
     for (size_t i = 0; i < pfx_manifest_output_count(prev); i++) {
         const char *sha, *name = pfx_manifest_output(prev, i, &sha);
         if (!plain_name(name) || find_output(now, name))
@@ -379,12 +387,17 @@ size_t pfx_manifest_remove_stale(const pfx_manifest *prev, const pfx_manifest *n
             pfx_diag_note(d, 0, 0, 1, "kept stale '%s': it changed since pfx wrote it", path);
             continue;
         }
+        if (pfx_input_files_find(&inputs, path)) {
+            pfx_diag_note(d, 0, 0, 1, "kept stale '%s': it is an input of this run", path);
+            continue;
+        }
         if (unlink(path) == 0)
             removed++;
         else
             pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot remove stale '%s': %s", path,
                            strerror(errno));
     }
+    pfx_input_files_free(&inputs);
     return removed;
 }
 

@@ -108,8 +108,10 @@ bool pfx_manifest_plain_name(const char *name);
 
 /* Removes from dir each output prev lists and now does not, when the file
  * still has the hash pfx recorded (a file changed since, or never written
- * by pfx, is never touched: a note says so). Names with a '/' or a leading
- * '.' are ignored. Returns how many were removed. */
+ * by pfx, or one that is an input of `now` by device and inode, such as a
+ * frame of an earlier run used as this run's texture, is never touched: a
+ * note says so). Names with a '/' or a leading '.' are ignored. Returns
+ * how many were removed. */
 size_t pfx_manifest_remove_stale(const pfx_manifest *prev, const pfx_manifest *now, const char *dir,
                                  pfx_diags *d);
 

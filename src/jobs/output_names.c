@@ -12,6 +12,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "jobs/input_files.h"
+
 static char *copy_of(const char *s) {
     size_t n = strlen(s) + 1;
     char *c = malloc(n);
@@ -92,25 +94,8 @@ static bool fits(const char *path, pfx_diags *d) {
     return false;
 }
 
-typedef struct input_id {
-    dev_t dev;
-    ino_t ino;
-    const char *path;
-} input_id;
-
-/* The input that path is, or NULL. */
-static const char *input_at(const char *path, const input_id *ids, size_t n) {
-    struct stat st;
-    if (n == 0 || stat(path, &st) != 0)
-        return NULL;
-    for (size_t i = 0; i < n; i++)
-        if (ids[i].dev == st.st_dev && ids[i].ino == st.st_ino)
-            return ids[i].path;
-    return NULL;
-}
-
-static bool not_input(const char *path, const input_id *ids, size_t n, pfx_diags *d) {
-    const char *in = input_at(path, ids, n);
+static bool not_input(const char *path, const pfx_input_files *inputs, pfx_diags *d) {
+    const char *in = pfx_input_files_find(inputs, path);
     if (!in)
         return true;
     pfx_diag_error(d, PFX_RULE_WRITE_FAILED,
@@ -124,17 +109,10 @@ bool pfx_output_names_check(const pfx_output_names *o, const pfx_manifest *m, pf
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
         return false;
     }
-    size_t n_in = m ? pfx_manifest_input_count(m) : 0, n = 0;
-    input_id *ids = malloc((n_in + 1) * sizeof *ids);
-    if (!ids) {
+    pfx_input_files inputs;
+    if (!pfx_input_files_of(m, &inputs)) {
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
         return false;
-    }
-    for (size_t i = 0; i < n_in; i++) {
-        struct stat st;
-        const char *p = pfx_manifest_input(m, i);
-        if (p && stat(p, &st) == 0)
-            ids[n++] = (input_id){st.st_dev, st.st_ino, p};
     }
     bool ok = true;
     char path[PATH_MAX];
@@ -152,12 +130,12 @@ bool pfx_output_names_check(const pfx_output_names *o, const pfx_manifest *m, pf
             continue;
         }
         for (long f = it->first; f <= it->last; f++)
-            if (path_of(it, f, path, sizeof path) && !not_input(path, ids, n, d)) {
+            if (path_of(it, f, path, sizeof path) && !not_input(path, &inputs, d)) {
                 ok = false;
                 break;
             }
     }
-    free(ids);
+    pfx_input_files_free(&inputs);
     return ok;
 }
 
