@@ -20,7 +20,8 @@ static char *copy_of(const char *s) {
     return c ? memcpy(c, s, n) : NULL;
 }
 
-static void push(pfx_output_names *o, char *prefix, char *suffix, long first, long last) {
+static void push(pfx_output_names *o, char *prefix, char *suffix, long first, long last, long step,
+                 int digits) {
     if (o->count == o->cap) {
         size_t cap = o->cap ? 2 * o->cap : 16;
         pfx_output_name *grown = realloc(o->items, cap * sizeof *grown);
@@ -38,12 +39,12 @@ static void push(pfx_output_names *o, char *prefix, char *suffix, long first, lo
         free(suffix);
         return;
     }
-    o->items[o->count++] = (pfx_output_name){prefix, suffix, first, last};
+    o->items[o->count++] = (pfx_output_name){prefix, suffix, first, last, step, digits};
 }
 
 void pfx_output_names_add(pfx_output_names *o, const char *path) {
     if (path)
-        push(o, copy_of(path), NULL, 0, 0);
+        push(o, copy_of(path), NULL, 0, 0, 1, 0);
 }
 
 void pfx_output_names_add_frames(pfx_output_names *o, const char *dir, const char *stem,
@@ -60,13 +61,26 @@ void pfx_output_names_add_frames(pfx_output_names *o, const char *dir, const cha
         free(prefix);
         prefix = NULL;
     }
-    push(o, prefix, suffix, first, last);
+    push(o, prefix, suffix, first, last, 1, 4);
+}
+
+void pfx_output_names_add_numbered(pfx_output_names *o, const char *prefix, int digits,
+                                   const char *suffix, long first, long last, long step) {
+    if (first > last || step < 1)
+        return;
+    char *p = copy_of(prefix), *s = copy_of(suffix);
+    if (!s) {
+        free(p);
+        p = NULL;
+    }
+    /* The last frame listed is the last one written. */
+    push(o, p, s, first, first + (last - first) / step * step, step, digits);
 }
 
 /* The k'th path of item it (k = 0 for a single file) into buf; false
  * when it does not fit PATH_MAX. */
 static bool path_of(const pfx_output_name *it, long frame, char *buf, size_t size) {
-    int n = it->suffix ? snprintf(buf, size, "%s%04ld%s", it->prefix, frame, it->suffix)
+    int n = it->suffix ? snprintf(buf, size, "%s%0*ld%s", it->prefix, it->digits, frame, it->suffix)
                        : snprintf(buf, size, "%s", it->prefix);
     return n >= 0 && (size_t)n < size;
 }
@@ -129,7 +143,7 @@ bool pfx_output_names_check(const pfx_output_names *o, const pfx_manifest *m, pf
             ok = false;
             continue;
         }
-        for (long f = it->first; f <= it->last; f++)
+        for (long f = it->first; f <= it->last; f += it->step)
             if (path_of(it, f, path, sizeof path) && !not_input(path, &inputs, d)) {
                 ok = false;
                 break;
