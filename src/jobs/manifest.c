@@ -472,6 +472,7 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
     const char **seen = NULL;
     pfx_manifest *out = NULL;
     json_t *ref = NULL;
+    const char *ref_name = NULL; /* the part the others are compared with */
     int errors = d->errors;
     for (size_t k = 0; k < n; k++) {
         if (!slice_of(parts[k], &index, &count, &f0, &f1) || !is_render(parts[k])) {
@@ -482,6 +483,7 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
         json_t *s = settings_but_frames(parts[k]);
         if (!ref) {
             ref = s;
+            ref_name = names[k];
             c0 = count, a0 = f0, b0 = f1;
             seen = calloc((size_t)count, sizeof *seen);
             out = pfx_manifest_create("render");
@@ -503,7 +505,7 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
                 pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
                                "'%s' is a slice of another render than '%s' (other inputs, "
                                "settings or slice count)",
-                               names[k], names[0]);
+                               names[k], ref_name);
                 continue;
             }
             if (!same_member(parts[k], out, "pfx_version") ||
@@ -511,7 +513,7 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
                 pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
                                "'%s' was rendered by another build of pfx than '%s' (other "
                                "pfx_version or pfx_results): its frames may differ",
-                               names[k], names[0]);
+                               names[k], ref_name);
                 continue;
             }
         }

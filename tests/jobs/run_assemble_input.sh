@@ -103,6 +103,19 @@ for kind in fifo zero; do
     end
 done
 
+# The parts are compared with the first that is a render slice, and the
+# message names that one, not a part refused before it.
+begin "another render's slice is named against the slice it differs from"
+rm -rf t && mkdir t && cp -r s0 s1 t/ && cp -r s1 t/s2
+edit t/s0 "m['command'] = 'bake'"
+edit t/s2 "m['settings']['seed'] = 4"
+pfx_run assemble t/s0 t/s1 t/s2 -o t/all
+finished && want_status 1
+stderr_has "'t/s0/$M0' is not the manifest of a render slice"
+stderr_has "'t/s2/$M1' is a slice of another render than 't/s1/$M1'"
+[ ! -e t/all/fire.manifest.json ] || flunk "a manifest was written"
+end
+
 begin "a slice manifest that is a FIFO: an error, no hang"
 rm -rf t && mkdir t && cp -r s0 s1 t/
 rm t/s1/$M1 && mkfifo t/s1/$M1
