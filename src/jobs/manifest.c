@@ -294,31 +294,54 @@ static bool all_files(json_t *list) {
     return json_is_array(list);
 }
 
-pfx_manifest *pfx_manifest_read(const char *path) {
+/* The reading of pfx_manifest_read; when d is given, why the file is not
+ * a manifest goes there (the JSON error with its line and column). */
+static pfx_manifest *read_manifest(const char *path, pfx_diags *d) {
     int fd = pfx_open_regular(path, true);
     FILE *f = fd >= 0 ? fdopen(fd, "rb") : NULL;
+    int err = errno;
     if (!f && fd >= 0)
         close(fd);
-    json_t *root = f ? json_loadf(f, 0, NULL) : NULL;
+    json_error_t jerr;
+    json_t *root = f ? json_loadf(f, 0, &jerr) : NULL;
     if (f)
         fclose(f);
+    if (!f && d)
+        pfx_diag_error(d, PFX_RULE_INVALID_FILE, "'%s' is not a pfx manifest: %s", path,
+                       pfx_file_strerror(err));
+    else if (!root && d)
+        pfx_diag_error(d, PFX_RULE_INVALID_FILE, "'%s' is not a pfx manifest: %s:%d:%d: %s", path,
+                       path, jerr.line, jerr.column, jerr.text);
     pfx_json_unescape(root);
     json_t *format = json_object_get(root, "pfx_manifest");
-    if (!json_is_integer(format) || json_integer_value(format) != MANIFEST_FORMAT ||
-        !all_files(json_object_get(root, "outputs")) ||
-        !all_files(json_object_get(root, "inputs")) ||
-        !json_is_object(json_object_get(root, "settings"))) {
+    if (root && (!json_is_integer(format) || json_integer_value(format) != MANIFEST_FORMAT ||
+                 !all_files(json_object_get(root, "outputs")) ||
+                 !all_files(json_object_get(root, "inputs")) ||
+                 !json_is_object(json_object_get(root, "settings")))) {
+        if (d)
+            pfx_diag_error(d, PFX_RULE_INVALID_FILE,
+                           "'%s' is not a pfx manifest: not format %d with settings, and inputs "
+                           "and outputs of a path and a sha256 each",
+                           path, MANIFEST_FORMAT);
         json_decref(root);
         return NULL;
     }
+    if (!root)
+        return NULL;
     pfx_manifest *m = calloc(1, sizeof *m);
     if (!m) {
+        if (d)
+            pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
         json_decref(root);
         return NULL;
     }
     m->root = root;
     return m;
 }
+
+pfx_manifest *pfx_manifest_read(const char *path) { return read_manifest(path, NULL); }
+
+pfx_manifest *pfx_manifest_load(const char *path, pfx_diags *d) { return read_manifest(path, d); }
 
 const char *pfx_manifest_recorded_key(const pfx_manifest *m) {
     return json_string_value(member(m, "bake_key"));

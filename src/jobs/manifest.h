@@ -93,6 +93,10 @@ bool pfx_manifest_write(pfx_manifest *m, const char *path, pfx_diags *d);
  * opened for reading when a FIFO or a device), not JSON, another format,
  * or an input or output without a string path and sha256. */
 pfx_manifest *pfx_manifest_read(const char *path);
+/* The same for a manifest that must be there (a slice's): NULL with the
+ * reason in d (the file's kind or errno, the JSON error at path:line:col,
+ * or which member is wrong). */
+pfx_manifest *pfx_manifest_load(const char *path, pfx_diags *d);
 /* The key the manifest recorded, or NULL. */
 const char *pfx_manifest_recorded_key(const pfx_manifest *m);
 
