@@ -108,7 +108,15 @@ static bool fits(const char *path, pfx_diags *d) {
     return false;
 }
 
-static bool not_input(const char *path, const pfx_input_files *inputs, pfx_diags *d) {
+/* Whether pfx can put a file at path: not a directory there (a file
+ * cannot be renamed over one, and finding it after the last frame is too
+ * late) and not one of the inputs. */
+static bool writable(const char *path, const pfx_input_files *inputs, pfx_diags *d) {
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+        pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot write '%s': %s", path, strerror(EISDIR));
+        return false;
+    }
     const char *in = pfx_input_files_find(inputs, path);
     if (!in)
         return true;
@@ -144,7 +152,7 @@ bool pfx_output_names_check(const pfx_output_names *o, const pfx_manifest *m, pf
             continue;
         }
         for (long f = it->first; f <= it->last; f += it->step)
-            if (path_of(it, f, path, sizeof path) && !not_input(path, &inputs, d)) {
+            if (path_of(it, f, path, sizeof path) && !writable(path, &inputs, d)) {
                 ok = false;
                 break;
             }

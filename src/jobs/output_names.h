@@ -38,8 +38,9 @@ void pfx_output_names_add_numbered(pfx_output_names *o, const char *prefix, int 
 
 /* True when every listed name fits (its file name within its directory's
  * NAME_MAX, the path within PATH_MAX; the temporary files pfx writes
- * beside it are cut to fit whenever the name does) and none is the same
- * file (device and inode) as an input of m. Otherwise false, with one
+ * beside it are cut to fit whenever the name does), none is a directory
+ * already there, and none is the same file (device and inode) as an
+ * input of m. Otherwise false, with one
  * error per problem in d. Creates nothing. */
 bool pfx_output_names_check(const pfx_output_names *o, const pfx_manifest *m, pfx_diags *d);
 
