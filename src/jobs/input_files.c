@@ -21,14 +21,18 @@ bool pfx_input_files_of(const pfx_manifest *m, pfx_input_files *files) {
     return true;
 }
 
+const char *pfx_input_files_match(const pfx_input_files *files, dev_t dev, ino_t ino) {
+    for (size_t i = 0; i < files->count; i++)
+        if (files->items[i].dev == dev && files->items[i].ino == ino)
+            return files->items[i].path;
+    return NULL;
+}
+
 const char *pfx_input_files_find(const pfx_input_files *files, const char *path) {
     struct stat st;
     if (files->count == 0 || stat(path, &st) != 0)
         return NULL;
-    for (size_t i = 0; i < files->count; i++)
-        if (files->items[i].dev == st.st_dev && files->items[i].ino == st.st_ino)
-            return files->items[i].path;
-    return NULL;
+    return pfx_input_files_match(files, st.st_dev, st.st_ino);
 }
 
 void pfx_input_files_free(pfx_input_files *files) {

@@ -30,6 +30,9 @@ bool pfx_input_files_of(const pfx_manifest *m, pfx_input_files *files);
 /* The input path names the same file as, or NULL (also when path does
  * not exist). */
 const char *pfx_input_files_find(const pfx_input_files *files, const char *path);
+/* The same for a file already stat'd: the input with that device and
+ * inode, or NULL. */
+const char *pfx_input_files_match(const pfx_input_files *files, dev_t dev, ino_t ino);
 void pfx_input_files_free(pfx_input_files *files);
 
 #endif

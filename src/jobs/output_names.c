@@ -113,11 +113,13 @@ static bool fits(const char *path, pfx_diags *d) {
  * late) and not one of the inputs. */
 static bool writable(const char *path, const pfx_input_files *inputs, pfx_diags *d) {
     struct stat st;
-    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+    if (stat(path, &st) != 0)
+        return true; /* not there yet: neither */
+    if (S_ISDIR(st.st_mode)) {
         pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot write '%s': %s", path, strerror(EISDIR));
         return false;
     }
-    const char *in = pfx_input_files_find(inputs, path);
+    const char *in = pfx_input_files_match(inputs, st.st_dev, st.st_ino);
     if (!in)
         return true;
     pfx_diag_error(d, PFX_RULE_WRITE_FAILED,
