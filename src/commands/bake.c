@@ -188,8 +188,19 @@ int pfx_cmd_bake(const char *const *operands, int count, const pfx_cli *o) {
         goto done;
     pfx_manifest_set_string(dl.now, "format", pfx_bake_format_name(format));
     pfx_manifest_set_number(dl.now, "every", (double)o->every);
+    /* A sequence is checked file by file: cache_####.obj must not write
+     * over the mesh cache_0001.obj it reads. */
     pfx_output_names names = {0};
-    pfx_output_names_add(&names, to_stdout ? NULL : o->output);
+    bake_target t;
+    find_hashes(o->output, &t);
+    if (t.hashes) {
+        char prefix[4096];
+        snprintf(prefix, sizeof prefix, "%.*s", (int)t.hash_at, o->output);
+        pfx_output_names_add_numbered(&names, prefix, (int)t.hashes,
+                                      o->output + t.hash_at + t.hashes, first, last, o->every);
+    } else {
+        pfx_output_names_add(&names, to_stdout ? NULL : o->output);
+    }
     bool names_ok = pfx_cli_check_outputs(&dl, &names, &run);
     pfx_output_names_free(&names);
     if (!names_ok)

@@ -77,8 +77,12 @@ static bool check_outputs(const pfx_render_job *job, const pfx_cli *o, const pfx
     pfx_output_names names = {0};
     const char *dir = job->dir, *stem = job->stem;
     char path[4600];
-    pfx_output_names_add_frames(&names, dir, stem, "_", job->first, job->last,
-                                pfx_frame_format_name(o->frames_as));
+    /* --frames A:B:S writes every S-th frame: only those are checked. */
+    snprintf(path, sizeof path, "%s/%s_", dir, stem);
+    char ext[16];
+    snprintf(ext, sizeof ext, ".%s", pfx_frame_format_name(o->frames_as));
+    pfx_output_names_add_numbered(&names, path, 4, ext, job->first, job->last,
+                                  o->every > 1 ? o->every : 1);
     if (o->motion_vectors) {
         pfx_output_names_add_frames(&names, dir, stem, "_mv_", job->first, job->last, "png");
         snprintf(path, sizeof path, "%s/%s_mv%s", dir, stem, o->atlas ? "_atlas.png" : ".json");

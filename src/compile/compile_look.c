@@ -243,6 +243,7 @@ static const pfx_image *read_texture(pfx_reader *r, const pfx_node *v, const cha
     const pfx_image *seen = pfx_file_cache_find(r, path, PFX_FILE_TEXTURE, colour);
     if (seen) {
         *img = *seen;
+        img->path = name; /* as this key wrote it, not as the first did */
     } else {
         pfx_diag_at at = pfx_read_at(r, v);
         if (!pfx_png_read_texture(path, name, colour, r->arena, img, &at))

@@ -92,11 +92,8 @@ static bool scan_dir(const char *dir, parts *p, pfx_diags *d) {
             break;
         }
         snprintf(it->path, n, "%s/%s", dir, ent->d_name);
-        it->m = pfx_manifest_read(it->path);
-        if (!it->m) {
-            pfx_diag_error(d, PFX_RULE_INVALID_FILE, "'%s' is not a pfx manifest", it->path);
-            ok = false;
-        }
+        it->m = pfx_manifest_load(it->path, d);
+        ok = it->m != NULL;
     }
     closedir(dh);
     return ok;

@@ -136,18 +136,17 @@ static void estimate_drawing(const pfx_effect *e, unsigned what, double image, p
             out->bytes[PFX_MEMORY_DRIVER] += PFX_RENDER_DRIVER_BYTES_PER_TEXTURED;
             *fixed += PFX_RENDER_DRIVER_BYTES_PER_TEXTURED;
         }
-    /* Textures: the decoded pixels, once per file however many emitters
-     * name it (the compiler reads a file once), and each emitter's copy in
-     * GL with mipmaps (4/3 of the base level). */
+    /* Textures: the decoded pixels and their copy in GL with mipmaps (4/3
+     * of the base level), once per file however many emitters name it (the
+     * compiler reads a file once, the renderer uploads its pixels once). */
     for (size_t i = 0; i < e->emitter_count; i++) {
         const pfx_image *maps[2] = {e->emitters[i].look.texture, e->emitters[i].look.normal_map};
         for (int k = 0; k < 2; k++) {
             if (!maps[k])
                 continue;
             const double bytes = (double)maps[k]->width * maps[k]->height * 4 * (maps[k]->bits / 8);
-            out->bytes[PFX_MEMORY_TEXTURES] += 4.0 / 3 * bytes;
             if (first_use(e, i, k, maps[k]->pixels))
-                out->bytes[PFX_MEMORY_TEXTURES] += bytes;
+                out->bytes[PFX_MEMORY_TEXTURES] += (1 + 4.0 / 3) * bytes;
         }
     }
     *fixed += out->bytes[PFX_MEMORY_FRAMEBUFFER] + out->bytes[PFX_MEMORY_TEXTURES];

@@ -16,6 +16,7 @@
 #include "base/json_text.h"
 #include "base/regular_file.h"
 #include "base/strmap.h"
+#include "jobs/input_files.h"
 #include "output/json_file.h"
 
 #define MANIFEST_FORMAT 1
@@ -293,31 +294,54 @@ static bool all_files(json_t *list) {
     return json_is_array(list);
 }
 
-pfx_manifest *pfx_manifest_read(const char *path) {
+/* The reading of pfx_manifest_read; when d is given, why the file is not
+ * a manifest goes there (the JSON error with its line and column). */
+static pfx_manifest *read_manifest(const char *path, pfx_diags *d) {
     int fd = pfx_open_regular(path, true);
     FILE *f = fd >= 0 ? fdopen(fd, "rb") : NULL;
+    int err = errno;
     if (!f && fd >= 0)
         close(fd);
-    json_t *root = f ? json_loadf(f, 0, NULL) : NULL;
+    json_error_t jerr;
+    json_t *root = f ? json_loadf(f, 0, &jerr) : NULL;
     if (f)
         fclose(f);
+    if (!f && d)
+        pfx_diag_error(d, PFX_RULE_INVALID_FILE, "'%s' is not a pfx manifest: %s", path,
+                       pfx_file_strerror(err));
+    else if (!root && d)
+        pfx_diag_error(d, PFX_RULE_INVALID_FILE, "'%s' is not a pfx manifest: %s:%d:%d: %s", path,
+                       path, jerr.line, jerr.column, jerr.text);
     pfx_json_unescape(root);
     json_t *format = json_object_get(root, "pfx_manifest");
-    if (!json_is_integer(format) || json_integer_value(format) != MANIFEST_FORMAT ||
-        !all_files(json_object_get(root, "outputs")) ||
-        !all_files(json_object_get(root, "inputs")) ||
-        !json_is_object(json_object_get(root, "settings"))) {
+    if (root && (!json_is_integer(format) || json_integer_value(format) != MANIFEST_FORMAT ||
+                 !all_files(json_object_get(root, "outputs")) ||
+                 !all_files(json_object_get(root, "inputs")) ||
+                 !json_is_object(json_object_get(root, "settings")))) {
+        if (d)
+            pfx_diag_error(d, PFX_RULE_INVALID_FILE,
+                           "'%s' is not a pfx manifest: not format %d with settings, and inputs "
+                           "and outputs of a path and a sha256 each",
+                           path, MANIFEST_FORMAT);
         json_decref(root);
         return NULL;
     }
+    if (!root)
+        return NULL;
     pfx_manifest *m = calloc(1, sizeof *m);
     if (!m) {
+        if (d)
+            pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
         json_decref(root);
         return NULL;
     }
     m->root = root;
     return m;
 }
+
+pfx_manifest *pfx_manifest_read(const char *path) { return read_manifest(path, NULL); }
+
+pfx_manifest *pfx_manifest_load(const char *path, pfx_diags *d) { return read_manifest(path, d); }
 
 const char *pfx_manifest_recorded_key(const pfx_manifest *m) {
     return json_string_value(member(m, "bake_key"));
@@ -367,6 +391,13 @@ bool pfx_manifest_up_to_date(const pfx_manifest *prev, const char *key, const ch
 size_t pfx_manifest_remove_stale(const pfx_manifest *prev, const pfx_manifest *now, const char *dir,
                                  pfx_diags *d) {
     size_t removed = 0;
+    /* A frame of an earlier run can be this run's texture: stale by the
+     * manifest, it is still read, so it stays. */
+    pfx_input_files inputs;
+    if (!pfx_input_files_of(now, &inputs)) {
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
+        return 0;
+    }
     for (size_t i = 0; i < pfx_manifest_output_count(prev); i++) {
         const char *sha, *name = pfx_manifest_output(prev, i, &sha);
         if (!plain_name(name) || find_output(now, name))
@@ -379,12 +410,17 @@ size_t pfx_manifest_remove_stale(const pfx_manifest *prev, const pfx_manifest *n
             pfx_diag_note(d, 0, 0, 1, "kept stale '%s': it changed since pfx wrote it", path);
             continue;
         }
+        if (pfx_input_files_find(&inputs, path)) {
+            pfx_diag_note(d, 0, 0, 1, "kept stale '%s': it is an input of this run", path);
+            continue;
+        }
         if (unlink(path) == 0)
             removed++;
         else
             pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot remove stale '%s': %s", path,
                            strerror(errno));
     }
+    pfx_input_files_free(&inputs);
     return removed;
 }
 
@@ -459,6 +495,7 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
     const char **seen = NULL;
     pfx_manifest *out = NULL;
     json_t *ref = NULL;
+    const char *ref_name = NULL; /* the part the others are compared with */
     int errors = d->errors;
     for (size_t k = 0; k < n; k++) {
         if (!slice_of(parts[k], &index, &count, &f0, &f1) || !is_render(parts[k])) {
@@ -469,6 +506,7 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
         json_t *s = settings_but_frames(parts[k]);
         if (!ref) {
             ref = s;
+            ref_name = names[k];
             c0 = count, a0 = f0, b0 = f1;
             seen = calloc((size_t)count, sizeof *seen);
             out = pfx_manifest_create("render");
@@ -490,7 +528,7 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
                 pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
                                "'%s' is a slice of another render than '%s' (other inputs, "
                                "settings or slice count)",
-                               names[k], names[0]);
+                               names[k], ref_name);
                 continue;
             }
             if (!same_member(parts[k], out, "pfx_version") ||
@@ -498,7 +536,7 @@ pfx_manifest *pfx_manifest_assemble(pfx_manifest *const *parts, const char *cons
                 pfx_diag_error(d, PFX_RULE_INCONSISTENT_SLICES,
                                "'%s' was rendered by another build of pfx than '%s' (other "
                                "pfx_version or pfx_results): its frames may differ",
-                               names[k], names[0]);
+                               names[k], ref_name);
                 continue;
             }
         }

@@ -93,6 +93,10 @@ bool pfx_manifest_write(pfx_manifest *m, const char *path, pfx_diags *d);
  * opened for reading when a FIFO or a device), not JSON, another format,
  * or an input or output without a string path and sha256. */
 pfx_manifest *pfx_manifest_read(const char *path);
+/* The same for a manifest that must be there (a slice's): NULL with the
+ * reason in d (the file's kind or errno, the JSON error at path:line:col,
+ * or which member is wrong). */
+pfx_manifest *pfx_manifest_load(const char *path, pfx_diags *d);
 /* The key the manifest recorded, or NULL. */
 const char *pfx_manifest_recorded_key(const pfx_manifest *m);
 
@@ -108,8 +112,10 @@ bool pfx_manifest_plain_name(const char *name);
 
 /* Removes from dir each output prev lists and now does not, when the file
  * still has the hash pfx recorded (a file changed since, or never written
- * by pfx, is never touched: a note says so). Names with a '/' or a leading
- * '.' are ignored. Returns how many were removed. */
+ * by pfx, or one that is an input of `now` by device and inode, such as a
+ * frame of an earlier run used as this run's texture, is never touched: a
+ * note says so). Names with a '/' or a leading '.' are ignored. Returns
+ * how many were removed. */
 size_t pfx_manifest_remove_stale(const pfx_manifest *prev, const pfx_manifest *now, const char *dir,
                                  pfx_diags *d);
 

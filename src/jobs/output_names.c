@@ -12,13 +12,16 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "jobs/input_files.h"
+
 static char *copy_of(const char *s) {
     size_t n = strlen(s) + 1;
     char *c = malloc(n);
     return c ? memcpy(c, s, n) : NULL;
 }
 
-static void push(pfx_output_names *o, char *prefix, char *suffix, long first, long last) {
+static void push(pfx_output_names *o, char *prefix, char *suffix, long first, long last, long step,
+                 int digits) {
     if (o->count == o->cap) {
         size_t cap = o->cap ? 2 * o->cap : 16;
         pfx_output_name *grown = realloc(o->items, cap * sizeof *grown);
@@ -36,12 +39,12 @@ static void push(pfx_output_names *o, char *prefix, char *suffix, long first, lo
         free(suffix);
         return;
     }
-    o->items[o->count++] = (pfx_output_name){prefix, suffix, first, last};
+    o->items[o->count++] = (pfx_output_name){prefix, suffix, first, last, step, digits};
 }
 
 void pfx_output_names_add(pfx_output_names *o, const char *path) {
     if (path)
-        push(o, copy_of(path), NULL, 0, 0);
+        push(o, copy_of(path), NULL, 0, 0, 1, 0);
 }
 
 void pfx_output_names_add_frames(pfx_output_names *o, const char *dir, const char *stem,
@@ -58,13 +61,26 @@ void pfx_output_names_add_frames(pfx_output_names *o, const char *dir, const cha
         free(prefix);
         prefix = NULL;
     }
-    push(o, prefix, suffix, first, last);
+    push(o, prefix, suffix, first, last, 1, 4);
+}
+
+void pfx_output_names_add_numbered(pfx_output_names *o, const char *prefix, int digits,
+                                   const char *suffix, long first, long last, long step) {
+    if (first > last || step < 1)
+        return;
+    char *p = copy_of(prefix), *s = copy_of(suffix);
+    if (!s) {
+        free(p);
+        p = NULL;
+    }
+    /* The last frame listed is the last one written. */
+    push(o, p, s, first, first + (last - first) / step * step, step, digits);
 }
 
 /* The k'th path of item it (k = 0 for a single file) into buf; false
  * when it does not fit PATH_MAX. */
 static bool path_of(const pfx_output_name *it, long frame, char *buf, size_t size) {
-    int n = it->suffix ? snprintf(buf, size, "%s%04ld%s", it->prefix, frame, it->suffix)
+    int n = it->suffix ? snprintf(buf, size, "%s%0*ld%s", it->prefix, it->digits, frame, it->suffix)
                        : snprintf(buf, size, "%s", it->prefix);
     return n >= 0 && (size_t)n < size;
 }
@@ -92,25 +108,18 @@ static bool fits(const char *path, pfx_diags *d) {
     return false;
 }
 
-typedef struct input_id {
-    dev_t dev;
-    ino_t ino;
-    const char *path;
-} input_id;
-
-/* The input that path is, or NULL. */
-static const char *input_at(const char *path, const input_id *ids, size_t n) {
+/* Whether pfx can put a file at path: not a directory there (a file
+ * cannot be renamed over one, and finding it after the last frame is too
+ * late) and not one of the inputs. */
+static bool writable(const char *path, const pfx_input_files *inputs, pfx_diags *d) {
     struct stat st;
-    if (n == 0 || stat(path, &st) != 0)
-        return NULL;
-    for (size_t i = 0; i < n; i++)
-        if (ids[i].dev == st.st_dev && ids[i].ino == st.st_ino)
-            return ids[i].path;
-    return NULL;
-}
-
-static bool not_input(const char *path, const input_id *ids, size_t n, pfx_diags *d) {
-    const char *in = input_at(path, ids, n);
+    if (stat(path, &st) != 0)
+        return true; /* not there yet: neither */
+    if (S_ISDIR(st.st_mode)) {
+        pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot write '%s': %s", path, strerror(EISDIR));
+        return false;
+    }
+    const char *in = pfx_input_files_match(inputs, st.st_dev, st.st_ino);
     if (!in)
         return true;
     pfx_diag_error(d, PFX_RULE_WRITE_FAILED,
@@ -124,17 +133,10 @@ bool pfx_output_names_check(const pfx_output_names *o, const pfx_manifest *m, pf
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
         return false;
     }
-    size_t n_in = m ? pfx_manifest_input_count(m) : 0, n = 0;
-    input_id *ids = malloc((n_in + 1) * sizeof *ids);
-    if (!ids) {
+    pfx_input_files inputs;
+    if (!pfx_input_files_of(m, &inputs)) {
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
         return false;
-    }
-    for (size_t i = 0; i < n_in; i++) {
-        struct stat st;
-        const char *p = pfx_manifest_input(m, i);
-        if (p && stat(p, &st) == 0)
-            ids[n++] = (input_id){st.st_dev, st.st_ino, p};
     }
     bool ok = true;
     char path[PATH_MAX];
@@ -151,13 +153,13 @@ bool pfx_output_names_check(const pfx_output_names *o, const pfx_manifest *m, pf
             ok = false;
             continue;
         }
-        for (long f = it->first; f <= it->last; f++)
-            if (path_of(it, f, path, sizeof path) && !not_input(path, ids, n, d)) {
+        for (long f = it->first; f <= it->last; f += it->step)
+            if (path_of(it, f, path, sizeof path) && !writable(path, &inputs, d)) {
                 ok = false;
                 break;
             }
     }
-    free(ids);
+    pfx_input_files_free(&inputs);
     return ok;
 }
 

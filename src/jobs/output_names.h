@@ -15,7 +15,8 @@
  * costs one entry). */
 typedef struct pfx_output_name {
     char *prefix, *suffix; /* malloc'd; suffix NULL: a single file, prefix is its path */
-    long first, last;
+    long first, last, step;
+    int digits; /* the frame number zero-padded to at least this many */
 } pfx_output_name;
 
 typedef struct pfx_output_names {
@@ -29,11 +30,17 @@ void pfx_output_names_add(pfx_output_names *o, const char *path);
 /* Lists dir/<stem><infix>NNNN.<ext> for the frames first..last. */
 void pfx_output_names_add_frames(pfx_output_names *o, const char *dir, const char *stem,
                                  const char *infix, long first, long last, const char *ext);
+/* Lists <prefix>N<suffix> for N = first, first + step, ... up to last,
+ * with N zero-padded to `digits` (bake's cache_####.ply: prefix "cache_",
+ * 4 digits, suffix ".ply"). */
+void pfx_output_names_add_numbered(pfx_output_names *o, const char *prefix, int digits,
+                                   const char *suffix, long first, long last, long step);
 
 /* True when every listed name fits (its file name within its directory's
  * NAME_MAX, the path within PATH_MAX; the temporary files pfx writes
- * beside it are cut to fit whenever the name does) and none is the same
- * file (device and inode) as an input of m. Otherwise false, with one
+ * beside it are cut to fit whenever the name does), none is a directory
+ * already there, and none is the same file (device and inode) as an
+ * input of m. Otherwise false, with one
  * error per problem in d. Creates nothing. */
 bool pfx_output_names_check(const pfx_output_names *o, const pfx_manifest *m, pfx_diags *d);
 

@@ -203,12 +203,44 @@ static GLuint upload_texture(pfx_renderer *r, const pfx_image *img) {
     return t;
 }
 
-static void drop_textures(pfx_renderer *r) {
-    for (size_t i = 0; i < r->material_count; i++) {
-        GLuint t[2] = {r->materials[i].texture, r->materials[i].normal_map};
-        r->gl.DeleteTextures(2, t);
+/* The GL texture already made for these pixels by an earlier material
+ * (or by this one's colour map), or 0. The compiler reads a file once and
+ * gives every emitter naming it the same pixels (compile/file_cache.c), so
+ * pixels are the identity: one upload per distinct image, not per emitter. */
+static GLuint uploaded(const pfx_gpu_material *g, size_t count, const pfx_image *img) {
+    for (size_t i = 0; i < count; i++) {
+        if (g[i].texture && g[i].m.texture->pixels == img->pixels)
+            return g[i].texture;
+        if (g[i].normal_map && g[i].m.normal_map->pixels == img->pixels)
+            return g[i].normal_map;
     }
+    return 0;
 }
+
+static GLuint texture_for(pfx_renderer *r, const pfx_gpu_material *g, size_t count,
+                          const pfx_image *img) {
+    GLuint t = uploaded(g, count, img);
+    if (!t) {
+        t = upload_texture(r, img);
+        r->texture_count++;
+    }
+    return t;
+}
+
+/* Deletes each texture once, however many materials share it. */
+static void drop_textures(pfx_renderer *r) {
+    pfx_gpu_material *g = r->materials;
+    for (size_t i = 0; i < r->material_count; i++) {
+        if (g[i].texture && uploaded(g, i, g[i].m.texture) != g[i].texture)
+            r->gl.DeleteTextures(1, &g[i].texture);
+        if (g[i].normal_map && uploaded(g, i, g[i].m.normal_map) != g[i].normal_map &&
+            g[i].normal_map != g[i].texture)
+            r->gl.DeleteTextures(1, &g[i].normal_map);
+    }
+    r->texture_count = 0;
+}
+
+size_t pfx_renderer_texture_count(const pfx_renderer *r) { return r->texture_count; }
 
 bool pfx_renderer_set_materials(pfx_renderer *r, const pfx_material *m, size_t count,
                                 pfx_diags *d) {
@@ -229,9 +261,9 @@ bool pfx_renderer_set_materials(pfx_renderer *r, const pfx_material *m, size_t c
     for (size_t i = 0; i < count; i++) {
         g[i].m = m[i];
         if (m[i].texture)
-            g[i].texture = upload_texture(r, m[i].texture);
+            g[i].texture = texture_for(r, g, i, m[i].texture);
         if (m[i].normal_map)
-            g[i].normal_map = upload_texture(r, m[i].normal_map);
+            g[i].normal_map = texture_for(r, g, i + 1, m[i].normal_map);
         if (!pfx_shader_bind(r, &g[i], d))
             return false;
     }

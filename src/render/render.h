@@ -164,10 +164,13 @@ const char *pfx_renderer_name(const pfx_renderer *r);
 void pfx_renderer_destroy(pfx_renderer *r);
 
 /* The materials sprites name by index, one per emitter: textures are
- * uploaded now (with mipmaps of their premultiplied texels). The renderer
- * keeps pointers to the images, which must outlive it. False (with an
- * error in d) when a texture cannot be uploaded. */
+ * uploaded now (with mipmaps of their premultiplied texels), once per
+ * distinct image (the same pixels pointer), however many materials name
+ * it. The renderer keeps pointers to the images, which must outlive it.
+ * False (with an error in d) when a texture cannot be uploaded. */
 bool pfx_renderer_set_materials(pfx_renderer *r, const pfx_material *m, size_t count, pfx_diags *d);
+/* How many GL textures the current materials hold. */
+size_t pfx_renderer_texture_count(const pfx_renderer *r);
 
 /* Draws `count` sprites seen from `cam` and writes width*height*4 bytes of
  * 8-bit RGBA (straight or premultiplied as `s` says), top row first, into

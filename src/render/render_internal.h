@@ -130,8 +130,9 @@ struct pfx_renderer {
     GLint ribbon_view, ribbon_proj, ribbon_textured;
     pfx_gpu_material *materials;
     size_t material_count;
-    float *pixels; /* width * height * 4 floats read back from the FBO */
-    float *blur;   /* motion blur: the weighted sum of full float images */
+    size_t texture_count; /* distinct GL textures the materials share */
+    float *pixels;        /* width * height * 4 floats read back from the FBO */
+    float *blur;          /* motion blur: the weighted sum of full float images */
     /* Sort scratch, grown to the largest count seen, up to sort_batch: two
      * key and two index arrays for the radix ping-pong and the radix
      * blocks' histograms (render/sort.c). `sorted` is pfx_renderer_sort's copy alone (pfx

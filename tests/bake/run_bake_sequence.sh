@@ -87,6 +87,26 @@ grep -qF "$work/ply/cache_\#\#\#\#.ply.manifest.json:" "$work/d" ||
     flunk "the depfile's target is not the manifest: $(head -n 1 "$work/d")"
 end
 
+# A file of the sequence that is an input of the run (the mesh m_0001.obj
+# under -o m_####.obj) is refused before any work, as a one-file -o is:
+# the mesh is intact and no frame is written. With --frames 0:2:2 frame 1
+# is not written, so the same names are fine.
+begin "a sequence that would write over its own mesh is refused before any frame"
+mkdir -p "$work/in"
+cp effects/torus.obj "$work/in/m_0001.obj"
+sed 's/torus.obj/m_0001.obj/' effects/mesh_emitter.yaml >"$work/in/fx.yaml"
+h=$(sha256sum "$work/in/m_0001.obj" | cut -d' ' -f1)
+pfx_run bake "$work/in/fx.yaml" -o "$work/in/m_####.obj" --format csv --frames 0:2 "${R[@]}"
+want_status 1
+stderr_has "cannot write '$work/in/m_0001.obj': it is the input '$work/in/m_0001.obj' of this run"
+[ "$(sha256sum "$work/in/m_0001.obj" | cut -d' ' -f1)" = "$h" ] || flunk "the mesh was overwritten"
+[ "$(names "$work/in")" = "fx.yaml m_0001.obj " ] || flunk "wrote $(names "$work/in")"
+pfx_run bake "$work/in/fx.yaml" -o "$work/in/m_####.obj" --format csv --frames 0:2:2 "${R[@]}"
+want_status 0
+[ "$(names "$work/in")" = "fx.yaml m_0000.obj m_0001.obj m_0002.obj " ] || flunk "wrote $(names "$work/in")"
+[ "$(sha256sum "$work/in/m_0001.obj" | cut -d' ' -f1)" = "$h" ] || flunk "the mesh was overwritten"
+end
+
 # usage_error NAME MESSAGE ARGS...
 usage_error() {
     begin "$1"

@@ -260,6 +260,41 @@ PY
 ) || flunk "$msg"
 end
 
+# ---- One texture file named by several emitters is one image: the
+# compiler reads it once, the renderer uploads it once, and `pfx info`
+# counts it once (8x8 RGBA8: 256 bytes decoded plus 4/3 of that in GL with
+# its mipmaps, 597.33 bytes, where one GL copy per emitter made 1280).
+# The frames are byte-identical to those of the same effect naming three
+# copies of the file (three uploads), and orange at the centre.
+cp "$work/white.png" "$work/white2.png"
+cp "$work/white.png" "$work/white3.png"
+"$py" - "$work/named.yaml" "$work/shared.yaml" "$work/copies.yaml" <<'PY'
+import sys
+src = open(sys.argv[1]).read()
+one = src[src.index("  one:"):]
+for out, names in ((sys.argv[2], ["white.png", "./white.png", "white.png"]),
+                   (sys.argv[3], ["white.png", "white2.png", "white3.png"])):
+    body = "".join(one.replace("  one:", "  e%d:" % i).replace("white.png", n)
+                   for i, n in enumerate(names))
+    open(out, "w").write(src[:src.index("  one:")] + body)
+PY
+begin "one texture file named by three emitters is uploaded and counted once"
+pfx_run info --format json "$work/shared.yaml"
+want_status 0
+got=$("$py" -c 'import json,sys; print(json.load(open(sys.argv[1]))["memory"]["parts"]["textures"])' "$work/out")
+"$py" -c 'import sys; sys.exit(abs(float(sys.argv[1]) - 256 * 7 / 3) > 1e-6)' "$got" ||
+    flunk "textures: $got bytes, expected 597.33 (256 decoded + 341.33 in GL, once)"
+pfx_run render "$work/shared.yaml" -o "$work/shared" -q
+want_status 0
+pfx_run render "$work/copies.yaml" -o "$work/copies" -q
+want_status 0
+cmp -s "$work/shared/shared_0000.png" "$work/copies/copies_0000.png" ||
+    flunk "the shared texture draws other pixels than three copies"
+"$py" -c 'import sys; from PIL import Image, ImageColor
+sys.exit(Image.open(sys.argv[1]).convert("RGBA").getpixel((32, 32)) != ImageColor.getrgb("orange") + (255,))' \
+    "$work/shared/shared_0000.png" || flunk "the centre is not orange"
+end
+
 begin "a misspelt colour name: the nearest name suggested"
 printf 'pfx: 1\nemitters:\n  a: { color: [red, oragne] }\n' >"$work/misspelt.yaml"
 pfx_run validate "$work/misspelt.yaml"

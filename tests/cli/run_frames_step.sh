@@ -127,6 +127,31 @@ stderr_has "3 frames (0 to 20, every 10)"
     flunk "after 0:20:10: $(names "$work/step")"
 end
 
+# Only the frames a step writes are checked against the inputs: a texture
+# named like a frame the step skips (m_0001.png under 0:2:2) is left alone
+# and read, while 0:2 would write over it and is refused before any work.
+mkdir -p "$work/tx/out"
+"$py" -c "from PIL import Image; Image.new('RGBA', (8, 8), (255,) * 4).save('$work/tx/out/m_0001.png')"
+cat >"$work/tx/m.yaml" <<'YAML'
+pfx: 1
+duration: 0.3
+fps: 10
+camera: { position: [0, 0, 5], target: [0, 0, 0], ortho: 2 }
+image: { size: [32, 32] }
+emitters:
+  one: { rate: 20, lifetime: 1, size: 0.3, texture: out/m_0001.png }
+YAML
+begin "a step checks only the frames it writes against the inputs"
+h=$(sha256sum "$work/tx/out/m_0001.png" | cut -d' ' -f1)
+pfx_run render "$work/tx/m.yaml" -o "$work/tx/out" --frames 0:2 -q
+want_status 1
+stderr_has "cannot write '$work/tx/out/m_0001.png': it is the input"
+pfx_run render "$work/tx/m.yaml" -o "$work/tx/out" --frames 0:2:2 -q
+want_status 0
+[ "$(names "$work/tx/out")" = "m_0000.png m_0001.png m_0002.png " ] || flunk "wrote $(names "$work/tx/out")"
+[ "$(sha256sum "$work/tx/out/m_0001.png" | cut -d' ' -f1)" = "$h" ] || flunk "the texture changed"
+end
+
 begin "A::S: every S-th frame from A to the end"
 pfx_run render "$FIRE" -o "$work/tail" --frames 100::10 "${SMALL[@]}"
 want_status 0

@@ -168,6 +168,26 @@ leftovers "$work/toolong"
 end
 rm -f "$work/$stem.yaml"
 
+# ---- an output name taken by a directory: refused before any work (the
+# atlas JSON is written last, so finding it then cost the whole render
+# and the previous atlas image), nothing written
+for what in fire_0002.png fire_atlas.json; do
+    begin "render with a directory at $what: refused before the first frame"
+    rm -rf "$work/dirs" && mkdir -p "$work/dirs/$what"
+    pfx_run render "$FIRE" -o "$work/dirs" --size 16x16 --frames 0:3 --atlas -q
+    finished && want_status 1
+    stderr_has "pfx: cannot write '$work/dirs/$what': Is a directory"
+    [ "$(cd "$work/dirs" && ls -A)" = "$what" ] || flunk "wrote $(cd "$work/dirs" && ls -A | tr '\n' ' ')"
+    end
+done
+begin "bake -o a directory: refused before any work"
+rm -rf "$work/dirs" && mkdir -p "$work/dirs/c.csv"
+pfx_run bake "$FIRE" -o "$work/dirs/c.csv" --frames 0:3
+finished && want_status 1
+stderr_has "pfx: cannot write '$work/dirs/c.csv': Is a directory"
+[ "$(cd "$work/dirs" && ls -A)" = "c.csv" ] || flunk "wrote $(cd "$work/dirs" && ls -A | tr '\n' ' ')"
+end
+
 # ---- an output directory that is a symlink loop: the real errno
 ln -s loop "$work/loop"
 begin "render under a symlink loop: 'Too many levels of symbolic links'"

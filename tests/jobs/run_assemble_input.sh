@@ -103,12 +103,44 @@ for kind in fifo zero; do
     end
 done
 
+# The parts are compared with the first that is a render slice, and the
+# message names that one, not a part refused before it.
+begin "another render's slice is named against the slice it differs from"
+rm -rf t && mkdir t && cp -r s0 s1 t/ && cp -r s1 t/s2
+edit t/s0 "m['command'] = 'bake'"
+edit t/s2 "m['settings']['seed'] = 4"
+pfx_run assemble t/s0 t/s1 t/s2 -o t/all
+finished && want_status 1
+stderr_has "'t/s0/$M0' is not the manifest of a render slice"
+stderr_has "'t/s2/$M1' is a slice of another render than 't/s1/$M1'"
+[ ! -e t/all/fire.manifest.json ] || flunk "a manifest was written"
+end
+
+# A damaged slice manifest says why: the JSON error at file:line:col (the
+# 'x' is the 18th character of line 3), or the member that is wrong.
+begin "a slice manifest that is not JSON: the error at file:line:col"
+rm -rf t && mkdir t && cp -r s0 s1 t/
+printf '{\n  "pfx_manifest": 1,\n  "settings": {} x\n}\n' >t/s1/$M1
+pfx_run assemble t/s0 t/s1 -o t/all
+finished && want_status 1
+stderr_has "'t/s1/$M1' is not a pfx manifest: t/s1/$M1:3:18: '}' expected near 'x'"
+[ ! -e t/all/fire.manifest.json ] || flunk "a manifest was written"
+end
+
+begin "a slice manifest of another format: which members are wrong"
+rm -rf t && mkdir t && cp -r s0 s1 t/
+printf '{"pfx_manifest": 2, "settings": {}, "inputs": [], "outputs": []}' >t/s1/$M1
+pfx_run assemble t/s0 t/s1 -o t/all
+finished && want_status 1
+stderr_has "'t/s1/$M1' is not a pfx manifest: not format 1 with settings"
+end
+
 begin "a slice manifest that is a FIFO: an error, no hang"
 rm -rf t && mkdir t && cp -r s0 s1 t/
 rm t/s1/$M1 && mkfifo t/s1/$M1
 pfx_run assemble t/s0 t/s1 -o t/all
 finished && want_status 1
-stderr_has "'t/s1/$M1' is not a pfx manifest"
+stderr_has "'t/s1/$M1' is not a pfx manifest: not a regular file"
 end
 
 begin "a manifest input without a path: not a manifest"

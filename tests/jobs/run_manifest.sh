@@ -200,6 +200,29 @@ want_status 0
 cd "$work" || exit 2
 end
 
+# A frame of an earlier run used as this run's texture, directly or through
+# a link, with fewer frames this time: it is stale by the manifest but an
+# input now, so it is kept (compared as a file: device and inode).
+begin "a stale output that is an input of the new run is kept"
+mkdir -p tex && cd tex || exit 2
+cp "$E" "$src/effects/torus.obj" .
+pfx_run render mesh_emitter.yaml -o frames --frames 0:5 "${R[@]}"
+want_status 0
+h4=$(sha256sum frames/mesh_emitter_0004.png | cut -d' ' -f1)
+ln -s frames/mesh_emitter_0005.png five.png
+sed 's|^    blend: add|    blend: add\n    texture: frames/mesh_emitter_0004.png\n  again:\n    shape: { type: sphere, radius: 0.2 }\n    rate: 50\n    lifetime: 0.5\n    size: 0.1\n    texture: five.png|' \
+    mesh_emitter.yaml >next.yaml && mv next.yaml mesh_emitter.yaml
+pfx_run render mesh_emitter.yaml -o frames --frames 0:2 "${R[@]}"
+want_status 0
+stderr_has "1 stale removed"
+stderr_has "kept stale 'frames/mesh_emitter_0004.png': it is an input of this run"
+stderr_has "kept stale 'frames/mesh_emitter_0005.png': it is an input of this run"
+[ ! -e frames/mesh_emitter_0003.png ] || flunk "frame 3 is still there"
+[ "$(sha256sum frames/mesh_emitter_0004.png | cut -d' ' -f1)" = "$h4" ] || flunk "frame 4, a texture, was removed or changed"
+[ -e five.png ] || flunk "frame 5, a texture through a link, was removed"
+cd "$work" || exit 2
+end
+
 begin "a missing mesh is an error, not ignored"
 sed 's/torus.obj/gone.obj/' "$E" >gone.yaml
 pfx_run render gone.yaml -o gone --frames 0 "${R[@]}"

@@ -133,6 +133,27 @@ for bad in "--tolerance 5" "--tolerance 0px" "--tolerance -1mm" "--tolerance 2ft
     [ ! -e "$work/bad" ] || flunk "it made $work/bad"
     end
 done
+# One file named two ways by two emitters is read once (shared pixels),
+# but each emitter's advice quotes the name as that emitter wrote it.
+"$py" -c "from PIL import Image; Image.new('RGBA', (256, 256), (255,) * 4).save('$work/w.png')"
+cat >"$work/two_names.yaml" <<'EOF'
+pfx: 1
+duration: 0.5
+fps: 10
+camera: { position: [0, 0, 5], target: [0, 0, 0], ortho: 2 }
+image: { size: [64, 64] }
+emitters:
+  a: { rate: 20, lifetime: 1, size: 0.05, texture: w.png }
+  b: { rate: 20, lifetime: 1, size: 0.05, texture: ./w.png }
+EOF
+begin "a shared texture keeps each emitter's own name in the advice"
+pfx_run tune "$work/two_names.yaml" -o "$work/two_names"
+want_status 0
+grep -qF "emitter 'a': texture 'w.png' has 256px cells" "$work/two_names/tune.json" ||
+    flunk "no advice for a's 'w.png'"
+grep -qF "emitter 'b': texture './w.png' has 256px cells" "$work/two_names/tune.json" ||
+    flunk "b's advice names $(grep -o "emitter 'b': texture '[^']*'" "$work/two_names/tune.json")"
+end
 begin "tune --frames with a step: a usage error"
 pfx_run tune "$work/spring.yaml" -o "$work/bad" --frames 0:9:2
 want_status 2

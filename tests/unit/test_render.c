@@ -664,6 +664,49 @@ static void test_square_rotation(void) {
     pfx_renderer_destroy(r);
 }
 
+/* Materials naming the same pixels (as the compiler gives every emitter
+ * naming one file) share one GL texture: three materials on two images and
+ * a normal map hold three textures, and a sprite drawn through the shared
+ * texture is the known colour (a white texel tinted green), through either
+ * material. Setting the materials again frees them and counts afresh. */
+static void test_shared_textures(void) {
+    pfx_renderer *r = make(W, H);
+    if (!r)
+        return;
+    uint8_t white[4 * 4 * 4], red[4 * 4 * 4], flat[4 * 4 * 4];
+    for (int i = 0; i < 16; i++) {
+        memcpy(white + 4 * i, (uint8_t[4]){255, 255, 255, 255}, 4);
+        memcpy(red + 4 * i, (uint8_t[4]){255, 0, 0, 255}, 4);
+        memcpy(flat + 4 * i, (uint8_t[4]){128, 128, 255, 255}, 4);
+    }
+    const pfx_image a = {"a.png", "a.png", 4, 4, 8, white},
+                    a2 = {"./a.png", "./a.png", 4, 4, 8, white},
+                    b = {"b.png", "b.png", 4, 4, 8, red}, n = {"n.png", "n.png", 4, 4, 8, flat};
+    pfx_material m[5] = {{.texture = &a},
+                         {.texture = &a2},
+                         {.texture = &b},
+                         {0},
+                         {.texture = &a2, .normal_map = &n, .lit = true}};
+    for (int i = 0; i < 5; i++)
+        m[i].cols = m[i].rows = m[i].frames = 1;
+    pfx_diags d;
+    pfx_diags_init_runtime(&d);
+    CHECK(pfx_renderer_set_materials(r, m, 5, &d));
+    CHECK(pfx_renderer_texture_count(r) == 3);
+    uint8_t img[2][W * H * 4];
+    pfx_camera cam = ortho_camera(6.5);
+    for (int k = 0; k < 2; k++) {
+        pfx_sprite s = {0, 0, 0, 2, 0, 1, 0, 1, 0, (float)k};
+        if (draw(r, &cam, transparent, &s, 1, false, img[k]))
+            check_pixel(px(img[k], W, MID, MID), (int[4]){0, 255, 0, 255}, 2);
+    }
+    CHECK(memcmp(img[0], img[1], sizeof img[0]) == 0);
+    CHECK(pfx_renderer_set_materials(r, m + 2, 1, &d));
+    CHECK(pfx_renderer_texture_count(r) == 1);
+    pfx_diags_free(&d);
+    pfx_renderer_destroy(r);
+}
+
 int main(void) {
     const char *env = getenv("PFX_RENDERER");
     if (env && !pfx_renderer_kind_parse(env, &kind)) {
@@ -686,6 +729,7 @@ int main(void) {
     RUN(test_determinism);
     RUN(test_chunks);
     RUN(test_osmesa_equals_egl_cpu);
+    RUN(test_shared_textures);
     RUN(test_errors);
     RUN(test_bench_raw);
     return TEST_EXIT();
