@@ -28,7 +28,9 @@ static void put_path(FILE *f, const char *p) {
  * something else than itself however it is written, or 0. Found by
  * feeding each byte to both: a control character (a newline or a tab ends
  * the path), ';' (starts a recipe), '|' (order-only), '=' (a variable),
- * '*', '?' (make globs them), and quotes, '&', '<', '>', '^' and '`',
+ * '*', '?', '[', ']' (make globs them: a[1].png reads as a1.png where that
+ * exists; ninja keeps a backslash before them), a leading '~' (make
+ * expands ~user), and quotes, '&', '<', '>', '^' and '`',
  * where ninja ends the path; a path ending in ':' or ')' (ninja keeps the
  * backslash; make reads an archive member); a backslash before a space,
  * '#', ':' or the end (the escapes above would change meaning). */
@@ -36,7 +38,7 @@ static char unreadable(const char *p) {
     size_t n = strlen(p);
     for (size_t i = 0; i < n; i++) {
         unsigned char c = (unsigned char)p[i];
-        if (c < 0x20 || c == 0x7f || strchr(";|=*?\"'&<>^`", c))
+        if (c < 0x20 || c == 0x7f || strchr(";|=*?[]\"'&<>^`", c) || (i == 0 && c == '~'))
             return (char)c;
         if (c == '\\' && (i + 1 == n || strchr(" #:", p[i + 1])))
             return '\\';

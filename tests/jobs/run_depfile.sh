@@ -151,8 +151,10 @@ cp odd.d nodd/ && (cd nodd && ninja >/dev/null 2>&1) || flunk "ninja failed"
 printf '%s\n' "$odd/mesh_emitter.yaml" "$odd/torus.obj" >nodd/want
 cmp -s nodd/deps nodd/want || flunk "ninja read: $(cat nodd/deps)"
 end
-for bad in $'new\nline' $'tab\there'; do
-    begin "a depfile input with a ${bad:0:3} in its path is refused before the run"
+# '[' and ']' too: make globs them (a[1].png reads as a1.png where that
+# exists), and a leading '~', which make expands.
+for bad in $'new\nline' $'tab\there' 'glob[1]' '~tilde'; do
+    begin "a depfile input with '${bad:0:3}' in its path is refused before the run"
     mkdir -p "$bad" && cp "$src/effects/mesh_emitter.yaml" "$src/effects/torus.obj" "$bad/"
     rm -f bad.csv bad.d
     pfx_run bake "$bad/mesh_emitter.yaml" --frames 0:1 -o bad.csv --depfile bad.d
