@@ -37,11 +37,14 @@ static double now(void) {
  * fall that long stays far inside the state check's limits, so the
  * kernel runs without it), feeling gravity
  * plus `forces` (YAML lines of forces and deflectors), compiled like any
- * effect and stepped on `threads` threads. */
+ * effect and stepped on `threads` threads. `launch`: the emitter's shape,
+ * spread and speed lines, NULL for the fountain's. */
 #define BURST_LIFE 100.0
+#define FOUNTAIN_LAUNCH                                                                            \
+    "    shape: { type: sphere, radius: 0.1 }\n    spread: 30\n    speed: [2, 4]\n"
 
 static pfx_effect *fountain(pfx_loaded *l, double n, const char *forces, const char *emitter,
-                            bool burst, int threads) {
+                            const char *launch, bool burst, int threads) {
     char text[2048], rate[1024];
     if (burst) { /* bursts of at most 10^6 each (the format's limit) */
         size_t len = (size_t)snprintf(rate, sizeof rate, "bursts: [");
@@ -53,9 +56,8 @@ static pfx_effect *fountain(pfx_loaded *l, double n, const char *forces, const c
         snprintf(rate, sizeof rate, "rate: %.17g", n / 2);
     snprintf(text, sizeof text,
              "pfx: 1\nseed: 1\nforces:\n  gravity: { type: gravity }\n%s"
-             "emitters:\n  bench:\n    shape: { type: sphere, radius: 0.1 }\n"
-             "    %s\n    spread: 30\n    speed: [2, 4]\n    lifetime: %g\n%s",
-             forces, rate, burst ? BURST_LIFE : 2.0, emitter);
+             "emitters:\n  bench:\n%s    %s\n    lifetime: %g\n%s",
+             forces, launch ? launch : FOUNTAIN_LAUNCH, rate, burst ? BURST_LIFE : 2.0, emitter);
     memset(l, 0, sizeof *l);
     size_t len = strlen(text);
     l->source = strdup(text);
@@ -222,7 +224,7 @@ static bool sim_rows(double n, const int *threads, int rows, double rate[SIM_ROW
     bool ok = true;
     for (int c = 0; c < rows && ok; c++) {
         rate[c] = 0;
-        ok = fountain(&l[c], n, "", "", true, threads[c]);
+        ok = fountain(&l[c], n, "", "", NULL, true, threads[c]);
         if (!ok)
             rows = c + 1; /* l[c] is still freed below */
         else if (!timed_start(&t[c], l[c].effect, 1, true))
@@ -284,37 +286,43 @@ static void bench_forces(report *r) {
     FILE *out = r->json ? NULL : r->out;
     /* Each force (with gravity) and deflectors at 10^5 particles, one
      * thread: what a scene pays for what it uses, against the gravity-only
-     * row measured beside them. The fountain's ground is y = 0, so most
-     * deflector cases include resting contact; "no hits" ones do not. */
+     * row measured beside them. The fountain's ground is y = 0: the plane
+     * cases bounce and slide on it; "resting" is born on it at rest, held
+     * there by gravity (a resting state, no sweep); "no hits" touch nothing. */
     static const struct {
-        const char *name, *forces, *emitter;
+        const char *name, *forces, *emitter, *launch;
     } cases[] = {
-        {"gravity only", "", ""},
-        {"+ linear drag (exact)", "  air: { type: drag, k: 0.5, wind: [1, 0, 0] }\n", ""},
-        {"+ quadratic drag", "  air: { type: drag, k: 0, c: 0.2 }\n", ""},
+        {"gravity only", "", "", NULL},
+        {"+ linear drag (exact)", "  air: { type: drag, k: 0.5, wind: [1, 0, 0] }\n", "", NULL},
+        {"+ quadratic drag", "  air: { type: drag, k: 0, c: 0.2 }\n", "", NULL},
         {"+ attractor",
-         "  well: { type: attractor, center: [0, 2, 0], strength: 2, softening: 0.2 }\n", ""},
-        {"+ vortex", "  twist: { type: vortex, axis: [0, 1, 0], strength: 90, radius: 2 }\n", ""},
-        {"+ magnetic (boris)", "  b: { type: magnetic, field: [0, 0, 1] }\n", "    charge: 0.5\n"},
-        {"+ spiral", "  sp: { type: spiral, axis: [0, 1, 0], rate: 90 }\n", ""},
-        {"+ spring", "  s: { type: spring, k: 4, zeta: 0.2 }\n", ""},
+         "  well: { type: attractor, center: [0, 2, 0], strength: 2, softening: 0.2 }\n", "", NULL},
+        {"+ vortex", "  twist: { type: vortex, axis: [0, 1, 0], strength: 90, radius: 2 }\n", "",
+         NULL},
+        {"+ magnetic (boris)", "  b: { type: magnetic, field: [0, 0, 1] }\n", "    charge: 0.5\n",
+         NULL},
+        {"+ spiral", "  sp: { type: spiral, axis: [0, 1, 0], rate: 90 }\n", "", NULL},
+        {"+ spring", "  s: { type: spring, k: 4, zeta: 0.2 }\n", "", NULL},
         {"+ turbulence (2 octaves)",
-         "  t: { type: turbulence, strength: 1, scale: 1, octaves: 2 }\n", ""},
-        {"+ speed limit", "  lim: { type: speed_limit, max: 3 }\n", ""},
+         "  t: { type: turbulence, strength: 1, scale: 1, octaves: 2 }\n", "", NULL},
+        {"+ speed limit", "  lim: { type: speed_limit, max: 3 }\n", "", NULL},
         {"+ deflector (plane)",
-         "deflectors:\n  ground: { type: plane, resilience: 0.5, friction: 0.1 }\n", ""},
+         "deflectors:\n  ground: { type: plane, resilience: 0.5, friction: 0.1 }\n", "", NULL},
+        {"+ deflector (plane), resting",
+         "deflectors:\n  ground: { type: plane, resilience: 0.5, friction: 0.1 }\n", "",
+         "    shape: { type: rect, size: [2, 2] }\n    speed: 0\n"},
         {"+ deflectors (plane, sphere, box)",
          "deflectors:\n  ground: { type: plane, resilience: 0.5 }\n"
          "  ball: { type: sphere, center: [0.5, 1, 0], radius: 0.3 }\n"
          "  crate: { type: box, center: [-0.6, 0.5, 0], size: [0.4, 0.4, 0.4] }\n",
-         ""},
+         "", NULL},
         {"+ deflector (plane), no hits",
-         "deflectors:\n  deep: { type: plane, point: [0, -100, 0] }\n", ""},
+         "deflectors:\n  deep: { type: plane, point: [0, -100, 0] }\n", "", NULL},
         {"+ deflectors (3), no hits",
          "deflectors:\n  deep: { type: plane, point: [0, -100, 0] }\n"
          "  ball: { type: sphere, center: [50, 1, 0], radius: 0.3 }\n"
          "  crate: { type: box, center: [-60, 0.5, 0], size: [0.4, 0.4, 0.4] }\n",
-         ""},
+         "", NULL},
     };
     const double n = 1e5;
     if (out) {
@@ -329,7 +337,7 @@ static void bench_forces(report *r) {
      * first three windows. */
     pfx_loaded g;
     timed_sim ref = {NULL, 0};
-    if (!fountain(&g, n, cases[0].forces, cases[0].emitter, false, 1) ||
+    if (!fountain(&g, n, cases[0].forces, cases[0].emitter, NULL, false, 1) ||
         !timed_start(&ref, g.effect, 250, false)) { /* past one lifetime: steady */
         pfx_sim_destroy(ref.s);
         pfx_loaded_free(&g);
@@ -339,8 +347,9 @@ static void bench_forces(report *r) {
         pfx_loaded l;
         timed_sim t = {NULL, 0};
         const bool alone = k == 0;
-        if (!alone && (!fountain(&l, n, cases[k].forces, cases[k].emitter, false, 1) ||
-                       !timed_start(&t, l.effect, 250, false))) {
+        if (!alone &&
+            (!fountain(&l, n, cases[k].forces, cases[k].emitter, cases[k].launch, false, 1) ||
+             !timed_start(&t, l.effect, 250, false))) {
             pfx_sim_destroy(t.s);
             pfx_loaded_free(&l);
             continue;

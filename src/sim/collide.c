@@ -136,6 +136,11 @@ PFX_CLONES static bool broad_phase(const prep *pr, size_t nd, float dt,
         memset(near, 0, m);
     for (size_t k = 0; k < nd; k++)
         broad_mark(&pr[k], pool, i0, m, reach, near);
+    /* A particle at rest is always near its surface; one that is not has
+     * moved off its fixed point, and its flag would be stale. */
+    if (pool->rest)
+        for (uint32_t j = 0; j < m; j++)
+            pool->rest[i0 + j] &= (uint8_t) - (near[j] != 0);
     uint8_t any = 0;
     for (uint32_t j = 0; j < m; j++)
         any |= near[j];
@@ -215,8 +220,8 @@ static bool fallback(const ctx *c, body *b, const int8_t *side0, const double x0
 /* The exact pass of particle i, which the broad phase marked: its step
  * resolved from the start state (x0, v0) with the step's effective
  * acceleration, and stored; untouched when no surface is in reach or
- * nothing is hit. b is the caller's scratch. */
-static void collide_one(const ctx *c, uint32_t i, body *b) {
+ * nothing is hit. b is the caller's scratch. Returns whether it stored. */
+static bool collide_one(const ctx *c, uint32_t i, body *b) {
     const pfx_collide_pool *pool = c->pool;
     const double x0[3] = {pool->px0[i], pool->py0[i], pool->pz0[i]};
     const double v0[3] = {pool->vx0[i], pool->vy0[i], pool->vz0[i]};
@@ -228,12 +233,80 @@ static void collide_one(const ctx *c, uint32_t i, body *b) {
         b->a[j] = (v1[j] - v0[j]) / c->dt; /* the step's effective acceleration */
     }
     if (!within_reach(c, b, x0, v0, x1))
-        return;
+        return false;
     int8_t side0[PFX_COLLIDE_MAX_DEFLECTORS];
     memcpy(side0, b->side, c->nd);
     if (pfx_collide_resolve(c, b) == 0 && !fallback(c, b, side0, x0, v0, x1))
-        return;
+        return false;
     pfx_collide_store(c, b);
+    return true;
+}
+
+/* ---- Resting as a state (pfx_collide_pool.rest) ----
+ * Bits, not values, are compared: the pass must see exactly the inputs it
+ * saw when it flagged the particle (a -0 or a NaN is an input too). */
+static inline uint32_t bits(float f) {
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+/* Whether particle i is flagged at rest and the integrator's end state is
+ * bit for bit the flagged one; then its state is put back where the step
+ * found it, as the exact pass would, and its contacts counted. */
+static bool rest_keep(const ctx *c, uint32_t i) {
+    const pfx_collide_pool *pool = c->pool;
+    const uint8_t flag = pool->rest[i];
+    if (!flag || !pool->rest_valid)
+        return false;
+    const uint32_t diff = (bits(pool->px[i]) ^ bits(pool->rest_px[i])) |
+                          (bits(pool->py[i]) ^ bits(pool->rest_py[i])) |
+                          (bits(pool->pz[i]) ^ bits(pool->rest_pz[i])) |
+                          (bits(pool->vx[i]) ^ bits(pool->rest_vx[i])) |
+                          (bits(pool->vy[i]) ^ bits(pool->rest_vy[i])) |
+                          (bits(pool->vz[i]) ^ bits(pool->rest_vz[i]));
+    if (diff)
+        return false;
+    pool->px[i] = pool->px0[i], pool->py[i] = pool->py0[i], pool->pz[i] = pool->pz0[i];
+    pool->vx[i] = pool->vx0[i], pool->vy[i] = pool->vy0[i], pool->vz[i] = pool->vz0[i];
+    if (pool->ax && (flag & 0x80))
+        pool->ax[i] = NAN;
+    if (c->stats)
+        c->stats->contacts += (flag & 0x7f) - 1u;
+    return true;
+}
+
+/* The exact pass of particle i with the resting state: run, then flagged
+ * when it left the particle exactly as it found it with nothing but
+ * contacts (no impact, kill, stick, event, hit count or lifetime change). */
+static void collide_one_rest(const ctx *c, uint32_t i, body *b) {
+    const pfx_collide_pool *pool = c->pool;
+    const float key[6] = {pool->px[i], pool->py[i], pool->pz[i],
+                          pool->vx[i], pool->vy[i], pool->vz[i]};
+    const uint32_t hits = pool->hits ? pool->hits[i] : 0;
+    const float life = pool->lifetime[i];
+    pfx_collide_stats own = {0};
+    ctx one = *c;
+    one.stats = &own;
+    const bool stored = collide_one(&one, i, b);
+    if (c->stats) {
+        pfx_collide_stats *s = c->stats;
+        s->impacts += own.impacts, s->contacts += own.contacts, s->kills += own.kills;
+        s->sticks += own.sticks, s->capped += own.capped, s->fallbacks += own.fallbacks;
+    }
+    const uint32_t moved =
+        (bits(pool->px[i]) ^ bits(pool->px0[i])) | (bits(pool->py[i]) ^ bits(pool->py0[i])) |
+        (bits(pool->pz[i]) ^ bits(pool->pz0[i])) | (bits(pool->vx[i]) ^ bits(pool->vx0[i])) |
+        (bits(pool->vy[i]) ^ bits(pool->vy0[i])) | (bits(pool->vz[i]) ^ bits(pool->vz0[i]));
+    const bool still = !moved && own.impacts == 0 && own.kills == 0 && own.sticks == 0 &&
+                       own.capped == 0 && own.fallbacks == 0 && own.contacts < 0x7f &&
+                       (!pool->hits || pool->hits[i] == hits) &&
+                       bits(pool->lifetime[i]) == bits(life);
+    pool->rest[i] = still ? (uint8_t)((1 + own.contacts) | (stored ? 0x80 : 0)) : 0;
+    if (still) {
+        pool->rest_px[i] = key[0], pool->rest_py[i] = key[1], pool->rest_pz[i] = key[2];
+        pool->rest_vx[i] = key[3], pool->rest_vy[i] = key[4], pool->rest_vz[i] = key[5];
+    }
 }
 
 /* The exact pass over particles [i0, i0 + m) where near (indexed from i0)
@@ -259,7 +332,10 @@ static void exact_pass(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *nea
                     pool->ax[i] = NAN;
                 continue;
             }
-            collide_one(c, i, &b);
+            if (!pool->rest)
+                collide_one(c, i, &b);
+            else if (!rest_keep(c, i))
+                collide_one_rest(c, i, &b);
         }
     }
 }

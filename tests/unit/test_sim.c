@@ -502,11 +502,13 @@ static size_t pool_particle_bytes(const pfx_pool *p) {
                           p->start_px,   p->start_py, p->start_pz,
                           p->start_vx,   p->start_vy, p->start_vz,
                           p->ax,         p->ay,       p->az,
-                          p->hits};
+                          p->hits,       p->rest_px,  p->rest_py,
+                          p->rest_pz,    p->rest_vx,  p->rest_vy,
+                          p->rest_vz};
     size_t bytes = p->birth ? 8 : 0;
     for (size_t k = 0; k < sizeof four / sizeof *four; k++)
         bytes += four[k] ? 4 : 0;
-    return bytes + (p->stuck ? 1 : 0) + (p->near ? 1 : 0);
+    return bytes + (p->stuck ? 1 : 0) + (p->near ? 1 : 0) + (p->rest ? 1 : 0);
 }
 
 /* effects/fire.yaml, the example the README draws, keeps every emitter at
