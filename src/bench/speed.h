@@ -30,12 +30,13 @@
     X(PFX_BENCH_FORCES, 1u << 1, "forces")                                                         \
     X(PFX_BENCH_SORT, 1u << 2, "sort")                                                             \
     X(PFX_BENCH_RENDER, 1u << 3, "render")                                                         \
-    X(PFX_BENCH_LOOKS, 1u << 4, "looks")
+    X(PFX_BENCH_LOOKS, 1u << 4, "looks")                                                           \
+    X(PFX_BENCH_EMISSION, 1u << 5, "emission")
 enum {
 #define PFX_BENCH_BIT(id, bit, name) id = bit,
     PFX_BENCH_SECTIONS(PFX_BENCH_BIT)
 #undef PFX_BENCH_BIT
-        PFX_BENCH_ALL = (1u << 5) - 1
+        PFX_BENCH_ALL = (1u << 6) - 1
 };
 /* The section's bit for its name, or 0 when there is none; names, a
  * NULL-ended list of them for suggestions. */
