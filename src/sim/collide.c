@@ -251,29 +251,43 @@ static inline uint32_t bits(float f) {
     return u;
 }
 
-/* Whether particle i is flagged at rest and the integrator's end state is
- * bit for bit the flagged one; then its state is put back where the step
- * found it, as the exact pass would, and its contacts counted. */
-static bool rest_keep(const ctx *c, uint32_t i) {
-    const pfx_collide_pool *pool = c->pool;
-    const uint8_t flag = pool->rest[i];
-    if (!flag || !pool->rest_valid)
-        return false;
-    const uint32_t diff = (bits(pool->px[i]) ^ bits(pool->rest_px[i])) |
-                          (bits(pool->py[i]) ^ bits(pool->rest_py[i])) |
-                          (bits(pool->pz[i]) ^ bits(pool->rest_pz[i])) |
-                          (bits(pool->vx[i]) ^ bits(pool->rest_vx[i])) |
-                          (bits(pool->vy[i]) ^ bits(pool->rest_vy[i])) |
-                          (bits(pool->vz[i]) ^ bits(pool->rest_vz[i]));
-    if (diff)
-        return false;
-    pool->px[i] = pool->px0[i], pool->py[i] = pool->py0[i], pool->pz[i] = pool->pz0[i];
-    pool->vx[i] = pool->vx0[i], pool->vy[i] = pool->vy0[i], pool->vz[i] = pool->vz0[i];
-    if (pool->ax && (flag & 0x80))
-        pool->ax[i] = NAN;
-    if (c->stats)
-        c->stats->contacts += (flag & 0x7f) - 1u;
-    return true;
+/* The resting particles of [i0, i0 + m) (m <= BROAD_CHUNK), a chunk at a
+ * time in straight loops (an AVX2 or AVX-512 clone): one flagged at rest
+ * whose integrator end state is bit for bit the flagged one is put back
+ * where the step found it, as the exact pass would (the carried
+ * acceleration made NaN where that pass stores); todo[j] says which of the
+ * marked particles near[j] are left for the exact pass. Returns the
+ * contacts the kept ones count. */
+PFX_CLONES static uint64_t rest_chunk(const pfx_collide_pool *pool, uint32_t i0, uint32_t m,
+                                      const uint8_t *restrict near, uint8_t *restrict todo) {
+    const uint8_t *restrict rest = pool->rest + i0;
+    const float *restrict kx = pool->rest_px + i0, *restrict ky = pool->rest_py + i0,
+                          *restrict kz = pool->rest_pz + i0, *restrict ku = pool->rest_vx + i0,
+                          *restrict kv = pool->rest_vy + i0, *restrict kw = pool->rest_vz + i0;
+    const float *restrict x0 = pool->px0 + i0, *restrict y0 = pool->py0 + i0,
+                          *restrict z0 = pool->pz0 + i0, *restrict u0 = pool->vx0 + i0,
+                          *restrict v0 = pool->vy0 + i0, *restrict w0 = pool->vz0 + i0;
+    float *restrict x = pool->px + i0, *restrict y = pool->py + i0, *restrict z = pool->pz + i0;
+    float *restrict u = pool->vx + i0, *restrict v = pool->vy + i0, *restrict w = pool->vz + i0;
+    uint8_t keep[BROAD_CHUNK];
+    uint64_t contacts = 0;
+    for (uint32_t j = 0; j < m; j++) {
+        const uint32_t diff = (bits(x[j]) ^ bits(kx[j])) | (bits(y[j]) ^ bits(ky[j])) |
+                              (bits(z[j]) ^ bits(kz[j])) | (bits(u[j]) ^ bits(ku[j])) |
+                              (bits(v[j]) ^ bits(kv[j])) | (bits(w[j]) ^ bits(kw[j]));
+        const bool k = rest[j] != 0 && diff == 0;
+        keep[j] = k;
+        todo[j] = near[j] && !k;
+        x[j] = k ? x0[j] : x[j], y[j] = k ? y0[j] : y[j], z[j] = k ? z0[j] : z[j];
+        u[j] = k ? u0[j] : u[j], v[j] = k ? v0[j] : v[j], w[j] = k ? w0[j] : w[j];
+        contacts += k ? (rest[j] & 0x7fu) - 1u : 0u;
+    }
+    if (pool->ax) {
+        float *restrict ax = pool->ax + i0;
+        for (uint32_t j = 0; j < m; j++)
+            ax[j] = keep[j] && (rest[j] & 0x80) ? NAN : ax[j];
+    }
+    return contacts;
 }
 
 /* The exact pass of particle i with the resting state: run, then flagged
@@ -314,28 +328,44 @@ static void collide_one_rest(const ctx *c, uint32_t i, body *b) {
  * one stream. */
 static void exact_pass(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *near) {
     const pfx_collide_pool *pool = c->pool;
+    const bool resting = pool->rest && pool->rest_valid;
     body b;
-    /* Eight marks at a time: most particles are far from every surface and
-     * untouched, as in collide_one, so most words are zero. */
-    for (uint32_t j0 = 0; j0 < m; j0 += 8) {
-        const uint32_t end = m - j0 < 8 ? m : j0 + 8;
-        uint64_t word = 0;
-        memcpy(&word, near + j0, end - j0);
-        for (uint32_t j = j0; word && j < end; j++) {
-            if (!near[j])
-                continue;
-            const uint32_t i = i0 + j;
-            if (pool->stuck && pool->stuck[i]) { /* held where it stuck */
-                pool->px[i] = pool->px0[i], pool->py[i] = pool->py0[i], pool->pz[i] = pool->pz0[i];
-                pool->vx[i] = pool->vy[i] = pool->vz[i] = 0;
-                if (pool->ax)
-                    pool->ax[i] = NAN;
-                continue;
+    uint8_t todo_chunk[BROAD_CHUNK];
+    for (uint32_t c0 = 0; c0 < m; c0 += BROAD_CHUNK) {
+        const uint32_t cm = m - c0 < BROAD_CHUNK ? m - c0 : (uint32_t)BROAD_CHUNK;
+        /* The particles at rest first (restored, not swept), then the
+         * marked others in index order. */
+        const uint8_t *todo = near + c0;
+        if (resting) {
+            const uint64_t contacts = rest_chunk(pool, i0 + c0, cm, near + c0, todo_chunk);
+            if (c->stats)
+                c->stats->contacts += contacts;
+            todo = todo_chunk;
+        }
+        /* Eight marks at a time: most particles are far from every
+         * surface and untouched, as in collide_one, so most words are
+         * zero. */
+        for (uint32_t j0 = 0; j0 < cm; j0 += 8) {
+            const uint32_t end = cm - j0 < 8 ? cm : j0 + 8;
+            uint64_t word = 0;
+            memcpy(&word, todo + j0, end - j0);
+            for (uint32_t j = j0; word && j < end; j++) {
+                if (!todo[j])
+                    continue;
+                const uint32_t i = i0 + c0 + j;
+                if (pool->stuck && pool->stuck[i]) { /* held where it stuck */
+                    pool->px[i] = pool->px0[i], pool->py[i] = pool->py0[i],
+                    pool->pz[i] = pool->pz0[i];
+                    pool->vx[i] = pool->vy[i] = pool->vz[i] = 0;
+                    if (pool->ax)
+                        pool->ax[i] = NAN;
+                    continue;
+                }
+                if (pool->rest)
+                    collide_one_rest(c, i, &b);
+                else
+                    collide_one(c, i, &b);
             }
-            if (!pool->rest)
-                collide_one(c, i, &b);
-            else if (!rest_keep(c, i))
-                collide_one_rest(c, i, &b);
         }
     }
 }
