@@ -138,9 +138,13 @@ PFX_CLONES static bool broad_phase(const prep *pr, size_t nd, float dt,
         broad_mark(&pr[k], pool, i0, m, reach, near);
     /* A particle at rest is always near its surface; one that is not has
      * moved off its fixed point, and its flag would be stale. */
-    if (pool->rest)
+    if (pool->rest) { /* read first: most chunks have no stale flag to write */
+        uint8_t *restrict rest = pool->rest + i0, stale = 0;
         for (uint32_t j = 0; j < m; j++)
-            pool->rest[i0 + j] &= (uint8_t) - (near[j] != 0);
+            stale |= near[j] ? 0 : rest[j];
+        for (uint32_t j = 0; stale && j < m; j++)
+            rest[j] = near[j] ? rest[j] : 0;
+    }
     uint8_t any = 0;
     for (uint32_t j = 0; j < m; j++)
         any |= near[j];
