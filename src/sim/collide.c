@@ -332,46 +332,52 @@ static void collide_one_rest(const ctx *c, uint32_t i, body *b) {
  * one stream. */
 static void exact_pass(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *near) {
     const pfx_collide_pool *pool = c->pool;
-    const bool resting = pool->rest && pool->rest_valid;
     body b;
-    uint8_t todo_chunk[BROAD_CHUNK];
-    for (uint32_t c0 = 0; c0 < m; c0 += BROAD_CHUNK) {
-        const uint32_t cm = m - c0 < BROAD_CHUNK ? m - c0 : (uint32_t)BROAD_CHUNK;
-        /* The particles at rest first (restored, not swept), then the
-         * marked others in index order. */
-        const uint8_t *todo = near + c0;
-        if (resting) {
-            const uint64_t contacts = rest_chunk(pool, i0 + c0, cm, near + c0, todo_chunk);
-            if (c->stats)
-                c->stats->contacts += contacts;
-            todo = todo_chunk;
-        }
-        /* Eight marks at a time: most particles are far from every
-         * surface and untouched, as in collide_one, so most words are
-         * zero. */
-        for (uint32_t j0 = 0; j0 < cm; j0 += 8) {
-            const uint32_t end = cm - j0 < 8 ? cm : j0 + 8;
-            uint64_t word = 0;
-            memcpy(&word, todo + j0, end - j0);
-            for (uint32_t j = j0; word && j < end; j++) {
-                if (!todo[j])
-                    continue;
-                const uint32_t i = i0 + c0 + j;
-                if (pool->stuck && pool->stuck[i]) { /* held where it stuck */
-                    pool->px[i] = pool->px0[i], pool->py[i] = pool->py0[i],
-                    pool->pz[i] = pool->pz0[i];
-                    pool->vx[i] = pool->vy[i] = pool->vz[i] = 0;
-                    if (pool->ax)
-                        pool->ax[i] = NAN;
-                    continue;
-                }
-                if (pool->rest)
-                    collide_one_rest(c, i, &b);
-                else
-                    collide_one(c, i, &b);
+    /* Eight marks at a time: most particles are far from every surface and
+     * untouched, as in collide_one, so most words are zero. */
+    for (uint32_t j0 = 0; j0 < m; j0 += 8) {
+        const uint32_t end = m - j0 < 8 ? m : j0 + 8;
+        uint64_t word = 0;
+        memcpy(&word, near + j0, end - j0);
+        for (uint32_t j = j0; word && j < end; j++) {
+            if (!near[j])
+                continue;
+            const uint32_t i = i0 + j;
+            if (pool->stuck && pool->stuck[i]) { /* held where it stuck */
+                pool->px[i] = pool->px0[i], pool->py[i] = pool->py0[i], pool->pz[i] = pool->pz0[i];
+                pool->vx[i] = pool->vy[i] = pool->vz[i] = 0;
+                if (pool->ax)
+                    pool->ax[i] = NAN;
+                continue;
             }
+            if (pool->rest)
+                collide_one_rest(c, i, &b);
+            else
+                collide_one(c, i, &b);
         }
     }
+}
+
+uint64_t pfx_collide_rest(const pfx_collide_pool *pool, uint8_t *near, bool *any_near) {
+    uint64_t contacts = 0;
+    uint8_t any = 0;
+    if (!pool->rest || !pool->rest_valid) {
+        for (uint32_t i = 0; i < pool->count; i++)
+            any |= near[i];
+        *any_near = any;
+        return 0;
+    }
+    uint8_t todo[BROAD_CHUNK];
+    for (uint32_t i0 = 0; i0 < pool->count; i0 += BROAD_CHUNK) {
+        const uint32_t m =
+            pool->count - i0 < BROAD_CHUNK ? pool->count - i0 : (uint32_t)BROAD_CHUNK;
+        contacts += rest_chunk(pool, i0, m, near + i0, todo);
+        memcpy(near + i0, todo, m);
+        for (uint32_t j = 0; j < m; j++)
+            any |= todo[j];
+    }
+    *any_near = any;
+    return contacts;
 }
 
 void pfx_collide(const pfx_deflector *defl, size_t n_defl, double dt, const pfx_collide_pool *pool,

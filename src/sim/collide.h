@@ -106,6 +106,17 @@ void pfx_collide(const pfx_deflector *defl, size_t n_defl, double dt, const pfx_
 bool pfx_collide_near(const pfx_deflector *defl, size_t n_defl, double dt,
                       const pfx_collide_pool *pool, uint8_t *near);
 
+/* The resting particles of the pool (see pfx_collide), after
+ * pfx_collide_near and before pfx_collide with the same marks: each one
+ * flagged at rest whose integrator end state is bit for bit its flagged
+ * one is put back where the step found it, exactly as pfx_collide would,
+ * and its mark cleared, so that pfx_collide does not visit it. Does
+ * nothing without pool->rest or pool->rest_valid. Returns the contacts
+ * pfx_collide would have counted for them; *any_near: whether a mark is
+ * left. Reads and writes the pool's particles only: threads may run it on
+ * disjoint ranges. */
+uint64_t pfx_collide_rest(const pfx_collide_pool *pool, uint8_t *near, bool *any_near);
+
 /* Whether deflector d affects the particle with this id: a fixed hash of
  * (id, d->seed) to [0, 1) compared with d->chance, so a particle always hits,
  * or always passes, the same deflector. */

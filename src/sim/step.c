@@ -225,9 +225,16 @@ static void move_block(void *arg, size_t b) {
      * step's dt as the collide pass has it, a float. */
     bool any_near = false;
     if (em->deflector_count) {
-        const pfx_collide_pool view = collide_view(p, first, n);
+        pfx_collide_pool view = collide_view(p, first, n);
         any_near = pfx_collide_near(em->deflectors, em->deflector_count, (float)j->span, &view,
                                     p->near + first);
+        /* The particles at rest too, while the block is in the caches:
+         * restored, their marks cleared; their contacts are the block's
+         * first counters (collide_block adds the rest). */
+        view.rest_valid = (float)j->span == s->emitters[j->emitter].rest_dt;
+        s->block_stats[b] = (pfx_collide_stats){0};
+        if (any_near)
+            s->block_stats[b].contacts = pfx_collide_rest(&view, p->near + first, &any_near);
     }
     /* Without the scan every block counts as holding a death, and the
      * serial pass looks at all of them. */
@@ -313,8 +320,8 @@ static void collide_block(void *arg, size_t b) {
     pfx_sim *s = j->s;
     pfx_emitter_state *st = &s->emitters[j->emitter];
     pfx_collide_stats *stats = j->ordered ? &st->collisions : &s->block_stats[b];
-    if (!j->ordered)
-        *stats = (pfx_collide_stats){0};
+    if (j->ordered) /* the move pass's count of the block's particles at rest */
+        stats->contacts += s->block_stats[b].contacts;
     if (!(s->block_flags[b] & PFX_BLOCK_NEAR))
         return;
     const pfx_pool *p = &s->pools[j->emitter];

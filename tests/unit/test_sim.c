@@ -763,6 +763,14 @@ static void test_rest_state(void) {
          "emitters:\n  e:\n    shape: { type: rect, size: [3, 3] }\n    speed: [0, 0.3]\n"
          "    spread: 180\n    rate: 3000\n    lifetime: [1, 3]\n"
          "    bounds: { mode: wrap, box: { center: [0, 0, 0], size: [3, 3, 3] } }\n"},
+        {"on_hit children (one thread's pass)",
+         "pfx: 1\nseed: 6\nsim: { rate: 60 }\nforces:\n  g: { type: gravity }\n"
+         "deflectors:\n  floor: { type: plane, resilience: 0.3, friction: 0.8 }\n"
+         "emitters:\n  e:\n    shape: { type: rect, size: [2, 2] }\n    position: [0, 0.3, 0]\n"
+         "    speed: [0, 0.5]\n    spread: 60\n    rate: 3000\n    lifetime: [1, 3]\n"
+         "    on_hit: { emit: f, count: 1 }\n"
+         "  f:\n    rate: 0\n    speed: 1\n    spread: 180\n    lifetime: 0.3\n"
+         "    deflectors: []\n"},
         {"bounces, slides, sticks",
          "pfx: 1\nseed: 4\nsim: { rate: 60 }\nforces:\n  g: { type: gravity }\n"
          "deflectors:\n  floor: { type: plane, resilience: [0, 0.5], friction: [0.2, 1] }\n"
