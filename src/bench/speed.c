@@ -37,11 +37,14 @@ static double now(void) {
  * fall that long stays far inside the state check's limits, so the
  * kernel runs without it), feeling gravity
  * plus `forces` (YAML lines of forces and deflectors), compiled like any
- * effect and stepped on `threads` threads. */
+ * effect and stepped on `threads` threads. `launch`: the emitter's shape,
+ * spread and speed lines, NULL for the fountain's. */
 #define BURST_LIFE 100.0
+#define FOUNTAIN_LAUNCH                                                                            \
+    "    shape: { type: sphere, radius: 0.1 }\n    spread: 30\n    speed: [2, 4]\n"
 
 static pfx_effect *fountain(pfx_loaded *l, double n, const char *forces, const char *emitter,
-                            bool burst, int threads) {
+                            const char *launch, bool burst, int threads) {
     char text[2048], rate[1024];
     if (burst) { /* bursts of at most 10^6 each (the format's limit) */
         size_t len = (size_t)snprintf(rate, sizeof rate, "bursts: [");
@@ -53,9 +56,8 @@ static pfx_effect *fountain(pfx_loaded *l, double n, const char *forces, const c
         snprintf(rate, sizeof rate, "rate: %.17g", n / 2);
     snprintf(text, sizeof text,
              "pfx: 1\nseed: 1\nforces:\n  gravity: { type: gravity }\n%s"
-             "emitters:\n  bench:\n    shape: { type: sphere, radius: 0.1 }\n"
-             "    %s\n    spread: 30\n    speed: [2, 4]\n    lifetime: %g\n%s",
-             forces, rate, burst ? BURST_LIFE : 2.0, emitter);
+             "emitters:\n  bench:\n%s    %s\n    lifetime: %g\n%s",
+             forces, launch ? launch : FOUNTAIN_LAUNCH, rate, burst ? BURST_LIFE : 2.0, emitter);
     memset(l, 0, sizeof *l);
     size_t len = strlen(text);
     l->source = strdup(text);
@@ -204,7 +206,7 @@ static double roofline(size_t n) {
 typedef struct report {
     FILE *out;
     bool json;
-    json_t *root, *sim, *forces, *render;
+    json_t *root, *sim, *forces, *render, *emission;
 } report;
 
 /* One size's rows: a burst fountain on each thread count, all created
@@ -222,7 +224,7 @@ static bool sim_rows(double n, const int *threads, int rows, double rate[SIM_ROW
     bool ok = true;
     for (int c = 0; c < rows && ok; c++) {
         rate[c] = 0;
-        ok = fountain(&l[c], n, "", "", true, threads[c]);
+        ok = fountain(&l[c], n, "", "", NULL, true, threads[c]);
         if (!ok)
             rows = c + 1; /* l[c] is still freed below */
         else if (!timed_start(&t[c], l[c].effect, 1, true))
@@ -284,37 +286,43 @@ static void bench_forces(report *r) {
     FILE *out = r->json ? NULL : r->out;
     /* Each force (with gravity) and deflectors at 10^5 particles, one
      * thread: what a scene pays for what it uses, against the gravity-only
-     * row measured beside them. The fountain's ground is y = 0, so most
-     * deflector cases include resting contact; "no hits" ones do not. */
+     * row measured beside them. The fountain's ground is y = 0: the plane
+     * cases bounce and slide on it; "resting" is born on it at rest, held
+     * there by gravity (a resting state, no sweep); "no hits" touch nothing. */
     static const struct {
-        const char *name, *forces, *emitter;
+        const char *name, *forces, *emitter, *launch;
     } cases[] = {
-        {"gravity only", "", ""},
-        {"+ linear drag (exact)", "  air: { type: drag, k: 0.5, wind: [1, 0, 0] }\n", ""},
-        {"+ quadratic drag", "  air: { type: drag, k: 0, c: 0.2 }\n", ""},
+        {"gravity only", "", "", NULL},
+        {"+ linear drag (exact)", "  air: { type: drag, k: 0.5, wind: [1, 0, 0] }\n", "", NULL},
+        {"+ quadratic drag", "  air: { type: drag, k: 0, c: 0.2 }\n", "", NULL},
         {"+ attractor",
-         "  well: { type: attractor, center: [0, 2, 0], strength: 2, softening: 0.2 }\n", ""},
-        {"+ vortex", "  twist: { type: vortex, axis: [0, 1, 0], strength: 90, radius: 2 }\n", ""},
-        {"+ magnetic (boris)", "  b: { type: magnetic, field: [0, 0, 1] }\n", "    charge: 0.5\n"},
-        {"+ spiral", "  sp: { type: spiral, axis: [0, 1, 0], rate: 90 }\n", ""},
-        {"+ spring", "  s: { type: spring, k: 4, zeta: 0.2 }\n", ""},
+         "  well: { type: attractor, center: [0, 2, 0], strength: 2, softening: 0.2 }\n", "", NULL},
+        {"+ vortex", "  twist: { type: vortex, axis: [0, 1, 0], strength: 90, radius: 2 }\n", "",
+         NULL},
+        {"+ magnetic (boris)", "  b: { type: magnetic, field: [0, 0, 1] }\n", "    charge: 0.5\n",
+         NULL},
+        {"+ spiral", "  sp: { type: spiral, axis: [0, 1, 0], rate: 90 }\n", "", NULL},
+        {"+ spring", "  s: { type: spring, k: 4, zeta: 0.2 }\n", "", NULL},
         {"+ turbulence (2 octaves)",
-         "  t: { type: turbulence, strength: 1, scale: 1, octaves: 2 }\n", ""},
-        {"+ speed limit", "  lim: { type: speed_limit, max: 3 }\n", ""},
+         "  t: { type: turbulence, strength: 1, scale: 1, octaves: 2 }\n", "", NULL},
+        {"+ speed limit", "  lim: { type: speed_limit, max: 3 }\n", "", NULL},
         {"+ deflector (plane)",
-         "deflectors:\n  ground: { type: plane, resilience: 0.5, friction: 0.1 }\n", ""},
+         "deflectors:\n  ground: { type: plane, resilience: 0.5, friction: 0.1 }\n", "", NULL},
+        {"+ deflector (plane), resting",
+         "deflectors:\n  ground: { type: plane, resilience: 0.5, friction: 0.1 }\n", "",
+         "    shape: { type: rect, size: [2, 2] }\n    speed: 0\n"},
         {"+ deflectors (plane, sphere, box)",
          "deflectors:\n  ground: { type: plane, resilience: 0.5 }\n"
          "  ball: { type: sphere, center: [0.5, 1, 0], radius: 0.3 }\n"
          "  crate: { type: box, center: [-0.6, 0.5, 0], size: [0.4, 0.4, 0.4] }\n",
-         ""},
+         "", NULL},
         {"+ deflector (plane), no hits",
-         "deflectors:\n  deep: { type: plane, point: [0, -100, 0] }\n", ""},
+         "deflectors:\n  deep: { type: plane, point: [0, -100, 0] }\n", "", NULL},
         {"+ deflectors (3), no hits",
          "deflectors:\n  deep: { type: plane, point: [0, -100, 0] }\n"
          "  ball: { type: sphere, center: [50, 1, 0], radius: 0.3 }\n"
          "  crate: { type: box, center: [-60, 0.5, 0], size: [0.4, 0.4, 0.4] }\n",
-         ""},
+         "", NULL},
     };
     const double n = 1e5;
     if (out) {
@@ -329,7 +337,7 @@ static void bench_forces(report *r) {
      * first three windows. */
     pfx_loaded g;
     timed_sim ref = {NULL, 0};
-    if (!fountain(&g, n, cases[0].forces, cases[0].emitter, false, 1) ||
+    if (!fountain(&g, n, cases[0].forces, cases[0].emitter, NULL, false, 1) ||
         !timed_start(&ref, g.effect, 250, false)) { /* past one lifetime: steady */
         pfx_sim_destroy(ref.s);
         pfx_loaded_free(&g);
@@ -339,8 +347,9 @@ static void bench_forces(report *r) {
         pfx_loaded l;
         timed_sim t = {NULL, 0};
         const bool alone = k == 0;
-        if (!alone && (!fountain(&l, n, cases[k].forces, cases[k].emitter, false, 1) ||
-                       !timed_start(&t, l.effect, 250, false))) {
+        if (!alone &&
+            (!fountain(&l, n, cases[k].forces, cases[k].emitter, cases[k].launch, false, 1) ||
+             !timed_start(&t, l.effect, 250, false))) {
             pfx_sim_destroy(t.s);
             pfx_loaded_free(&l);
             continue;
@@ -368,6 +377,73 @@ static void bench_forces(report *r) {
     }
     pfx_sim_destroy(ref.s);
     pfx_loaded_free(&g);
+}
+
+/* Births per second of each emitter shape: a burst of EMISSION_N
+ * particles at t = 0, gravity only, the fountain's spread and speeds, the
+ * one step that births them (drawing each one's position, direction and
+ * attributes, and stepping it from its birth time to the step's end) timed
+ * on its own, warm: a first untimed run touches the pool's pages, then the
+ * simulation is reset and run again. Three rounds in which the rows take
+ * turns, each row's figure its best (as sim_rows). */
+#define EMISSION_N 1e6
+
+static double time_births(const pfx_effect *e) {
+    pfx_sim *s = pfx_sim_create(e, NULL);
+    if (!s)
+        return 0;
+    while (s->pools[0].count == 0 && s->step < 4)
+        pfx_sim_step(s);
+    pfx_sim_reset(s);
+    const double t0 = now();
+    while (s->pools[0].count == 0 && s->step < 4)
+        pfx_sim_step(s);
+    const double elapsed = now() - t0, born = s->pools[0].count;
+    pfx_sim_destroy(s);
+    return elapsed > 0 ? born / elapsed : 0;
+}
+
+static void bench_emission(report *r, int cores) {
+    FILE *out = r->json ? NULL : r->out;
+    static const struct {
+        const char *name, *launch;
+    } shapes[] = {
+        {"point", "    shape: { type: point }\n    spread: 30\n    speed: [2, 4]\n"},
+        {"sphere", "    shape: { type: sphere, radius: 0.1 }\n    spread: 30\n    speed: [2, 4]\n"},
+        {"cone", "    shape: { type: cone, radius: 0.1, height: 0.2 }\n    spread: 30\n"
+                 "    speed: [2, 4]\n"},
+    };
+    enum { SHAPES = sizeof shapes / sizeof *shapes };
+    const int counts[2] = {1, cores < 2 ? 1 : 2}, rows = cores < 2 ? 1 : 2;
+    pfx_loaded l[SHAPES][2];
+    double rate[SHAPES][2] = {{0}};
+    bool ok[SHAPES][2];
+    for (int k = 0; k < SHAPES; k++)
+        for (int c = 0; c < rows; c++)
+            ok[k][c] = fountain(&l[k][c], EMISSION_N, "", "", shapes[k].launch, true, counts[c]);
+    for (int round = 0; round < 3; round++)
+        for (int k = 0; k < SHAPES; k++)
+            for (int c = 0; c < rows; c++) {
+                const double w = ok[k][c] ? time_births(l[k][c].effect) : 0;
+                rate[k][c] = w > rate[k][c] ? w : rate[k][c];
+            }
+    if (out) {
+        fprintf(out,
+                "emission: a burst of %.0f at t = 0 (spread 30, speed [2, 4], gravity), the "
+                "step that births it, best of 3 rounds\n",
+                EMISSION_N);
+        fprintf(out, "  %-8s %7s %14s %14s\n", "shape", "threads", "births/s", "ns/birth");
+    }
+    for (int k = 0; k < SHAPES; k++)
+        for (int c = 0; c < rows; c++) {
+            json_array_append_new(r->emission,
+                                  json_pack("{s:s, s:i, s:f}", "shape", shapes[k].name, "threads",
+                                            counts[c], "births_per_s", rate[k][c]));
+            if (out)
+                fprintf(out, "  %-8s %7d %14.4g %14.1f\n", shapes[k].name, counts[c], rate[k][c],
+                        rate[k][c] > 0 ? 1e9 / rate[k][c] : 0.0);
+            pfx_loaded_free(&l[k][c]);
+        }
 }
 
 /* One timed pfx render of the job's frames into a fresh temporary
@@ -402,8 +478,8 @@ static double median3(double a, double b, double c) {
  * it, would not pay), then three rounds of a whole render and of raw
  * drawing alternate and each figure is the median of its three, so that a
  * burst of other work on the machine moves one round, not the ratio. */
-static bool bench_render(report *rep, const char *fire_path, pfx_renderer *r, int width, int height,
-                         pfx_diags *d) {
+static bool bench_render(report *rep, const char *scene, const char *fire_path, const char *shown,
+                         pfx_renderer *r, int width, int height, pfx_diags *d) {
     FILE *out = rep->json ? NULL : rep->out;
     pfx_loaded l;
     pfx_compile_options opt = {.width = width, .height = height};
@@ -441,14 +517,15 @@ static bool bench_render(report *rep, const char *fire_path, pfx_renderer *r, in
     if (ok) {
         const double full_fps = median3(full[0], full[1], full[2]);
         const double raw_fps = median3(raw[0], raw[1], raw[2]);
-        json_array_append_new(rep->render, json_pack("{s:i, s:i, s:I, s:f, s:f}", "width", width,
-                                                     "height", height, "sprites", (json_int_t)mean,
-                                                     "pfx_fps", full_fps, "raw_fps", raw_fps));
+        json_array_append_new(rep->render,
+                              json_pack("{s:s, s:i, s:i, s:I, s:f, s:f}", "scene", scene, "width",
+                                        width, "height", height, "sprites", (json_int_t)mean,
+                                        "pfx_fps", full_fps, "raw_fps", raw_fps));
         if (out) {
             fprintf(out,
-                    "rendering: %s at %dx%d through %s, %ld frames, %zu sprites a frame on "
+                    "rendering: %s (%s) at %dx%d through %s, %ld frames, %zu sprites a frame on "
                     "average; warm, median of 3 rounds\n",
-                    fire_path, width, height, pfx_renderer_name(r), frames, mean);
+                    scene, shown, width, height, pfx_renderer_name(r), frames, mean);
             fprintf(out, "  %-44s %8.1f frames/s\n",
                     "pfx render (sim, sprites, draw, PNG overlapped)", full_fps);
             char name[64];
@@ -459,6 +536,40 @@ static bool bench_render(report *rep, const char *fire_path, pfx_renderer *r, in
         }
     }
     pfx_loaded_free(&l);
+    return ok;
+}
+
+/* The heavy render scene: some 15000 small additive sprites in steady state
+ * from the first frame (a 2.5 s life at 6000 a second, prewarmed), 30
+ * frames; written to a temporary file for the loader. */
+static const char heavy_scene[] =
+    "pfx: 1\nduration: 1\nfps: 30\nseed: 3\nsim: { rate: 60, prewarm: 3 }\n"
+    "camera: { position: [0, 1, 4], target: [0, 1, 0], fov: 40 }\n"
+    "image: { background: transparent }\n"
+    "forces:\n  g: { type: gravity, accel: [0, -0.5, 0] }\n"
+    "emitters:\n  dust:\n    shape: { type: sphere, radius: 1 }\n    position: [0, 1, 0]\n"
+    "    rate: 6000\n    speed: [0.05, 0.2]\n    spread: 180\n    lifetime: 2.5\n"
+    "    size: 0.04\n    color: [\"#ffd08080\", \"#ff602000\"]\n    blend: add\n";
+
+/* bench_render of the heavy scene, from a file in a fresh temporary
+ * directory (removed after); false with the failure in d. */
+static bool bench_render_heavy(report *rep, pfx_renderer *r, int width, int height, pfx_diags *d) {
+    char dir[] = "/tmp/pfx-bench-XXXXXX", path[64];
+    if (!mkdtemp(dir)) {
+        pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot create '%s': %s", dir, strerror(errno));
+        return false;
+    }
+    snprintf(path, sizeof path, "%s/heavy.yaml", dir);
+    FILE *f = fopen(path, "w");
+    bool written = f && fputs(heavy_scene, f) >= 0;
+    if (f)
+        written = fclose(f) == 0 && written;
+    if (!written)
+        pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot write '%s'", path);
+    const bool ok =
+        written && bench_render(rep, "1e4 sprites", path, "built in", r, width, height, d);
+    unlink(path);
+    rmdir(dir);
     return ok;
 }
 
@@ -486,7 +597,7 @@ bool pfx_bench_speed(FILE *out, const char *fire_path, pfx_renderer_kind rendere
             pfx_renderer_destroy(r[0]);
             return false;
         }
-    report rep = {out, json, json_object(), json_array(), json_array(), json_array()};
+    report rep = {out, json, json_object(), json_array(), json_array(), json_array(), json_array()};
     const int cores = pfx_workers_cores();
     const double bandwidth = triad_bandwidth(cores);
     json_object_set_new(rep.root, "machine",
@@ -498,18 +609,25 @@ bool pfx_bench_speed(FILE *out, const char *fire_path, pfx_renderer_kind rendere
         bench_sim(&rep, cores, bandwidth);
     if (sections & PFX_BENCH_FORCES)
         bench_forces(&rep);
+    if (sections & PFX_BENCH_EMISSION)
+        bench_emission(&rep, cores);
     json_t *sort = json_array();
     bool ok = true;
     if (sections & PFX_BENCH_SORT)
         ok = pfx_bench_sort(json ? NULL : out, r[0], cores, sort, d);
+    /* The fire, then the heavy scene, each at both sizes beside raw
+     * drawing in the same run. */
     for (int k = 0; k < 2 && ok && (sections & PFX_BENCH_RENDER); k++)
-        ok = bench_render(&rep, fire_path, r[k], sizes[k][0], sizes[k][1], d);
+        ok = bench_render(&rep, "fire", fire_path, fire_path, r[k], sizes[k][0], sizes[k][1], d);
+    for (int k = 0; k < 2 && ok && (sections & PFX_BENCH_RENDER); k++)
+        ok = bench_render_heavy(&rep, r[k], sizes[k][0], sizes[k][1], d);
     /* The sprite looks' table is text only (not part of --json). */
     if (ok && !json && (sections & PFX_BENCH_LOOKS))
         ok = pfx_bench_looks(out, r[0], sizes[0][0], sizes[0][1], d);
     json_object_set(rep.root, "sim", rep.sim);
     json_object_set(rep.root, "forces", rep.forces);
     json_object_set(rep.root, "render", rep.render);
+    json_object_set(rep.root, "emission", rep.emission);
     json_object_set_new(rep.root, "sort", sort);
     if (json && ok) {
         char *text =
@@ -521,7 +639,8 @@ bool pfx_bench_speed(FILE *out, const char *fire_path, pfx_renderer_kind rendere
         ok = text != NULL;
         free(text);
     }
-    json_decref(rep.sim), json_decref(rep.forces), json_decref(rep.render), json_decref(rep.root);
+    json_decref(rep.sim), json_decref(rep.forces), json_decref(rep.render);
+    json_decref(rep.emission), json_decref(rep.root);
     pfx_renderer_destroy(r[1]);
     pfx_renderer_destroy(r[0]);
     return ok;

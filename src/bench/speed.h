@@ -16,7 +16,9 @@
  * on every core, next to the bandwidth limit (bandwidth / the 60 bytes a
  * particle-step moves) and, for one thread, a minimal SoA kernel doing the
  * same arithmetic (the roofline); each force and deflector set at 10^5
- * particles on one thread; and frames per second of rendering `fire_path`
+ * particles on one thread; births per second of the point, sphere and cone
+ * shapes on one and two threads; and frames per second of rendering
+ * `fire_path`, then a built-in scene of some 15000 sprites, each
  * at 512x512 and 1920x1080 (sim + sprites + draw + readback + PNG, the
  * frame loop of `pfx render` itself, jobs/render_job.h) next to raw drawing
  * of the same sprites, through the `renderer` kind, which it names.
@@ -30,12 +32,13 @@
     X(PFX_BENCH_FORCES, 1u << 1, "forces")                                                         \
     X(PFX_BENCH_SORT, 1u << 2, "sort")                                                             \
     X(PFX_BENCH_RENDER, 1u << 3, "render")                                                         \
-    X(PFX_BENCH_LOOKS, 1u << 4, "looks")
+    X(PFX_BENCH_LOOKS, 1u << 4, "looks")                                                           \
+    X(PFX_BENCH_EMISSION, 1u << 5, "emission")
 enum {
 #define PFX_BENCH_BIT(id, bit, name) id = bit,
     PFX_BENCH_SECTIONS(PFX_BENCH_BIT)
 #undef PFX_BENCH_BIT
-        PFX_BENCH_ALL = (1u << 5) - 1
+        PFX_BENCH_ALL = (1u << 6) - 1
 };
 /* The section's bit for its name, or 0 when there is none; names, a
  * NULL-ended list of them for suggestions. */

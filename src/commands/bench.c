@@ -24,8 +24,8 @@ int pfx_cmd_bench(const char *const *operands, int count, const pfx_cli *o) {
             const char *sug = pfx_suggest(operands[i], pfx_bench_section_names);
             char msg[320];
             snprintf(msg, sizeof msg,
-                     "unknown benchmark '%.100s'%s%s%s; try accuracy, sim, forces, sort, render "
-                     "or looks",
+                     "unknown benchmark '%.100s'%s%s%s; try accuracy, sim, forces, emission, sort, "
+                     "render or looks",
                      operands[i], sug ? "; did you mean '" : "", sug ? sug : "", sug ? "'?" : "");
             return pfx_cli_usage_error("%s", msg);
         }

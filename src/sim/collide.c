@@ -136,6 +136,15 @@ PFX_CLONES static bool broad_phase(const prep *pr, size_t nd, float dt,
         memset(near, 0, m);
     for (size_t k = 0; k < nd; k++)
         broad_mark(&pr[k], pool, i0, m, reach, near);
+    /* A particle at rest is always near its surface; one that is not has
+     * moved off its fixed point, and its flag would be stale. */
+    if (pool->rest) { /* read first: most chunks have no stale flag to write */
+        uint8_t *restrict rest = pool->rest + i0, stale = 0;
+        for (uint32_t j = 0; j < m; j++)
+            stale |= near[j] ? 0 : rest[j];
+        for (uint32_t j = 0; stale && j < m; j++)
+            rest[j] = near[j] ? rest[j] : 0;
+    }
     uint8_t any = 0;
     for (uint32_t j = 0; j < m; j++)
         any |= near[j];
@@ -215,8 +224,8 @@ static bool fallback(const ctx *c, body *b, const int8_t *side0, const double x0
 /* The exact pass of particle i, which the broad phase marked: its step
  * resolved from the start state (x0, v0) with the step's effective
  * acceleration, and stored; untouched when no surface is in reach or
- * nothing is hit. b is the caller's scratch. */
-static void collide_one(const ctx *c, uint32_t i, body *b) {
+ * nothing is hit. b is the caller's scratch. Returns whether it stored. */
+static bool collide_one(const ctx *c, uint32_t i, body *b) {
     const pfx_collide_pool *pool = c->pool;
     const double x0[3] = {pool->px0[i], pool->py0[i], pool->pz0[i]};
     const double v0[3] = {pool->vx0[i], pool->vy0[i], pool->vz0[i]};
@@ -228,12 +237,94 @@ static void collide_one(const ctx *c, uint32_t i, body *b) {
         b->a[j] = (v1[j] - v0[j]) / c->dt; /* the step's effective acceleration */
     }
     if (!within_reach(c, b, x0, v0, x1))
-        return;
+        return false;
     int8_t side0[PFX_COLLIDE_MAX_DEFLECTORS];
     memcpy(side0, b->side, c->nd);
     if (pfx_collide_resolve(c, b) == 0 && !fallback(c, b, side0, x0, v0, x1))
-        return;
+        return false;
     pfx_collide_store(c, b);
+    return true;
+}
+
+/* ---- Resting as a state (pfx_collide_pool.rest) ----
+ * Bits, not values, are compared: the pass must see exactly the inputs it
+ * saw when it flagged the particle (a -0 or a NaN is an input too). */
+static inline uint32_t bits(float f) {
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+/* The resting particles of [i0, i0 + m) (m <= BROAD_CHUNK), a chunk at a
+ * time in straight loops (an AVX2 or AVX-512 clone): one flagged at rest
+ * whose integrator end state is bit for bit the flagged one is put back
+ * where the step found it, as the exact pass would (the carried
+ * acceleration made NaN where that pass stores); todo[j] says which of the
+ * marked particles near[j] are left for the exact pass. Returns the
+ * contacts the kept ones count. */
+PFX_CLONES static uint64_t rest_chunk(const pfx_collide_pool *pool, uint32_t i0, uint32_t m,
+                                      const uint8_t *restrict near, uint8_t *restrict todo) {
+    const uint8_t *restrict rest = pool->rest + i0;
+    const float *restrict kx = pool->rest_px + i0, *restrict ky = pool->rest_py + i0,
+                          *restrict kz = pool->rest_pz + i0, *restrict ku = pool->rest_vx + i0,
+                          *restrict kv = pool->rest_vy + i0, *restrict kw = pool->rest_vz + i0;
+    const float *restrict x0 = pool->px0 + i0, *restrict y0 = pool->py0 + i0,
+                          *restrict z0 = pool->pz0 + i0, *restrict u0 = pool->vx0 + i0,
+                          *restrict v0 = pool->vy0 + i0, *restrict w0 = pool->vz0 + i0;
+    float *restrict x = pool->px + i0, *restrict y = pool->py + i0, *restrict z = pool->pz + i0;
+    float *restrict u = pool->vx + i0, *restrict v = pool->vy + i0, *restrict w = pool->vz + i0;
+    uint8_t keep[BROAD_CHUNK];
+    uint64_t contacts = 0;
+    for (uint32_t j = 0; j < m; j++) {
+        const uint32_t diff = (bits(x[j]) ^ bits(kx[j])) | (bits(y[j]) ^ bits(ky[j])) |
+                              (bits(z[j]) ^ bits(kz[j])) | (bits(u[j]) ^ bits(ku[j])) |
+                              (bits(v[j]) ^ bits(kv[j])) | (bits(w[j]) ^ bits(kw[j]));
+        const bool k = rest[j] != 0 && diff == 0;
+        keep[j] = k;
+        todo[j] = near[j] && !k;
+        x[j] = k ? x0[j] : x[j], y[j] = k ? y0[j] : y[j], z[j] = k ? z0[j] : z[j];
+        u[j] = k ? u0[j] : u[j], v[j] = k ? v0[j] : v[j], w[j] = k ? w0[j] : w[j];
+        contacts += k ? (rest[j] & 0x7fu) - 1u : 0u;
+    }
+    if (pool->ax) {
+        float *restrict ax = pool->ax + i0;
+        for (uint32_t j = 0; j < m; j++)
+            ax[j] = keep[j] && (rest[j] & 0x80) ? NAN : ax[j];
+    }
+    return contacts;
+}
+
+/* The exact pass of particle i with the resting state: run, then flagged
+ * when it left the particle exactly as it found it with nothing but
+ * contacts (no impact, kill, stick, event, hit count or lifetime change). */
+static void collide_one_rest(const ctx *c, uint32_t i, body *b) {
+    const pfx_collide_pool *pool = c->pool;
+    const float key[6] = {pool->px[i], pool->py[i], pool->pz[i],
+                          pool->vx[i], pool->vy[i], pool->vz[i]};
+    const uint32_t hits = pool->hits ? pool->hits[i] : 0;
+    const float life = pool->lifetime[i];
+    pfx_collide_stats own = {0};
+    ctx one = *c;
+    one.stats = &own;
+    const bool stored = collide_one(&one, i, b);
+    if (c->stats) {
+        pfx_collide_stats *s = c->stats;
+        s->impacts += own.impacts, s->contacts += own.contacts, s->kills += own.kills;
+        s->sticks += own.sticks, s->capped += own.capped, s->fallbacks += own.fallbacks;
+    }
+    const uint32_t moved =
+        (bits(pool->px[i]) ^ bits(pool->px0[i])) | (bits(pool->py[i]) ^ bits(pool->py0[i])) |
+        (bits(pool->pz[i]) ^ bits(pool->pz0[i])) | (bits(pool->vx[i]) ^ bits(pool->vx0[i])) |
+        (bits(pool->vy[i]) ^ bits(pool->vy0[i])) | (bits(pool->vz[i]) ^ bits(pool->vz0[i]));
+    const bool still = !moved && own.impacts == 0 && own.kills == 0 && own.sticks == 0 &&
+                       own.capped == 0 && own.fallbacks == 0 && own.contacts < 0x7f &&
+                       (!pool->hits || pool->hits[i] == hits) &&
+                       bits(pool->lifetime[i]) == bits(life);
+    pool->rest[i] = still ? (uint8_t)((1 + own.contacts) | (stored ? 0x80 : 0)) : 0;
+    if (still) {
+        pool->rest_px[i] = key[0], pool->rest_py[i] = key[1], pool->rest_pz[i] = key[2];
+        pool->rest_vx[i] = key[3], pool->rest_vy[i] = key[4], pool->rest_vz[i] = key[5];
+    }
 }
 
 /* The exact pass over particles [i0, i0 + m) where near (indexed from i0)
@@ -259,9 +350,34 @@ static void exact_pass(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *nea
                     pool->ax[i] = NAN;
                 continue;
             }
-            collide_one(c, i, &b);
+            if (pool->rest)
+                collide_one_rest(c, i, &b);
+            else
+                collide_one(c, i, &b);
         }
     }
+}
+
+uint64_t pfx_collide_rest(const pfx_collide_pool *pool, uint8_t *near, bool *any_near) {
+    uint64_t contacts = 0;
+    uint8_t any = 0;
+    if (!pool->rest || !pool->rest_valid) {
+        for (uint32_t i = 0; i < pool->count; i++)
+            any |= near[i];
+        *any_near = any;
+        return 0;
+    }
+    uint8_t todo[BROAD_CHUNK];
+    for (uint32_t i0 = 0; i0 < pool->count; i0 += BROAD_CHUNK) {
+        const uint32_t m =
+            pool->count - i0 < BROAD_CHUNK ? pool->count - i0 : (uint32_t)BROAD_CHUNK;
+        contacts += rest_chunk(pool, i0, m, near + i0, todo);
+        memcpy(near + i0, todo, m);
+        for (uint32_t j = 0; j < m; j++)
+            any |= todo[j];
+    }
+    *any_near = any;
+    return contacts;
 }
 
 void pfx_collide(const pfx_deflector *defl, size_t n_defl, double dt, const pfx_collide_pool *pool,

@@ -39,6 +39,14 @@ typedef struct pfx_collide_pool {
     uint8_t *stuck;     /* optional: 1 once stuck (see pfx_collide) */
     float *ax;          /* optional: the carried acceleration (sim/columns.h), set to NaN
                            where a position changes: it is no longer the one there */
+    /* Optional: the resting state (see pfx_collide). rest[i] != 0 says the
+     * particle's state is a fixed point of this pass: resolving it with the
+     * integrator's end state (rest_px.. rest_vz)[i] over a step of the
+     * rest_valid dt left it exactly where it was, counting rest[i] & 0x7f
+     * minus 1 contacts and no other event, storing it when rest[i] & 0x80. */
+    uint8_t *rest;
+    float *rest_px, *rest_py, *rest_pz, *rest_vx, *rest_vy, *rest_vz;
+    bool rest_valid; /* the flags were made with this call's dt */
 } pfx_collide_pool;
 
 /* Called for every impact and every kill or stick touch (not for resting
@@ -74,7 +82,16 @@ typedef struct pfx_collide_stats {
  * step, whatever the integrator did; without the column a stuck particle
  * stops at the hit point and afterwards rests there like any other. Resting
  * particles need nothing: each step they are found in contact again and held
- * exactly on the surface. */
+ * exactly on the surface.
+ * Resting as a state: the pass is a pure function of a particle's start
+ * state, the integrator's end state, dt and its own columns, so where it
+ * left a particle exactly as it found it (at rest on a surface, its forces
+ * pressing it there) the same inputs again give the same bits. With `rest`
+ * given, such a particle is flagged with its inputs, and the next step
+ * whose integrator end state is bit for bit the flagged one (velocity and
+ * forces unchanged) restores it without the sweep; any change wakes it.
+ * The caller must clear the flag where anything else moves a particle (a
+ * wrap, a birth), and give rest_valid only when dt is the flags' dt. */
 void pfx_collide(const pfx_deflector *defl, size_t n_defl, double dt, const pfx_collide_pool *pool,
                  const uint8_t *near, pfx_hit_fn on_hit, void *user, pfx_collide_stats *stats);
 
@@ -88,6 +105,17 @@ void pfx_collide(const pfx_deflector *defl, size_t n_defl, double dt, const pfx_
  * pfx_collide, which then visits the marked particles only. */
 bool pfx_collide_near(const pfx_deflector *defl, size_t n_defl, double dt,
                       const pfx_collide_pool *pool, uint8_t *near);
+
+/* The resting particles of the pool (see pfx_collide), after
+ * pfx_collide_near and before pfx_collide with the same marks: each one
+ * flagged at rest whose integrator end state is bit for bit its flagged
+ * one is put back where the step found it, exactly as pfx_collide would,
+ * and its mark cleared, so that pfx_collide does not visit it. Does
+ * nothing without pool->rest or pool->rest_valid. Returns the contacts
+ * pfx_collide would have counted for them; *any_near: whether a mark is
+ * left. Reads and writes the pool's particles only: threads may run it on
+ * disjoint ranges. */
+uint64_t pfx_collide_rest(const pfx_collide_pool *pool, uint8_t *near, bool *any_near);
 
 /* Whether deflector d affects the particle with this id: a fixed hash of
  * (id, d->seed) to [0, 1) compared with d->chance, so a particle always hits,

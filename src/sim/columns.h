@@ -47,6 +47,16 @@
       "acceleration at the position and time, from the last kick; NaN: not known")                 \
     X(ay, float, CARRY, pfx_needs_carried_accel(em), "")                                           \
     X(az, float, CARRY, pfx_needs_carried_accel(em), "")                                           \
+    X(rest, uint8_t, CARRY, em->deflector_count > 0,                                               \
+      "0: awake; else at rest on the deflectors (collide.h): 1 + its contacts a step, 0x80 when "  \
+      "the collide pass stores it")                                                                \
+    X(rest_px, float, CARRY, em->deflector_count > 0,                                              \
+      "at rest: the integrator's end state that leaves it where it is")                            \
+    X(rest_py, float, CARRY, em->deflector_count > 0, "")                                          \
+    X(rest_pz, float, CARRY, em->deflector_count > 0, "")                                          \
+    X(rest_vx, float, CARRY, em->deflector_count > 0, "")                                          \
+    X(rest_vy, float, CARRY, em->deflector_count > 0, "")                                          \
+    X(rest_vz, float, CARRY, em->deflector_count > 0, "")                                          \
     X(start_px, float, SCRATCH, em->deflector_count > 0,                                           \
       "start-of-step state the collision pass sweeps from")                                        \
     X(start_py, float, SCRATCH, em->deflector_count > 0, "")                                       \

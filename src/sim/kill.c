@@ -37,12 +37,15 @@ static void float_box(const double c[3], const double h[3], float lo[3], float h
 
 /* Each axis on its own: almost every particle is inside, so the branch is
  * predicted and the rare wrap pays for the double arithmetic. */
-static void wrap_axis(float *restrict x, float *restrict carried, uint32_t n, float lo, float hi) {
+static void wrap_axis(float *restrict x, float *restrict carried, uint8_t *restrict rest,
+                      uint32_t n, float lo, float hi) {
     for (uint32_t i = 0; i < n; i++)
         if (!(x[i] >= lo && x[i] < hi)) {
             x[i] = pfx_kill_wrap(x[i], lo, hi);
             if (carried) /* the carried acceleration was of the old position */
                 carried[i] = NAN;
+            if (rest) /* moved: no longer the resting state it was flagged in */
+                rest[i] = 0;
         }
 }
 
@@ -119,9 +122,9 @@ void pfx_kill_apply(const pfx_kill_rules *k, pfx_pool *p, const double emitter_p
         float_box(k->bounds_center, k->bounds_half, lo, hi);
         if (k->bounds == PFX_BOUNDS_WRAP) {
             assert(lo[0] < hi[0] && lo[1] < hi[1] && lo[2] < hi[2]);
-            wrap_axis(p->px, p->ax, p->count, lo[0], hi[0]);
-            wrap_axis(p->py, p->ax, p->count, lo[1], hi[1]);
-            wrap_axis(p->pz, p->ax, p->count, lo[2], hi[2]);
+            wrap_axis(p->px, p->ax, p->rest, p->count, lo[0], hi[0]);
+            wrap_axis(p->py, p->ax, p->rest, p->count, lo[1], hi[1]);
+            wrap_axis(p->pz, p->ax, p->rest, p->count, lo[2], hi[2]);
         } else {
             mark_box(p, lo, hi, false);
         }

@@ -24,6 +24,8 @@ static void write_newborn(pfx_pool *p, uint32_t j, const birth_draws *b, uint64_
     p->vx[j] = (float)b->vel[0], p->vy[j] = (float)b->vel[1], p->vz[j] = (float)b->vel[2];
     if (p->ax) /* its partial step keeps none: the first full step evaluates it */
         p->ax[j] = NAN;
+    if (p->rest) /* awake: its first full step is swept */
+        p->rest[j] = 0;
     p->birth[j] = tb;
     p->lifetime[j] = (float)b->life;
     p->id[j] = (uint32_t)k;

@@ -44,6 +44,7 @@ typedef struct pfx_emitter_state {
     uint64_t hit_key;         /* salt of random resilience and friction (collide.h key) */
     uint64_t spawn_key;       /* salt of its particles' sub-emitter events (spawn.c) */
     pfx_collide_stats collisions;
+    float rest_dt; /* the step the resting flags were made with (pfx_collide_pool.rest) */
     /* The work done, for comparing with jobs/estimate.c's bound: particles
      * stepped (each counted once per substep of its integrator), and the
      * sub-emitter events raised into this emitter (each a count and a

@@ -156,7 +156,14 @@ static pfx_collide_pool collide_view(const pfx_pool *p, uint32_t first, uint32_t
                               .id = p->id + first,
                               .stuck = p->stuck ? p->stuck + first : NULL,
                               .hits = p->hits ? p->hits + first : NULL,
-                              .ax = p->ax ? p->ax + first : NULL};
+                              .ax = p->ax ? p->ax + first : NULL,
+                              .rest = p->rest ? p->rest + first : NULL,
+                              .rest_px = p->rest_px ? p->rest_px + first : NULL,
+                              .rest_py = p->rest_py ? p->rest_py + first : NULL,
+                              .rest_pz = p->rest_pz ? p->rest_pz + first : NULL,
+                              .rest_vx = p->rest_vx ? p->rest_vx + first : NULL,
+                              .rest_vy = p->rest_vy ? p->rest_vy + first : NULL,
+                              .rest_vz = p->rest_vz ? p->rest_vz + first : NULL};
 }
 
 /* One block of the motion pass: the start state the deflectors sweep from,
@@ -218,9 +225,16 @@ static void move_block(void *arg, size_t b) {
      * step's dt as the collide pass has it, a float. */
     bool any_near = false;
     if (em->deflector_count) {
-        const pfx_collide_pool view = collide_view(p, first, n);
+        pfx_collide_pool view = collide_view(p, first, n);
         any_near = pfx_collide_near(em->deflectors, em->deflector_count, (float)j->span, &view,
                                     p->near + first);
+        /* The particles at rest too, while the block is in the caches:
+         * restored, their marks cleared; their contacts are the block's
+         * first counters (collide_block adds the rest). */
+        view.rest_valid = (float)j->span == s->emitters[j->emitter].rest_dt;
+        s->block_stats[b] = (pfx_collide_stats){0};
+        if (any_near)
+            s->block_stats[b].contacts = pfx_collide_rest(&view, p->near + first, &any_near);
     }
     /* Without the scan every block counts as holding a death, and the
      * serial pass looks at all of them. */
@@ -268,6 +282,11 @@ static void collide_range(pfx_sim *s, size_t i, uint32_t first, uint32_t n, doub
     const pfx_emitter *em = &s->effect->emitters[i];
     pfx_collide_pool view = collide_view(&s->pools[i], first, n);
     view.key = s->emitters[i].hit_key;
+    /* The resting flags are of the whole steps' dt; a newborn's part of a
+     * step (near == NULL) neither reads nor makes them. */
+    if (!near)
+        view.rest = NULL;
+    view.rest_valid = (float)dt == s->emitters[i].rest_dt;
     hit_context hc = {s, i, first, t0};
     bool hits = em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_HIT);
     pfx_collide(em->deflectors, em->deflector_count, dt, &view, near, hits ? on_hit : NULL, &hc,
@@ -301,8 +320,8 @@ static void collide_block(void *arg, size_t b) {
     pfx_sim *s = j->s;
     pfx_emitter_state *st = &s->emitters[j->emitter];
     pfx_collide_stats *stats = j->ordered ? &st->collisions : &s->block_stats[b];
-    if (!j->ordered)
-        *stats = (pfx_collide_stats){0};
+    if (j->ordered) /* the move pass's count of the block's particles at rest */
+        stats->contacts += s->block_stats[b].contacts;
     if (!(s->block_flags[b] & PFX_BLOCK_NEAR))
         return;
     const pfx_pool *p = &s->pools[j->emitter];
@@ -317,9 +336,11 @@ void pfx_step_collide_moved(pfx_sim *s, size_t i, double t0, double dt) {
     if (job.ordered) {
         for (size_t b = 0; b < blocks; b++)
             collide_block(&job, b);
+        s->emitters[i].rest_dt = (float)dt;
         return;
     }
     pfx_workers_run(s->workers, blocks, collide_block, &job);
+    s->emitters[i].rest_dt = (float)dt; /* every flag is now of this dt */
     pfx_collide_stats *sum = &s->emitters[i].collisions;
     for (size_t b = 0; b < blocks; b++) {
         const pfx_collide_stats *c = &s->block_stats[b];

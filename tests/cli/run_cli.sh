@@ -416,6 +416,26 @@ else
     echo "skip: egl-gpu refusals (this machine has a GPU device node)"
 fi
 
+# ---- pfx bench emission --json: a row {shape, threads, births_per_s} for
+# each of point, sphere and cone, on one thread and on two (this machine's
+# cores permitting), each a positive rate
+begin "bench emission --json: births per second of point, sphere and cone"
+pfx_run bench emission --json
+[ "$status" = 0 ] || flunk "exit $status: $(head -c 300 "$work/err")"
+"$py" - "$work/out" >"$work/check" 2>&1 <<'EOF' || flunk "$(cat "$work/check")"
+import json, os, sys
+rep = json.load(open(sys.argv[1]))
+rows = rep["emission"]
+cores = rep["machine"]["cores"]
+want = {(s, t) for s in ("point", "sphere", "cone") for t in ((1, 2) if cores >= 2 else (1,))}
+got = {(r["shape"], r["threads"]) for r in rows}
+bad = [r for r in rows if not r["births_per_s"] > 0 or set(r) != {"shape", "threads", "births_per_s"}]
+if got != want or bad or len(rows) != len(want):
+    print("rows %s, want %s, bad %s" % (sorted(got), sorted(want), bad))
+    sys.exit(1)
+EOF
+end
+
 # ---- usage errors: 2
 usage_error "no command" "no command given"
 usage_error "unknown command" "unknown command 'frobnicate'" frobnicate "$FIRE"

@@ -373,6 +373,34 @@ def check_rest(rows, p):
     return report(ok, txt)
 
 
+def check_wake(rows, p):
+    """A particle born at rest at x = x0 on the frictionless plane y = 0,
+    pressed on it by gravity, with a push of `a` m/s^2 along +x from age
+    `at`: before it, every row is exactly where it was born and still (the
+    resting state changes no bit); after it, it slides exactly on the plane
+    (y = 0, vy = 0) with x - x0 = a (t - at)^2 / 2 and vx = a (t - at).
+    The push switches on at a step boundary, whose kick may take it or not:
+    at most one step's impulse a dt in vx, a dt (t - at) in x."""
+    x0, a, at, dt = p["x0"], p["a"], p["at"], p["dt"]
+    before = [r for r in rows if r["time"] < at]
+    after = [r for r in rows if r["time"] > at + dt]
+    moved = [r for r in before if (r["x"], r["y"], r["z"], r["vx"], r["vy"], r["vz"]) != (x0, 0, 0, 0, 0, 0)]
+    off = [r for r in after if r["y"] != 0 or r["vy"] != 0]
+    worst_x = worst_v = 0.0
+    far = []
+    for r in after:
+        s = r["time"] - at
+        ex, ev = abs(r["x"] - x0 - a * s * s / 2), abs(r["vx"] - a * s)
+        worst_x, worst_v = max(worst_x, ex / (a * dt * s)), max(worst_v, ev / (a * dt))
+        if ex > a * dt * s + 1e-5 or ev > a * dt + 1e-5:
+            far.append(r)
+    ok = len(before) >= 10 and len(after) >= 10 and not moved and not off and not far
+    txt = ("wake: %d rows at rest before t = %g (%d moved), %d after (%d off the plane, %d beyond "
+           "the bound; worst x error %.2f, vx %.2f of one step's)" % (
+               len(before), at, len(moved), len(after), len(off), len(far), worst_x, worst_v))
+    return report(ok, txt)
+
+
 CHECKS = {
     "vortex": check_vortex,
     "lorentz": check_lorentz,
@@ -384,6 +412,7 @@ CHECKS = {
     "same_response": check_same_response,
     "chance": check_chance,
     "rest": check_rest,
+    "wake": check_wake,
 }
 
 

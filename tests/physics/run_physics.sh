@@ -236,6 +236,31 @@ bake rest && check rest rest plane=0.25 by=3.5
 sed -e 's/  g: { type: gravity }/  g: { type: gravity }\n  air: { type: drag, k: 0.2 }/' "$work/rest.yaml" >"$work/rest_drag.yaml"
 bake rest_drag && check rest_drag rest plane=0.25 by=3.5
 
+# Waking. Born at rest on a frictionless plane, pressed on it by gravity: a
+# particle at rest skips the sweep (the resting state) and must stay exactly
+# where it was born until a force_over_life push of 2 m/s^2 along +x switches
+# on at u = 0.5 (age 2 s, a step boundary at 60 steps/s); then it slides
+# exactly on the plane with x - x0 = (t - 2)^2 (check_bake.py wake).
+cat >"$work/wake.yaml" <<'EOF'
+pfx: 1
+duration: 4
+fps: 30
+sim: { rate: 60 }
+forces:
+  g: { type: gravity }
+  push: { type: force_over_life, accel: [{ at: 0, value: [0, 0, 0] }, { at: 0.5, value: [0, 0, 0] }, { at: 0.5, value: [2, 0, 0] }] }
+deflectors:
+  floor: { type: plane, point: [0, 0, 0], normal: [0, 1, 0], resilience: 0, friction: 0 }
+emitters:
+  rest:
+    shape: { type: point }
+    position: [0.5, 0, 0]
+    bursts: [{ time: 0, count: 1 }]
+    speed: 0
+    lifetime: 4
+EOF
+bake wake && check wake wake x0=0.5 a=2 at=2 dt=0.0166666667
+
 # ---------------------------------------------------------------------------
 # 7. Validation sweep. At sim.rate 100 (dt = 0.01 s): linear drag k with
 # k*dt around 2 (Euler, symplectic) and 2.785 (RK4); an undamped spring with
