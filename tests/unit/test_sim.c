@@ -856,8 +856,10 @@ static const struct {
      "    on_death: { emit: a, count: 1, depth: 3 }\n",
      300,
      /* re-pinned: children's ids and draws keyed by their event (parent's
-      * emitter, sub-emitter, id, event number), not by processing order */
-     0x964d2066f1f65114ULL},
+      * emitter, sub-emitter, id, event number), not by processing order;
+      * again: on_death and trail children placed at the parent's state at
+      * the event time to second order (pfx_step_state_before) */
+     0xebc686322de69a22ULL},
 };
 
 static void test_subsystem_hashes(void) {
