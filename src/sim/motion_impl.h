@@ -575,7 +575,7 @@ CLONES static void FN(step_split)(BLOCK_ARGS, double t_close) {
 }
 
 CLONES static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, R *U, R *V,
-                                 R *W, double h);
+                                 R *W, double h, bool reverse);
 
 /* The time substep s of `steps` starts at: t + s h, and the last one ends
  * at t_end exactly (the caller's end of the step, which is the next step's
@@ -604,23 +604,29 @@ static bool FN(take_carried)(const PFX_POOL *p, size_t i0, size_t n, R *ax, R *a
     return true;
 }
 
-/* Strang splitting of the operators about `steps` substeps of h: over
- * h / 2 before the first (operate_first), h between two (the two halves
- * joined) and h / 2 after the last (operate_after), so the whole is
- * second order (with a scheme of second order or more) where applying the
- * operators whole after each substep was first order: a spiral's turn of
- * v came a step late to x (sword_swipe: the error halved per doubling of
- * the rate, for rk4 as for auto). */
+/* Strang splitting of the operators about each substep of h: over h / 2
+ * in the order of the forces before it (operate_first, and operate_after
+ * for the next substep) and over h / 2 in the reverse order after it
+ * (operate_after), a palindrome, so the whole is second order (with a
+ * scheme of second order or more) where applying the operators whole
+ * after each substep was first order: a spiral's turn of v came a step
+ * late to x (sword_swipe: the error halved per doubling of the rate, for
+ * rk4 as for auto). In one order both times, two operators that do not
+ * commute (tornado's two vortices, the pull's inflow changing the twist's
+ * rate) stayed first order. */
 static inline void FN(operate_first)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, R *U,
                                      R *V, R *W, double h) {
     if (m->has_operators)
-        FN(operators)(m, n, X, Y, Z, U, V, W, 0.5 * h);
+        FN(operators)(m, n, X, Y, Z, U, V, W, 0.5 * h, false);
 }
 
 static inline void FN(operate_after)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, R *U,
                                      R *V, R *W, double h, int s, int steps) {
-    if (m->has_operators)
-        FN(operators)(m, n, X, Y, Z, U, V, W, s + 1 < steps ? h : 0.5 * h);
+    if (!m->has_operators)
+        return;
+    FN(operators)(m, n, X, Y, Z, U, V, W, 0.5 * h, true);
+    if (s + 1 < steps)
+        FN(operators)(m, n, X, Y, Z, U, V, W, 0.5 * h, false);
 }
 
 /* `steps` split steps of h from t (plan kick_carries): the closing kick of
@@ -720,15 +726,16 @@ CLONES static void FN(vortex)(const pfx_motion_force *F, size_t n, R *X, R *Y, R
 }
 
 /* Operators that are rotations or clamps rather than forces, applied
- * about each (sub)step (Strang splitting, see operate): the Sims vortex
+ * about each (sub)step (Strang splitting, see operate_first), in the
+ * order of the forces or its reverse: the Sims vortex
  * turns the position about its axis by strength f(r) h (and pulls it in
  * by inflow f(r) h); the spiral turns the velocity by rate h (Rodrigues);
  * speed_limit scales |v| down. */
 CLONES static void FN(operators)(const pfx_motion_plan *m, size_t n, R *X, R *Y, R *Z, R *U, R *V,
-                                 R *W, double h) {
+                                 R *W, double h, bool reverse) {
     R w[BLK];
-    for (size_t f = 0; f < m->force_count; f++) {
-        const pfx_motion_force *F = &m->forces[f];
+    for (size_t k = 0; k < m->force_count; k++) {
+        const pfx_motion_force *F = &m->forces[reverse ? m->force_count - 1 - k : k];
         if (F->kind == PFX_MOTION_VORTEX) {
             FN(vortex)(F, n, X, Y, Z, h);
         } else if (F->kind == PFX_MOTION_SPIRAL) {

@@ -660,7 +660,8 @@ fi
 # rates h and h / 2 is log2 of the ratio of the largest position errors
 # over 2 s. A vortex with inflow in a sphere region off its axis with a
 # falloff (the rate changes along the path and as the pull draws the
-# particle in) has no closed form, and a float reference fine enough
+# particle in), after a second vortex about the same axis with which it
+# does not commute (tornado's twist and pull), has no closed form, and a float reference fine enough
 # (2560 steps) carries more rounding (5e-5 m) than 160 steps/s' error:
 # its order is that of the differences between runs at h, h / 2 and
 # h / 4, log2(|x_h - x_h/2| / |x_h/2 - x_h/4|), which tends to the
@@ -673,6 +674,7 @@ spiral_body='forces:
 emitters:
   tip: { shape: { type: point }, bursts: [{ time: 0, count: 1 }], direction: [1, 0, 0], spread: 0, speed: 2, lifetime: 100 }'
 vortex_body='forces:
+  twist: { type: vortex, center: [0, 0, 0], axis: [0, 1, 0], strength: 360, radius: 3, d: 0.2 }
   pull: { type: vortex, center: [0, 0, 0], axis: [0, 1, 0], strength: 720, radius: 3, inflow: 1.2, region: { type: sphere, center: [1, 0, 0], radius: 0.5, falloff: 3 } }
 emitters:
   dust: { shape: { type: point }, position: [2.2, 0, 0.3], bursts: [{ time: 0, count: 1 }], speed: 0, lifetime: 100 }'
