@@ -116,10 +116,12 @@ void pfx_step_state_before(const pfx_sim *s, size_t i, uint32_t j, double t1, do
     one.px = &fx, one.py = &fy, one.pz = &fz, one.vx = &fu, one.vy = &fv, one.vz = &fw;
     one.ax = one.ay = one.az = NULL;
     pfx_motion_advance_f(&s->plans[i], &one, t1, back);
-    const double xf[3] = {fx, fy, fz}, vf[3] = {fu, fv, fw};
+    const double x1[3] = {fx, fy, fz}, v1[3] = {fu, fv, fw};
+    pfx_motion_advance_f(&s->plans[i], &one, t1 + back, back);
+    const double x2[3] = {fx, fy, fz}, v2[3] = {fu, fv, fw};
     for (int a = 0; a < 3; a++) {
-        pos[a] = xf[a] - 2 * v[a] * back;
-        vel[a] = 2 * v[a] - vf[a];
+        pos[a] = 3 * x[a] - 3 * x1[a] + x2[a];
+        vel[a] = 3 * v[a] - 3 * v1[a] + v2[a];
     }
 }
 
