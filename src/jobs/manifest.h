@@ -28,7 +28,11 @@
  *      midpoint half kicks on forces of v; auto's substeps for quadratic
  *      drag and per particle about an unsoftened attractor; random
  *      deflector responses drawn per particle and hit; sub-emitter children
- *      keyed by their event (ids, counts, draws) */
+ *      keyed by their event (ids, counts, draws); vortex, spiral and
+ *      speed_limit applied about each step (Strang splitting), the vortex
+ *      at its midpoint where a region or inflow varies its rate; on_death
+ *      and trail children from the parent's state at the event time, to
+ *      second order */
 #define PFX_RESULTS 4
 
 typedef struct pfx_manifest pfx_manifest;

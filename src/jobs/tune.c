@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "jobs/load.h"
+#include "model/kill_rules.h"
 #include "sim/sim.h"
 
 /* A particle of a compared frame: its emitter and birth id as one key (ids
@@ -135,9 +136,27 @@ static double screen_error(const tune_ctx *c, const double a[3], const double b[
     return hypot(pa[0] - pb[0], pa[1] - pb[1]);
 }
 
-/* Compares scratch[0..n) with reference frame f: a merge of two sorted
- * lists; a key in one only is a particle whose fate differs. */
-static bool compare_frame(tune_ctx *c, int f, size_t n) {
+/* b, of the emitter in key's high half, moved by whole sizes of that
+ * emitter's wrapping box (bounds: wrap) to the copy nearest a, into out:
+ * a particle that wraps on one step in one run and on the next in the
+ * other is a box size from its twin but has not strayed that far
+ * (snow_box: 391 px), so the error is the shortest displacement in the
+ * box. Without wrapping bounds, b itself. */
+static void nearest_image(const pfx_effect *e, uint64_t key, const double a[3], const double b[3],
+                          double out[3]) {
+    const pfx_kill_rules *k = e->emitters[key >> 32].kill;
+    for (int i = 0; i < 3; i++) {
+        out[i] = b[i];
+        if (k && k->bounds == PFX_BOUNDS_WRAP) {
+            const double size = 2 * k->bounds_half[i];
+            out[i] -= size * round((b[i] - a[i]) / size);
+        }
+    }
+}
+
+/* Compares scratch[0..n) with reference frame f of effect e: a merge of
+ * two sorted lists; a key in one only is a particle whose fate differs. */
+static bool compare_frame(tune_ctx *c, const pfx_effect *e, int f, size_t n) {
     const tune_frame *r = &c->ref[f];
     size_t i = 0, j = 0;
     if (!grow((void **)&c->err_m, &c->cap_m, c->nerr + n, sizeof *c->err_m) ||
@@ -151,7 +170,9 @@ static bool compare_frame(tune_ctx *c, int f, size_t n) {
             if (!add_fate(c, c->scratch[j++].key))
                 return false;
         } else {
-            const double *a = r->pts[i].p, *b = c->scratch[j].p;
+            const double *a = r->pts[i].p;
+            double b[3];
+            nearest_image(e, r->pts[i].key, a, c->scratch[j].p, b);
             double d = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
                             (a[2] - b[2]) * (a[2] - b[2]));
             c->err_m[c->nerr] = isfinite(d) ? d : INFINITY;
@@ -266,7 +287,7 @@ static double simulate(tune_ctx *c, const pfx_effect *e, bool record, bool compa
             memcpy(r->pts, c->scratch, n * sizeof *r->pts);
             r->n = n;
         }
-        if (compare && !compare_frame(c, f, n)) {
+        if (compare && !compare_frame(c, e, f, n)) {
             spent = -1;
             break;
         }

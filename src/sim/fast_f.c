@@ -65,8 +65,9 @@ static inline __attribute__((always_inline)) void sincos_n(size_t n, const float
     }
 
 PFX_CLONES
-void pfx_vortex_f(const pfx_motion_force *F, size_t n, const float *restrict w, float *restrict X,
-                  float *restrict Y, float *restrict Z, double h) {
+void pfx_vortex_f(const pfx_motion_force *F, size_t n, const float *restrict w, const float *EX,
+                  const float *EY, const float *EZ, float *restrict X, float *restrict Y,
+                  float *restrict Z, double h) {
     enum { CHUNK = 64 };
     const float ux = (float)F->axis[0], uy = (float)F->axis[1], uz = (float)F->axis[2];
     const float cx = (float)F->center[0], cy = (float)F->center[1], cz = (float)F->center[2];
@@ -74,7 +75,7 @@ void pfx_vortex_f(const pfx_motion_force *F, size_t n, const float *restrict w, 
     const float turn = (float)(F->strength * h), pull = (float)(F->inflow * h);
     const int inflow = F->inflow != 0;
     /* |a| <= |turn| f w <= |turn|: f <= 1, 0 <= w <= 1 */
-    if (!inflow && fabs(F->strength * h) <= 0.78 && fabsf(turn) <= 0.78f) {
+    if (!EX && !inflow && fabs(F->strength * h) <= 0.78 && fabsf(turn) <= 0.78f) {
         if (w)
             VORTEX_SMALL_LOOP(w[j])
         else
@@ -89,8 +90,9 @@ void pfx_vortex_f(const pfx_motion_force *F, size_t n, const float *restrict w, 
         const size_t m = n - j0 < CHUNK ? n - j0 : CHUNK;
         float *x = X + j0, *y = Y + j0, *z = Z + j0;
         const float *wj = w ? w + j0 : one;
+        const float *ex = EX ? EX + j0 : x, *ey = EX ? EY + j0 : y, *ez = EX ? EZ + j0 : z;
         for (size_t j = 0; j < m; j++) {
-            const float rx = x[j] - cx, ry = y[j] - cy, rz = z[j] - cz;
+            const float rx = ex[j] - cx, ry = ey[j] - cy, rz = ez[j] - cz;
             const float al = rx * ux + ry * uy + rz * uz;
             const float qx = rx - al * ux, qy = ry - al * uy, qz = rz - al * uz;
             const float r2 = (qx * qx + qy * qy + qz * qz) * inv_rad2;

@@ -59,9 +59,11 @@ static inline __attribute__((always_inline)) float pfx_cosm1_small_f(float x) {
 /* The Sims vortex of force F (kind VORTEX) over n particles for time h:
  * each position turns about the axis by strength f(r) w h and moves in by
  * inflow f(r) w h (w the region weight per particle; NULL: 1), as motion_impl.h's
- * double operator does, in float. */
-void pfx_vortex_f(const pfx_motion_force *F, size_t n, const float *w, float *X, float *Y, float *Z,
-                  double h);
+ * double operator does, in float. f(r) is read at (EX, EY, EZ) (the
+ * midpoint of a second-order step), or at the position itself where EX is
+ * NULL. */
+void pfx_vortex_f(const pfx_motion_force *F, size_t n, const float *w, const float *EX,
+                  const float *EY, const float *EZ, float *X, float *Y, float *Z, double h);
 
 /* The attractor of force F (kind ATTRACTOR) over n <= PFX_MOTION_BLOCK
  * particles: adds w times its acceleration at (X, Y, Z) to (ax, ay, az)

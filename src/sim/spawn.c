@@ -1,5 +1,5 @@
 /* Sub-emitter events. Events are queued during a step (births, deaths at
- * their exact time and back-extrapolated place, deflector hits with the
+ * their exact time and place on the path, deflector hits with the
  * surface normal, trail births along the path) and turned into particles
  * after every emitter has moved (newborn.c), so the result does not depend
  * on the order of emitters in the file. Queues are allocated once, no
@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "sim/sample.h"
+#include "sim/step.h"
 
 bool pfx_spawn_has(const pfx_emitter *em, pfx_spawn_event event) {
     for (size_t k = 0; k < em->spawn_count; k++)
@@ -151,7 +152,7 @@ void pfx_spawn_trails(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t
                 continue;
             /* Trail births at the particle's ages m / rate, m = 1, 2, ...,
              * younger than its lifetime: those with age in (a0, a1] happened
-             * in this step, on the path back-extrapolated along the velocity.
+             * in this step, where its path was then (pfx_step_state_before).
              * a0 and a1 are t0 - birth and t1 - birth, the very numbers the
              * previous and the next step compute, so each trail time falls
              * in exactly one step whatever the step rate. */
@@ -173,9 +174,8 @@ void pfx_spawn_trails(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t
                                          .generation = generation,
                                          .id = p->id[j],
                                          .key = key};
-                const double pos[3] = {p->px[j] - p->vx[j] * back, p->py[j] - p->vy[j] * back,
-                                       p->pz[j] - p->vz[j] * back};
-                const double vel[3] = {p->vx[j], p->vy[j], p->vz[j]};
+                double pos[3], vel[3];
+                pfx_step_state_before(s, i, j, t1, back, pos, vel);
                 memcpy(r->parent.pos, pos, sizeof pos);
                 memcpy(r->parent.vel, vel, sizeof vel);
                 if (sp->inherit_color) {

@@ -96,6 +96,35 @@ pfx_motion_pool_f pfx_step_motion_view(const pfx_pool *p, uint32_t first, uint32
                                .lifetime = p->lifetime + first};
 }
 
+void pfx_step_state_before(const pfx_sim *s, size_t i, uint32_t j, double t1, double back,
+                           double pos[3], double vel[3]) {
+    const pfx_emitter *em = &s->effect->emitters[i];
+    const pfx_pool *p = &s->pools[i];
+    const double x[3] = {p->px[j], p->py[j], p->pz[j]}, v[3] = {p->vx[j], p->vy[j], p->vz[j]};
+    if (!(back > 0) || !em->motion) {
+        const double gs = p->gravity_scale ? p->gravity_scale[j] : em->gravity_scale.a;
+        const double b = back > 0 ? back : 0;
+        for (int a = 0; a < 3; a++) {
+            const double acc = em->motion ? 0 : em->accel[a] * gs;
+            pos[a] = x[a] - v[a] * b + 0.5 * acc * b * b;
+            vel[a] = v[a] - acc * b;
+        }
+        return;
+    }
+    float fx = p->px[j], fy = p->py[j], fz = p->pz[j], fu = p->vx[j], fv = p->vy[j], fw = p->vz[j];
+    pfx_motion_pool_f one = pfx_step_motion_view(p, j, 1);
+    one.px = &fx, one.py = &fy, one.pz = &fz, one.vx = &fu, one.vy = &fv, one.vz = &fw;
+    one.ax = one.ay = one.az = NULL;
+    pfx_motion_advance_f(&s->plans[i], &one, t1, back);
+    const double x1[3] = {fx, fy, fz}, v1[3] = {fu, fv, fw};
+    pfx_motion_advance_f(&s->plans[i], &one, t1 + back, back);
+    const double x2[3] = {fx, fy, fz}, v2[3] = {fu, fv, fw};
+    for (int a = 0; a < 3; a++) {
+        pos[a] = 3 * x[a] - 3 * x1[a] + x2[a];
+        vel[a] = 3 * v[a] - 3 * v1[a] + v2[a];
+    }
+}
+
 /* The state check: the first of particles [first, count) of emitter i that
  * is non-finite, faster than 1e6 m/s or farther than 1e7 m stops the
  * simulation, naming the emitter, the particle, the time and the stability
@@ -375,12 +404,11 @@ static void kill_range(pfx_sim *s, size_t emitter, double t1, uint32_t i, uint32
                 continue;
             }
             if (deaths) {
-                /* Died at t1 - (age - lifetime), back along its velocity;
+                /* Died at t1 - (age - lifetime), where its path was then;
                  * killed ones (PFX_KILLED) at t1, where they are. */
                 double over = p->lifetime[i] < 0 ? 0 : (t1 - birth[i]) - p->lifetime[i];
-                const double pos[3] = {p->px[i] - p->vx[i] * over, p->py[i] - p->vy[i] * over,
-                                       p->pz[i] - p->vz[i] * over},
-                             vel[3] = {p->vx[i], p->vy[i], p->vz[i]};
+                double pos[3], vel[3];
+                pfx_step_state_before(s, emitter, i, t1, over, pos, vel);
                 pfx_spawn_event_of(s, emitter, PFX_SPAWN_DEATH, i, t1 - over, pos, vel, NULL);
             }
             pfx_pool_move(p, i, --p->count);

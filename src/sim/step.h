@@ -27,6 +27,19 @@ uint32_t pfx_step_move(pfx_sim *s, size_t i, double t0, double t1, bool scan_dea
 bool pfx_step_may_run_away(const float x[3], const float v[3], const double a[3], double life);
 /* The motion kernels' view of particles [first, first + n) of p. */
 pfx_motion_pool_f pfx_step_motion_view(const pfx_pool *p, uint32_t first, uint32_t n);
+
+/* The position and velocity of particle j of emitter i `back` seconds
+ * (0 <= back <= the step) before t1, its state in the pool being that at
+ * t1: where a death or a trail birth inside the step happened. Under the
+ * emitter's gravity alone, the closed form; with a motion plan, the
+ * particle stepped on twice by `back` with its own scheme and the
+ * quadratic through t1, t1 + b and t1 + 2b extrapolated back to t1 - b
+ * (x(t1 - b) = 3 x(t1) - 3 x(t1 + b) + x(t1 + 2b), v likewise): exact to
+ * b^3, operators included (a vortex carries x without changing v), so
+ * children converge at second order or better (a straight line back along
+ * v was first order in velocity, and missed a vortex's carry). */
+void pfx_step_state_before(const pfx_sim *s, size_t i, uint32_t j, double t1, double back,
+                           double pos[3], double vel[3]);
 /* The state check of particles [first, count) of emitter i at time t: the
  * first non-finite or runaway one stops the simulation with its emitter,
  * id, time and the likely cause. */

@@ -572,7 +572,7 @@ static void test_fast_float(void) {
         float x[N], y[N], z[N], w[N];
         for (int i = 0; i < N; i++)
             x[i] = (float)(0.1 * (i + 0.5) * R), y[i] = 0, z[i] = 0.3f, w[i] = 1;
-        pfx_vortex_f(&f, N, k == 1 ? NULL : w, x, y, z, dt);
+        pfx_vortex_f(&f, N, k == 1 ? NULL : w, NULL, NULL, NULL, x, y, z, dt);
         for (int i = 0; i < N; i++) {
             double r = 0.1 * (i + 0.5), q = r * r;
             double expect = r < 1 ? a * dt * (q * q - 2 * q + 1) / (1 + d * q) : 0;
