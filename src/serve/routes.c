@@ -222,12 +222,19 @@ static enum MHD_Result route_frame(const pfx_route_ctx *c, struct MHD_Connection
     return ret;
 }
 
+/* The emitters under a pixel; with ?variant=compare, the comparison's
+ * (its lines are in its own file), held meanwhile as route_frame does. */
 static enum MHD_Result route_pick(const pfx_route_ctx *c, struct MHD_Connection *conn,
                                   const char *url) {
     (void)url;
     long k = arg_index(conn, "frame"), x = arg_index(conn, "x"), y = arg_index(conn, "y");
-    char *json =
-        k < 0 || x < 0 || y < 0 ? NULL : pfx_session_pick_json(c->session, k, (int)x, (int)y);
+    pfx_compare_ref *held = NULL;
+    if (wants_compare(conn) && !(held = c->compare ? pfx_compare_hold(c->compare) : NULL))
+        return no_compare(conn);
+    pfx_session *session = held ? pfx_compare_session(held) : c->session;
+    char *json = k < 0 || x < 0 || y < 0 ? NULL : pfx_session_pick_json(session, k, (int)x, (int)y);
+    if (held)
+        pfx_compare_release(c->compare, held);
     if (!json)
         return pfx_route_text(conn, MHD_HTTP_BAD_REQUEST, "text/plain",
                               "pfx: pick takes frame, x and y inside the frame\n");

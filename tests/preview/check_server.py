@@ -442,6 +442,23 @@ with Preview(pfx, "ab.yaml", "--compare", "other.yaml", cwd=work) as p:
     check("a seed that is not a number: 400; GET /api/compare: 404", st == 400 and st2 == 404,
           "%s %s" % (st, st2))
     p.stop()
+# Pick on the comparison: its own emitters and lines (the compared file
+# has three more lines above them), and 404 when nothing is compared.
+with open(os.path.join(work, "shifted.yaml"), "w") as f:
+    f.write("# one\n# two\n# three\n" + text)
+with Preview(pfx, "ab.yaml", "--compare", "shifted.yaml", cwd=work) as p:
+    def pick_of(variant):
+        st, _, body = p.get("/pick?frame=%d&x=48&y=48%s" % (K, variant))
+        return json.loads(body) if st == 200 else st
+    a, b = pick_of(""), pick_of("&variant=compare")
+    check("pick with ?variant=compare: the compared file's emitter and its own line",
+          a == [{"emitter": "dot", "line": lines["dot"]}] and
+          b == [{"emitter": "dot", "line": lines["dot"] + 3}], "%s %s" % (a, b))
+    p.stop()
+with Preview(pfx, "ab.yaml", cwd=work) as p:
+    st, _, _ = p.get("/pick?frame=%d&x=48&y=48&variant=compare" % K)
+    check("pick with ?variant=compare and nothing compared: 404", st == 404, str(st))
+    p.stop()
 with Preview(pfx, "seedy.yaml", cwd=work) as p:
     _, _, png0 = p.get("/frame/%d.png" % K)
     threads0 = p.threads()
