@@ -278,6 +278,16 @@ def compare_checks(d):
               c.size == (192, 96) and near(c.getpixel((48, 48)), (0, 0, 255, 255)) and
               near(c.getpixel((96 + 48, 48)), (255, 0, 0, 255)),
               (ok, c.size, c.getpixel((48, 48)), c.getpixel((96 + 48, 48))))
+        # Pick on the left half (A): the compared file's emitter, in its file.
+        d.find_element(By.ID, "fit").click()  # 1:1, so that a CSS pixel is a frame pixel
+        view = d.find_element(By.ID, "view")
+        ActionChains(d).move_to_element_with_offset(view, -48, 0).click().perform()
+        item = wait(d, "document.querySelector('#pick li') && "
+                    "document.querySelector('#pick li').textContent.includes('blue.yaml') && "
+                    "document.querySelector('#pick li').textContent", 10)
+        check("side by side, a pick on A names the compared file's emitter and line",
+              item == "dotblue.yaml:%d" % line_of(dot, "  dot:"), item)
+        d.find_element(By.ID, "fit").click()
         Select(d.find_element(By.ID, "ab")).select_by_value("diff")
         time.sleep(0.2)
         c = canvas(d)

@@ -451,12 +451,17 @@ async function pick(ev) {
   let x = Math.floor((ev.clientX - r.left) * view.width / r.width);
   const y = Math.floor((ev.clientY - r.top) * view.height / r.height);
   if ($('ab').value === 'wipe') { wipe = x / w; requestDraw(); return; }
+  // Side by side, the left half is A: the comparison's own emitters and
+  // lines when another file or seed is compared.
+  const onA = $('ab').value === 'side' && x < w && comparing() && compare;
   x %= w;
   const k = frameAt(time);
-  const res = await fetch(q('/pick?frame=' + k + '&x=' + x + '&y=' + y));
+  const res = await fetch(q('/pick?frame=' + k + '&x=' + x + '&y=' + y +
+    (onA ? '&variant=compare' : '')));
   const list = res.ok ? await res.json() : [];
+  const file = onA ? compare.file : state.file;
   $('pick').innerHTML = (list.length ? list.map((p) => '<li>' + escapeHtml(p.emitter) +
-    '<span class="line">' + escapeHtml(state.file) + ':' + p.line + '</span></li>').join('')
+    '<span class="line">' + escapeHtml(file) + ':' + p.line + '</span></li>').join('')
     : '<li class="hint">No emitter drew pixel (' + x + ', ' + y + ').</li>') +
     '<li class="hint">frame ' + k + ', pixel (' + x + ', ' + y + ')</li>';
 }
