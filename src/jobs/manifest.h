@@ -32,7 +32,8 @@
  *      speed_limit applied about each step (Strang splitting), the vortex
  *      at its midpoint where a region or inflow varies its rate; on_death
  *      and trail children from the parent's state at the event time, to
- *      second order */
+ *      second order; sphere, cone and spread sampling by fast_d.h's
+ *      polynomial sincos and cube root (last bits of births) */
 #define PFX_RESULTS 4
 
 typedef struct pfx_manifest pfx_manifest;

@@ -1,13 +1,17 @@
 /* The emission samplers. Each is uniform by construction: inverse CDFs
  * (sqrt for areas in r, cbrt for volumes, tables for an ellipse's rim and a
  * mesh's triangles), never rejection, so every call takes a fixed number of
- * draws; cos(theta) uniform for caps.
+ * draws; cos(theta) uniform for caps. The sphere's, the cone's and the
+ * spread's turns and cube roots go through fast_d.h's inline kernels (no
+ * libm call: about a third of a birth's time was sincos and cbrt there).
  * The biased textbook variants (docs/physics.md, Uniform sampling) are not here; the
  * tests carry them to show the uniformity tests can fail. */
 #include "sim/sample.h"
 
 #include <assert.h>
 #include <math.h>
+
+#include "sim/fast_d.h"
 
 double pfx_sample_value(const pfx_value *v, pfx_rng *r) {
     switch (v->dist) {
@@ -26,10 +30,11 @@ double pfx_sample_value(const pfx_value *v, pfx_rng *r) {
 }
 
 void pfx_sample_direction(pfx_rng *r, double out[3]) {
-    double z = 2.0 * pfx_rng_unit(r) - 1.0, phi = 2.0 * M_PI * pfx_rng_unit(r);
+    double z = 2.0 * pfx_rng_unit(r) - 1.0, sp, cp;
+    pfx_sincos_turn(pfx_rng_unit(r), &sp, &cp);
     double s = sqrt(fmax(0.0, 1.0 - z * z));
-    out[0] = s * cos(phi);
-    out[1] = s * sin(phi);
+    out[0] = s * cp;
+    out[1] = s * sp;
     out[2] = z;
 }
 
@@ -230,7 +235,7 @@ static void along_direction(const pfx_shape *s, pfx_rng *r, const double d[3], d
     double rad = s->radius;
     if (s->from != PFX_EMIT_SURFACE) {
         double k = s->radius > 0 ? s->inner / s->radius : 0, k3 = k * k * k;
-        rad = s->radius * cbrt(pfx_rng_unit(r) * (1 - k3) + k3);
+        rad = s->radius * pfx_cbrt_unit(pfx_rng_unit(r) * (1 - k3) + k3);
     }
     for (int i = 0; i < 3; i++) {
         out[i] = d[i] * rad;
@@ -269,14 +274,15 @@ static void sample_cylinder(const pfx_shape *s, pfx_rng *r, double out[3], doubl
  * cbrt(u)), the lateral area ~ q (q = sqrt(u)). */
 static void sample_cone(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
     double R = s->radius, h = s->height;
-    double th = 2.0 * M_PI * pfx_rng_unit(r), c = cos(th), sn = sin(th);
+    double c, sn;
+    pfx_sincos_turn(pfx_rng_unit(r), &sn, &c);
     if (s->from == PFX_EMIT_SURFACE) {
         double q = sqrt(pfx_rng_unit(r));
         set3(out, R * q * c, h * (1 - q), R * q * sn);
         double n[3] = {h * c, R, h * sn};
         unit_or(n, 0, 1, 0, normal);
     } else {
-        double q = cbrt(pfx_rng_unit(r)), rho = R * q * sqrt(pfx_rng_unit(r));
+        double q = pfx_cbrt_unit(pfx_rng_unit(r)), rho = R * q * sqrt(pfx_rng_unit(r));
         set3(out, rho * c, h * (1 - q), rho * sn);
         /* +Y tilted outward by angle * rho / R (Unity's cone fan). */
         double tilt = R > 0 ? s->angle * rho / R : 0;
@@ -302,17 +308,31 @@ void pfx_sample_shape(const pfx_shape *s, pfx_rng *r, double out[3], double norm
     samplers[s->type](s, r, out, normal);
 }
 
+/* cos(spread), remembered per thread: an emitter's births come in runs with
+ * one spread, and libm's cos of it was 6 % of a birth's time. A pure
+ * function of the spread, so the bits do not depend on the order of
+ * calls or on the thread. */
+static double cos_of_spread(double spread) {
+    static _Thread_local double last_spread = 0, last_cos = 1;
+    if (spread != last_spread) {
+        last_cos = cos(spread);
+        last_spread = spread;
+    }
+    return last_cos;
+}
+
 void pfx_sample_cone(const double axis[3], double spread, pfx_rng *r, double out[3]) {
-    double cos_max = cos(spread);
+    double cos_max = cos_of_spread(spread);
     double ct = 1.0 - pfx_rng_unit(r) * (1.0 - cos_max);
-    double st = sqrt(fmax(0.0, 1.0 - ct * ct)), phi = 2.0 * M_PI * pfx_rng_unit(r);
+    double st = sqrt(fmax(0.0, 1.0 - ct * ct)), sphi, cphi;
+    pfx_sincos_turn(pfx_rng_unit(r), &sphi, &cphi);
     /* An orthonormal basis (t, b, axis) without a branch on a fixed up vector
      * (Duff et al. 2017, "Building an orthonormal basis, revisited"). */
     double sign = copysign(1.0, axis[2]);
     double a = -1.0 / (sign + axis[2]), b = axis[0] * axis[1] * a;
     double t[3] = {1.0 + sign * axis[0] * axis[0] * a, sign * b, -sign * axis[0]};
     double bt[3] = {b, sign + axis[1] * axis[1] * a, -axis[1]};
-    double cp = st * cos(phi), sp = st * sin(phi);
+    double cp = st * cphi, sp = st * sphi;
     for (int i = 0; i < 3; i++)
         out[i] = t[i] * cp + bt[i] * sp + axis[i] * ct;
 }

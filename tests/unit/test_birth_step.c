@@ -12,8 +12,11 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "base/rng.h"
 #include "bench/accuracy_problems.h"
+#include "sim/motion.h"
 #include "sim/sim.h"
+#include "sim/step.h"
 
 static const pfx_acc_problem *problem(const char *name) {
     for (size_t i = 0; i < pfx_acc_problem_count; i++)
@@ -340,7 +343,41 @@ static void test_trail_counts(void) {
         }
 }
 
+/* pfx_step_may_run_away's shortcut (no square roots far inside the bounds)
+ * answers as the exact test for states of every scale, near both bounds
+ * (speed 5.7e5 m/s, reach half of PFX_MOTION_MAX_POSITION) included. */
+static bool run_away_exact(const float x[3], const float v[3], const double a[3], double life) {
+    double speed = sqrt((double)v[0] * v[0] + (double)v[1] * v[1] + (double)v[2] * v[2]) +
+                   sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) * life;
+    double far =
+        sqrt((double)x[0] * x[0] + (double)x[1] * x[1] + (double)x[2] * x[2]) + speed * life;
+    return !(speed < 5.7e5 && far < 0.5 * PFX_MOTION_MAX_POSITION);
+}
+
+static void test_may_run_away_shortcut(void) {
+    pfx_rng r;
+    pfx_rng_seed(&r, 11, 5);
+    int differ = 0, yes = 0, no = 0;
+    for (int i = 0; i < 400000; i++) {
+        double sx = pow(10, pfx_rng_range(&r, -2, 7.5)), sv = pow(10, pfx_rng_range(&r, -2, 6.5)),
+               sa = pow(10, pfx_rng_range(&r, -2, 5)), life = pow(10, pfx_rng_range(&r, -2, 2));
+        float x[3], v[3];
+        double a[3];
+        for (int k = 0; k < 3; k++) {
+            x[k] = (float)(sx * pfx_rng_range(&r, -1, 1));
+            v[k] = (float)(sv * pfx_rng_range(&r, -1, 1));
+            a[k] = sa * pfx_rng_range(&r, -1, 1);
+        }
+        bool got = pfx_step_may_run_away(x, v, a, life);
+        differ += got != run_away_exact(x, v, a, life);
+        yes += got, no += !got;
+    }
+    CHECK(differ == 0);
+    CHECK(yes > 1000 && no > 1000);
+}
+
 int main(void) {
+    RUN(test_may_run_away_shortcut);
     RUN(test_birth_step_is_the_schemes);
     RUN(test_exact_from_birth);
     RUN(test_boris_from_birth);

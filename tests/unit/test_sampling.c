@@ -451,6 +451,24 @@ static void test_chi2_cone(void) {
     CHECK(out[0] == 0 && out[1] == axis[1] && out[2] == axis[2]);
 }
 
+/* Emitters of different spreads take turns (pfx_sample_cone remembers the
+ * last spread's cosine): each draw stays in its own cap and the wide one
+ * still reaches past the narrow one's, in either order. */
+static void test_cone_spreads_alternate(void) {
+    const double axis[3] = {0, 1, 0}, spreads[2] = {0.3, 1.2};
+    pfx_rng r;
+    pfx_rng_seed(&r, 7, 2);
+    int outside = 0, wide_past_narrow = 0;
+    for (int i = 0; i < 4000; i++) {
+        double spread = spreads[(i ^ (i >> 7)) & 1], out[3];
+        pfx_sample_cone(axis, spread, &r, out);
+        outside += out[1] < cos(spread) - 1e-12;
+        wide_past_narrow += spread > 1 && out[1] < cos(spreads[0]);
+    }
+    CHECK(outside == 0);
+    CHECK(wide_past_narrow > 1000);
+}
+
 /* Whole sphere of directions: z quantiles (8, z uniform on [-1, 1] by
  * Archimedes) x azimuth (16). */
 #define DIR_Z 8
@@ -577,6 +595,7 @@ int main(void) {
     RUN(test_chi2_box);
     RUN(test_chi2_disc);
     RUN(test_chi2_cone);
+    RUN(test_cone_spreads_alternate);
     RUN(test_chi2_direction);
     RUN(test_gradient_lut);
     return TEST_EXIT();
