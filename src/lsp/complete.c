@@ -78,6 +78,18 @@ static void seg_set(seg *g, const char *s, size_t n, size_t line, int indent) {
     g->flow = NULL;
 }
 
+/* The word after a key's colon, from t up to end, spaces skipped: into
+ * out (at most size - 1 characters). */
+static void copy_value_word(const char *t, const char *end, char *out, size_t size) {
+    while (t < end && *t == ' ')
+        t++;
+    size_t n = 0;
+    while (t + n < end && n + 1 < size && is_key_char(t[n]))
+        n++;
+    memcpy(out, t, n);
+    out[n] = 0;
+}
+
 /* The `type` of the mapping under path key g: in its flow on its line, or
  * as a key of its block's first level. Written into out (or ""). */
 static void type_of(const pfx_lsp_doc *d, const seg *g, char *out, size_t size) {
@@ -89,15 +101,8 @@ static void type_of(const pfx_lsp_doc *d, const seg *g, char *out, size_t size) 
         for (const char *q = p; q + 5 <= l.s + l.n; q++)
             if (!strncmp(q, "type:", 5) && (q == p || !is_key_char(q[-1])))
                 t = q + 5;
-        if (t) {
-            while (t < l.s + l.n && *t == ' ')
-                t++;
-            size_t n = 0;
-            while (t + n < l.s + l.n && n + 1 < size && is_key_char(t[n]))
-                n++;
-            memcpy(out, t, n);
-            out[n] = 0;
-        }
+        if (t)
+            copy_value_word(t, l.s + l.n, out, size);
         return;
     }
     for (size_t i = g->line + 1; i < d->lines.line_count; i++) {
@@ -110,14 +115,7 @@ static void type_of(const pfx_lsp_doc *d, const seg *g, char *out, size_t size) 
             return;
         size_t k = key_at(c.s + ind, c.n - (size_t)ind);
         if (k == 4 && !strncmp(c.s + ind, "type", 4)) {
-            const char *t = c.s + ind + 5;
-            while (t < c.s + c.n && *t == ' ')
-                t++;
-            size_t n = 0;
-            while (t + n < c.s + c.n && n + 1 < size && is_key_char(t[n]))
-                n++;
-            memcpy(out, t, n);
-            out[n] = 0;
+            copy_value_word(c.s + ind + 5, c.s + c.n, out, size);
             return;
         }
     }

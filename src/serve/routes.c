@@ -89,6 +89,24 @@ static enum MHD_Result no_compare(struct MHD_Connection *conn) {
     return pfx_route_text(conn, MHD_HTTP_NOT_FOUND, "text/plain", "pfx: nothing is compared\n");
 }
 
+/* The session a request names: the edited file's, or with
+ * ?variant=compare the comparison's, held in *held until release() (a new
+ * comparison may replace it meanwhile). NULL when the comparison is asked
+ * for and there is none. */
+static pfx_session *session_of(const pfx_route_ctx *c, struct MHD_Connection *conn,
+                               pfx_compare_ref **held) {
+    *held = NULL;
+    if (!wants_compare(conn))
+        return c->session;
+    *held = c->compare ? pfx_compare_hold(c->compare) : NULL;
+    return *held ? pfx_compare_session(*held) : NULL;
+}
+
+static void release(const pfx_route_ctx *c, pfx_compare_ref *held) {
+    if (held)
+        pfx_compare_release(c->compare, held);
+}
+
 /* The edited file's state with what it is compared with ("compare": null
  * or {file, seed}) as its last key; with ?variant=compare, the
  * comparison's own state. */
@@ -97,11 +115,12 @@ static enum MHD_Result route_state(const pfx_route_ctx *c, struct MHD_Connection
     (void)url;
     char *json = NULL;
     if (wants_compare(conn)) {
-        pfx_compare_ref *r = c->compare ? pfx_compare_hold(c->compare) : NULL;
-        if (!r)
+        pfx_compare_ref *held;
+        pfx_session *session = session_of(c, conn, &held);
+        if (!session)
             return no_compare(conn);
-        json = pfx_session_state_json(pfx_compare_session(r));
-        pfx_compare_release(c->compare, r);
+        json = pfx_session_state_json(session);
+        release(c, held);
     } else {
         char *state = pfx_session_state_json(c->session);
         char *with = c->compare ? pfx_compare_json(c->compare) : strdup("null");
@@ -191,17 +210,14 @@ static enum MHD_Result route_frame(const pfx_route_ctx *c, struct MHD_Connection
     size_t len = 0;
     unsigned version = 0;
     const char *ahead = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "ahead");
-    /* ?variant=compare: the comparison's frame, the comparison held
-     * meanwhile (a new one may replace it). */
-    pfx_compare_ref *held = NULL;
-    if (wants_compare(conn) && !(held = c->compare ? pfx_compare_hold(c->compare) : NULL))
+    pfx_compare_ref *held;
+    pfx_session *session = session_of(c, conn, &held);
+    if (!session)
         return no_compare(conn);
-    pfx_session *session = held ? pfx_compare_session(held) : c->session;
     int got = k < 0 ? 0
                     : pfx_session_frame(session, k, ahead && !strcmp(ahead, "1"), FRAME_WAIT_MS,
                                         &png, &len, &version);
-    if (held)
-        pfx_compare_release(c->compare, held);
+    release(c, held);
     if (got == 0)
         return pfx_route_text(conn, MHD_HTTP_NOT_FOUND, "text/plain", "pfx: no such frame\n");
     if (got < 0)
@@ -228,13 +244,12 @@ static enum MHD_Result route_pick(const pfx_route_ctx *c, struct MHD_Connection 
                                   const char *url) {
     (void)url;
     long k = arg_index(conn, "frame"), x = arg_index(conn, "x"), y = arg_index(conn, "y");
-    pfx_compare_ref *held = NULL;
-    if (wants_compare(conn) && !(held = c->compare ? pfx_compare_hold(c->compare) : NULL))
+    pfx_compare_ref *held;
+    pfx_session *session = session_of(c, conn, &held);
+    if (!session)
         return no_compare(conn);
-    pfx_session *session = held ? pfx_compare_session(held) : c->session;
     char *json = k < 0 || x < 0 || y < 0 ? NULL : pfx_session_pick_json(session, k, (int)x, (int)y);
-    if (held)
-        pfx_compare_release(c->compare, held);
+    release(c, held);
     if (!json)
         return pfx_route_text(conn, MHD_HTTP_BAD_REQUEST, "text/plain",
                               "pfx: pick takes frame, x and y inside the frame\n");
