@@ -451,10 +451,6 @@ int pfx_motion_substeps_over(int steps, double dt, double span) {
     return n < 1 ? 1 : n > 1e6 ? 1000000 : (int)n;
 }
 
-int pfx_motion_substeps_for(const pfx_motion_choice *c, double span) {
-    return pfx_motion_substeps_over(c->steps > 0 ? c->steps : 1, c->dt, span);
-}
-
 int pfx_motion_evals_per_step(const pfx_motion *m) {
     const pfx_motion_choice *c = &m->choice;
     int per = 1;

@@ -228,8 +228,6 @@ bool pfx_motion_full_step(double dt, double span);
 /* Substeps of a span for `steps` a step: `steps` for the full step, else
  * the fewest whose length is at most dt/steps (at least 1). */
 int pfx_motion_substeps_over(int steps, double dt, double span);
-/* pfx_motion_substeps_over for the choice's steps and dt. */
-int pfx_motion_substeps_for(const pfx_motion_choice *c, double span);
 
 /* Whether the split step integrates force f exactly in its drift (an
  * unregioned gravity, linear drag or spring damping) instead of kicking. */

@@ -307,11 +307,8 @@ static void collide_one_rest(const ctx *c, uint32_t i, body *b) {
     ctx one = *c;
     one.stats = &own;
     const bool stored = collide_one(&one, i, b);
-    if (c->stats) {
-        pfx_collide_stats *s = c->stats;
-        s->impacts += own.impacts, s->contacts += own.contacts, s->kills += own.kills;
-        s->sticks += own.sticks, s->capped += own.capped, s->fallbacks += own.fallbacks;
-    }
+    if (c->stats)
+        pfx_collide_stats_add(c->stats, &own);
     const uint32_t moved =
         (bits(pool->px[i]) ^ bits(pool->px0[i])) | (bits(pool->py[i]) ^ bits(pool->py0[i])) |
         (bits(pool->pz[i]) ^ bits(pool->pz0[i])) | (bits(pool->vx[i]) ^ bits(pool->vx0[i])) |

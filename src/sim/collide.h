@@ -64,6 +64,12 @@ typedef struct pfx_collide_stats {
     uint64_t fallbacks; /* end state behind a surface the parabola missed: re-solved */
 } pfx_collide_stats;
 
+/* dst += src, field by field. */
+static inline void pfx_collide_stats_add(pfx_collide_stats *dst, const pfx_collide_stats *src) {
+    dst->impacts += src->impacts, dst->contacts += src->contacts, dst->kills += src->kills;
+    dst->sticks += src->sticks, dst->capped += src->capped, dst->fallbacks += src->fallbacks;
+}
+
 /* Resolves one step of length dt (> 0) of every particle in `pool` against
  * `defl[0..n_defl)` (n_defl <= PFX_COLLIDE_MAX_DEFLECTORS). The path of a
  * step is the parabola x0 + v0 t + a t^2 / 2, a = (v1 - v0) / dt; the

@@ -91,7 +91,7 @@ void pfx_motion_step_d(const pfx_motion_plan *m, pfx_motion_pool_d *pool, double
 
 /* Advance every particle of the pool from time t by `span` seconds (0 <
  * span, normally <= dt) with the plan's scheme and operators, in
- * pfx_motion_substeps_for(span) equal substeps: never longer than the
+ * pfx_motion_substeps_over(steps, dt, span) equal substeps: never longer than the
  * planned substep dt/steps, so a newborn's partial step or a frame's
  * remainder is integrated exactly as a particle started alone at t and
  * stepped at that span would be. Under the rule per particle (radius_top >

@@ -383,9 +383,7 @@ void pfx_step_collide_moved(pfx_sim *s, size_t i, double t0, double dt) {
     pfx_collide_stats *sum = &s->emitters[i].collisions;
     for (size_t b = 0; b < blocks; b++) {
         const pfx_collide_stats *c = &s->block_stats[b];
-        sum->impacts += c->impacts, sum->contacts += c->contacts;
-        sum->kills += c->kills, sum->sticks += c->sticks;
-        sum->capped += c->capped, sum->fallbacks += c->fallbacks;
+        pfx_collide_stats_add(sum, c);
     }
 }
 
@@ -415,8 +413,13 @@ static void kill_range(pfx_sim *s, size_t emitter, double t1, uint32_t i, uint32
             }
             if (deaths) {
                 /* Died at t1 - (age - lifetime), where its path was then;
-                 * killed ones (PFX_KILLED) at t1, where they are. */
+                 * killed ones (PFX_KILLED) at t1, where they are. A life a
+                 * deflector shortened (lifetime_loss) can end before this
+                 * step began: the death is then placed no further back
+                 * than the step (nor the particle's birth), where
+                 * pfx_step_state_before's backward step holds. */
                 double over = p->lifetime[i] < 0 ? 0 : (t1 - birth[i]) - p->lifetime[i];
+                over = fmin(over, fmin(s->dt, t1 - birth[i]));
                 double pos[3], vel[3];
                 pfx_step_state_before(s, emitter, i, t1, over, pos, vel);
                 pfx_spawn_event_of(s, emitter, PFX_SPAWN_DEATH, i, t1 - over, pos, vel, NULL);
