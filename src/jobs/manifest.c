@@ -251,7 +251,8 @@ bool pfx_manifest_add_preview(pfx_manifest *m, const char *path, pfx_diags *d) {
                        pfx_file_strerror(errno));
         return false;
     }
-    json_object_set_new(m->root, "preview", json_pack("{s:s, s:s}", "path", path, "sha256", hex));
+    json_object_set_new(m->root, "preview",
+                        json_pack("{s:o, s:s}", "path", pfx_json_bytes(path), "sha256", hex));
     return true;
 }
 

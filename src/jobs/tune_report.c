@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/json_text.h"
 #include "jobs/tune.h"
 #include "output/atomic_file.h"
 #include "output/chart_png.h"
@@ -72,8 +73,8 @@ static bool write_json(const pfx_tune_request *q, const pfx_tune_result *res, co
             json_object_set_new(fails, pfx_integrator_name((pfx_integrator)in),
                                 json_string(res->fails_below[in]));
     json_t *root = json_pack(
-        "{s:s, s:{s:f, s:f, s:s}, s:f, s:f, s:I, s:b, s:I, s:I, s:I, s:o, s:o, s:o}", "effect",
-        q->path, "tolerance", "px", res->tol_px, "m", res->tol_m, "given_in",
+        "{s:o, s:{s:f, s:f, s:s}, s:f, s:f, s:I, s:b, s:I, s:I, s:I, s:o, s:o, s:o}", "effect",
+        pfx_json_bytes(q->path), "tolerance", "px", res->tol_px, "m", res->tol_m, "given_in",
         q->tolerance_px ? "px" : "m", "metres_per_pixel", res->m_per_px, "simulated_seconds",
         res->sim_seconds, "frames_compared", (json_int_t)res->frames_compared, "converged",
         res->converged, "current", (json_int_t)res->current, "reference",

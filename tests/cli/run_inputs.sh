@@ -229,6 +229,16 @@ stderr_has "stale removed"
 [ ! -e "latin/out/${name}_0001.png" ] || flunk "the stale frame is still there"
 end
 
+# A preview with a non-UTF-8 name is hashed in the manifest like every
+# output, so the second run is up to date.
+begin "a non-UTF-8 preview name: recorded in the manifest, up to date the second time"
+pfx_run render "latin/$name.yaml" -o latin/pv $R --preview "latin/pv/$name.webp"
+want_status 0
+pfx_run render "latin/$name.yaml" -o latin/pv $R --preview "latin/pv/$name.webp"
+want_status 0
+stderr_has "is up to date"
+end
+
 begin "make reads the non-UTF-8 name from the depfile"
 printf 'all: latin/out/%s.manifest.json\nlatin/out/%s.manifest.json:\n\t$(file >made,[$^])\ninclude latin/%s.d\n' \
     "$name" "$name" "$name" >Makefile.latin
