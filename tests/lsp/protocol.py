@@ -5,8 +5,10 @@ Usage: protocol.py PFX SRC. Prints `ok   NAME` or `FAIL NAME: why` lines
 import glob
 import json
 import os
+import shutil
 import subprocess
 import sys
+import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from lsp_client import Client  # noqa: E402
@@ -204,7 +206,14 @@ check("diagnostics: the same as pfx validate's (rule, severity, line, message, n
       "files" % len(files), not mismatch, "\n".join(mismatch[:3]))
 
 # The editor's text, not the file on disk; the range of the node; a code.
-fire = os.path.join(src, "effects", "fire.yaml")
+# tests/lsp/fire.yaml (pinned: the positions below are its own) in a
+# folder with the two textures a completion lists, no more.
+home = tempfile.mkdtemp(prefix="pfx-lsp-")
+os.mkdir(os.path.join(home, "textures"))
+for png in ("flame_sheet.png", "smoke_sheet.png"):
+    shutil.copy(os.path.join(src, "effects", "textures", png), os.path.join(home, "textures"))
+fire = os.path.join(home, "fire.yaml")
+shutil.copy(os.path.join(src, "tests", "lsp", "fire.yaml"), fire)
 fire_text = open(fire).read()
 typo = fire_text.replace("forces: [gravity, flicker]\n    gravity_scale: -0.15",
                          "forces: [gravty, flicker]\n    gravity_scale: -0.15")
@@ -502,4 +511,5 @@ check("robust: a 17 MiB document is reported too large (PFX6002) and the server 
       json.dumps(d)[:300])
 status = c.finish()
 check("lifecycle: a long session ends with status 0", status == 0, "status %d" % status)
+shutil.rmtree(home, ignore_errors=True)
 sys.exit(1 if failures else 0)
