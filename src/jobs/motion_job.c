@@ -177,8 +177,9 @@ bool pfx_mv_add_outputs(pfx_manifest *mf, const char *dir, const char *stem, lon
     return true;
 }
 
-bool pfx_mv_atlas_write(const char *dir, const char *stem, long first, long last,
-                        const pfx_atlas_layout *l, char *image, size_t image_size, pfx_diags *d) {
+bool pfx_mv_atlas_write(pfx_atomic_group *g, const char *dir, const char *stem, long first,
+                        long last, const pfx_atlas_layout *l, char *image, size_t image_size,
+                        pfx_diags *d) {
     const long n = last - first + 1;
     uint16_t **frames = calloc((size_t)n, sizeof *frames);
     uint16_t *sheet = NULL;
@@ -208,7 +209,7 @@ bool pfx_mv_atlas_write(const char *dir, const char *stem, long first, long last
     }
     snprintf(image, image_size, "%s_mv_atlas.png", stem);
     snprintf(path, sizeof path, "%s/%s", dir, image);
-    ok = ok && pfx_png_write16(path, sheet, l->width, l->height, true, d);
+    ok = ok && pfx_png_write16_in(g, path, sheet, l->width, l->height, d);
     for (long k = 0; frames && k < n; k++)
         free(frames[k]);
     free(frames);
