@@ -78,6 +78,14 @@ int pfx_cmd_watch(const char *const *operands, int count, const pfx_cli *o);
 int pfx_cmd_lsp(const char *const *operands, int count, const pfx_cli *o);
 int pfx_cmd_tune(const char *const *operands, int count, const pfx_cli *o);
 
+/* pfx render for a front end that renders again and again (`pfx watch`):
+ * loaded(ctx, e) hears of each file's compiled effect (one that compiles,
+ * --werror's warnings or not) before it renders, so that what the file
+ * reads is known from the one load. pfx_cmd_render passes NULL. */
+typedef void (*pfx_cli_loaded_fn)(void *ctx, const pfx_effect *e);
+int pfx_cli_render_each(const char *const *operands, int count, const pfx_cli *o,
+                        pfx_cli_loaded_fn loaded, void *ctx);
+
 /* Shared by the commands (commands/common.c). */
 /* Looks up a renderer name; on a bad one prints the usage error, naming
  * `what` (the option or variable) and every kind, and returns false. */

@@ -161,10 +161,14 @@ static void say_rendered(const pfx_render_job *job, const pfx_cli *o, const char
 }
 
 /* Renders one effect file into dir: the whole of `pfx render` for one FILE.
- * Returns the exit status. */
-static int render_one(const char *path, const char *dir, pfx_renderer_kind kind, const pfx_cli *o) {
+ * `loaded` (when not NULL) hears of the compiled effect first. Returns the
+ * exit status. */
+static int render_one(const char *path, const char *dir, pfx_renderer_kind kind, const pfx_cli *o,
+                      pfx_cli_loaded_fn loaded, void *ctx) {
     pfx_loaded l;
     pfx_effect *e = pfx_cli_load(&l, path, o);
+    if (loaded && l.effect)
+        loaded(ctx, l.effect);
     int status = EXIT_INVALID;
     pfx_diags run;
     pfx_diags_init_runtime(&run);
@@ -253,6 +257,11 @@ done:
  * DIR/<name>/, one after another (-j works inside each); the exit status is
  * the worst, and the first failure stops the rest unless --keep-going. */
 int pfx_cmd_render(const char *const *operands, int count, const pfx_cli *o) {
+    return pfx_cli_render_each(operands, count, o, NULL, NULL);
+}
+
+int pfx_cli_render_each(const char *const *operands, int count, const pfx_cli *o,
+                        pfx_cli_loaded_fn loaded, void *ctx) {
     if (count < 1)
         return pfx_cli_usage_error("%s", "render needs a FILE and -o DIR");
     if (!o->output)
@@ -290,7 +299,7 @@ int pfx_cmd_render(const char *const *operands, int count, const pfx_cli *o) {
         char dir[4096], stem[256];
         pfx_cli_file_stem(operands[i], stem, sizeof stem);
         snprintf(dir, sizeof dir, "%s/%s", o->output, stem);
-        int status = render_one(operands[i], files > 1 ? dir : o->output, kind, o);
+        int status = render_one(operands[i], files > 1 ? dir : o->output, kind, o, loaded, ctx);
         if (status > worst)
             worst = status;
         if (status && !o->keep_going) {

@@ -20,8 +20,10 @@ int pfx_cmd_tune(const char *const *operands, int count, const pfx_cli *o) {
         return pfx_cli_usage_error("--tolerance takes a number above 0 and a unit: px, m, cm or "
                                    "mm (0.5px, 1mm), got '%s'",
                                    o->tolerance);
+    /* Read once: every run of the ladder compiles these bytes. */
     pfx_loaded l;
     pfx_effect *e = pfx_cli_load(&l, operands[0], o);
+    q.loaded = &l;
     int status = EXIT_INVALID;
     pfx_diags run;
     pfx_diags_init_runtime(&run);

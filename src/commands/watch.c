@@ -15,18 +15,9 @@ static void on_stop_signal(int sig) {
     pfx_file_watch_stop(stopping);
 }
 
-/* Watches every file and what each read when it compiles (a file that
- * does not compile is watched alone, until it does). */
-static void watch_inputs(pfx_file_watch *w, const char *const *files, int count, const pfx_cli *o) {
-    pfx_file_watch_reset(w);
-    for (int i = 0; i < count; i++) {
-        pfx_file_watch_add(w, files[i]);
-        pfx_loaded l;
-        if (pfx_load(&l, files[i], &o->compile))
-            pfx_file_watch_add_effect(w, l.effect);
-        pfx_loaded_free(&l);
-    }
-}
+/* What a file reads, as the render's own load found it (a file that does
+ * not compile is watched alone, until it does). */
+static void watch_inputs(void *ctx, const pfx_effect *e) { pfx_file_watch_add_effect(ctx, e); }
 
 int pfx_cmd_watch(const char *const *operands, int count, const pfx_cli *o) {
     if (count < 1 || !o->output)
@@ -45,9 +36,13 @@ int pfx_cmd_watch(const char *const *operands, int count, const pfx_cli *o) {
     pfx_atomic_set_stop_hook(on_stop_signal);
     int status = 0;
     do {
-        /* The watch first: a save during the render is not missed. */
-        watch_inputs(w, operands, count, o);
-        status = pfx_cmd_render(operands, count, &ro);
+        /* The files watched before they are read: a save during the
+         * render is not missed. Each is read once a round: what it reads
+         * is watched from the render's own load. */
+        pfx_file_watch_reset(w);
+        for (int i = 0; i < count; i++)
+            pfx_file_watch_add(w, operands[i]);
+        status = pfx_cli_render_each(operands, count, &ro, watch_inputs, w);
         if (status == EXIT_USAGE)
             break;
         if (!o->quiet)

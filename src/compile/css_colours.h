@@ -1,8 +1,9 @@
 /* The 148 named colours of CSS Color Module Level 4 (section 6.1), one
  * row each: the name and its sRGB value as 0xRRGGBB, the value of the
  * "#rrggbb" it stands for. Everything that knows the names expands from
- * here: the colour reader (compile/read.c), its suggestions, the schema's
- * enum (compile/schema.c). Names are lowercase, as the specification
+ * here: the colour words (compile/colour_text.c) that the reader and the
+ * editor's swatches share, the reader's suggestions, the schema's enum
+ * (compile/schema.c). Names are lowercase, as the specification
  * writes them; grey and gray spellings are separate rows, as there.
  *
  * X("name", 0xRRGGBB) */

@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "compile/css_colours.h"
+#include "compile/colour_text.h"
 
 static void report(pfx_reader *r, pfx_severity sev, const pfx_node *n, pfx_rule rule,
                    const char *fmt, va_list ap) {
@@ -381,59 +381,6 @@ bool pfx_read_value(pfx_reader *r, const pfx_node *n, const char *what, pfx_valu
     return false;
 }
 
-static int hex_digit(char c) {
-    if (c >= '0' && c <= '9')
-        return c - '0';
-    c = (char)tolower((unsigned char)c);
-    return c >= 'a' && c <= 'f' ? c - 'a' + 10 : -1;
-}
-
-static bool parse_hex_color(const char *s, float out[4]) {
-    if (s[0] != '#')
-        return false;
-    size_t n = strlen(s + 1);
-    if (n != 3 && n != 4 && n != 6 && n != 8)
-        return false;
-    for (size_t i = 0; i < n; i++)
-        if (hex_digit(s[1 + i]) < 0)
-            return false;
-    out[3] = 1.0f;
-    if (n <= 4) {
-        for (size_t i = 0; i < n; i++)
-            out[i] = (float)(hex_digit(s[1 + i]) * 17) / 255.0f;
-    } else {
-        for (size_t i = 0; i < n / 2; i++)
-            out[i] = (float)(hex_digit(s[1 + 2 * i]) * 16 + hex_digit(s[2 + 2 * i])) / 255.0f;
-    }
-    return true;
-}
-
-#define CSS_NAME(name, rgb) name,
-#define CSS_VALUE(name, rgb) rgb,
-const char *const pfx_css_colour_names[] = {PFX_CSS_COLOURS(CSS_NAME) NULL};
-static const unsigned css_values[] = {PFX_CSS_COLOURS(CSS_VALUE)};
-#undef CSS_NAME
-#undef CSS_VALUE
-
-/* A CSS colour name: its 0xRRGGBB, or -1 when s is not one. */
-static long css_colour(const char *s) {
-    for (size_t i = 0; pfx_css_colour_names[i]; i++)
-        if (!strcmp(s, pfx_css_colour_names[i]))
-            return (long)css_values[i];
-    return -1;
-}
-
-/* A CSS colour name, converted as "#rrggbb" is (each byte / 255), opaque. */
-static bool parse_named_color(const char *s, float out[4]) {
-    long rgb = css_colour(s);
-    if (rgb < 0)
-        return false;
-    for (int i = 0; i < 3; i++)
-        out[i] = (float)((rgb >> (16 - 8 * i)) & 0xff) / 255.0f;
-    out[3] = 1.0f;
-    return true;
-}
-
 /* A list of scalars, quoted or not: an [r, g, b(, a)] colour whose
  * components are then each read as numbers (a quoted one is reported). */
 static bool is_scalar_list(const pfx_node *n) {
@@ -502,11 +449,7 @@ static bool comment_after(pfx_reader *r, const pfx_node *n, const char *what) {
 bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, double rgb_max,
                     float out[4]) {
     if (n->kind == PFX_NODE_SCALAR) {
-        if (!strcmp(n->text, "transparent")) {
-            out[0] = out[1] = out[2] = out[3] = 0.0f;
-            return true;
-        }
-        if (parse_hex_color(n->text, out) || parse_named_color(n->text, out))
+        if (pfx_colour_parse_word(n->text, out))
             return true;
         if (n->plain && n->len == 0 && comment_after(r, n, what))
             return false;

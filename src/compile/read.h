@@ -6,6 +6,7 @@
 
 #include "base/arena.h"
 #include "base/diag.h"
+#include "compile/colour_text.h"
 #include "model/effect.h"
 #include "parse/node.h"
 
@@ -84,8 +85,6 @@ bool pfx_read_value_in(pfx_reader *r, const pfx_node *n, const char *what, pfx_v
  * components in 0..rgb_max (above 1: an HDR colour, for light), alpha in
  * 0..1. */
 #define PFX_HDR_MAX 1000.0
-/* The CSS colour names, in the table's order, NULL-terminated. */
-extern const char *const pfx_css_colour_names[];
 bool pfx_read_color(pfx_reader *r, const pfx_node *n, const char *what, double rgb_max,
                     float out[4]);
 /* A colour or a gradient (a list of colours, evenly spaced, or of {at, color}

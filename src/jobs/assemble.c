@@ -384,11 +384,15 @@ static bool assemble_one(part *p, size_t n, const char *out, const pfx_assemble_
             pfx_manifest_set_number(all, "preview_quality", opt->preview_quality);
         const char *key = pfx_manifest_key(all),
                    *was = prev ? pfx_manifest_recorded_key(prev) : NULL;
-        if (!(key && was && !strcmp(key, was) && pfx_manifest_preview_intact(prev, opt->preview)))
+        const bool intact =
+            key && was && !strcmp(key, was) && pfx_manifest_preview_intact(prev, opt->preview);
+        if (intact) /* hashed just now: its hash is the one recorded */
+            pfx_manifest_keep_preview(all, prev);
+        else
             ok = pfx_preview_run(out, p[0].stem, first, last, 1, fps,
                                  (int)pfx_manifest_get_number(all, "width", 0),
-                                 (int)pfx_manifest_get_number(all, "height", 0), &preview, d);
-        ok = ok && pfx_manifest_add_preview(all, opt->preview, d);
+                                 (int)pfx_manifest_get_number(all, "height", 0), &preview, d) &&
+                 pfx_manifest_add_preview(all, opt->preview, d);
     }
     pfx_manifest_key(all);
     if (ok) {

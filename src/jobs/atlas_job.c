@@ -86,38 +86,33 @@ static bool read_frames(atlas_job *j) {
     return true;
 }
 
-/* Writes DIR/STEM_atlas.png, the motion-vector sheet when asked, then the
- * JSON that names them (last, so a JSON never names a missing image), and
- * adds them to the manifest m (when given). A failure leaves none of the
- * images behind. */
+/* Writes DIR/STEM_atlas.png, the motion-vector sheet when asked and the
+ * JSON that names them, then adds them to the manifest m (when given).
+ * They appear together (one atomic group, renamed at the end: the JSON
+ * last, so it never names a missing image): a failure in any leaves the
+ * previous set as it was, and none of the new. */
 static bool write_outputs(const atlas_job *j, const uint8_t *sheet, double fps, bool loop,
                           pfx_manifest *m) {
     pfx_atlas_layout *l = j->l;
     const char *dir = j->dir, *stem = j->stem;
     char png[4400], json[4400];
-    char image[300];
+    char image[300], mv_image[300] = "";
     snprintf(image, sizeof image, "%s_atlas.png", stem);
     snprintf(png, sizeof png, "%s/%s", dir, image);
     snprintf(json, sizeof json, "%s/%s_atlas.json", dir, stem);
-    bool ok = pfx_png_write(png, sheet, l->width, l->height, j->d);
-    /* --motion-vectors: their sheet in the same layout, before the JSON
-     * that names it. */
-    char mv_image[300] = "", mv_png[4400];
-    snprintf(mv_png, sizeof mv_png, "%s/%s_mv_atlas.png", dir, stem);
-    if (ok && l->motion &&
-        !pfx_mv_atlas_write(dir, stem, j->first, j->last, l, mv_image, sizeof mv_image, j->d)) {
-        remove(png);
-        ok = false;
-    }
+    pfx_atomic_group *g = pfx_atomic_group_create(j->d);
+    bool ok = g && pfx_png_write_in(g, png, sheet, l->width, l->height, j->d);
+    /* --motion-vectors: their sheet in the same layout. */
+    ok = ok && (!l->motion || pfx_mv_atlas_write(g, dir, stem, j->first, j->last, l, mv_image,
+                                                 sizeof mv_image, j->d));
     l->motion_image = mv_image;
-    if (ok &&
-        !pfx_atlas_write_json(json, l, image, (const char *const *)j->names, fps, loop, j->d)) {
-        remove(png); /* both or neither */
-        if (l->motion)
-            remove(mv_png);
-        ok = false;
-    }
+    ok = ok &&
+         pfx_atlas_write_json(g, json, l, image, (const char *const *)j->names, fps, loop, j->d);
     l->motion_image = NULL;
+    if (ok)
+        ok = pfx_atomic_group_commit(g, j->d);
+    else
+        pfx_atomic_group_abort(g);
     if (ok && m) {
         char name[320];
         snprintf(name, sizeof name, "%s_atlas.json", stem);

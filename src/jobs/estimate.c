@@ -40,20 +40,9 @@ static double sprite_side_px(const pfx_effect *e, const pfx_emitter *em) {
     if (em->size_curve)
         for (int k = 0; k < PFX_GRADIENT_LUT; k++)
             size = fmax(size, em->size_lut[k]);
-    const pfx_camera *k = &e->camera;
-    if (k->ortho)
-        return size * e->height / k->ortho_height;
-    double view[3], len = 0, depth = 0;
-    for (int a = 0; a < 3; a++) {
-        view[a] = k->target[a] - k->position[a];
-        len += view[a] * view[a];
-    }
-    len = sqrt(len);
-    for (int a = 0; a < 3; a++)
-        depth += (em->position[a] - k->position[a]) * view[a] / (len > 0 ? len : 1);
-    if (!(depth > 1e-6))
-        return INFINITY;
-    return size * 0.5 * e->height / (tan(0.5 * k->fov) * depth);
+    /* 0: the emitter is at or behind the camera. */
+    double px_per_m = pfx_camera_pixels_per_metre(&e->camera, e->height, em->position);
+    return px_per_m > 0 ? size * px_per_m : INFINITY;
 }
 
 /* Whether map k of emitter i is the first use of those pixels. */

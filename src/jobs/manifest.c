@@ -484,6 +484,11 @@ static void copy_member(pfx_manifest *dst, const pfx_manifest *src, const char *
         json_object_del(dst->root, k);
 }
 
+void pfx_manifest_keep_preview(pfx_manifest *now, const pfx_manifest *prev) {
+    json_t *p = member(prev, "preview");
+    json_object_set_new(now->root, "preview", p ? json_deep_copy(p) : json_null());
+}
+
 static int by_path(const void *a, const void *b) {
     const char *x = json_string_value(json_object_get(*(json_t *const *)a, "path"));
     const char *y = json_string_value(json_object_get(*(json_t *const *)b, "path"));

@@ -88,6 +88,9 @@ bool pfx_manifest_add_preview(pfx_manifest *m, const char *path, pfx_diags *d);
 /* True when m records the preview at path with the SHA-256 the file has
  * now. */
 bool pfx_manifest_preview_intact(const pfx_manifest *m, const char *path);
+/* Records in now the preview as prev records it: for a preview that
+ * pfx_manifest_preview_intact has just hashed, which is not read again. */
+void pfx_manifest_keep_preview(pfx_manifest *now, const pfx_manifest *prev);
 
 /* Writes m to path whole or not at all (a temporary renamed into place).
  * False with the reason in d. */

@@ -51,14 +51,13 @@ static double histogram_percentile(const mv_histogram *h, double p) {
 }
 
 /* The pixels of the frame that sprite sp (of emitter em), centred at pixel
- * c at depth w, covers: its size, and its length when stretched along its
+ * c, covers: its size, and its length when stretched along its
  * velocity, in pixels at that depth, each widened to the minimum
  * footprint, as an upright rectangle clipped to the frame. */
 static double footprint_px(const pfx_effect *e, const pfx_emitter *em, const pfx_sprite *sp,
-                           const double c[2], double w) {
-    const pfx_camera *cam = &e->camera;
-    double px_per_m =
-        cam->ortho ? e->height / cam->ortho_height : 0.5 * e->height / tan(0.5 * cam->fov) / w;
+                           const double c[2]) {
+    const double p[3] = {sp->x, sp->y, sp->z};
+    double px_per_m = pfx_camera_pixels_per_metre(&e->camera, e->height, p);
     double sx = fmax(sp->size * px_per_m, PFX_MIN_FOOTPRINT_PX);
     double sy = em->look.align == PFX_ALIGN_VELOCITY
                     ? fmax(sp->length * px_per_m, PFX_MIN_FOOTPRINT_PX)
@@ -82,8 +81,7 @@ static void add_sprites(const pfx_effect *e, const pfx_sprite *sprites, const fl
             !pfx_camera_project(&e->camera, e->width, e->height, q, b, &wb))
             continue;
         const pfx_emitter *em = &e->emitters[(size_t)sp->material];
-        histogram_add(h, fmax(fabs(b[0] - a[0]), fabs(b[1] - a[1])),
-                      footprint_px(e, em, sp, a, wa));
+        histogram_add(h, fmax(fabs(b[0] - a[0]), fabs(b[1] - a[1])), footprint_px(e, em, sp, a));
     }
 }
 
@@ -179,8 +177,9 @@ bool pfx_mv_add_outputs(pfx_manifest *mf, const char *dir, const char *stem, lon
     return true;
 }
 
-bool pfx_mv_atlas_write(const char *dir, const char *stem, long first, long last,
-                        const pfx_atlas_layout *l, char *image, size_t image_size, pfx_diags *d) {
+bool pfx_mv_atlas_write(pfx_atomic_group *g, const char *dir, const char *stem, long first,
+                        long last, const pfx_atlas_layout *l, char *image, size_t image_size,
+                        pfx_diags *d) {
     const long n = last - first + 1;
     uint16_t **frames = calloc((size_t)n, sizeof *frames);
     uint16_t *sheet = NULL;
@@ -210,7 +209,7 @@ bool pfx_mv_atlas_write(const char *dir, const char *stem, long first, long last
     }
     snprintf(image, image_size, "%s_mv_atlas.png", stem);
     snprintf(path, sizeof path, "%s/%s", dir, image);
-    ok = ok && pfx_png_write16(path, sheet, l->width, l->height, true, d);
+    ok = ok && pfx_png_write16_in(g, path, sheet, l->width, l->height, d);
     for (long k = 0; frames && k < n; k++)
         free(frames[k]);
     free(frames);

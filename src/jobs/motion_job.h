@@ -56,10 +56,11 @@ bool pfx_mv_add_outputs(pfx_manifest *mf, const char *dir, const char *stem, lon
 
 /* The motion-vector sheet dir/stem_mv_atlas.png of frames first..last laid
  * out by l, resolved for the colour atlas (jobs/atlas_job.c calls it, so
- * the two line up); `image` gets its file name. False with the reason in
- * d, nothing written. */
-bool pfx_mv_atlas_write(const char *dir, const char *stem, long first, long last,
-                        const pfx_atlas_layout *l, char *image, size_t image_size, pfx_diags *d);
+ * the two line up), as a file of group g (output/atomic_file.h); `image`
+ * gets its file name. False with the reason in d, nothing written. */
+bool pfx_mv_atlas_write(pfx_atomic_group *g, const char *dir, const char *stem, long first,
+                        long last, const pfx_atlas_layout *l, char *image, size_t image_size,
+                        pfx_diags *d);
 
 /* The key of a slice manifest's "slice" member holding the scale
  * (pfx_mv_meta.max_px) its motion-vector frames were encoded with. */

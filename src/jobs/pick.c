@@ -3,20 +3,10 @@
  * drawing each emitter alone: one simulation to the frame, no GL. */
 #include "jobs/pick.h"
 
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "render/sprites.h"
-
-/* Pixels per metre at view depth w: the projection's vertical scale
- * (model/camera.c: ny = cy / tan(fov / 2) / w, over half the height). */
-static double pixels_per_metre(const pfx_effect *e, double w) {
-    const pfx_camera *c = &e->camera;
-    if (c->ortho)
-        return e->height / c->ortho_height;
-    return 0.5 * e->height / (tan(0.5 * c->fov) * w);
-}
 
 bool pfx_pick(const pfx_effect *e, long k, int x, int y, bool *hit, pfx_diags *d) {
     memset(hit, 0, e->emitter_count * sizeof *hit);
@@ -38,7 +28,7 @@ bool pfx_pick(const pfx_effect *e, long k, int x, int y, bool *hit, pfx_diags *d
         if (!pfx_camera_project(&e->camera, e->width, e->height, p, at, &w))
             continue;
         double extent = s->length > s->size ? s->length : s->size;
-        double r = 0.5 * extent * pixels_per_metre(e, w);
+        double r = 0.5 * extent * pfx_camera_pixels_per_metre(&e->camera, e->height, p);
         if (r < 0.5 * PFX_MIN_FOOTPRINT_PX)
             r = 0.5 * PFX_MIN_FOOTPRINT_PX;
         double dx = px - at[0], dy = py - at[1];

@@ -20,6 +20,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "base/json_text.h"
 #include "jobs/estimate.h"
 #include "jobs/load.h"
 #include "jobs/pick.h"
@@ -629,10 +630,12 @@ static json_t *events_json(const session_model *m, long f) {
 char *pfx_session_state_json(pfx_session *s) {
     pthread_mutex_lock(&s->mu);
     const session_model *m = s->good;
-    json_t *o = json_pack("{s:s, s:i, s:i, s:O, s:s}", "file", s->o.path, "version",
+    /* The file's name, and the messages quoting it, are bytes: escaped
+     * below as every JSON pfx writes escapes them (base/json_text.h). */
+    json_t *o = json_pack("{s:o, s:i, s:i, s:O, s:o}", "file", pfx_json_bytes(s->o.path), "version",
                           (json_int_t)s->version, "news", (json_int_t)s->news, "diagnostics",
                           s->diag_json ? s->diag_json : json_array(), "diagnostics_text",
-                          s->diag_text ? s->diag_text : "");
+                          pfx_json_bytes(s->diag_text ? s->diag_text : ""));
     if (m) {
         const pfx_effect *e = m->e;
         json_t *emitters = json_array(), *stats = json_array();
@@ -664,14 +667,16 @@ char *pfx_session_state_json(pfx_session *s) {
         json_object_set_new(o, "cache",
                             json_pack("{s:i, s:I, s:I}", "frames", (json_int_t)held, "bytes",
                                       (json_int_t)m->bytes, "cap", (json_int_t)m->cap));
-        json_object_set_new(o, "render_error", m->error ? json_string(m->error) : json_null());
+        json_object_set_new(o, "render_error", m->error ? pfx_json_bytes(m->error) : json_null());
         json_object_set_new(o, "alpha", json_string(pfx_alpha_mode_names[e->alpha_mode]));
     } else {
         json_object_set_new(o, "frames", json_integer(0));
         json_object_set_new(o, "emitters", json_array());
     }
     pthread_mutex_unlock(&s->mu);
-    char *text = o ? json_dumps(o, JSON_COMPACT | JSON_PRESERVE_ORDER) : NULL;
+    json_t *escaped = o ? pfx_json_escaped(o) : NULL;
+    char *text = escaped ? json_dumps(escaped, JSON_COMPACT | JSON_PRESERVE_ORDER) : NULL;
+    json_decref(escaped);
     json_decref(o);
     return text;
 }

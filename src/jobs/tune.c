@@ -1,8 +1,9 @@
-/* The ladder of jobs/tune.h: the effect loaded once per setting through
- * pfx_load with --set sim.integrator/sim.rate/sim.substeps appended to the
- * user's, simulated to a fixed set of frames, and each frame's particles
- * compared by (emitter, birth id) with the reference's. It writes nothing;
- * jobs/tune_report.c does. */
+/* The ladder of jobs/tune.h: the file's bytes, read once, compiled once
+ * per setting through pfx_load_bytes with --set sim.integrator/sim.rate/
+ * sim.substeps appended to the user's (the file's own setting is the
+ * effect already loaded), simulated to a fixed set of frames, and each
+ * frame's particles compared by (emitter, birth id) with the reference's.
+ * It writes nothing; jobs/tune_report.c does. */
 #include "jobs/tune.h"
 
 #include <math.h>
@@ -10,7 +11,6 @@
 #include <string.h>
 #include <time.h>
 
-#include "jobs/load.h"
 #include "model/kill_rules.h"
 #include "sim/sim.h"
 
@@ -300,17 +300,30 @@ done:
     return spent;
 }
 
-/* Loads, simulates, compares and times one run into `run`. False only when
- * memory ran out; a setting that does not compile is a row saying so. */
-static bool measure(tune_ctx *c, pfx_tune_run *run, bool record) {
+/* The effect of one run: the file's own setting is the effect loaded;
+ * another compiles the same bytes with its --set into l (*own: the caller
+ * frees l). NULL when it does not compile so. */
+static const pfx_effect *run_effect(const pfx_tune_request *r, const pfx_tune_run *run,
+                                    pfx_loaded *l, bool *own) {
+    *own = !run->current;
+    if (run->current)
+        return r->loaded->effect;
     tune_sets sets;
-    make_sets(c->req, run, &sets);
+    make_sets(r, run, &sets);
+    return pfx_load_bytes(l, r->path, r->loaded->source, r->loaded->source_len, &sets.opt);
+}
+
+/* Compiles, simulates, compares and times one run into `run`. False only
+ * when memory ran out; a setting that does not compile is a row saying so. */
+static bool measure(tune_ctx *c, pfx_tune_run *run, bool record) {
     pfx_loaded l;
-    pfx_effect *e = pfx_load(&l, c->req->path, &sets.opt);
+    bool own;
+    const pfx_effect *e = run_effect(c->req, run, &l, &own);
     if (!e) {
         run->compiled = false;
         snprintf(run->why, sizeof run->why, "does not compile with this setting");
-        pfx_loaded_free(&l);
+        if (own)
+            pfx_loaded_free(&l);
         return true;
     }
     run->compiled = true;
@@ -325,7 +338,8 @@ static bool measure(tune_ctx *c, pfx_tune_run *run, bool record) {
     bool blew;
     double steps, best = simulate(c, e, record, !record, &steps, &blew);
     if (best < 0) {
-        pfx_loaded_free(&l);
+        if (own)
+            pfx_loaded_free(&l);
         return false;
     }
     run->particle_steps = steps;
@@ -364,7 +378,8 @@ static bool measure(tune_ctx *c, pfx_tune_run *run, bool record) {
                      warned ? why : "no stability rule predicted it");
         }
     }
-    pfx_loaded_free(&l);
+    if (own)
+        pfx_loaded_free(&l);
     return true;
 }
 
@@ -550,13 +565,8 @@ bool pfx_tune_run_ladder(const pfx_tune_request *r, pfx_tune_result *res, FILE *
     res->recommended = -1;
     tune_ctx c = {.req = r, .res = res, .log = log};
     choose_frames(&c);
-    pfx_loaded l;
-    pfx_effect *e = pfx_load(&l, r->path, r->compile);
+    const pfx_effect *e = r->loaded->effect;
     bool ok = false;
-    if (!e) {
-        pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot load '%s'", r->path);
-        goto done;
-    }
     c.cam = &e->camera;
     c.width = e->width;
     c.height = e->height;
@@ -626,7 +636,6 @@ oom:
     pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
 done:
     free_ctx(&c);
-    pfx_loaded_free(&l);
     return ok;
 }
 

@@ -3,9 +3,10 @@
  * particle and frame by frame with a converged reference, timed, and
  * checked for blow-ups (jobs/tune.c); the report of those runs as CSV,
  * JSON, an SVG and PNG work-precision chart and a text summary
- * (jobs/tune_report.c). Every run loads the effect through jobs/load.h
- * with --set overrides, so a run is exactly what `pfx render --set ...`
- * would simulate. */
+ * (jobs/tune_report.c). The file is read once (the request's `loaded`);
+ * every other setting compiles those bytes through jobs/load.h with --set
+ * overrides, so a run is exactly what `pfx render --set ...` would
+ * simulate, and saving the file during a tune changes none of its runs. */
 #ifndef PFX_JOBS_TUNE_H
 #define PFX_JOBS_TUNE_H
 
@@ -15,6 +16,7 @@
 #include <stdio.h>
 
 #include "compile/compile.h"
+#include "jobs/load.h"
 #include "model/motion.h"
 
 /* The rates of the ladder: the file's rate x 2^j, j = -3..3. */
@@ -29,6 +31,7 @@
  * tolerance (a screen error in pixels, or a distance in metres). */
 typedef struct pfx_tune_request {
     const char *path;
+    const pfx_loaded *loaded;           /* path loaded with `compile` (its effect not NULL) */
     const pfx_compile_options *compile; /* the user's options, --set included */
     long first, last;                   /* resolved frame range */
     double tolerance;                   /* > 0 */
@@ -77,9 +80,8 @@ typedef struct pfx_tune_result {
 } pfx_tune_result;
 
 /* Runs the ladder for r. Progress goes to `log` unless NULL. Returns false
- * with the reason in d when the effect cannot be loaded as given or out of
- * memory; a run that fails to compile or blows up is a row, not a failure.
- * Free res with pfx_tune_result_free. */
+ * with the reason in d when the reference cannot run or out of memory; a run that fails to compile
+ * or blows up is a row, not a failure. Free res with pfx_tune_result_free. */
 bool pfx_tune_run_ladder(const pfx_tune_request *r, pfx_tune_result *res, FILE *log, pfx_diags *d);
 void pfx_tune_result_free(pfx_tune_result *res);
 

@@ -8,7 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "jobs/load.h"
 #include "jobs/tune.h"
 #include "sim/sim.h"
 
@@ -132,17 +131,12 @@ static void step_finding(const pfx_effect *e, pfx_tune_result *res) {
 }
 
 bool pfx_tune_scene_costs(const pfx_tune_request *r, pfx_tune_result *res, pfx_diags *d) {
-    pfx_loaded l;
-    pfx_effect *e = pfx_load(&l, r->path, r->compile);
+    const pfx_effect *e = r->loaded->effect;
     bool ok = false;
     pfx_diags quiet;
     pfx_diags_init_runtime(&quiet);
     pfx_sim *s = NULL, *view = NULL;
     emitter_watch *w = NULL;
-    if (!e) {
-        pfx_diag_error(d, PFX_RULE_READ_FAILED, "cannot load '%s'", r->path);
-        goto done;
-    }
     s = pfx_sim_create(e, &quiet);
     view = pfx_sim_create(e, &quiet);
     w = calloc(e->emitter_count + 1, sizeof *w);
@@ -165,6 +159,5 @@ done:
     pfx_sim_destroy(view);
     pfx_sim_destroy(s);
     pfx_diags_free(&quiet);
-    pfx_loaded_free(&l);
     return ok;
 }

@@ -1,37 +1,19 @@
-/* Colour swatches and the picker: every colour of the file (a "#rgb",
- * "#rgba", "#rrggbb" or "#rrggbbaa" string anywhere, and [r, g, b(, a)]
- * with components in 0..1 under a colour key, gradient stops included)
- * as a documentColor, and a picked colour written back in the form the
- * text had. HDR colours above 1 have no swatch: a picker cannot show them. */
+/* Colour swatches and the picker: every colour of the file as a
+ * documentColor (a "#rgb", "#rgba", "#rrggbb" or "#rrggbbaa" string
+ * anywhere; a CSS colour name, transparent, or [r, g, b(, a)] with
+ * components in 0..1 under a colour key, gradient stops, {random} and
+ * {pick} included), each word read as the compiler reads it
+ * (compile/colour_text.h), and a picked colour written back in the form
+ * the text had (a name as a quoted hex). HDR colours above 1 have no swatch: a picker cannot show
+ * them. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "compile/colour_text.h"
 #include "lsp/document.h"
 #include "lsp/tree.h"
-
-static int hex(char c) {
-    return c >= '0' && c <= '9'   ? c - '0'
-           : c >= 'a' && c <= 'f' ? c - 'a' + 10
-           : c >= 'A' && c <= 'F' ? c - 'A' + 10
-                                  : -1;
-}
-
-/* "#rgb", "#rgba", "#rrggbb" or "#rrggbbaa" into rgba in 0..1. */
-static bool parse_hex(const char *s, size_t n, double rgba[4]) {
-    if (n < 4 || s[0] != '#' || (n != 4 && n != 5 && n != 7 && n != 9))
-        return false;
-    int digits = n - 1 <= 4 ? 1 : 2, count = (int)(n - 1) / digits;
-    rgba[3] = 1;
-    for (int i = 0; i < count; i++) {
-        int hi = hex(s[1 + i * digits]), lo = digits == 2 ? hex(s[2 + i * digits]) : hi;
-        if (hi < 0 || lo < 0)
-            return false;
-        rgba[i] = (hi * 16 + lo) / 255.0;
-    }
-    return true;
-}
 
 static bool colour_key(const char *k) {
     return strstr(k, "color") || strstr(k, "colour") || !strcmp(k, "background");
@@ -44,9 +26,31 @@ static void add(const pfx_lsp_doc *d, const pfx_node *n, const double rgba[4], j
                                     rgba[0], "green", rgba[1], "blue", rgba[2], "alpha", rgba[3]));
 }
 
-/* The value of a colour key: a colour, or a list of colours or stops. */
+/* A colour word (compile/colour_text.h) as a swatch's rgba; false when
+ * n is not one. */
+static bool colour_word(const pfx_node *n, double rgba[4]) {
+    float c[4];
+    if (n->kind != PFX_NODE_SCALAR || !pfx_colour_parse_word(n->text, c))
+        return false;
+    for (int i = 0; i < 4; i++)
+        rgba[i] = c[i];
+    return true;
+}
+
+/* The value of a colour key: a colour, a list of colours or stops, or a
+ * {random: [c1, c2]} or {pick: gradient}. A quoted hex string is walk's
+ * (it has a swatch wherever it is); a stop's own colour key is too. */
 static void colour_value(const pfx_lsp_doc *d, const pfx_node *v, int depth, json_t *out) {
-    if (!v || depth > 4 || v->kind != PFX_NODE_SEQ)
+    double word[4];
+    if (!v || depth > 4)
+        return;
+    if (v->kind == PFX_NODE_SCALAR && v->text[0] != '#' && colour_word(v, word))
+        add(d, v, word, out);
+    if (v->kind == PFX_NODE_MAP)
+        for (size_t i = 0; i < v->count; i++)
+            if (!colour_key(v->pairs[i].key->text))
+                colour_value(d, v->pairs[i].value, depth + 1, out);
+    if (v->kind != PFX_NODE_SEQ)
         return;
     if (v->count == 3 || v->count == 4) {
         double rgba[4] = {0, 0, 0, 1};
@@ -73,7 +77,7 @@ static void walk(const pfx_lsp_doc *d, const pfx_node *n, int depth, json_t *out
     if (!n || depth > PFX_MAX_DEPTH || json_array_size(out) >= 10000)
         return;
     double rgba[4];
-    if (n->kind == PFX_NODE_SCALAR && !n->plain && parse_hex(n->text, n->len, rgba))
+    if (n->kind == PFX_NODE_SCALAR && !n->plain && n->text[0] == '#' && colour_word(n, rgba))
         add(d, n, rgba, out);
     if (n->kind == PFX_NODE_SEQ)
         for (size_t i = 0; i < n->count; i++)

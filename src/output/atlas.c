@@ -205,8 +205,9 @@ static json_t *frame_entry(const pfx_atlas_layout *l, int k) {
                      uv_rect(l, x, y, l->crop_w, l->crop_h));
 }
 
-bool pfx_atlas_write_json(const char *path, const pfx_atlas_layout *l, const char *image,
-                          const char *const *names, double fps, bool loop, pfx_diags *d) {
+bool pfx_atlas_write_json(pfx_atomic_group *g, const char *path, const pfx_atlas_layout *l,
+                          const char *image, const char *const *names, double fps, bool loop,
+                          pfx_diags *d) {
     json_t *frames = l->json_array ? json_array() : json_object();
     for (int k = 0; k < l->frames; k++) {
         json_t *entry = frame_entry(l, k);
@@ -232,7 +233,7 @@ bool pfx_atlas_write_json(const char *path, const pfx_atlas_layout *l, const cha
         "godot", "h_frames", l->columns, "v_frames", l->rows);
     if (root && l->motion)
         json_object_set_new(root, "motion_vectors", pfx_mv_json(l->motion, l, l->motion_image));
-    bool ok = pfx_json_file_write(path, root, d);
+    bool ok = pfx_json_file_write_in(g, path, root, d);
     json_decref(root);
     return ok;
 }

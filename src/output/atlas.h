@@ -12,6 +12,7 @@
 #include <stdint.h>
 
 #include "base/diag.h"
+#include "output/atomic_file.h"
 
 #define PFX_ATLAS_MAX_SIDE 16384
 
@@ -59,12 +60,14 @@ void pfx_atlas_find_crop(pfx_atlas_layout *l, uint8_t *const *frames, int n);
  * when out of memory. */
 uint8_t *pfx_atlas_compose(const pfx_atlas_layout *l, uint8_t *const *frames);
 
-/* Writes the JSON at path (whole or not at all): frames by name (names[i]
+/* Writes the JSON at path (whole or not at all, as a file of group g:
+ * output/atomic_file.h): frames by name (names[i]
  * for frame i; a hash by name, or with json_array an array of objects
  * with a "filename") with their rectangles in pixels and as UV fractions
  * of the sheet, the grid, fps, loop and the alpha mode, for the sheet
  * named `image`. False with the reason in d. */
-bool pfx_atlas_write_json(const char *path, const pfx_atlas_layout *l, const char *image,
-                          const char *const *names, double fps, bool loop, pfx_diags *d);
+bool pfx_atlas_write_json(pfx_atomic_group *g, const char *path, const pfx_atlas_layout *l,
+                          const char *image, const char *const *names, double fps, bool loop,
+                          pfx_diags *d);
 
 #endif

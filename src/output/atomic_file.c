@@ -34,6 +34,14 @@ struct pfx_atomic_file {
     char *path, *temp;
     int error; /* the first errno of a failed write, 0 if none */
     int slot;
+    pfx_atomic_group *group; /* commit hands the closed temporary to it */
+};
+
+/* Files written to their temporaries, to be renamed together. */
+#define GROUP_MAX 8
+struct pfx_atomic_group {
+    pfx_atomic_file *done[GROUP_MAX]; /* committed: closed, synced, not renamed */
+    int opened, count;
 };
 
 static pthread_mutex_t registry_lock = PTHREAD_MUTEX_INITIALIZER;
@@ -172,6 +180,21 @@ pfx_atomic_file *pfx_atomic_open(const char *path, pfx_diags *d) {
     return a;
 }
 
+pfx_atomic_file *pfx_atomic_open_in(pfx_atomic_group *g, const char *path, pfx_diags *d) {
+    if (!g)
+        return pfx_atomic_open(path, d);
+    if (g->opened == GROUP_MAX) {
+        report(d, path, EMFILE);
+        return NULL;
+    }
+    pfx_atomic_file *a = pfx_atomic_open(path, d);
+    if (a) {
+        a->group = g;
+        g->opened++;
+    }
+    return a;
+}
+
 FILE *pfx_atomic_stream(pfx_atomic_file *a) { return a->f; }
 
 void pfx_atomic_failed(pfx_atomic_file *a, int errnum) {
@@ -210,6 +233,11 @@ bool pfx_atomic_commit(pfx_atomic_file *a, bool sync_dir, pfx_diags *d) {
     if (fclose(a->f) != 0 && !errnum)
         errnum = errno ? errno : EIO;
     a->f = NULL;
+    if (!errnum && a->group) {
+        /* Still listed: a signal removes it until the group renames it. */
+        a->group->done[a->group->count++] = a;
+        return true;
+    }
     if (!errnum)
         errnum = finish(a, true);
     else
@@ -230,6 +258,50 @@ void pfx_atomic_abort(pfx_atomic_file *a) {
         fclose(a->f);
     finish(a, false);
     destroy(a);
+}
+
+pfx_atomic_group *pfx_atomic_group_create(pfx_diags *d) {
+    pfx_atomic_group *g = calloc(1, sizeof *g);
+    if (!g)
+        pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "out of memory");
+    return g;
+}
+
+bool pfx_atomic_group_commit(pfx_atomic_group *g, pfx_diags *d) {
+    int errnum = 0, failed = 0;
+    /* Under the lock: a signal's cleanup comes before or after every
+     * rename, never between two. */
+    pthread_mutex_lock(&registry_lock);
+    for (int i = 0; i < g->count; i++) {
+        pfx_atomic_file *a = g->done[i];
+        if (!errnum && rename(a->temp, a->path) != 0) {
+            errnum = errno;
+            failed = i;
+        }
+        if (errnum)
+            unlink(a->temp);
+        registry[a->slot] = NULL;
+    }
+    pthread_mutex_unlock(&registry_lock);
+    bool ok = errnum == 0;
+    if (!ok)
+        report(d, g->done[failed]->path, errnum);
+    else if (g->count)
+        ok = pfx_atomic_sync_dir(g->done[0]->path, d);
+    for (int i = 0; i < g->count; i++)
+        destroy(g->done[i]);
+    free(g);
+    return ok;
+}
+
+void pfx_atomic_group_abort(pfx_atomic_group *g) {
+    if (!g)
+        return;
+    for (int i = 0; i < g->count; i++) {
+        finish(g->done[i], false);
+        destroy(g->done[i]);
+    }
+    free(g);
 }
 
 int pfx_atomic_link(const char *from, const char *path, pfx_diags *d) {

@@ -32,6 +32,24 @@ bool pfx_atomic_commit(pfx_atomic_file *a, bool sync_dir, pfx_diags *d);
 /* Closes and removes the temporary without a message (the caller failed
  * for its own reason), and frees a. NULL is a no-op. */
 void pfx_atomic_abort(pfx_atomic_file *a);
+/* Files that appear together or not at all (an atlas sheet, its
+ * motion-vector sheet and the JSON naming them), so that a failure in the
+ * last leaves the previous set whole: each is written through
+ * pfx_atomic_open_in, whose pfx_atomic_commit flushes and syncs it but
+ * leaves it at its temporary name; pfx_atomic_group_commit then renames
+ * them all, in the order they were committed, and syncs the directory
+ * once (they share one). A signal removes the temporaries until then.
+ * At most 8 files a group. */
+typedef struct pfx_atomic_group pfx_atomic_group;
+/* NULL with "out of memory" in d. */
+pfx_atomic_group *pfx_atomic_group_create(pfx_diags *d);
+/* pfx_atomic_open for a file of group g (NULL: of none). */
+pfx_atomic_file *pfx_atomic_open_in(pfx_atomic_group *g, const char *path, pfx_diags *d);
+/* Renames every file committed into g into place, reporting into d the
+ * first that cannot be (the files after it are removed); frees g. */
+bool pfx_atomic_group_commit(pfx_atomic_group *g, pfx_diags *d);
+/* Removes every temporary committed into g, and frees g. NULL: no-op. */
+void pfx_atomic_group_abort(pfx_atomic_group *g);
 /* Puts a hard link to `from` at `path`: links it to a temporary name as
  * pfx_atomic_open names it (removed by a signal like any temporary) and
  * renames that into place. Returns 1 when linked; 0 when no link could be

@@ -7,6 +7,11 @@
 #include "output/atomic_file.h"
 
 bool pfx_json_file_write(const char *path, const json_t *root, pfx_diags *d) {
+    return pfx_json_file_write_in(NULL, path, root, d);
+}
+
+bool pfx_json_file_write_in(pfx_atomic_group *g, const char *path, const json_t *root,
+                            pfx_diags *d) {
     if (!root) {
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "cannot write '%s': out of memory", path);
         return false;
@@ -17,7 +22,7 @@ bool pfx_json_file_write(const char *path, const json_t *root, pfx_diags *d) {
         pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY, "cannot write '%s': out of memory", path);
         return false;
     }
-    pfx_atomic_file *a = pfx_atomic_open(path, d);
+    pfx_atomic_file *a = pfx_atomic_open_in(g, path, d);
     if (!a) {
         json_decref(escaped);
         return false;

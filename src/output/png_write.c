@@ -252,9 +252,10 @@ static bool png_encode16(pfx_png_ctx *ctx, const uint16_t *rgba, int width, int 
 
 /* Encodes into an atomic file (output/atomic_file.h): whole or absent.
  * depth 8: rgba is uint8_t samples, 16: uint16_t in host order. sync_dir:
- * fsync the directory after the rename. */
-static bool png_write_depth(const char *path, const void *rgba, int width, int height, int depth,
-                            bool sync_dir, pfx_diags *d) {
+ * fsync the directory after the rename. g: a group the file joins (NULL:
+ * none), which renames it later. */
+static bool png_write_depth(pfx_atomic_group *g, const char *path, const void *rgba, int width,
+                            int height, int depth, bool sync_dir, pfx_diags *d) {
     if (path == NULL || path[0] == '\0' || path[strlen(path) - 1] == '/') {
         pfx_diag_error(d, PFX_RULE_WRITE_FAILED, "cannot write '%s': not a file name",
                        path ? path : "");
@@ -266,7 +267,7 @@ static bool png_write_depth(const char *path, const void *rgba, int width, int h
                        path, width, height);
         return false;
     }
-    pfx_atomic_file *a = pfx_atomic_open(path, d);
+    pfx_atomic_file *a = pfx_atomic_open_in(g, path, d);
     if (a == NULL)
         return false;
     pfx_png_ctx ctx = {.message = "", .write_errno = 0, .file = pfx_atomic_stream(a)};
@@ -285,7 +286,7 @@ static bool png_write_depth(const char *path, const void *rgba, int width, int h
 
 static bool png_write(const char *path, const uint8_t *rgba, int width, int height, bool sync_dir,
                       pfx_diags *d) {
-    return png_write_depth(path, rgba, width, height, 8, sync_dir, d);
+    return png_write_depth(NULL, path, rgba, width, height, 8, sync_dir, d);
 }
 
 bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height, pfx_diags *d) {
@@ -295,6 +296,11 @@ bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height,
 bool pfx_png_write_nosync(const char *path, const uint8_t *rgba, int width, int height,
                           pfx_diags *d) {
     return png_write(path, rgba, width, height, false, d);
+}
+
+bool pfx_png_write_in(pfx_atomic_group *g, const char *path, const uint8_t *rgba, int width,
+                      int height, pfx_diags *d) {
+    return png_write_depth(g, path, rgba, width, height, 8, false, d);
 }
 
 /* Transforms so that any PNG reads as RGBA of `bits` bits a sample:
@@ -402,7 +408,12 @@ uint8_t *pfx_png_read_sized(const char *path, int width, int height, int *got_w,
 
 bool pfx_png_write16(const char *path, const uint16_t *rgba, int width, int height, bool sync_dir,
                      pfx_diags *d) {
-    return png_write_depth(path, rgba, width, height, 16, sync_dir, d);
+    return png_write_depth(NULL, path, rgba, width, height, 16, sync_dir, d);
+}
+
+bool pfx_png_write16_in(pfx_atomic_group *g, const char *path, const uint16_t *rgba, int width,
+                        int height, pfx_diags *d) {
+    return png_write_depth(g, path, rgba, width, height, 16, false, d);
 }
 
 uint16_t *pfx_png_read16(const char *path, int *width, int *height) {

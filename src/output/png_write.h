@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "base/diag.h"
+#include "output/atomic_file.h"
 
 /* Writes width*height 8-bit straight-alpha RGBA pixels (top row first) to
  * `path` atomically (output/atomic_file.h: synced to the disk before its
@@ -19,6 +20,10 @@ bool pfx_png_write(const char *path, const uint8_t *rgba, int width, int height,
  * writing many files there syncs it once (pfx_atomic_sync_dir). */
 bool pfx_png_write_nosync(const char *path, const uint8_t *rgba, int width, int height,
                           pfx_diags *d);
+/* pfx_png_write as a file of group g, which renames it into place with the
+ * others (output/atomic_file.h). */
+bool pfx_png_write_in(pfx_atomic_group *g, const char *path, const uint8_t *rgba, int width,
+                      int height, pfx_diags *d);
 
 /* Writes width*height 16-bit RGBA samples (host byte order, top row
  * first) as a 16-bit RGBA PNG, atomically as pfx_png_write does; sync_dir:
@@ -26,6 +31,9 @@ bool pfx_png_write_nosync(const char *path, const uint8_t *rgba, int width, int 
  * batch). Motion-vector frames and sheets (output/motion_vectors.h). */
 bool pfx_png_write16(const char *path, const uint16_t *rgba, int width, int height, bool sync_dir,
                      pfx_diags *d);
+/* pfx_png_write16 as a file of group g. */
+bool pfx_png_write16_in(pfx_atomic_group *g, const char *path, const uint16_t *rgba, int width,
+                        int height, pfx_diags *d);
 /* Reads any PNG as 16-bit RGBA samples in host byte order (8-bit images
  * widened by x 257). Returns a malloc'd buffer the caller frees, or NULL. */
 uint16_t *pfx_png_read16(const char *path, int *width, int *height);

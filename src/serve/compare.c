@@ -10,6 +10,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "base/json_text.h"
+
 struct pfx_compare_ref {
     pfx_session *session;
     char *path; /* the session's options point here */
@@ -111,11 +113,14 @@ pfx_session *pfx_compare_session(const pfx_compare_ref *r) { return r->session; 
 
 char *pfx_compare_json(pfx_compare *c) {
     pfx_compare_ref *r = pfx_compare_hold(c);
-    json_t *o = r ? json_pack("{s:s, s:o}", "file", r->path, "seed",
+    json_t *o = r ? json_pack("{s:o, s:o}", "file", pfx_json_bytes(r->path), "seed",
                               r->has_seed ? json_integer((json_int_t)r->seed) : json_null())
                   : json_null();
     pfx_compare_release(c, r);
-    char *text = o ? json_dumps(o, JSON_COMPACT | JSON_ENCODE_ANY) : NULL;
+    /* A file name that is not UTF-8 keeps its bytes (base/json_text.h). */
+    json_t *escaped = o ? pfx_json_escaped(o) : NULL;
+    char *text = escaped ? json_dumps(escaped, JSON_COMPACT | JSON_ENCODE_ANY) : NULL;
+    json_decref(escaped);
     json_decref(o);
     return text;
 }

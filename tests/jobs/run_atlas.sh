@@ -221,6 +221,31 @@ want_status 0
 [ ! -e a/fire_atlas.png ] && [ ! -e a/fire_atlas.json ] || flunk "the old atlas is still there"
 end
 
+# The sheet, the motion-vector sheet and the JSON naming them appear
+# together: a render whose motion-vector sheet cannot be written (past
+# ulimit -f, which fails like a full disk; the 16-bit sheet is the larger)
+# leaves the previous three as they were, not the old sheet replaced and
+# then removed.
+begin "an atlas whose motion-vector sheet fails: the previous sheet, mv sheet and JSON stay whole"
+B=(--size 64x64 --frames 0:15 --atlas --motion-vectors -q)
+pfx_run render "$FIRE" -o grp "${B[@]}" --seed 1
+want_status 0
+sha256sum grp/fire_atlas.png grp/fire_mv_atlas.png grp/fire_atlas.json >grp.sha
+c=$(stat -c %s grp/fire_atlas.png) m=$(stat -c %s grp/fire_mv_atlas.png)
+[ $((m * 10)) -gt $((c * 13)) ] || flunk "the sheets are too close in size to part them: $c, $m"
+(ulimit -f $(((c + m) / 2048)) && exec "$pfx" render "$FIRE" -o grp "${B[@]}" --seed 2) >out 2>err
+status=$?
+want_status 1
+stderr_has "cannot write 'grp/fire_mv_atlas.png': File too large"
+sha256sum --quiet -c grp.sha >/dev/null 2>&1 ||
+    flunk "the previous set changed: $(sha256sum -c grp.sha 2>&1 | tr '\n' ' ')"
+ls -a grp | grep -q '\.tmp-' && flunk "temporaries left: $(ls -a grp | grep '\.tmp-')"
+pfx_run render "$FIRE" -o grp "${B[@]}" --seed 2
+want_status 0
+[ "$(sha256sum -c grp.sha 2>/dev/null | grep -c ': OK$')" = 0 ] ||
+    flunk "without the limit, seed 2 did not replace all three"
+end
+
 begin "an atlas over 16384 pixels fails before rendering"
 pfx_run render "$FIRE" -o big --size 2000x2000 --frames 0:80 --atlas
 want_status 1

@@ -144,6 +144,24 @@ stderr_has "cannot write 'wa/fire.webp': WebP frames are at most 16383 pixels a 
 [ -z "$(ls wa 2>/dev/null)" ] || flunk "files were gathered: $(ls wa | head -3)"
 end
 
+# An intact preview is hashed once, to find it intact, and that hash is
+# the one recorded: inotify counts the opens of the file (2 before).
+begin "assemble again: an intact preview is read once and kept, its SHA-256 recorded"
+pfx_run render "$FIRE" -o as --size 48x48 --frames 0:3 --slice 0/2 -q
+pfx_run render "$FIRE" -o as --size 48x48 --frames 0:3 --slice 1/2 -q
+pfx_run assemble as -o aa --preview aa/fire.webp -q
+want_status 0
+before=$(stat -c %Y.%s aa/fire.webp 2>/dev/null)
+opens=$("$py" "$src/tests/jobs/count_opens.py" aa/fire.webp "$pfx" assemble as -o aa \
+    --preview aa/fire.webp -q)
+[ "$opens" = "1 0" ] || flunk "opens and status: $opens, want '1 0'"
+[ "$(stat -c %Y.%s aa/fire.webp)" = "$before" ] || flunk "the preview was written again"
+"$py" -c 'import hashlib, json, sys
+m = json.load(open("aa/fire.manifest.json"))
+sys.exit(m["preview"]["sha256"] != hashlib.sha256(open("aa/fire.webp", "rb").read()).hexdigest())' ||
+    flunk "the manifest's preview hash is not the file's"
+end
+
 begin "--preview needs a .webp or .mp4 path"
 pfx_run render "$FIRE" -o g --preview g/fire.gif
 want_status 2

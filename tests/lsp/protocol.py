@@ -5,8 +5,10 @@ Usage: protocol.py PFX SRC. Prints `ok   NAME` or `FAIL NAME: why` lines
 import glob
 import json
 import os
+import shutil
 import subprocess
 import sys
+import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from lsp_client import Client  # noqa: E402
@@ -204,7 +206,14 @@ check("diagnostics: the same as pfx validate's (rule, severity, line, message, n
       "files" % len(files), not mismatch, "\n".join(mismatch[:3]))
 
 # The editor's text, not the file on disk; the range of the node; a code.
-fire = os.path.join(src, "effects", "fire.yaml")
+# tests/lsp/fire.yaml (pinned: the positions below are its own) in a
+# folder with the two textures a completion lists, no more.
+home = tempfile.mkdtemp(prefix="pfx-lsp-")
+os.mkdir(os.path.join(home, "textures"))
+for png in ("flame_sheet.png", "smoke_sheet.png"):
+    shutil.copy(os.path.join(src, "effects", "textures", png), os.path.join(home, "textures"))
+fire = os.path.join(home, "fire.yaml")
+shutil.copy(os.path.join(src, "tests", "lsp", "fire.yaml"), fire)
 fire_text = open(fire).read()
 typo = fire_text.replace("forces: [gravity, flicker]\n    gravity_scale: -0.15",
                          "forces: [gravty, flicker]\n    gravity_scale: -0.15")
@@ -472,10 +481,13 @@ check("hover: a drag's k shows k*dt at the sim rate and the stable integrators",
 c.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": 40},
                                     "contentChanges": [{"text": fire_text}]})
 cols = c.request("textDocument/documentColor", {"textDocument": {"uri": uri}})["result"]
-first = cols[0] if cols else {}
+first = cols[1] if len(cols) > 1 else {}
 want = {"red": 1.0, "green": 0xd8 / 255, "blue": 0x90 / 255, "alpha": 0xb0 / 255}
-check("documentColor: every gradient stop of fire.yaml (5 + 3 + 3), #ffd890b0 first",
-      len(cols) == 11 and all(abs(first["color"][k] - v) < 1e-6 for k, v in want.items())
+check("documentColor: background: transparent, then every gradient stop of fire.yaml "
+      "(5 + 3 + 3), #ffd890b0 first",
+      len(cols) == 12 and cols[0]["color"] == {"red": 0, "green": 0, "blue": 0, "alpha": 0}
+      and cols[0]["range"]["start"] == at(fire_text, "transparent")
+      and all(abs(first["color"][k] - v) < 1e-6 for k, v in want.items())
       and first["range"]["start"] == at(fire_text, '"#ffd890b0"'), json.dumps(cols[:2]))
 r = c.request("textDocument/colorPresentation", {
     "textDocument": {"uri": uri}, "range": first.get("range"),
@@ -491,6 +503,23 @@ cols = c.request("textDocument/documentColor",
 check("documentColor: [r, g, b] under a colour key",
       len(cols) == 1 and cols[0]["color"] == {"red": 0.5, "green": 0.25, "blue": 1, "alpha": 1},
       json.dumps(cols))
+# CSS colour names and transparent, read as the compiler reads them, under
+# colour keys alone (an emitter named red has none); a quoted hex beside
+# them once. rebeccapurple is #663399: 0x66 / 255 = 0.4, 0x33 / 255 = 0.2.
+named = ('pfx: 1\nimage:\n  background: rebeccapurple\nemitters:\n  red:\n'
+         '    color: {random: [red, transparent]}\n  b:\n    color: [orange, "#0000ff"]\n')
+c.notify("textDocument/didOpen", doc("file:///tmp/named.yaml", named))
+cols = c.request("textDocument/documentColor",
+                 {"textDocument": {"uri": "file:///tmp/named.yaml"}})["result"]
+want = [("rebeccapurple", (0.4, 0.2, 0.6, 1)), ("red, trans", (1, 0, 0, 1)),
+        ("transparent", (0, 0, 0, 0)), ("orange", (1, 0xa5 / 255, 0, 1)),
+        ('"#0000ff"', (0, 0, 1, 1))]
+check("documentColor: CSS names and transparent under colour keys, {random} and lists included",
+      len(cols) == len(want) and all(
+          col["range"]["start"] == at(named, text) and
+          all(abs(col["color"][k] - v) < 1e-6
+              for k, v in zip(("red", "green", "blue", "alpha"), rgba))
+          for col, (text, rgba) in zip(cols, want)), json.dumps(cols))
 # A huge document: the load's own limit, and the server goes on.
 huge = "pfx: 1\n" + "#" * (17 << 20) + "\n"
 c.notify("textDocument/didOpen", doc("file:///tmp/huge.yaml", huge))
@@ -502,4 +531,5 @@ check("robust: a 17 MiB document is reported too large (PFX6002) and the server 
       json.dumps(d)[:300])
 status = c.finish()
 check("lifecycle: a long session ends with status 0", status == 0, "status %d" % status)
+shutil.rmtree(home, ignore_errors=True)
 sys.exit(1 if failures else 0)

@@ -3,6 +3,7 @@ routes, no browser: the URL line, loopback, the token and Host checks,
 paths outside the table, frames equal to `pfx render`, live reload of a
 good and a broken save, pick, a port in use, 200 edits, Control-C.
 Usage: check_server.py PFX SRC WORK; prints one `ok`/`FAIL` line a check."""
+import base64
 import http.client
 import io
 import json
@@ -492,6 +493,39 @@ with Preview(pfx, "events.yaml", cwd=work) as p:
           events == [[0, 0]] * 5 + [[0, 2]] + [[0, 0]] * 4 and
           s["emitters"][0]["spawns"] == [{"event": "on_death", "emitter": "spark"}],
           "%s %s" % ([e["bursts"] for e in s["emitters"]], events))
+    p.stop()
+
+# A file name that is not UTF-8 (Latin-1 "caf\xe9.yaml", compared with
+# "\xf6ther.yaml"): /api/state keeps its bytes as every JSON pfx writes does
+# (pfx(1), File names in JSON): U+FFFD in "file", the bytes in
+# "file_base64"; the same for the diagnostics text that quotes it, and for
+# the compared file. It starts broken, so that the text names it.
+latin, other = b"caf\xe9.yaml", b"\xf6ther.yaml"
+with open(os.path.join(src, "tests/preview/dot.yaml")) as f:
+    dot_text = f.read()
+with open(os.path.join(os.fsencode(work), latin), "w") as f:
+    f.write(dot_text.replace("    speed: 0\n", "    speed: [\n", 1))
+shutil.copy(os.path.join(src, "tests/preview/dot.yaml"), os.path.join(os.fsencode(work), other))
+with Preview(pfx, os.fsdecode(latin), "--compare", os.fsdecode(other), cwd=work) as p:
+    st, _, body = p.get("/api/state")
+    s = json.loads(body) if st == 200 else {}
+    text = base64.b64decode(s.get("diagnostics_text_base64", ""))
+    cmp = s.get("compare") or {}
+    check("/api/state of a file named in Latin-1: U+FFFD for reading, its bytes in *_base64 "
+          "(file, diagnostics_text, compare's file)",
+          st == 200 and s["file"] == "caf\ufffd.yaml" and
+          base64.b64decode(s.get("file_base64", "")) == latin and
+          s["diagnostics_text"].startswith("caf\ufffd.yaml:") and text.startswith(latin + b":") and
+          cmp.get("file") == "\ufffdther.yaml" and
+          base64.b64decode(cmp.get("file_base64", "")) == other, "%s %r" % (st, body[:300]))
+    news = s.get("news", 0)
+    edit(os.path.join(os.fsencode(work), latin), "    speed: [\n", "    speed: 0\n")
+    s = p.wait_news(news)
+    st, _, png = p.get("/frame/0.png")
+    check("the Latin-1 file, saved good: version 1, its frame 0 (red in the middle)",
+          s["version"] == 1 and s["diagnostics"] == [] and st == 200 and
+          near(pixel(png, 48, 48), (255, 0, 0, 255)),
+          "%s %s %s %s" % (s["version"], st, s["diagnostics"], png and pixel(png, 48, 48)))
     p.stop()
 
 # SIGKILL runs no cleanup: the scratch directory (named with the pid) of

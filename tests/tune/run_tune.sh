@@ -197,6 +197,18 @@ grep -qF "emitter 'a': texture 'w.png' has 256px cells" "$work/two_names/tune.js
 grep -qF "emitter 'b': texture './w.png' has 256px cells" "$work/two_names/tune.json" ||
     flunk "b's advice names $(grep -o "emitter 'b': texture '[^']*'" "$work/two_names/tune.json")"
 end
+# The file is read once: every run of the ladder compiles the same bytes
+# (inotify counts the opens; each run opened it again before, and the
+# file's own setting three more times).
+begin "tune reads the effect file once, however many settings it compiles"
+opens=$("$py" "$src/tests/jobs/count_opens.py" "$work/projectile.yaml" "$pfx" tune \
+    "$work/projectile.yaml" -o "$work/once" -q --tolerance 1e-9m)
+[ "$opens" = "1 0" ] || flunk "opens and status: $opens, want '1 0'"
+runs=$("$py" -c 'import json, sys; print(len(json.load(open(sys.argv[1]))["runs"]))' \
+    "$work/once/tune.json")
+[ "$runs" -gt 10 ] || flunk "$runs runs only"
+end
+
 begin "tune --frames with a step: a usage error"
 pfx_run tune "$work/spring.yaml" -o "$work/bad" --frames 0:9:2
 want_status 2
