@@ -146,15 +146,22 @@ stderr_empty() { [ ! -s "$work/err" ] || flunk "stderr is not empty"; }
 
 # tally REPORT: prints the report of a helper program that made checks of
 # its own, one `ok   NAME` or `FAIL NAME...` line each (indented details
-# below), and counts them. A report with no check in it is a failure.
+# below), and counts them. A report with no check in it is a failure, and
+# so is a helper that exited non-zero without a FAIL line (it stopped
+# before its last check); call it as tally "$(helper ...)", or right after
+# out=$(helper ...), so that $? is still the helper's status.
 tally() {
-    local n_ok n_fail
+    local status=$? n_ok n_fail
     printf '%s\n' "$1"
     n_ok=$(printf '%s\n' "$1" | grep -c '^ok   ')
     n_fail=$(printf '%s\n' "$1" | grep -c '^FAIL ')
     passed=$((passed + n_ok))
     failed=$((failed + n_fail))
     [ $((n_ok + n_fail)) -gt 0 ] || fail "the helper reported no check"
+    # A helper that stops half-way (an exception, a timeout) has skipped the
+    # checks after it: that fails even when every check it reached passed.
+    [ "$status" -eq 0 ] || [ "$n_fail" -gt 0 ] ||
+        fail "the helper exited with status $status after its last check"
 }
 
 # summary: the `N passed, M failed` line; the status is 0 only if none
