@@ -186,7 +186,8 @@ pfx_render_settings pfx_render_settings_plain(const float bg[4]) {
 }
 
 /* One texture with mipmaps: 8- or 16-bit RGBA rows top first (so texture
- * t = 0 is the image's top row), linear between texels and mip levels. */
+ * t = 0 is the image's top row), linear between texels and mip levels
+ * (sprites pass the level explicitly: render/shader.c). */
 static GLuint upload_texture(pfx_renderer *r, const pfx_image *img) {
     GLuint t = 0;
     r->gl.GenTextures(1, &t);
@@ -196,7 +197,7 @@ static GLuint upload_texture(pfx_renderer *r, const pfx_image *img) {
     r->gl.TexImage2D(GL_TEXTURE_2D, 0, wide ? GL_RGBA16 : GL_RGBA8, img->width, img->height, 0,
                      GL_RGBA, wide ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE, img->pixels);
     r->gl.GenerateMipmap(GL_TEXTURE_2D);
-    r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_NEAREST);
+    r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
