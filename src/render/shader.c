@@ -33,6 +33,14 @@
  * the band one level is read, as before, and llvmpipe fetches only it. */
 #define PFX_LOD_BLEND "4.0"
 
+/* The level textureLod reads for lambda (the rule above), in front of
+ * every program's sources. */
+static const char *mip_src =
+    "float mip_level(float lambda) {\n"
+    "    float k = floor(lambda);\n"
+    "    return k + clamp(" PFX_LOD_BLEND " * (lambda - k - 0.5) + 0.5, 0.0, 1.0);\n"
+    "}\n";
+
 /* Each instance is a unit quad with corners (+-1, +-1). Its two axes ax, ay
  * (view space) and half-extents hx, hy come from the material's alignment:
  *   camera:   the view plane, turned by angle;
@@ -83,9 +91,7 @@ static const char *vertex_src =
     "    b /= texels.y;\n"
     "    float det = abs(a.x * b.y - a.y * b.x);\n"
     "    float m = max(length(vec2(a.x, b.x)), length(vec2(a.y, b.y)));\n"
-    "    float lambda = det > 0.0 ? log2(m) - log2(det) : 1e3;\n"
-    "    float k = floor(lambda);\n"
-    "    return k + clamp(" PFX_LOD_BLEND " * (lambda - k - 0.5) + 0.5, 0.0, 1.0);\n"
+    "    return mip_level(det > 0.0 ? log2(m) - log2(det) : 1e3);\n"
     "}\n"
     "void main() {\n"
     "    vec4 c = view * vec4(centre_size.xyz, 1.0);\n"
@@ -268,7 +274,12 @@ static const char *fragment_src =
  * turned them to the camera), premultiplied colour interpolated between
  * the strip's points, times the cross-section over `across`, times the
  * texture (when the run's material has one) at u = along, v = (1 -
- * across) / 2: the image's left edge at the head, its top on the +1 edge. */
+ * across) / 2: the image's left edge at the head, its top on the +1 edge.
+ * A strip's texels per pixel change along it, so its lambda is the
+ * specification's formula at each pixel, rho the longer of the texel
+ * steps d(u, v)/dx and d(u, v)/dy: pfx's own, from the interpolated
+ * coordinates' differences, which are exact where the strip is flat on
+ * screen, rather than each implementation's approximation of it. */
 static const char *ribbon_vertex_src =
     "layout(location = 0) in vec4 pos_across;\n"
     "layout(location = 1) in vec4 colour;\n"
@@ -298,7 +309,11 @@ static const char *ribbon_fragment_src =
     "void main() {\n"
     "    float k = max(0.0, 1.0 - v_across * v_across);\n"
     "    frag = v_colour * mix(k * k, 1.0, v_profile);\n"
-    "    if (textured) frag *= texture(tex, vec2(v_along, 0.5 - 0.5 * v_across));\n"
+    "    if (textured) {\n"
+    "        vec2 st = vec2(v_along, 0.5 - 0.5 * v_across), size = vec2(textureSize(tex, 0));\n"
+    "        float rho = max(length(dFdx(st) * size), length(dFdy(st) * size));\n"
+    "        frag *= textureLod(tex, st, mip_level(log2(max(rho, 1e-20))));\n"
+    "    }\n"
     "}\n";
 
 /* One program per combination of what the material switches (sprite
@@ -310,8 +325,8 @@ static const char *ribbon_fragment_src =
 static GLuint compile_shader(pfx_renderer *r, GLenum type, const char *defines, const char *src,
                              pfx_diags *d) {
     GLuint s = r->gl.CreateShader(type);
-    const char *parts[3] = {"#version 330 core\n", defines, src};
-    r->gl.ShaderSource(s, 3, parts, NULL);
+    const char *parts[4] = {"#version 330 core\n", defines, mip_src, src};
+    r->gl.ShaderSource(s, 4, parts, NULL);
     r->gl.CompileShader(s);
     GLint ok = GL_FALSE;
     r->gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);

@@ -14,7 +14,8 @@ on level k's texel centres, so the frame is level k itself: channels c >= k
 at 0 or 255, channels c < k at 128. Between whole levels pfx reads GL's
 nearest level (k for lambda in [k - 0.5, k + 0.5)) except within 1/8 of a
 half-way point, where it blends the two across that band: at lambda = 1.25
-level 1 alone, at 1.75 level 2 alone, at 1.5 half of each.
+level 1 alone, at 1.75 level 2 alone, at 1.5 half of each. A textured
+ribbon follows the same rule at each pixel.
 
 usage: check_mip.py PFX WORKDIR"""
 import os
@@ -140,5 +141,69 @@ g = px[..., 1]
 check(flat(px, 0) and g.max() - g.min() >= 100,
       f"a sprite tilted 60 degrees (64 x 32 px) reads level 1: red "
       f"{px[..., 0].min()}..{px[..., 0].max()}, green {g.min()}..{g.max()}")
+
+# A ribbon's level is worked out at each pixel from its texel steps. As in
+# check_ribbon.py: a parent moves along +x at 1 m/s from x = -1.5 under an
+# orthographic camera of 4 m over 200 px (50 px per metre), laying 30
+# trail points a second; at t = 1.5 s its flat strip (sprite: square) runs
+# 1.5 - 1/30 m = 73.3 px along x, u across the texture's 64 columns
+# (0.87 texels a pixel), and `size` metres across y, v over its 64 rows.
+# Across is then the larger: lambda = log2(64 / (50 size)).
+RIBBON = """pfx: 1
+duration: 2
+fps: 10
+seed: 3
+camera: { position: [0, 0, 5], target: [0, 0, 0], ortho: 4 }
+image: { size: [200, 200], background: "#000000ff", tonemap: none, dither: false }
+emitters:
+  head:
+    bursts: [{ time: 0, count: 1 }]
+    position: [-1.5, 0, 0]
+    speed: 1
+    direction: [1, 0, 0]
+    spread: 0
+    lifetime: 10
+    size: 0.1
+    color: "#ff000000"
+    forces: []
+    trail: { emit: ribbon, rate: 30 }
+  ribbon:
+    draw: ribbon
+    sprite: square
+    speed: 0
+    lifetime: 3
+    size: %s
+    color: "#ffffff"
+    texture: bits.png
+    forces: []
+"""
+
+
+def ribbon_pixels(name, size):
+    """The strip's pixels at t = 1.5 s, away from its ends and edges."""
+    path = os.path.join(WORK, name + ".yaml")
+    with open(path, "w") as f:
+        f.write(RIBBON % size)
+    out = os.path.join(WORK, name)
+    subprocess.run([PFX, "render", path, "-o", out, "-q", "--frames", "15:15"], check=True)
+    frame = np.asarray(Image.open(os.path.join(out, name + "_0015.png")).convert("RGBA"),
+                       dtype=np.int64)
+    half = 25 * size  # pixels either side of the centre line, row 100
+    return frame[int(100 - half) + 2:int(100 + half) - 2, 100 - 70:100 - 4, :3]
+
+
+for lam, stripes, what in [(1, 1, "level 1: red flat, green striped"),
+                           (2, 2, "level 2: red and green flat, blue striped")]:
+    px = ribbon_pixels(f"ribbon{lam}", 64 / 2 ** lam / 50)
+    reach = np.abs(px[..., stripes] - 127.5).max()
+    ok = all(flat(px, c) for c in range(stripes)) and reach >= 100
+    check(ok, f"a ribbon {64 // 2 ** lam} px wide (lambda {lam}) reads {what}: "
+              f"{', '.join(f'{c} in {px[..., c].min()}..{px[..., c].max()}' for c in range(3))}")
+px = ribbon_pixels("ribbon1.5", 64 / 2 ** 1.5 / 50)
+reach = np.abs(px[..., 1] - 127.5).max()
+check(flat(px, 0) and 0.8 * 63.75 <= reach <= 63.75 + 1,
+      f"a ribbon {64 / 2 ** 1.5:.1f} px wide (lambda 1.5) reads half level 1, half level 2: "
+      f"red {px[..., 0].min()}..{px[..., 0].max()}, green within {reach:.1f} of 127.5 "
+      f"(formula 63.8)")
 
 sys.exit(1 if failures else 0)
