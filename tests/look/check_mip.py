@@ -15,7 +15,8 @@ at 0 or 255, channels c < k at 128. Between whole levels pfx reads GL's
 nearest level (k for lambda in [k - 0.5, k + 0.5)) except within 1/8 of a
 half-way point, where it blends the two across that band: at lambda = 1.25
 level 1 alone, at 1.75 level 2 alone, at 1.5 half of each. A textured
-ribbon follows the same rule at each pixel.
+ribbon follows the same rule at each pixel. The levels themselves are
+pfx's: each texel the mean of the 2 x 2 above it, rounded half up.
 
 usage: check_mip.py PFX WORKDIR"""
 import os
@@ -104,6 +105,24 @@ for k in range(4):
     ok = all(two_valued(px, c) if c >= k else flat(px, c) for c in range(3))
     check(ok, f"lambda {k} ({64 // 2 ** k} px over 64 texels) reads level {k}: channels "
               f"{', '.join(f'{c} in {px[..., c].min()}..{px[..., c].max()}' for c in range(3))}")
+
+# The levels' texels: pfx makes the mipmaps (not the GL implementation),
+# each texel of level k + 1 the mean of the 2 x 2 under it in level k,
+# rounded half up. A seeded noise texture drawn at whole lambda = k shows
+# level k texel for texel, so the frame must equal that chain worked out
+# here.
+rng = np.random.default_rng(27)
+noise = rng.integers(0, 256, (64, 64, 4), dtype=np.uint8)
+noise[..., 3] = 255
+Image.fromarray(noise).save(os.path.join(WORK, "noise.png"))
+level = noise[..., :3].astype(np.int64)
+for k in range(1, 4):
+    level = (level[0::2, 0::2] + level[1::2, 0::2] + level[0::2, 1::2] + level[1::2, 1::2] + 2) // 4
+    n = 64 >> k
+    f = render(f"noise{k}", [f"size: {2 / 2 ** k}", "texture: noise.png"])
+    worst = np.abs(f[32 - n // 2:32 + n // 2, 32 - n // 2:32 + n // 2, :3] - level).max()
+    check(worst == 0, f"level {k} of a noise texture is the rounded mean of 2 x 2 texels of "
+                      f"level {k - 1}, texel for texel: largest difference {worst}")
 
 # Between levels 1 and 2. Green (bit 1) is striped on level 1 (one texel
 # each) and 0.5 on level 2; red is 0.5 on both. Pixels no longer fall on
