@@ -127,7 +127,9 @@ static void estimate_drawing(const pfx_effect *e, unsigned what, double image, p
         }
     /* Textures: the decoded pixels and their copy in GL with mipmaps (4/3
      * of the base level), once per file however many emitters name it (the
-     * compiler reads a file once, the renderer uploads its pixels once). */
+     * compiler reads a file once, the renderer uploads its pixels once),
+     * and while they are uploaded the two levels render/mipmap.c holds at
+     * a time (1/4 + 1/16 of the base level at most). */
     for (size_t i = 0; i < e->emitter_count; i++) {
         const pfx_image *maps[2] = {e->emitters[i].look.texture, e->emitters[i].look.normal_map};
         for (int k = 0; k < 2; k++) {
@@ -135,7 +137,7 @@ static void estimate_drawing(const pfx_effect *e, unsigned what, double image, p
                 continue;
             const double bytes = (double)maps[k]->width * maps[k]->height * 4 * (maps[k]->bits / 8);
             if (first_use(e, i, k, maps[k]->pixels))
-                out->bytes[PFX_MEMORY_TEXTURES] += (1 + 4.0 / 3) * bytes;
+                out->bytes[PFX_MEMORY_TEXTURES] += (1 + 4.0 / 3 + 5.0 / 16) * bytes;
         }
     }
     *fixed += out->bytes[PFX_MEMORY_FRAMEBUFFER] + out->bytes[PFX_MEMORY_TEXTURES];

@@ -12,6 +12,7 @@
 #include <time.h>
 
 #include "model/kinds.h"
+#include "render/mipmap.h"
 #include "render/shadow.h"
 
 /* Clip planes. The depth test is off, so these only decide what is cut away:
@@ -186,7 +187,9 @@ pfx_render_settings pfx_render_settings_plain(const float bg[4]) {
 }
 
 /* One texture with mipmaps: 8- or 16-bit RGBA rows top first (so texture
- * t = 0 is the image's top row), linear between texels and mip levels. */
+ * t = 0 is the image's top row), linear between texels and mip levels
+ * (sprites pass the level explicitly: render/shader.c), the levels made by
+ * render/mipmap.c; 0 when out of memory for them. */
 static GLuint upload_texture(pfx_renderer *r, const pfx_image *img) {
     GLuint t = 0;
     r->gl.GenTextures(1, &t);
@@ -195,8 +198,11 @@ static GLuint upload_texture(pfx_renderer *r, const pfx_image *img) {
     const bool wide = img->bits == 16;
     r->gl.TexImage2D(GL_TEXTURE_2D, 0, wide ? GL_RGBA16 : GL_RGBA8, img->width, img->height, 0,
                      GL_RGBA, wide ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE, img->pixels);
-    r->gl.GenerateMipmap(GL_TEXTURE_2D);
-    r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_NEAREST);
+    if (!pfx_mipmap_upload(r, img)) {
+        r->gl.DeleteTextures(1, &t);
+        return 0;
+    }
+    r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     r->gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
@@ -220,10 +226,8 @@ static GLuint uploaded(const pfx_gpu_material *g, size_t count, const pfx_image 
 static GLuint texture_for(pfx_renderer *r, const pfx_gpu_material *g, size_t count,
                           const pfx_image *img) {
     GLuint t = uploaded(g, count, img);
-    if (!t) {
-        t = upload_texture(r, img);
+    if (!t && (t = upload_texture(r, img)) != 0)
         r->texture_count++;
-    }
     return t;
 }
 
@@ -264,6 +268,11 @@ bool pfx_renderer_set_materials(pfx_renderer *r, const pfx_material *m, size_t c
             g[i].texture = texture_for(r, g, i, m[i].texture);
         if (m[i].normal_map)
             g[i].normal_map = texture_for(r, g, i + 1, m[i].normal_map);
+        if ((m[i].texture && !g[i].texture) || (m[i].normal_map && !g[i].normal_map)) {
+            pfx_diag_error(d, PFX_RULE_OUT_OF_MEMORY,
+                           "out of memory for the mipmaps of material %zu", i);
+            return false;
+        }
         if (!pfx_shader_bind(r, &g[i], d))
             return false;
     }

@@ -94,8 +94,9 @@ typedef struct pfx_gl {
 typedef struct pfx_sprite_uniforms {
     GLint view, proj, px_per_unit, min_px, axis, plane_x, plane_y;
     GLint tex, grid, frames, frame_loop, normal_tex, light_dir, light_color, ambient;
-    GLint mv_size;                      /* the motion-vector variant only (-1 elsewhere) */
-    GLint shadow_tex, shadow_from_view; /* shadowed programs only */
+    GLint mv_size;                              /* the motion-vector variant only (-1 elsewhere) */
+    GLint shadow_tex, shadow_from_view;         /* shadowed programs only */
+    GLint viewport, cell_texels, normal_texels; /* textured programs: the level of detail */
 } pfx_sprite_uniforms;
 
 /* A sprite program specialised for one combination of material switches

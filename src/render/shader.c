@@ -7,6 +7,40 @@
 #include <math.h>
 #include <stdio.h>
 
+/* The level of detail a textured sprite samples is explicit, one per
+ * sprite, so that every GL implementation reads the same mip levels: left
+ * implicit, each approximates its own from differences between
+ * neighbouring pixels (an H100 and llvmpipe were 26/255 apart on flipbook
+ * sprites a few pixels wide). It is the GL specification's lambda =
+ * log2(rho) at the sprite's centre: with J the 2x2 Jacobian from the
+ * cell's texels (u, v) to pixels (x, y), rho = max(|(du/dx, dv/dx)|,
+ * |(du/dy, dv/dy)|), the lengths of the columns of J^-1, which for J's
+ * columns a = dpixel/du and b = dpixel/dv are |(a.y, b.y)| / |det J| and
+ * |(a.x, b.x)| / |det J|. A column is the projection's derivative along a
+ * quad axis at the centre, d(ndc) = (dclip.xy - ndc dclip.w) / clip.w,
+ * times half the viewport, over the cell's texels on that axis. A quad
+ * facing the camera (camera, velocity alignment) lies at one depth, so
+ * this is exactly the lambda of each of its pixels; a quad tilted in depth
+ * (axis, world) reads its centre's level all over. The colour texture and
+ * the normal map have one each (their sizes may differ).
+ *
+ * The level read is GL's nearest one (level k for lambda in [k - 0.5,
+ * k + 0.5)), except within 1 / (2 PFX_LOD_BLEND) of a half-way point,
+ * where the two levels are blended linearly across the band: the colour is
+ * then continuous in lambda, so two implementations whose float maths
+ * differ in the last bits of lambda cannot land a whole level apart, and a
+ * sprite that grows or shrinks does not pop from level to level. Outside
+ * the band one level is read, as before, and llvmpipe fetches only it. */
+#define PFX_LOD_BLEND "4.0"
+
+/* The level textureLod reads for lambda (the rule above), in front of
+ * every program's sources. */
+static const char *mip_src =
+    "float mip_level(float lambda) {\n"
+    "    float k = floor(lambda);\n"
+    "    return k + clamp(" PFX_LOD_BLEND " * (lambda - k - 0.5) + 0.5, 0.0, 1.0);\n"
+    "}\n";
+
 /* Each instance is a unit quad with corners (+-1, +-1). Its two axes ax, ay
  * (view space) and half-extents hx, hy come from the material's alignment:
  *   camera:   the view plane, turned by angle;
@@ -32,11 +66,17 @@ static const char *vertex_src =
     "uniform vec3 axis;\n"
     "uniform vec3 plane_x;\n"
     "uniform vec3 plane_y;\n"
+    "uniform vec2 viewport;\n"
+    "uniform vec2 cell_texels;\n"
+    "uniform vec2 normal_texels;\n"
     "out vec2 v_corner;\n"
     "out vec4 v_colour;\n"
     "flat out vec2 v_frame;\n"
     "flat out vec3 v_ax;\n"
     "flat out vec3 v_ay;\n"
+    "#if TEXTURED || NORMAL_MAPPED\n"
+    "flat out vec2 v_lod;\n"
+    "#endif\n"
     "#if SHADOWED\n"
     "uniform mat4 shadow_from_view;\n"
     "out vec3 v_shadow;\n"
@@ -46,6 +86,13 @@ static const char *vertex_src =
     "uniform vec2 mv_size;\n"
     "flat out vec3 v_mv;\n"
     "#endif\n"
+    "float lod(vec2 a, vec2 b, vec2 texels) {\n"
+    "    a /= texels.x;\n"
+    "    b /= texels.y;\n"
+    "    float det = abs(a.x * b.y - a.y * b.x);\n"
+    "    float m = max(length(vec2(a.x, b.x)), length(vec2(a.y, b.y)));\n"
+    "    return mip_level(det > 0.0 ? log2(m) - log2(det) : 1e3);\n"
+    "}\n"
     "void main() {\n"
     "    vec4 c = view * vec4(centre_size.xyz, 1.0);\n"
     "    float hx = 0.5 * centre_size.w, hy = hx;\n"
@@ -75,6 +122,15 @@ static const char *vertex_src =
     "    if (!(hx > 0.0) || !(hy > 0.0)) gx = gy = 1.0;\n"
     "    vec3 p = c.xyz + ax * (corner.x * hx * gx) + ay * (corner.y * hy * gy);\n"
     "    gl_Position = proj * vec4(p, 1.0);\n"
+    "#if TEXTURED || NORMAL_MAPPED\n"
+    "    vec4 e = proj * c;\n"
+    "    vec2 ndc = e.xy / e.w;\n"
+    "    vec4 du = proj * vec4(ax * (2.0 * hx * gx), 0.0);\n"
+    "    vec4 dv = proj * vec4(ay * (2.0 * hy * gy), 0.0);\n"
+    "    vec2 ju = (du.xy - ndc * du.w) / e.w * 0.5 * viewport;\n"
+    "    vec2 jv = (dv.xy - ndc * dv.w) / e.w * 0.5 * viewport;\n"
+    "    v_lod = vec2(lod(ju, jv, cell_texels), lod(ju, jv, normal_texels));\n"
+    "#endif\n"
     "    v_corner = corner;\n"
     "    v_colour = colour / (gx * gy);\n"
     "    v_frame = turn.zw;\n"
@@ -104,6 +160,9 @@ static const char *fragment_src =
     "flat in vec2 v_frame;\n"
     "flat in vec3 v_ax;\n"
     "flat in vec3 v_ay;\n"
+    "#if TEXTURED || NORMAL_MAPPED\n"
+    "flat in vec2 v_lod;\n"
+    "#endif\n"
     "#if MOTION\n"
     "flat in vec3 v_mv;\n"
     "#endif\n"
@@ -165,18 +224,20 @@ static const char *fragment_src =
     "    float col = mod(cell, grid.x), row = floor(cell / grid.x);\n"
     "    return (vec2(col, row) + uv) / grid;\n"
     "}\n"
+    "#if TEXTURED\n"
     "vec4 texel(vec2 uv) {\n" /* uv: (0, 0) the top left of the cell */
     "    float a = floor(v_frame.x), t = v_frame.x - a;\n"
-    "    vec4 x = texture(tex, cell_uv(a, uv));\n"
+    "    vec4 x = textureLod(tex, cell_uv(a, uv), v_lod.x);\n"
     "#if FRAME_BLEND\n"
     "    if (t <= 0.0) return x;\n"
     "    float b = a + 1.0;\n"
     "    b = frame_loop ? mod(b, frames) : min(b, frames - 1.0);\n"
-    "    return mix(x, texture(tex, cell_uv(b, uv)), t);\n"
+    "    return mix(x, textureLod(tex, cell_uv(b, uv), v_lod.x), t);\n"
     "#else\n"
     "    return x;\n"
     "#endif\n"
     "}\n"
+    "#endif\n"
     "void main() {\n"
     "    vec2 q = v_corner, uv = vec2(0.5 + 0.5 * q.x, 0.5 - 0.5 * q.y);\n"
     "#if TEXTURED\n"
@@ -195,7 +256,7 @@ static const char *fragment_src =
     "#if LIT\n"
     "    vec3 az = cross(v_ax, v_ay);\n"
     "#if NORMAL_MAPPED\n"
-    "    vec3 m = texture(normal_tex, cell_uv(floor(v_frame.x), uv)).xyz * 2.0 - 1.0;\n"
+    "    vec3 m = textureLod(normal_tex, cell_uv(floor(v_frame.x), uv), v_lod.y).xyz * 2.0 - 1.0;\n"
     "    vec3 n = normalize(v_ax * m.x + v_ay * m.y + az * m.z);\n"
     "#else\n"
     "    float d2 = min(dot(q, q), 1.0);\n"
@@ -213,7 +274,12 @@ static const char *fragment_src =
  * turned them to the camera), premultiplied colour interpolated between
  * the strip's points, times the cross-section over `across`, times the
  * texture (when the run's material has one) at u = along, v = (1 -
- * across) / 2: the image's left edge at the head, its top on the +1 edge. */
+ * across) / 2: the image's left edge at the head, its top on the +1 edge.
+ * A strip's texels per pixel change along it, so its lambda is the
+ * specification's formula at each pixel, rho the longer of the texel
+ * steps d(u, v)/dx and d(u, v)/dy: pfx's own, from the interpolated
+ * coordinates' differences, which are exact where the strip is flat on
+ * screen, rather than each implementation's approximation of it. */
 static const char *ribbon_vertex_src =
     "layout(location = 0) in vec4 pos_across;\n"
     "layout(location = 1) in vec4 colour;\n"
@@ -243,7 +309,11 @@ static const char *ribbon_fragment_src =
     "void main() {\n"
     "    float k = max(0.0, 1.0 - v_across * v_across);\n"
     "    frag = v_colour * mix(k * k, 1.0, v_profile);\n"
-    "    if (textured) frag *= texture(tex, vec2(v_along, 0.5 - 0.5 * v_across));\n"
+    "    if (textured) {\n"
+    "        vec2 st = vec2(v_along, 0.5 - 0.5 * v_across), size = vec2(textureSize(tex, 0));\n"
+    "        float rho = max(length(dFdx(st) * size), length(dFdy(st) * size));\n"
+    "        frag *= textureLod(tex, st, mip_level(log2(max(rho, 1e-20))));\n"
+    "    }\n"
     "}\n";
 
 /* One program per combination of what the material switches (sprite
@@ -255,8 +325,8 @@ static const char *ribbon_fragment_src =
 static GLuint compile_shader(pfx_renderer *r, GLenum type, const char *defines, const char *src,
                              pfx_diags *d) {
     GLuint s = r->gl.CreateShader(type);
-    const char *parts[3] = {"#version 330 core\n", defines, src};
-    r->gl.ShaderSource(s, 3, parts, NULL);
+    const char *parts[4] = {"#version 330 core\n", defines, mip_src, src};
+    r->gl.ShaderSource(s, 4, parts, NULL);
     r->gl.CompileShader(s);
     GLint ok = GL_FALSE;
     r->gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
@@ -280,7 +350,8 @@ static void find_uniforms(pfx_renderer *r, pfx_program *prog) {
     PFX_UNIFORM(tex) PFX_UNIFORM(grid) PFX_UNIFORM(frames) PFX_UNIFORM(frame_loop);
     PFX_UNIFORM(normal_tex) PFX_UNIFORM(light_dir) PFX_UNIFORM(light_color);
     PFX_UNIFORM(ambient) PFX_UNIFORM(mv_size) PFX_UNIFORM(shadow_tex);
-    PFX_UNIFORM(shadow_from_view);
+    PFX_UNIFORM(shadow_from_view) PFX_UNIFORM(viewport) PFX_UNIFORM(cell_texels);
+    PFX_UNIFORM(normal_texels);
 #undef PFX_UNIFORM
 }
 
@@ -403,6 +474,7 @@ static void set_frame(pfx_renderer *r, const pfx_sprite_uniforms *u, const pfx_v
     r->gl.UniformMatrix4fv(u->proj, 1, GL_FALSE, proj);
     r->gl.Uniform1f(u->px_per_unit, (float)(v->proj[5] * 0.5 * r->height));
     r->gl.Uniform1f(u->min_px, (float)PFX_MIN_FOOTPRINT_PX);
+    r->gl.Uniform2f(u->viewport, (float)r->width, (float)r->height);
     const double towards[3] = {-s->light_dir[0], -s->light_dir[1], -s->light_dir[2]};
     to_view(v, towards, l);
     r->gl.Uniform3f(u->light_dir, l[0], l[1], l[2]);
@@ -454,6 +526,16 @@ static void set_shadow(pfx_renderer *r, const pfx_sprite_uniforms *u, const pfx_
     r->gl.ActiveTexture(GL_TEXTURE0);
 }
 
+/* The texels of one flipbook cell of img (1 x 1 without an image), for
+ * the level of detail. */
+static void set_texels(pfx_renderer *r, GLint at, const pfx_material *m, const pfx_image *img) {
+    if (img)
+        r->gl.Uniform2f(at, (float)img->width / (float)m->cols,
+                        (float)img->height / (float)m->rows);
+    else
+        r->gl.Uniform2f(at, 1.0f, 1.0f);
+}
+
 /* Makes `prog` current with g's uniforms. */
 static void use_program(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
                         const pfx_gpu_material *g, const pfx_program *prog) {
@@ -471,6 +553,8 @@ static void use_program(pfx_renderer *r, const pfx_view *v, const pfx_render_set
     r->gl.Uniform3f(u->plane_x, px[0], px[1], px[2]);
     r->gl.Uniform3f(u->plane_y, py[0], py[1], py[2]);
     r->gl.Uniform2f(u->grid, (float)m->cols, (float)m->rows);
+    set_texels(r, u->cell_texels, m, m->texture);
+    set_texels(r, u->normal_texels, m, m->normal_map);
     r->gl.Uniform1f(u->frames, (float)m->frames);
     r->gl.Uniform1i(u->frame_loop, m->frame_loop);
     r->gl.ActiveTexture(GL_TEXTURE0);
