@@ -230,6 +230,73 @@ static void test_value_normal(void) {
     CHECK_NEAR(at_hi / n, phi, 5 * sqrt(phi * (1 - phi) / n));
 }
 
+/* ---- Blocks: the simulation's path ---- */
+
+#define BLOCK_N 3001
+
+/* The block forms births use (pfx_sample_cone_n, pfx_sample_value_n) give
+ * bit for bit what the one-sample forms tested above give, in blocks of 1
+ * to 64 ending anywhere in a vector: about one axis for all (an emitter's
+ * direction) or each its own (normal, radial, tangent directions), for
+ * spreads 0, 30 and 180 degrees, and values of each distribution. */
+static void test_blocks_match_one(void) {
+    static double u0[BLOCK_N], u1[BLOCK_N], ax[3][BLOCK_N], one[3][BLOCK_N], blk[3][BLOCK_N];
+    const double spreads[3] = {0, 30 * PI / 180, PI};
+    for (int sp = 0; sp < 3; sp++)
+        for (int one_axis = 0; one_axis < 2; one_axis++) {
+            pfx_rng r, axes;
+            pfx_rng_seed(&r, 3, 4);
+            pfx_rng_seed(&axes, 5, 6);
+            for (size_t k = 0; k < BLOCK_N; k++) {
+                double a[3] = {0.48, -0.6, 0.64}, o[3];
+                if (!one_axis)
+                    pfx_sample_direction(&axes, a);
+                for (int i = 0; i < 3; i++)
+                    ax[i][k] = a[i];
+                pfx_rng before = r;
+                pfx_sample_cone(a, spreads[sp], &r, o);
+                for (int i = 0; i < 3; i++)
+                    one[i][k] = o[i];
+                u0[k] = pfx_rng_unit(&before), u1[k] = pfx_rng_unit(&before);
+            }
+            for (size_t k0 = 0, len = 1; k0 < BLOCK_N; k0 += len, len = len % 64 + 1) {
+                size_t n = BLOCK_N - k0 < len ? BLOCK_N - k0 : len;
+                pfx_sample_cone_n(n, (const double *const[3]){ax[0] + k0, ax[1] + k0, ax[2] + k0},
+                                  one_axis, spreads[sp], u0 + k0, u1 + k0,
+                                  (double *const[3]){blk[0] + k0, blk[1] + k0, blk[2] + k0});
+            }
+            bool same = true;
+            for (int i = 0; i < 3; i++)
+                same &= !memcmp(one[i], blk[i], sizeof one[i]);
+            if (!same)
+                fprintf(stderr, "  spread %g rad, %s: block and one sample differ\n", spreads[sp],
+                        one_axis ? "one axis" : "an axis each");
+            CHECK(same);
+        }
+    const pfx_value values[3] = {
+        {.dist = PFX_DIST_CONST, .a = 2.5},
+        {.dist = PFX_DIST_UNIFORM, .a = -1.5, .b = 4},
+        {.dist = PFX_DIST_NORMAL, .a = 3, .b = 0.75, .lo = 2, .hi = 5},
+    };
+    for (int v = 0; v < 3; v++) {
+        pfx_rng r;
+        pfx_rng_seed(&r, 9, 10);
+        for (size_t k = 0; k < BLOCK_N; k++) {
+            pfx_rng before = r;
+            one[0][k] = pfx_sample_value(&values[v], &r);
+            unsigned units = pfx_sample_value_units(&values[v]);
+            CHECK(r.draws - before.draws == 2 * units);
+            u0[k] = units > 0 ? pfx_rng_unit(&before) : 0;
+            u1[k] = units > 1 ? pfx_rng_unit(&before) : 0;
+        }
+        for (size_t k0 = 0, len = 1; k0 < BLOCK_N; k0 += len, len = len % 64 + 1) {
+            size_t n = BLOCK_N - k0 < len ? BLOCK_N - k0 : len;
+            pfx_sample_value_n(&values[v], n, u0 + k0, u1 + k0, blk[0] + k0);
+        }
+        CHECK(!memcmp(one[0], blk[0], sizeof one[0]));
+    }
+}
+
 /* ---- Chi-square uniformity over equal-measure bins ---- */
 
 #define MAX_BINS 512
@@ -596,6 +663,7 @@ int main(void) {
     RUN(test_chi2_disc);
     RUN(test_chi2_cone);
     RUN(test_cone_spreads_alternate);
+    RUN(test_blocks_match_one);
     RUN(test_chi2_direction);
     RUN(test_gradient_lut);
     return TEST_EXIT();
