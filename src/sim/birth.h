@@ -85,6 +85,7 @@ typedef struct pfx_birth_block {
      * hit normal replacing the shape's normal. */
     double t[PFX_BIRTH_BLOCK];
     double u[PFX_BIRTH_UNITS_MAX][PFX_BIRTH_BLOCK];
+    double drawn[PFX_BIRTH_UNITS_MAX * PFX_BIRTH_BLOCK]; /* the units in draw order */
     bool placed;
     double place[3][PFX_BIRTH_BLOCK], hit_normal[3][PFX_BIRTH_BLOCK];
     bool has_normal[PFX_BIRTH_BLOCK];

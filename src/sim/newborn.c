@@ -118,9 +118,23 @@ static void write_newborns(pfx_pool *p, uint32_t j0, const pfx_birth_block *b, c
     }
 }
 
+/* c ? a : b by the bits: a select the compiler cannot turn back into a
+ * branch around the arithmetic that makes a (with -ftrapping-math it
+ * would not if-convert that arithmetic, and the loop would not vectorise). */
+static inline float pick(bool c, float a, float b) {
+    uint32_t x, y;
+    memcpy(&x, &a, sizeof x);
+    memcpy(&y, &b, sizeof y);
+    const uint32_t m = (uint32_t)0 - (uint32_t)c;
+    x = (x & m) | (y & ~m);
+    memcpy(&a, &x, sizeof a);
+    return a;
+}
+
 /* One axis of newborns under gravity alone, each over its own age t1 -
  * t[r] when positive: the constant-acceleration closed form, in double,
- * from the stored floats. */
+ * from the stored floats (age 0 keeps them as they are: x + 0 would turn
+ * -0 into +0). */
 PFX_CLONES
 static void gravity_newborns(float *restrict x, float *restrict v, const double *restrict t,
                              const double *restrict gs, double accel, double t1, uint32_t m) {
@@ -128,8 +142,8 @@ static void gravity_newborns(float *restrict x, float *restrict v, const double 
         const double age = t1 - t[r], acc = accel * gs[r], x0 = x[r], u0 = v[r];
         const float xn = (float)(x0 + u0 * age + 0.5 * acc * age * age);
         const float vn = (float)(u0 + acc * age);
-        x[r] = age > 0 ? xn : x[r];
-        v[r] = age > 0 ? vn : v[r];
+        x[r] = pick(age > 0, xn, x[r]);
+        v[r] = pick(age > 0, vn, v[r]);
     }
 }
 
@@ -168,6 +182,25 @@ static void advance_newborns(pfx_sim *s, size_t i, uint32_t j0, const pfx_birth_
     }
 }
 
+/* Whether every newborn of block b, at rows j0.. of p under gravity
+ * `accel` times its scale, is far inside the state check's bounds
+ * (pfx_step_far_inside): then none may run away, and only a block where
+ * some is not asks pfx_step_may_run_away of each. */
+PFX_CLONES
+static bool far_inside(const pfx_pool *p, uint32_t j0, const pfx_birth_block *restrict b,
+                       const double accel[3]) {
+    const float *restrict px = p->px + j0, *restrict py = p->py + j0, *restrict pz = p->pz + j0;
+    const float *restrict vx = p->vx + j0, *restrict vy = p->vy + j0, *restrict vz = p->vz + j0;
+    const double ax = accel[0], ay = accel[1], az = accel[2];
+    int all = 1;
+    for (uint32_t r = 0; r < b->n; r++) {
+        const float x[3] = {px[r], py[r], pz[r]}, v[3] = {vx[r], vy[r], vz[r]};
+        const double gs = b->gs[r], a[3] = {ax * gs, ay * gs, az * gs};
+        all &= pfx_step_far_inside(x, v, a, b->life[r]);
+    }
+    return all;
+}
+
 /* Creates the births of block b (times, units and, for children, their
  * parents' places and normals set) in emitter i's pool, which has room
  * for all of them, and steps them to t1: the draws, the partial step, the
@@ -190,13 +223,15 @@ static void make_particles(pfx_sim *s, size_t i, double t1, pfx_birth_block *b, 
     write_newborns(p, j0, b, ids, parents);
     p->count += m;
     advance_newborns(s, i, j0, b, t1);
-    for (uint32_t r = 0; r < m && !em->motion && !p->may_run_away; r++) {
-        const uint32_t j = j0 + r;
-        const float x[3] = {p->px[j], p->py[j], p->pz[j]}, v[3] = {p->vx[j], p->vy[j], p->vz[j]};
-        const double a[3] = {em->accel[0] * b->gs[r], em->accel[1] * b->gs[r],
-                             em->accel[2] * b->gs[r]};
-        p->may_run_away = pfx_step_may_run_away(x, v, a, b->life[r]);
-    }
+    if (!em->motion && !p->may_run_away && !far_inside(p, j0, b, em->accel))
+        for (uint32_t r = 0; r < m && !p->may_run_away; r++) {
+            const uint32_t j = j0 + r;
+            const float x[3] = {p->px[j], p->py[j], p->pz[j]},
+                        v[3] = {p->vx[j], p->vy[j], p->vz[j]};
+            const double a[3] = {em->accel[0] * b->gs[r], em->accel[1] * b->gs[r],
+                                 em->accel[2] * b->gs[r]};
+            p->may_run_away = pfx_step_may_run_away(x, v, a, b->life[r]);
+        }
     const bool trails = em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_TRAIL);
     if (!em->spawn_count) {
         /* Nothing a newborn raises can come between two of them: its
@@ -228,12 +263,14 @@ static void make_particles(pfx_sim *s, size_t i, double t1, pfx_birth_block *b, 
 }
 
 /* Every unit of block b's births from the emitter's stream, birth after
- * birth: draws_per_birth outputs each, as one at a time would take them. */
+ * birth: draws_per_birth outputs each, as one at a time would take them,
+ * drawn in one run and dealt into their columns. */
 static void draw_units(const pfx_emitter *em, pfx_rng *r, pfx_birth_block *b) {
     const unsigned units = pfx_birth_units(em);
+    pfx_rng_units(r, b->drawn, (size_t)b->n * units);
     for (uint32_t k = 0; k < b->n; k++)
         for (unsigned d = 0; d < units; d++)
-            b->u[d][k] = pfx_rng_unit(r);
+            b->u[d][k] = b->drawn[k * units + d];
 }
 
 /* A looping effect draws the same values in every period: at a period's
@@ -275,20 +312,15 @@ void pfx_sim_emit(pfx_sim *s, size_t i, double t1) {
          * (so none finds it full) and none past the end of a loop period
          * (the next one's draws start over). */
         pfx_birth_block *b = s->births;
-        uint32_t ids[PFX_BIRTH_BLOCK], room = p->capacity - p->count;
-        const uint64_t period = st->sched.period;
-        b->n = 0;
+        const uint32_t room = p->capacity - p->count;
+        b->n = pfx_schedule_take(&st->sched, em, t1,
+                                 room < PFX_BIRTH_BLOCK ? room : PFX_BIRTH_BLOCK, b->t);
         b->placed = false;
-        while (b->n < PFX_BIRTH_BLOCK && b->n < room && st->sched.period == period) {
-            const double tb = pfx_schedule_peek(&st->sched, em);
-            if (!(tb <= t1))
-                break;
-            pfx_schedule_pop(&st->sched, em);
-            b->t[b->n] = tb;
-            ids[b->n++] = (uint32_t)st->scheduled++;
-        }
         if (!b->n)
             break;
+        uint32_t ids[PFX_BIRTH_BLOCK];
+        for (uint32_t k = 0; k < b->n; k++)
+            ids[k] = (uint32_t)st->scheduled++;
         draw_units(em, &st->rng, b);
         make_particles(s, i, t1, b, ids, NULL);
     }

@@ -446,6 +446,15 @@ static void cone_n(SHAPE_COLUMNS) {
         SHAPE_LOOP(cone_at(R, h, angle, false, uk, o, nr, false), false)
 }
 
+/* The point: constants, no call per sample. */
+PFX_CLONES
+static void point_n(SHAPE_COLUMNS) {
+    if (nx)
+        SHAPE_LOOP(sample_point(s, uk, o, nr), true)
+    else
+        SHAPE_LOOP(sample_point(s, uk, o, nr), false)
+}
+
 /* Every other kind: its sampler called per sample (libm, table searches). */
 static void any_n(SHAPE_COLUMNS) {
     shape_sampler *f = samplers[s->type];
@@ -458,9 +467,10 @@ static void any_n(SHAPE_COLUMNS) {
 void pfx_sample_shape_n(const pfx_shape *s, size_t n, const double *const u[3],
                         double *const out[3], double *const normal[3]) {
     assert((size_t)s->type < sizeof samplers / sizeof *samplers && samplers[s->type]);
-    void (*loop)(SHAPE_COLUMNS) = s->type == PFX_SHAPE_SPHERE ? sphere_n
-                                  : s->type == PFX_SHAPE_CONE ? cone_n
-                                                              : any_n;
+    void (*loop)(SHAPE_COLUMNS) = s->type == PFX_SHAPE_POINT    ? point_n
+                                  : s->type == PFX_SHAPE_SPHERE ? sphere_n
+                                  : s->type == PFX_SHAPE_CONE   ? cone_n
+                                                                : any_n;
     loop(s, n, u[0], u[1], u[2], out[0], out[1], out[2], normal ? normal[0] : NULL,
          normal ? normal[1] : NULL, normal ? normal[2] : NULL);
 }

@@ -91,6 +91,30 @@ static void test_pcg32_unit(void) {
 
 /* ---- Value sampling ---- */
 
+/* pfx_rng_units (the births' draws, taken 16 outputs at a time) gives
+ * the units n calls of pfx_rng_unit give, bit for bit, and leaves the
+ * generator (state and count of draws) where they leave it, for runs
+ * shorter than its lanes, across its chunks and between. */
+static void test_pcg32_units(void) {
+    static const size_t runs[] = {0, 1, 2, 7, 8, 15, 16, 17, 127, 128, 129, 1000, 3333};
+    static double want[3333], got[3333 + 1];
+    for (size_t k = 0; k < sizeof runs / sizeof *runs; k++) {
+        const size_t n = runs[k];
+        pfx_rng a, b;
+        pfx_rng_seed(&a, 0x853c49e6748fea9bULL + k, 0xda3e39cb94b95bdbULL ^ k);
+        pfx_rng_advance(&a, 3 * k);
+        b = a;
+        for (size_t i = 0; i < n; i++)
+            want[i] = pfx_rng_unit(&a);
+        got[n] = -1;
+        pfx_rng_units(&b, got, n);
+        CHECK(!memcmp(want, got, n * sizeof *got));
+        CHECK(got[n] == -1); /* nothing past the run */
+        CHECK(a.state == b.state && a.inc == b.inc && a.draws == b.draws);
+        CHECK(pfx_rng_next(&a) == pfx_rng_next(&b));
+    }
+}
+
 static void test_value_const(void) {
     pfx_value v = {.dist = PFX_DIST_CONST, .a = 2.5, .b = 99};
     pfx_rng r, before;
@@ -654,6 +678,7 @@ int main(void) {
     RUN(test_pcg32_reference);
     RUN(test_pcg32_streams_differ);
     RUN(test_pcg32_unit);
+    RUN(test_pcg32_units);
     RUN(test_value_const);
     RUN(test_value_uniform);
     RUN(test_value_normal);
