@@ -5,13 +5,15 @@
 # velocity, bursts and rates, a loop whose periods start inside a step,
 # sub-emitter children of every event (birth, death, hit with its normal,
 # trail) with inherited velocity, a motion plan, a deflector with a random
-# response, and pools too small for the births (--max-particles).
+# response, pools too small for the births (--max-particles), and pools
+# large enough for two threads (8192 particles or more) with hundreds of
+# births a step and bursts of thousands (batch).
 #
 # Recorded with the pfx of 59a96be, which drew and stepped each birth on
 # its own; births now go in blocks (sim/birth.c, sim/newborn.c: all units
 # of a block drawn first, then each stage one loop over its columns,
-# vectorised), which must change no bit. The other checks: the bakes are
-# the same on 1 and 2 threads.
+# vectorised), which must change no bit. Each bake is made on 1 and 2
+# threads.
 #
 # A change here means births changed: a commit that changes them on
 # purpose updates these and says why.
@@ -179,6 +181,53 @@ emitters:
     forces: [g]
     inherit_velocity: 0.5
 EOF
+cat >batch.yaml <<'EOF'
+pfx: 1
+duration: 0.5
+fps: 24
+seed: 21
+forces:
+  g: { type: gravity }
+  pull: { type: attractor, center: [0, 1, 0], strength: 5, softening: 0.2 }
+deflectors:
+  floor: { type: plane, point: [0, -0.5, 0], normal: [0, 1, 0], response: bounce, resilience: [0.3, 0.6] }
+emitters:
+  spray:
+    shape: { type: sphere, radius: 0.3 }
+    spread: 30
+    speed: [2, 4]
+    lifetime: [0.3, 0.6]
+    rate: 30000
+    size: [0.01, 0.02]
+    forces: [g]
+  blast:
+    shape: { type: cone, radius: 0.2, height: 0.4 }
+    direction: normal
+    spread: 10
+    speed: [1, 3]
+    lifetime: 1
+    rate: 0
+    bursts: [{ time: 0.05, count: 10000 }, { time: 0.2, count: 5000 }]
+    forces: [g, pull]
+  rain:
+    shape: { type: disc, radius: 1 }
+    direction: [0, -1, 0]
+    speed: [1, 2]
+    lifetime: [0.2, 0.5]
+    rate: 20000
+    forces: [g]
+    deflectors: [floor]
+    position: [{ t: 0, value: [0, 0, 0] }, { t: 0.5, value: [1, 0.5, 0] }]
+    on_hit: { emit: splash, count: 1, probability: 0.3 }
+  splash:
+    shape: { type: point }
+    direction: normal
+    spread: 40
+    speed: 1
+    lifetime: 0.2
+    rate: 0
+    forces: [g]
+EOF
 cat >loop.yaml <<'EOF'
 pfx: 1
 duration: 0.5
@@ -215,6 +264,7 @@ pinned=(
     "children - cf103d3db2dba7181b6e3f6812ad46091673f87b925aca021f5f342194dffcd8"
     "children --max-particles=600 d6daa5624de6aec380521ede6392373fff71ee20454eedf6935e73aede300969"
     "loop - aafab241ca9fd48f02d246af2206463e3a170f060a3a1906977582ebfa268e29"
+    "batch --frames=0:5 e058b8aae9beb15c5663e7c89eafd539aa02d3e8b7832b0648fe9037b9de1288"
 )
 
 for p in "${pinned[@]}"; do
