@@ -74,7 +74,7 @@ static inline bool pfx_needs_carried_accel(const pfx_emitter *em) {
 /* A block of births of one emitter, column by column: what the caller
  * sets (count, times, units, parents' places and hit normals), what
  * pfx_birth_draw_block computes from them (each birth's state and drawn
- * attributes, in double), and its working columns. About 50 KB, allocated
+ * attributes, in double), and its working columns. About 52 KB, allocated
  * once per simulation; of it a block touches the columns its emitter
  * needs. */
 typedef struct pfx_birth_block {

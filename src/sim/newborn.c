@@ -1,8 +1,9 @@
 /* Births: every new particle, scheduled or from a sub-emitter event, is
  * drawn, written into its emitter's pool and stepped from its birth time to
  * the end of the step by the emitter's own method (with its deflectors,
- * trail and on_birth events). Scheduled births come in time order from the
- * emitter's schedule; sub-emitter births from the queues of spawn.c. */
+ * trail and on_birth events), in blocks of up to 64 taken in birth order:
+ * scheduled ones from the emitter's schedule, children from the queues of
+ * spawn.c. */
 #include "sim/newborn.h"
 
 #include <assert.h>

@@ -1,15 +1,9 @@
-/* The emission samplers. Each is uniform by construction: inverse CDFs
- * (sqrt for areas in r, cbrt for volumes, tables for an ellipse's rim and a
- * mesh's triangles), never rejection, so every call takes a fixed number of
- * draws; cos(theta) uniform for caps. Each sampler is a function of its
- * units (the draws, in the order the header gives), so a block of births
- * draws all its units first and samples them in straight loops over
- * columns (pfx_sample_*_n), and one sample is a block of one: the same
- * arithmetic, the same bits. The sphere's, the cone's and the spread's
- * turns and cube roots go through fast_d.h's inline kernels (no libm
- * call), so their loops vectorise; the other shapes call libm per sample.
- * The biased textbook variants (docs/physics.md, Uniform sampling) are not
- * here; the tests carry them to show the uniformity tests can fail. */
+/* The emission samplers, each uniform by construction (inverse CDFs, never
+ * rejection, so a fixed number of draws) and each a function of its units:
+ * a block of births samples its drawn units in straight loops over columns
+ * (vectorised for the sphere, cone and spread through fast_d.h's kernels),
+ * and one sample runs the same kernel: the same bits. The biased textbook
+ * variants (docs/physics.md) live in the tests, to show theirs can fail. */
 #include "sim/sample.h"
 
 #include <assert.h>
