@@ -4,6 +4,7 @@
 #ifndef PFX_RNG_H
 #define PFX_RNG_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 typedef struct pfx_rng {
@@ -62,6 +63,13 @@ static inline double pfx_unit_of_hash(uint64_t h) {
  * number generation with arbitrary strides", 1994), as if pfx_rng_next had
  * been called delta times. */
 void pfx_rng_advance(pfx_rng *r, uint64_t delta);
+
+/* The next n units into out[0], ..., out[n - 1], exactly as n calls of
+ * pfx_rng_unit would draw them, leaving r where they would. The outputs
+ * are taken 16 at a time by generators jumped 0, 1, ..., 15 outputs ahead
+ * and stepping 16 at once (one multiply-add each), so a long run costs
+ * vector throughput rather than the chain of one multiply after another. */
+void pfx_rng_units(pfx_rng *r, double *out, size_t n);
 
 /* The stream of an emitter: a hash of its name, so adding, removing or
  * reordering other emitters never changes its particles. */

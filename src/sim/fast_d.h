@@ -54,8 +54,18 @@ static inline __attribute__((always_inline)) void pfx_sincos_turn(double u, doub
  * under 2^-900 are scaled by 2^900 first (and the root by 2^-300), so
  * subnormals need no special case; 0 gives 0. */
 static inline __attribute__((always_inline)) double pfx_cbrt_unit(double x) {
-    const int tiny = x < 0x1p-900;
-    const double xs = tiny ? x * 0x1p900 : x;
+    /* The scalings multiply by 1 or by the power of 2, made from the bits
+     * (2^900 and 2^-300 differ from 1.0 by 900 and -300 in the exponent
+     * field), so no operation is under a condition and a loop of this
+     * vectorises on any clone: with -ftrapping-math the compiler cannot
+     * if-convert a multiply it sees as conditional. x 1 is exact. */
+    const uint64_t tiny = (uint64_t)0 - (uint64_t)(x < 0x1p-900); /* all ones or 0 */
+    const uint64_t up_bits = 0x3ff0000000000000ULL + (tiny & (900ULL << 52)),
+                   down_bits = 0x3ff0000000000000ULL - (tiny & (300ULL << 52));
+    double up, down;
+    memcpy(&up, &up_bits, sizeof up);
+    memcpy(&down, &down_bits, sizeof down);
+    const double xs = x * up;
     uint64_t hx;
     memcpy(&hx, &xs, sizeof hx);
     /* 715094163 = (1023 - 1023/3 - 0.03306235651) 2^20: the bias, minus
@@ -63,7 +73,13 @@ static inline __attribute__((always_inline)) double pfx_cbrt_unit(double x) {
     uint64_t ht = (uint64_t)((uint32_t)(hx >> 32) / 3u + 715094163u) << 32;
     double t;
     memcpy(&t, &ht, sizeof t);
-    double r = (t * t) * (t / (xs > 0 ? xs : 1.0));
+    /* t / xs, or t / 1 for 0 (so no division by zero), the divisor also
+     * chosen by its bits so that the division is unconditional */
+    const uint64_t pos = (uint64_t)0 - (uint64_t)(xs > 0),
+                   den_bits = (hx & pos) | (0x3ff0000000000000ULL & ~pos);
+    double den;
+    memcpy(&den, &den_bits, sizeof den);
+    double r = (t * t) * (t / den);
     t = t *
         ((1.87595182427177009643 + r * (-1.88497979543377169875 + r * 1.621429720105354466140)) +
          ((r * r) * r) * (-0.758397934778766047437 + r * 0.145996192886612446982));
@@ -75,8 +91,14 @@ static inline __attribute__((always_inline)) double pfx_cbrt_unit(double x) {
     double q = xs / sq;
     q = (q - t) / (w + q);
     t = t + t * q;
-    t = tiny ? t * 0x1p-300 : t;
-    return x > 0 ? t : 0.0;
+    t = t * down;
+    /* x > 0 ? t : +0.0, by the bits (+0.0 is all zeros), for the same
+     * reason */
+    uint64_t out;
+    memcpy(&out, &t, sizeof out);
+    out &= (uint64_t)0 - (uint64_t)(x > 0);
+    memcpy(&t, &out, sizeof t);
+    return t;
 }
 
 #endif

@@ -1,151 +1,277 @@
 /* Births: every new particle, scheduled or from a sub-emitter event, is
  * drawn, written into its emitter's pool and stepped from its birth time to
  * the end of the step by the emitter's own method (with its deflectors,
- * trail and on_birth events). Scheduled births come in time order from the
- * emitter's schedule; sub-emitter births from the queues of spawn.c. */
+ * trail and on_birth events), in blocks of up to 64 taken in birth order:
+ * scheduled ones from the emitter's schedule, children from the queues of
+ * spawn.c. */
 #include "sim/newborn.h"
 
+#include <assert.h>
 #include <math.h>
 #include <string.h>
 
+#include "base/clones.h"
 #include "sim/birth.h"
-#include "sim/sample.h"
 #include "sim/schedule.h"
 #include "sim/spawn.h"
 #include "sim/step.h"
 
-/* Writes the newborn's drawn state into row j of pool p, column by
- * column: only the columns the pool has (the emitter's features decide
- * which); what a parent passes on (colour, size, generation, id) comes from
- * `parent`, else the defaults. k is the particle's birth number, its id. */
-static void write_newborn(pfx_pool *p, uint32_t j, const birth_draws *b, uint64_t k, double tb,
-                          const pfx_parent *parent) {
-    p->px[j] = (float)b->pos[0], p->py[j] = (float)b->pos[1], p->pz[j] = (float)b->pos[2];
-    p->vx[j] = (float)b->vel[0], p->vy[j] = (float)b->vel[1], p->vz[j] = (float)b->vel[2];
-    if (p->ax) /* its partial step keeps none: the first full step evaluates it */
-        p->ax[j] = NAN;
-    if (p->rest) /* awake: its first full step is swept */
-        p->rest[j] = 0;
-    p->birth[j] = tb;
-    p->lifetime[j] = (float)b->life;
-    p->id[j] = (uint32_t)k;
-    if (p->gravity_scale)
-        p->gravity_scale[j] = (float)b->gs;
-    if (p->size0)
-        p->size0[j] = (float)b->s0;
-    if (p->size1)
-        p->size1[j] = (float)b->s1;
-    if (p->charge)
-        p->charge[j] = (float)b->q;
-    if (p->mass)
-        p->mass[j] = (float)b->mass;
-    if (p->bx)
-        p->bx[j] = (float)b->pos[0], p->by[j] = (float)b->pos[1], p->bz[j] = (float)b->pos[2];
-    if (p->stuck)
-        p->stuck[j] = 0;
-    if (p->hits)
-        p->hits[j] = 0;
-    if (p->tint)
-        p->tint[j] = (float)b->tint;
-    if (p->angle0)
-        p->angle0[j] = (float)b->angle;
-    if (p->spin)
-        p->spin[j] = (float)b->spin;
-    if (p->generation)
-        p->generation[j] = parent ? parent->generation + 1 : 0;
-    if (p->pr) {
-        bool inherit = parent && parent->inherit_color;
-        p->pr[j] = inherit ? parent->color[0] : 1;
-        p->pg[j] = inherit ? parent->color[1] : 1;
-        p->pb[j] = inherit ? parent->color[2] : 1;
+/* The births of a block that are created, moved to its front in order:
+ * those younger at t1 than the emitter's longest life and their own. The
+ * others were drawn all the same (their draws are the stream's) and are
+ * never created. Returns how many are kept. */
+static uint32_t keep_alive(const pfx_emitter *em, pfx_birth_block *b, double t1, uint32_t *ids,
+                           const pfx_parent **parents) {
+    uint32_t keep[PFX_BIRTH_BLOCK], m = 0;
+    for (uint32_t k = 0; k < b->n; k++) {
+        const double age = t1 - b->t[k];
+        if (age < em->max_lifetime && age < b->life[k])
+            keep[m++] = k;
     }
-    if (p->size_scale)
-        p->size_scale[j] = parent && parent->inherit_size ? parent->size : 1;
-    if (p->parent_id)
-        p->parent_id[j] = parent ? parent->id : UINT32_MAX;
+    if (m == b->n)
+        return m;
+    double *cols[] = {b->t,      b->pos[0], b->pos[1], b->pos[2], b->vel[0], b->vel[1],
+                      b->vel[2], b->life,   b->s0,     b->s1,     b->gs,     b->q,
+                      b->mass,   b->tint,   b->angle,  b->spin};
+    for (size_t c = 0; c < sizeof cols / sizeof *cols; c++)
+        for (uint32_t r = 0; r < m; r++)
+            cols[c][r] = cols[c][keep[r]];
+    for (uint32_t r = 0; r < m; r++) {
+        ids[r] = ids[keep[r]];
+        if (parents)
+            parents[r] = parents[keep[r]];
+    }
+    return b->n = m;
 }
 
-/* The rest of the step after the birth, by the emitter's own method: the
- * state stored at birth is stepped over `age` exactly as a particle started
- * alone at tb would be (the same scheme, substeps no longer than the full
- * step's, operators included). Gravity alone is the constant-acceleration
- * closed form, in double. The start state is saved first for the collide
- * pass, which sweeps this partial step like a full one. */
-static void advance_newborn(pfx_sim *s, size_t i, uint32_t j, double gs, double tb, double age) {
+/* col[r] = x[r] rounded to float, r < m: one column of a block into its
+ * pool. */
+PFX_CLONES
+static void put_floats(float *restrict col, const double *restrict x, uint32_t m) {
+    for (uint32_t r = 0; r < m; r++)
+        col[r] = (float)x[r];
+}
+
+PFX_CLONES
+static void put_bytes(uint8_t *restrict col, uint8_t v, uint32_t m) {
+    for (uint32_t r = 0; r < m; r++)
+        col[r] = v;
+}
+
+/* Writes the block's births (all kept) into rows j0.. of pool p, column by
+ * column: only the columns the pool has (the emitter's features decide
+ * which); what a parent passes on (colour, size, generation, id) comes from
+ * its parent, else the defaults. ids: the particles' birth numbers. */
+static void write_newborns(pfx_pool *p, uint32_t j0, const pfx_birth_block *b, const uint32_t *ids,
+                           const pfx_parent *const *parents) {
+    const uint32_t m = b->n;
+    put_floats(p->px + j0, b->pos[0], m), put_floats(p->py + j0, b->pos[1], m);
+    put_floats(p->pz + j0, b->pos[2], m);
+    put_floats(p->vx + j0, b->vel[0], m), put_floats(p->vy + j0, b->vel[1], m);
+    put_floats(p->vz + j0, b->vel[2], m);
+    if (p->ax) /* its partial step keeps none: the first full step evaluates it */
+        for (uint32_t r = 0; r < m; r++)
+            p->ax[j0 + r] = NAN;
+    if (p->rest) /* awake: its first full step is swept */
+        put_bytes(p->rest + j0, 0, m);
+    memcpy(p->birth + j0, b->t, m * sizeof *b->t);
+    put_floats(p->lifetime + j0, b->life, m);
+    memcpy(p->id + j0, ids, m * sizeof *ids);
+    if (p->gravity_scale)
+        put_floats(p->gravity_scale + j0, b->gs, m);
+    if (p->size0)
+        put_floats(p->size0 + j0, b->s0, m);
+    if (p->size1)
+        put_floats(p->size1 + j0, b->s1, m);
+    if (p->charge)
+        put_floats(p->charge + j0, b->q, m);
+    if (p->mass)
+        put_floats(p->mass + j0, b->mass, m);
+    if (p->bx) {
+        put_floats(p->bx + j0, b->pos[0], m), put_floats(p->by + j0, b->pos[1], m);
+        put_floats(p->bz + j0, b->pos[2], m);
+    }
+    if (p->stuck)
+        put_bytes(p->stuck + j0, 0, m);
+    if (p->hits)
+        memset(p->hits + j0, 0, m * sizeof *p->hits);
+    if (p->tint)
+        put_floats(p->tint + j0, b->tint, m);
+    if (p->angle0)
+        put_floats(p->angle0 + j0, b->angle, m);
+    if (p->spin)
+        put_floats(p->spin + j0, b->spin, m);
+    for (uint32_t r = 0; r < m; r++) {
+        const uint32_t j = j0 + r;
+        const pfx_parent *parent = parents ? parents[r] : NULL;
+        if (p->generation)
+            p->generation[j] = parent ? parent->generation + 1 : 0;
+        if (p->pr) {
+            bool inherit = parent && parent->inherit_color;
+            p->pr[j] = inherit ? parent->color[0] : 1;
+            p->pg[j] = inherit ? parent->color[1] : 1;
+            p->pb[j] = inherit ? parent->color[2] : 1;
+        }
+        if (p->size_scale)
+            p->size_scale[j] = parent && parent->inherit_size ? parent->size : 1;
+        if (p->parent_id)
+            p->parent_id[j] = parent ? parent->id : UINT32_MAX;
+    }
+}
+
+/* c ? a : b by the bits: a select the compiler cannot turn back into a
+ * branch around the arithmetic that makes a (with -ftrapping-math it
+ * would not if-convert that arithmetic, and the loop would not vectorise). */
+static inline float pick(bool c, float a, float b) {
+    uint32_t x, y;
+    memcpy(&x, &a, sizeof x);
+    memcpy(&y, &b, sizeof y);
+    const uint32_t m = (uint32_t)0 - (uint32_t)c;
+    x = (x & m) | (y & ~m);
+    memcpy(&a, &x, sizeof a);
+    return a;
+}
+
+/* One axis of newborns under gravity alone, each over its own age t1 -
+ * t[r] when positive: the constant-acceleration closed form, in double,
+ * from the stored floats (age 0 keeps them as they are: x + 0 would turn
+ * -0 into +0). */
+PFX_CLONES
+static void gravity_newborns(float *restrict x, float *restrict v, const double *restrict t,
+                             const double *restrict gs, double accel, double t1, uint32_t m) {
+    for (uint32_t r = 0; r < m; r++) {
+        const double age = t1 - t[r], acc = accel * gs[r], x0 = x[r], u0 = v[r];
+        const float xn = (float)(x0 + u0 * age + 0.5 * acc * age * age);
+        const float vn = (float)(u0 + acc * age);
+        x[r] = pick(age > 0, xn, x[r]);
+        v[r] = pick(age > 0, vn, v[r]);
+    }
+}
+
+/* The rest of the step after the birth for rows j0.., by the emitter's own
+ * method: the state stored at birth is stepped over its age exactly as a
+ * particle started alone at its birth would be (the same scheme, substeps
+ * no longer than the full step's, operators included), newborns of one
+ * birth time together. Gravity alone is the constant-acceleration closed
+ * form. The start state is saved first for the collide pass, which sweeps
+ * this partial step like a full one. */
+static void advance_newborns(pfx_sim *s, size_t i, uint32_t j0, const pfx_birth_block *b,
+                             double t1) {
     const pfx_emitter *em = &s->effect->emitters[i];
     pfx_pool *p = &s->pools[i];
+    const uint32_t m = b->n;
     if (em->deflector_count) {
-        p->start_px[j] = p->px[j], p->start_py[j] = p->py[j], p->start_pz[j] = p->pz[j];
-        p->start_vx[j] = p->vx[j], p->start_vy[j] = p->vy[j], p->start_vz[j] = p->vz[j];
+        const size_t bytes = m * sizeof(float);
+        memcpy(p->start_px + j0, p->px + j0, bytes), memcpy(p->start_py + j0, p->py + j0, bytes);
+        memcpy(p->start_pz + j0, p->pz + j0, bytes), memcpy(p->start_vx + j0, p->vx + j0, bytes);
+        memcpy(p->start_vy + j0, p->vy + j0, bytes), memcpy(p->start_vz + j0, p->vz + j0, bytes);
     }
-    if (em->motion) {
-        pfx_motion_pool_f one = pfx_step_motion_view(p, j, 1);
-        pfx_motion_advance_f(&s->plans[i], &one, tb, age);
-    } else {
+    if (!em->motion) {
         float *x[3] = {p->px, p->py, p->pz}, *v[3] = {p->vx, p->vy, p->vz};
-        for (int a = 0; a < 3; a++) {
-            double acc = em->accel[a] * gs, x0 = x[a][j], u0 = v[a][j];
-            x[a][j] = (float)(x0 + u0 * age + 0.5 * acc * age * age);
-            v[a][j] = (float)(u0 + acc * age);
+        for (int a = 0; a < 3; a++)
+            gravity_newborns(x[a] + j0, v[a] + j0, b->t, b->gs, em->accel[a], t1, m);
+        return;
+    }
+    for (uint32_t r0 = 0, r1; r0 < m; r0 = r1) {
+        for (r1 = r0 + 1; r1 < m && b->t[r1] == b->t[r0];)
+            r1++;
+        const double age = t1 - b->t[r0];
+        if (age > 0) {
+            pfx_motion_pool_f run = pfx_step_motion_view(p, j0 + r0, r1 - r0);
+            pfx_motion_advance_f(&s->plans[i], &run, b->t[r0], age);
         }
     }
 }
 
-bool pfx_sim_make_particle(pfx_sim *s, size_t i, double tb, double t1, const pfx_parent *parent) {
+/* Whether every newborn of block b, at rows j0.. of p under gravity
+ * `accel` times its scale, is far inside the state check's bounds
+ * (pfx_step_far_inside): then none may run away, and only a block where
+ * some is not asks pfx_step_may_run_away of each. */
+PFX_CLONES
+static bool far_inside(const pfx_pool *p, uint32_t j0, const pfx_birth_block *restrict b,
+                       const double accel[3]) {
+    const float *restrict px = p->px + j0, *restrict py = p->py + j0, *restrict pz = p->pz + j0;
+    const float *restrict vx = p->vx + j0, *restrict vy = p->vy + j0, *restrict vz = p->vz + j0;
+    const double ax = accel[0], ay = accel[1], az = accel[2];
+    int all = 1;
+    for (uint32_t r = 0; r < b->n; r++) {
+        const float x[3] = {px[r], py[r], pz[r]}, v[3] = {vx[r], vy[r], vz[r]};
+        const double gs = b->gs[r], a[3] = {ax * gs, ay * gs, az * gs};
+        all &= pfx_step_far_inside(x, v, a, b->life[r]);
+    }
+    return all;
+}
+
+/* Creates the births of block b (times, units and, for children, their
+ * parents' places and normals set) in emitter i's pool, which has room
+ * for all of them, and steps them to t1: the draws, the partial step, the
+ * runaway bound, the deflector sweep, trails and on_birth events. ids:
+ * the particles' ids; parents: each child's parent, or NULL for scheduled
+ * births. Births already dead at t1 are drawn and not created. */
+static void make_particles(pfx_sim *s, size_t i, double t1, pfx_birth_block *b, uint32_t *ids,
+                           const pfx_parent **parents) {
     const pfx_emitter *em = &s->effect->emitters[i];
-    pfx_emitter_state *st = &s->emitters[i];
     pfx_pool *p = &s->pools[i];
-    /* A scheduled birth: the next id and the next draws of the stream. A
-     * child: its id and draws from its event's key (spawn.h), so that it
-     * is the same child at any sim.rate, whatever order the step's events
-     * come in, and the scheduled births' ids and draws never depend on
-     * how many children came between them. */
-    pfx_rng child_rng, *rng = &st->rng;
-    uint64_t k;
-    if (parent) {
-        k = pfx_child_id(parent);
-        pfx_rng_seed(&child_rng, pfx_mix64(parent->key ^ ((uint64_t)parent->child << 32)),
-                     0xc41dULL);
-        rng = &child_rng;
-    } else {
-        k = st->scheduled++;
+    s->emitters[i].born += b->n;
+    pfx_birth_draw_block(em, b);
+    if (parents)
+        for (uint32_t k = 0; k < b->n; k++)
+            if (parents[k]->inherit_velocity)
+                for (int a = 0; a < 3; a++)
+                    b->vel[a][k] += parents[k]->vel[a];
+    const uint32_t m = keep_alive(em, b, t1, ids, parents), j0 = p->count;
+    assert(j0 + m <= p->capacity);
+    write_newborns(p, j0, b, ids, parents);
+    p->count += m;
+    advance_newborns(s, i, j0, b, t1);
+    if (!em->motion && !p->may_run_away && !far_inside(p, j0, b, em->accel))
+        for (uint32_t r = 0; r < m && !p->may_run_away; r++) {
+            const uint32_t j = j0 + r;
+            const float x[3] = {p->px[j], p->py[j], p->pz[j]},
+                        v[3] = {p->vx[j], p->vy[j], p->vz[j]};
+            const double a[3] = {em->accel[0] * b->gs[r], em->accel[1] * b->gs[r],
+                                 em->accel[2] * b->gs[r]};
+            p->may_run_away = pfx_step_may_run_away(x, v, a, b->life[r]);
+        }
+    const bool trails = em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_TRAIL);
+    if (!em->spawn_count) {
+        /* Nothing a newborn raises can come between two of them: its
+         * deflector sweep, its own result, in runs of one birth time. */
+        for (uint32_t r0 = 0, r1; r0 < m && em->deflector_count; r0 = r1) {
+            for (r1 = r0 + 1; r1 < m && b->t[r1] == b->t[r0];)
+                r1++;
+            const double age = t1 - b->t[r0];
+            if (age > 0)
+                pfx_step_collide(s, i, j0 + r0, r1 - r0, b->t[r0], age);
+        }
+        return;
     }
-    st->born++;
-    double age = t1 - tb;
-    if (p->count == p->capacity || age >= em->max_lifetime) {
-        st->dropped += p->count == p->capacity && age < em->max_lifetime;
-        if (!parent)
-            pfx_rng_advance(&st->rng, st->draws_per_birth);
-        return false;
+    /* Events are queued in birth order, each newborn's hits, trail and
+     * birth in turn, as they would be one by one. */
+    for (uint32_t r = 0; r < m; r++) {
+        const uint32_t j = j0 + r;
+        const double tb = b->t[r], age = t1 - tb;
+        if (age > 0) {
+            if (em->deflector_count)
+                pfx_step_collide(s, i, j, 1, tb, age);
+            if (trails)
+                pfx_spawn_trails(s, i, j, 1, tb, t1);
+        }
+        const double pos[3] = {b->pos[0][r], b->pos[1][r], b->pos[2][r]};
+        const double v0[3] = {b->vel[0][r], b->vel[1][r], b->vel[2][r]};
+        pfx_spawn_event_of(s, i, PFX_SPAWN_BIRTH, j, tb, pos, v0, NULL);
     }
-    birth_draws b;
-    pfx_birth_draw(em, tb, rng, parent ? parent->pos : NULL,
-                   parent && parent->has_normal ? parent->normal : NULL, &b);
-    if (parent && parent->inherit_velocity)
-        for (int a = 0; a < 3; a++)
-            b.vel[a] += parent->vel[a];
-    if (age >= b.life)
-        return false; /* would already be dead: never created */
-    uint32_t j = p->count++;
-    write_newborn(p, j, &b, k, tb, parent);
-    const double v0[3] = {b.vel[0], b.vel[1], b.vel[2]};
-    if (age > 0)
-        advance_newborn(s, i, j, b.gs, tb, age);
-    if (!em->motion && !p->may_run_away) {
-        const float x[3] = {p->px[j], p->py[j], p->pz[j]}, v[3] = {p->vx[j], p->vy[j], p->vz[j]};
-        const double a[3] = {em->accel[0] * b.gs, em->accel[1] * b.gs, em->accel[2] * b.gs};
-        p->may_run_away = pfx_step_may_run_away(x, v, a, b.life);
-    }
-    if (age > 0) {
-        /* The newborn's partial step is swept like a full one. */
-        if (em->deflector_count)
-            pfx_step_collide(s, i, j, 1, tb, age);
-        if (em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_TRAIL))
-            pfx_spawn_trails(s, i, j, 1, tb, t1);
-    }
-    if (em->spawn_count)
-        pfx_spawn_event_of(s, i, PFX_SPAWN_BIRTH, j, tb, b.pos, v0, NULL);
-    return true;
+}
+
+/* Every unit of block b's births from the emitter's stream, birth after
+ * birth: draws_per_birth outputs each, as one at a time would take them,
+ * drawn in one run and dealt into their columns. */
+static void draw_units(const pfx_emitter *em, pfx_rng *r, pfx_birth_block *b) {
+    const unsigned units = pfx_birth_units(em);
+    pfx_rng_units(r, b->drawn, (size_t)b->n * units);
+    for (uint32_t k = 0; k < b->n; k++)
+        for (unsigned d = 0; d < units; d++)
+            b->u[d][k] = b->drawn[k * units + d];
 }
 
 /* A looping effect draws the same values in every period: at a period's
@@ -183,11 +309,21 @@ void pfx_sim_emit(pfx_sim *s, size_t i, double t1) {
             st->scheduled += n;
             continue;
         }
-        double tb = pfx_schedule_peek(&st->sched, em);
-        if (!(tb <= t1))
+        /* A block of the births due: no more than the pool has room for
+         * (so none finds it full) and none past the end of a loop period
+         * (the next one's draws start over). */
+        pfx_birth_block *b = s->births;
+        const uint32_t room = p->capacity - p->count;
+        b->n = pfx_schedule_take(&st->sched, em, t1,
+                                 room < PFX_BIRTH_BLOCK ? room : PFX_BIRTH_BLOCK, b->t);
+        b->placed = false;
+        if (!b->n)
             break;
-        pfx_schedule_pop(&st->sched, em);
-        pfx_sim_make_particle(s, i, tb, t1, NULL);
+        uint32_t ids[PFX_BIRTH_BLOCK];
+        for (uint32_t k = 0; k < b->n; k++)
+            ids[k] = (uint32_t)st->scheduled++;
+        draw_units(em, &st->rng, b);
+        make_particles(s, i, t1, b, ids, NULL);
     }
 }
 
@@ -196,6 +332,48 @@ void pfx_sim_emit(pfx_sim *s, size_t i, double t1) {
 static void drop_births(pfx_emitter_state *st, uint64_t n) {
     st->dropped += n;
     st->born += n;
+}
+
+/* A block of sub-emitter children being gathered: each one's parent and
+ * id beside the block. */
+typedef struct children {
+    pfx_birth_block *b;
+    const pfx_parent *parents[PFX_BIRTH_BLOCK];
+    uint32_t ids[PFX_BIRTH_BLOCK];
+} children;
+
+/* Adds child `child` of the event `parent` raised at time t to the block:
+ * its id and draws from the event's key (spawn.h), so that it is the same
+ * child at any sim.rate, whatever order the step's events come in, and the
+ * scheduled births' ids and draws never depend on how many children came
+ * between them. */
+static void add_child(const pfx_emitter *em, children *kids, const pfx_parent *parent,
+                      uint32_t child, double t) {
+    pfx_birth_block *b = kids->b;
+    const uint32_t k = b->n++;
+    kids->parents[k] = parent;
+    kids->ids[k] = pfx_child_id(parent->key, child);
+    b->t[k] = t;
+    for (int a = 0; a < 3; a++) {
+        b->place[a][k] = parent->pos[a];
+        b->hit_normal[a][k] = parent->normal[a];
+    }
+    b->has_normal[k] = parent->has_normal;
+    pfx_rng rng;
+    pfx_rng_seed(&rng, pfx_mix64(parent->key ^ ((uint64_t)child << 32)), 0xc41dULL);
+    const unsigned units = pfx_birth_units(em);
+    for (unsigned d = 0; d < units; d++)
+        b->u[d][k] = pfx_rng_unit(&rng);
+}
+
+/* Makes the children gathered so far (none: nothing) and empties the
+ * block. */
+static void make_children(pfx_sim *s, size_t i, double t1, children *kids) {
+    if (!kids->b->n)
+        return;
+    kids->b->placed = true;
+    make_particles(s, i, t1, kids->b, kids->ids, kids->parents);
+    kids->b->n = 0;
 }
 
 void pfx_spawn_process(pfx_sim *s, double t1) {
@@ -218,19 +396,25 @@ void pfx_spawn_process(pfx_sim *s, double t1) {
              * emitter land in the queue again for the next pass. */
             uint32_t n = q->count;
             pfx_emitter_state *st = &s->emitters[i];
+            const pfx_pool *p = &s->pools[i];
+            children kids = {.b = s->births};
+            kids.b->n = 0;
             for (uint32_t k = 0; k < n; k++) {
-                spawn_record r = q->items[k];
-                const pfx_pool *p = &s->pools[i];
-                for (uint64_t c = 0; c < r.births; c++) {
+                const spawn_record *r = &q->items[k];
+                for (uint64_t c = 0; c < r->births; c++) {
+                    if (p->count + kids.b->n == p->capacity)
+                        make_children(s, i, t1, &kids);
                     if (p->count == p->capacity) {
                         /* None of the rest can be kept: dropped at once. */
-                        drop_births(st, r.births - c);
+                        drop_births(st, r->births - c);
                         break;
                     }
-                    r.parent.child = (uint32_t)c;
-                    pfx_sim_make_particle(s, i, r.t, t1, &r.parent);
+                    add_child(&s->effect->emitters[i], &kids, &r->parent, (uint32_t)c, r->t);
+                    if (kids.b->n == PFX_BIRTH_BLOCK)
+                        make_children(s, i, t1, &kids);
                 }
             }
+            make_children(s, i, t1, &kids);
             /* The births that found the queue at the pool's capacity come
              * after every queued one, as they were raised after them. */
             drop_births(st, q->overflow);

@@ -1,41 +1,84 @@
-/* The emission samplers. Each is uniform by construction: inverse CDFs
- * (sqrt for areas in r, cbrt for volumes, tables for an ellipse's rim and a
- * mesh's triangles), never rejection, so every call takes a fixed number of
- * draws; cos(theta) uniform for caps. The sphere's, the cone's and the
- * spread's turns and cube roots go through fast_d.h's inline kernels (no
- * libm call: about a third of a birth's time was sincos and cbrt there).
- * The biased textbook variants (docs/physics.md, Uniform sampling) are not here; the
- * tests carry them to show the uniformity tests can fail. */
+/* The emission samplers, each uniform by construction (inverse CDFs, never
+ * rejection, so a fixed number of draws) and each a function of its units:
+ * a block of births samples its drawn units in straight loops over columns
+ * (vectorised for the sphere, cone and spread through fast_d.h's kernels),
+ * and one sample runs the same kernel: the same bits. The biased textbook
+ * variants (docs/physics.md) live in the tests, to show theirs can fail. */
 #include "sim/sample.h"
 
 #include <assert.h>
 #include <math.h>
 
+#include "base/clones.h"
 #include "sim/fast_d.h"
 
-double pfx_sample_value(const pfx_value *v, pfx_rng *r) {
+/* Force-inlined, so a loop over a block is one straight body. */
+#define INLINE static inline __attribute__((always_inline))
+
+/* One value from its units (two for a normal, one for a uniform). */
+INLINE double value_at(const pfx_value *v, double u0, double u1) {
     switch (v->dist) {
     case PFX_DIST_CONST:
         return v->a;
     case PFX_DIST_UNIFORM:
-        return pfx_rng_range(r, v->a, v->b);
+        return v->a + (v->b - v->a) * u0; /* pfx_rng_range */
     case PFX_DIST_NORMAL: {
         /* Box-Muller; 1 - u keeps the logarithm's argument in (0, 1]. */
-        double u1 = 1.0 - pfx_rng_unit(r), u2 = pfx_rng_unit(r);
-        double x = v->a + v->b * sqrt(-2.0 * log(u1)) * cos(2.0 * M_PI * u2);
+        double x = v->a + v->b * sqrt(-2.0 * log(1.0 - u0)) * cos(2.0 * M_PI * u1);
         return x < v->lo ? v->lo : x > v->hi ? v->hi : x;
     }
     }
     return v->a;
 }
 
-void pfx_sample_direction(pfx_rng *r, double out[3]) {
-    double z = 2.0 * pfx_rng_unit(r) - 1.0, sp, cp;
-    pfx_sincos_turn(pfx_rng_unit(r), &sp, &cp);
-    double s = sqrt(fmax(0.0, 1.0 - z * z));
+unsigned pfx_sample_value_units(const pfx_value *v) {
+    return v->dist == PFX_DIST_CONST ? 0 : v->dist == PFX_DIST_NORMAL ? 2 : 1;
+}
+
+double pfx_sample_value(const pfx_value *v, pfx_rng *r) {
+    double u[2] = {0, 0};
+    for (unsigned d = 0; d < pfx_sample_value_units(v); d++)
+        u[d] = pfx_rng_unit(r);
+    return value_at(v, u[0], u[1]);
+}
+
+PFX_CLONES
+void pfx_sample_value_n(const pfx_value *v, size_t n, const double *restrict u0,
+                        const double *restrict u1, double *restrict out) {
+    const double a = v->a, w = v->b - v->a;
+    switch (v->dist) {
+    case PFX_DIST_CONST:
+        for (size_t k = 0; k < n; k++)
+            out[k] = a;
+        break;
+    case PFX_DIST_UNIFORM:
+        for (size_t k = 0; k < n; k++)
+            out[k] = a + w * u0[k];
+        break;
+    case PFX_DIST_NORMAL:
+        for (size_t k = 0; k < n; k++)
+            out[k] = value_at(v, u0[k], u1[k]);
+        break;
+    }
+}
+
+/* max(0, x) for x not NaN, as fmax(0.0, x) gives it, without the libm
+ * call: x = 1 - z z is never -0, so the two agree bit for bit. */
+INLINE double clamp0(double x) { return x > 0.0 ? x : 0.0; }
+
+/* The unit direction with z = 2 u0 - 1 and azimuth u1 turns. */
+INLINE void direction_at(double u0, double u1, double out[3]) {
+    double z = 2.0 * u0 - 1.0, sp, cp;
+    pfx_sincos_turn(u1, &sp, &cp);
+    double s = sqrt(clamp0(1.0 - z * z));
     out[0] = s * cp;
     out[1] = s * sp;
     out[2] = z;
+}
+
+void pfx_sample_direction(pfx_rng *r, double out[3]) {
+    double u0 = pfx_rng_unit(r), u1 = pfx_rng_unit(r);
+    direction_at(u0, u1, out);
 }
 
 /* n = v / |v|, or `fallback` when v is (nearly) zero. */
@@ -49,7 +92,7 @@ static void unit_or(const double v[3], double fx, double fy, double fz, double n
     }
 }
 
-static void set3(double v[3], double x, double y, double z) { v[0] = x, v[1] = y, v[2] = z; }
+INLINE void set3(double v[3], double x, double y, double z) { v[0] = x, v[1] = y, v[2] = z; }
 
 /* The index i of the first cum[i] > x, for x in [0, cum[n - 1]): one
  * binary search. Entries equal to their predecessor (zero measure) are
@@ -114,10 +157,10 @@ static void ellipse_edge(const pfx_shape *s, double u, double out[3], double nor
  * then p = (1 - sqrt r1) A + sqrt r1 (1 - r2) B + sqrt r1 r2 C, uniform over
  * it (Osada et al. 2002). The normal is (B - A) x (C - A): counter-
  * clockwise faces, OBJ's convention, face out. */
-static void mesh_surface(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
-    double u = pfx_rng_unit(r), r1 = sqrt(pfx_rng_unit(r)), r2 = pfx_rng_unit(r);
+static void mesh_surface(const pfx_shape *s, const double u[3], double out[3], double normal[3]) {
+    double r1 = sqrt(u[1]), r2 = u[2];
     uint32_t n = s->cum_count;
-    uint32_t t = search_cum(s->cum, n, u * s->cum[n - 1]);
+    uint32_t t = search_cum(s->cum, n, u[0] * s->cum[n - 1]);
     const double *A = s->verts + 3 * s->tris[3 * t], *B = s->verts + 3 * s->tris[3 * t + 1],
                  *C = s->verts + 3 * s->tris[3 * t + 2];
     double wa = 1 - r1, wb = r1 * (1 - r2), wc = r1 * r2, e1[3], e2[3];
@@ -132,10 +175,9 @@ static void mesh_surface(const pfx_shape *s, pfx_rng *r, double out[3], double n
 }
 
 /* Three units: the six faces of a box by area, then a point on the face. */
-static void box_surface(const double size[3], pfx_rng *r, double out[3], double normal[3]) {
-    double u = pfx_rng_unit(r), v = pfx_rng_unit(r), w = pfx_rng_unit(r);
+static void box_surface(const double size[3], const double u[3], double out[3], double normal[3]) {
     double area[3] = {size[1] * size[2], size[0] * size[2], size[0] * size[1]};
-    double x = u * 2 * (area[0] + area[1] + area[2]);
+    double x = u[0] * 2 * (area[0] + area[1] + area[2]);
     int axis = 2;
     for (int k = 0; k < 2; k++)
         if (x < 2 * area[k]) {
@@ -147,26 +189,27 @@ static void box_surface(const double size[3], pfx_rng *r, double out[3], double 
     double sign = x < area[axis] ? -1 : 1;
     int p = (axis + 1) % 3, q = (axis + 2) % 3;
     out[axis] = sign * size[axis] / 2;
-    out[p] = (v - 0.5) * size[p];
-    out[q] = (w - 0.5) * size[q];
+    out[p] = (u[1] - 0.5) * size[p];
+    out[q] = (u[2] - 0.5) * size[q];
     set3(normal, 0, 0, 0);
     normal[axis] = sign;
 }
 
-/* One sampler per shape kind, each drawing in the order the header's draw
- * counts describe; pfx_sample_shape dispatches through the table below, so a
- * new kind is one function and one row. */
-typedef void shape_sampler(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]);
+/* One sampler per shape kind: the point and normal of units u[0], u[1],
+ * u[2] (as many as pfx_sample_shape_units says, in that order).
+ * pfx_sample_shape_n dispatches through the table below, so a new kind is
+ * one function and one row. */
+typedef void shape_sampler(const pfx_shape *s, const double u[3], double out[3], double normal[3]);
 
-static void sample_point(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
-    (void)s, (void)r;
+static void sample_point(const pfx_shape *s, const double u[3], double out[3], double normal[3]) {
+    (void)s, (void)u;
     set3(out, 0, 0, 0), set3(normal, 0, 1, 0);
 }
 
-static void sample_line(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
-    double u = pfx_rng_unit(r), d[3], n[3];
+static void sample_line(const pfx_shape *s, const double u[3], double out[3], double normal[3]) {
+    double d[3], n[3];
     for (int i = 0; i < 3; i++) {
-        out[i] = s->line_from[i] + u * (s->line_to[i] - s->line_from[i]);
+        out[i] = s->line_from[i] + u[0] * (s->line_to[i] - s->line_from[i]);
         d[i] = s->line_to[i] - s->line_from[i];
     }
     /* +Y made perpendicular to the line; +X for a vertical line. */
@@ -178,26 +221,27 @@ static void sample_line(const pfx_shape *s, pfx_rng *r, double out[3], double no
     unit_or(n, 0, 1, 0, normal);
 }
 
-static void sample_rect(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
+static void sample_rect(const pfx_shape *s, const double u[3], double out[3], double normal[3]) {
     if (s->from == PFX_EMIT_EDGE) {
-        rect_edge(s->size[0], s->size[1], pfx_rng_unit(r), out, normal);
+        rect_edge(s->size[0], s->size[1], u[0], out, normal);
     } else {
-        double u = pfx_rng_unit(r), v = pfx_rng_unit(r);
-        set3(out, (u - 0.5) * s->size[0], 0, (v - 0.5) * s->size[1]);
+        set3(out, (u[0] - 0.5) * s->size[0], 0, (u[1] - 0.5) * s->size[1]);
         set3(normal, 0, 1, 0);
     }
 }
 
 /* Area: the ring's inverse CDF r = R sqrt(u (1 - k^2) + k^2), k = inner / R
- * (k = 0: the solid disc's R sqrt(u)). Edge: the rim. */
-static void sample_disc(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
+ * (k = 0: the solid disc's R sqrt(u)), then the angle. Edge: the rim, the
+ * angle alone. */
+static void sample_disc(const pfx_shape *s, const double u[3], double out[3], double normal[3]) {
     double frac = s->arc_turns > 0 ? s->arc_turns : 1.0;
-    double rad = s->radius;
+    double rad = s->radius, ua = u[0];
     if (s->from != PFX_EMIT_EDGE) {
         double k = s->radius > 0 ? s->inner / s->radius : 0;
-        rad = s->radius * sqrt(pfx_rng_unit(r) * (1 - k * k) + k * k);
+        rad = s->radius * sqrt(u[0] * (1 - k * k) + k * k);
+        ua = u[1];
     }
-    double th = 2.0 * M_PI * frac * pfx_rng_unit(r), c = cos(th), sn = sin(th);
+    double th = 2.0 * M_PI * frac * ua, c = cos(th), sn = sin(th);
     set3(out, rad * c, 0, rad * sn);
     if (s->from == PFX_EMIT_EDGE)
         set3(normal, c, 0, sn);
@@ -205,38 +249,41 @@ static void sample_disc(const pfx_shape *s, pfx_rng *r, double out[3], double no
         set3(normal, 0, 1, 0);
 }
 
-static void sample_ellipse(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
+static void sample_ellipse(const pfx_shape *s, const double u[3], double out[3], double normal[3]) {
     if (s->from == PFX_EMIT_EDGE) {
-        ellipse_edge(s, pfx_rng_unit(r), out, normal);
+        ellipse_edge(s, u[0], out, normal);
     } else {
         /* The unit disc's uniform point, stretched: a linear map keeps the
          * density uniform (unlike the thesis's x-then-y method). */
-        double rad = sqrt(pfx_rng_unit(r)), th = 2.0 * M_PI * pfx_rng_unit(r);
+        double rad = sqrt(u[0]), th = 2.0 * M_PI * u[1];
         set3(out, s->radii[0] * rad * cos(th), 0, s->radii[1] * rad * sin(th));
         set3(normal, 0, 1, 0);
     }
 }
 
-static void sample_box(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
+static void sample_box(const pfx_shape *s, const double u[3], double out[3], double normal[3]) {
     if (s->from == PFX_EMIT_SURFACE) {
-        box_surface(s->size, r, out, normal);
+        box_surface(s->size, u, out, normal);
     } else {
         for (int i = 0; i < 3; i++)
-            out[i] = (pfx_rng_unit(r) - 0.5) * s->size[i];
+            out[i] = (u[i] - 0.5) * s->size[i];
         unit_or(out, 0, 1, 0, normal);
     }
 }
 
-/* The point at unit direction d from the centre, drawn after d: r = R
- * cbrt(u (1 - k^3) + k^3) for the volume between k R and R (k = 0: R
- * cbrt(u)); the surface is r = R. The normal is d. */
-static void along_direction(const pfx_shape *s, pfx_rng *r, const double d[3], double out[3],
-                            double normal[3]) {
-    double rad = s->radius;
-    if (s->from != PFX_EMIT_SURFACE) {
-        double k = s->radius > 0 ? s->inner / s->radius : 0, k3 = k * k * k;
-        rad = s->radius * pfx_cbrt_unit(pfx_rng_unit(r) * (1 - k3) + k3);
-    }
+/* (inner / R)^3, 0 for a shape of radius 0: the volume's inner bound. */
+static double inner_cubed(const pfx_shape *s) {
+    double k = s->radius > 0 ? s->inner / s->radius : 0;
+    return k * k * k;
+}
+
+/* The point at unit direction d from the centre, from the unit drawn after
+ * d: r = R cbrt(u (1 - k^3) + k^3) for the volume between k R and R (k = 0:
+ * R cbrt(u)); the surface is r = R. The normal is d. k3: inner_cubed, and
+ * R the radius, read once for a block. */
+INLINE void along_direction(double R, double k3, bool surface, double u, const double d[3],
+                            double out[3], double normal[3]) {
+    const double rad = surface ? R : R * pfx_cbrt_unit(u * (1 - k3) + k3);
     for (int i = 0; i < 3; i++) {
         out[i] = d[i] * rad;
         normal[i] = d[i];
@@ -244,26 +291,35 @@ static void along_direction(const pfx_shape *s, pfx_rng *r, const double d[3], d
 }
 
 /* A direction with z uniform on [-1, 1], then the radius. */
-static void sample_sphere(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
+INLINE void sphere_at(double R, double k3, bool surface, const double u[3], double out[3],
+                      double normal[3]) {
     double d[3];
-    pfx_sample_direction(r, d);
-    along_direction(s, r, d, out, normal);
+    direction_at(u[0], u[1], d);
+    along_direction(R, k3, surface, u[2], d, out, normal);
+}
+
+static void sample_sphere(const pfx_shape *s, const double u[3], double out[3], double normal[3]) {
+    sphere_at(s->radius, inner_cubed(s), s->from == PFX_EMIT_SURFACE, u, out, normal);
 }
 
 /* A direction in the +Y half with y uniform on [0, 1], then the radius. */
-static void sample_hemisphere(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
-    double y = pfx_rng_unit(r), phi = 2.0 * M_PI * pfx_rng_unit(r);
+static void sample_hemisphere(const pfx_shape *s, const double u[3], double out[3],
+                              double normal[3]) {
+    double y = u[0], phi = 2.0 * M_PI * u[1];
     double sr = sqrt(fmax(0.0, 1.0 - y * y)), d[3];
     set3(d, sr * cos(phi), y, sr * sin(phi));
-    along_direction(s, r, d, out, normal);
+    along_direction(s->radius, inner_cubed(s), s->from == PFX_EMIT_SURFACE, u[2], d, out, normal);
 }
 
-/* Base disc at y = 0, top at y = height; surface is the side only. */
-static void sample_cylinder(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
+/* Base disc at y = 0, top at y = height; surface is the side only (no
+ * radius drawn: the angle and the height come first). */
+static void sample_cylinder(const pfx_shape *s, const double u[3], double out[3],
+                            double normal[3]) {
     double rad = s->radius;
+    const double *v = u;
     if (s->from != PFX_EMIT_SURFACE)
-        rad *= sqrt(pfx_rng_unit(r));
-    double th = 2.0 * M_PI * pfx_rng_unit(r), y = s->height * pfx_rng_unit(r);
+        rad *= sqrt(u[0]), v = u + 1;
+    double th = 2.0 * M_PI * v[0], y = s->height * v[1];
     double c = cos(th), sn = sin(th);
     set3(out, rad * c, y, rad * sn);
     set3(normal, c, 0, sn);
@@ -271,23 +327,33 @@ static void sample_cylinder(const pfx_shape *s, pfx_rng *r, double out[3], doubl
 
 /* With q = 1 - y / h (1 at the base, 0 at the apex), the section at q is a
  * disc of radius R q: the volume below the apex has density ~ q^2 (q =
- * cbrt(u)), the lateral area ~ q (q = sqrt(u)). */
-static void sample_cone(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
-    double R = s->radius, h = s->height;
+ * cbrt(u)), the lateral area ~ q (q = sqrt(u)). The volume's normal (libm
+ * sin and cos of its tilt) only where `with_normal`: most directions never
+ * read it, and without it the loop over a block vectorises. */
+INLINE void cone_at(double R, double h, double angle, bool surface, const double u[3],
+                    double out[3], double normal[3], bool with_normal) {
     double c, sn;
-    pfx_sincos_turn(pfx_rng_unit(r), &sn, &c);
-    if (s->from == PFX_EMIT_SURFACE) {
-        double q = sqrt(pfx_rng_unit(r));
+    pfx_sincos_turn(u[0], &sn, &c);
+    if (surface) {
+        double q = sqrt(u[1]);
         set3(out, R * q * c, h * (1 - q), R * q * sn);
-        double n[3] = {h * c, R, h * sn};
-        unit_or(n, 0, 1, 0, normal);
+        if (with_normal) {
+            double n[3] = {h * c, R, h * sn};
+            unit_or(n, 0, 1, 0, normal);
+        }
     } else {
-        double q = pfx_cbrt_unit(pfx_rng_unit(r)), rho = R * q * sqrt(pfx_rng_unit(r));
+        double q = pfx_cbrt_unit(u[1]), rho = R * q * sqrt(u[2]);
         set3(out, rho * c, h * (1 - q), rho * sn);
-        /* +Y tilted outward by angle * rho / R (Unity's cone fan). */
-        double tilt = R > 0 ? s->angle * rho / R : 0;
-        set3(normal, sin(tilt) * c, cos(tilt), sin(tilt) * sn);
+        if (with_normal) {
+            /* +Y tilted outward by angle * rho / R (Unity's cone fan). */
+            double tilt = R > 0 ? angle * rho / R : 0;
+            set3(normal, sin(tilt) * c, cos(tilt), sin(tilt) * sn);
+        }
     }
+}
+
+static void sample_cone(const pfx_shape *s, const double u[3], double out[3], double normal[3]) {
+    cone_at(s->radius, s->height, s->angle, s->from == PFX_EMIT_SURFACE, u, out, normal, true);
 }
 
 static shape_sampler *const samplers[] = {
@@ -303,9 +369,104 @@ static_assert(sizeof samplers / sizeof *samplers == 0 PFX_SHAPE_KINDS(PFX_SHAPE_
               "one sampler per shape kind");
 #undef PFX_SHAPE_ONE
 
+unsigned pfx_sample_shape_units(const pfx_shape *s) {
+    switch (s->type) {
+    case PFX_SHAPE_POINT:
+        return 0;
+    case PFX_SHAPE_LINE:
+        return 1;
+    case PFX_SHAPE_BOX:
+    case PFX_SHAPE_MESH:
+        return 3;
+    case PFX_SHAPE_RECT:
+    case PFX_SHAPE_DISC:
+    case PFX_SHAPE_ELLIPSE:
+        return s->from == PFX_EMIT_EDGE ? 1 : 2;
+    default: /* sphere, hemisphere, cylinder, cone */
+        return s->from == PFX_EMIT_SURFACE ? 2 : 3;
+    }
+}
+
 void pfx_sample_shape(const pfx_shape *s, pfx_rng *r, double out[3], double normal[3]) {
     assert((size_t)s->type < sizeof samplers / sizeof *samplers && samplers[s->type]);
-    samplers[s->type](s, r, out, normal);
+    double u[3] = {0, 0, 0};
+    for (unsigned d = 0; d < pfx_sample_shape_units(s); d++)
+        u[d] = pfx_rng_unit(r);
+    samplers[s->type](s, u, out, normal);
+}
+
+/* A block through one per-sample kernel, inlined into a straight loop:
+ * sample k's units from the columns u0, u1, u2, its point into (ox, oy,
+ * oz) and, where `with_normal` (a constant), its normal into (nx, ny, nz). */
+#define SHAPE_LOOP(call, with_normal)                                                              \
+    for (size_t k = 0; k < n; k++) {                                                               \
+        const double uk[3] = {u0[k], u1[k], u2[k]};                                                \
+        double o[3], nr[3] = {0, 0, 0};                                                            \
+        call;                                                                                      \
+        ox[k] = o[0], oy[k] = o[1], oz[k] = o[2];                                                  \
+        if (with_normal)                                                                           \
+            nx[k] = nr[0], ny[k] = nr[1], nz[k] = nr[2];                                           \
+    }
+
+/* The columns of a block's shape samples, restrict: no two overlap. */
+#define SHAPE_COLUMNS                                                                              \
+    const pfx_shape *restrict s, size_t n, const double *restrict u0, const double *restrict u1,   \
+        const double *restrict u2, double *restrict ox, double *restrict oy, double *restrict oz,  \
+        double *restrict nx, double *restrict ny, double *restrict nz
+
+/* The sphere's and the cone's loops: fast_d.h's kernels, sqrt and
+ * division only, so they vectorise (the clones run 4 or 8 samples at once
+ * with the same bits). */
+PFX_CLONES
+static void sphere_n(SHAPE_COLUMNS) {
+    const double R = s->radius, k3 = inner_cubed(s);
+    if (s->from == PFX_EMIT_SURFACE)
+        SHAPE_LOOP(sphere_at(R, k3, true, uk, o, nr), nx)
+    else if (nx)
+        SHAPE_LOOP(sphere_at(R, k3, false, uk, o, nr), true)
+    else
+        SHAPE_LOOP(sphere_at(R, k3, false, uk, o, nr), false)
+}
+
+PFX_CLONES
+static void cone_n(SHAPE_COLUMNS) {
+    const double R = s->radius, h = s->height, angle = s->angle;
+    const bool surface = s->from == PFX_EMIT_SURFACE;
+    if (nx)
+        SHAPE_LOOP(cone_at(R, h, angle, surface, uk, o, nr, true), true)
+    else if (surface)
+        SHAPE_LOOP(cone_at(R, h, angle, true, uk, o, nr, false), false)
+    else
+        SHAPE_LOOP(cone_at(R, h, angle, false, uk, o, nr, false), false)
+}
+
+/* The point: constants, no call per sample. */
+PFX_CLONES
+static void point_n(SHAPE_COLUMNS) {
+    if (nx)
+        SHAPE_LOOP(sample_point(s, uk, o, nr), true)
+    else
+        SHAPE_LOOP(sample_point(s, uk, o, nr), false)
+}
+
+/* Every other kind: its sampler called per sample (libm, table searches). */
+static void any_n(SHAPE_COLUMNS) {
+    shape_sampler *f = samplers[s->type];
+    if (nx)
+        SHAPE_LOOP(f(s, uk, o, nr), true)
+    else
+        SHAPE_LOOP(f(s, uk, o, nr), false)
+}
+
+void pfx_sample_shape_n(const pfx_shape *s, size_t n, const double *const u[3],
+                        double *const out[3], double *const normal[3]) {
+    assert((size_t)s->type < sizeof samplers / sizeof *samplers && samplers[s->type]);
+    void (*loop)(SHAPE_COLUMNS) = s->type == PFX_SHAPE_POINT    ? point_n
+                                  : s->type == PFX_SHAPE_SPHERE ? sphere_n
+                                  : s->type == PFX_SHAPE_CONE   ? cone_n
+                                                                : any_n;
+    loop(s, n, u[0], u[1], u[2], out[0], out[1], out[2], normal ? normal[0] : NULL,
+         normal ? normal[1] : NULL, normal ? normal[2] : NULL);
 }
 
 /* cos(spread), remembered per thread: an emitter's births come in runs with
@@ -321,11 +482,12 @@ static double cos_of_spread(double spread) {
     return last_cos;
 }
 
-void pfx_sample_cone(const double axis[3], double spread, pfx_rng *r, double out[3]) {
-    double cos_max = cos_of_spread(spread);
-    double ct = 1.0 - pfx_rng_unit(r) * (1.0 - cos_max);
-    double st = sqrt(fmax(0.0, 1.0 - ct * ct)), sphi, cphi;
-    pfx_sincos_turn(pfx_rng_unit(r), &sphi, &cphi);
+/* One direction in the cap about unit `axis` from units u0 (cos theta)
+ * and u1 (the azimuth in turns). */
+INLINE void cone_dir_at(const double axis[3], double cos_max, double u0, double u1, double out[3]) {
+    double ct = 1.0 - u0 * (1.0 - cos_max);
+    double st = sqrt(clamp0(1.0 - ct * ct)), sphi, cphi;
+    pfx_sincos_turn(u1, &sphi, &cphi);
     /* An orthonormal basis (t, b, axis) without a branch on a fixed up vector
      * (Duff et al. 2017, "Building an orthonormal basis, revisited"). */
     double sign = copysign(1.0, axis[2]);
@@ -335,4 +497,38 @@ void pfx_sample_cone(const double axis[3], double spread, pfx_rng *r, double out
     double cp = st * cphi, sp = st * sphi;
     for (int i = 0; i < 3; i++)
         out[i] = t[i] * cp + bt[i] * sp + axis[i] * ct;
+}
+
+void pfx_sample_cone(const double axis[3], double spread, pfx_rng *r, double out[3]) {
+    double u0 = pfx_rng_unit(r), u1 = pfx_rng_unit(r);
+    cone_dir_at(axis, cos_of_spread(spread), u0, u1, out);
+}
+
+/* The columns of a block's spread, restrict: no two overlap. */
+#define CONE_COLUMNS                                                                               \
+    size_t n, const double *restrict ax, const double *restrict ay, const double *restrict az,     \
+        double cos_max, const double *restrict u0, const double *restrict u1, double *restrict ox, \
+        double *restrict oy, double *restrict oz
+
+/* One axis a sample (stride 1) or one for the block (stride 0, the basis
+ * then computed once): the same kernel, specialised by the constant. */
+#define CONE_LOOP(stride)                                                                          \
+    for (size_t k = 0; k < n; k++) {                                                               \
+        const double a[3] = {ax[k * (stride)], ay[k * (stride)], az[k * (stride)]};                \
+        double o[3];                                                                               \
+        cone_dir_at(a, cos_max, u0[k], u1[k], o);                                                  \
+        ox[k] = o[0], oy[k] = o[1], oz[k] = o[2];                                                  \
+    }
+
+PFX_CLONES
+static void cone_dirs_n(CONE_COLUMNS){CONE_LOOP(1)}
+
+PFX_CLONES static void cone_dirs_one_axis(CONE_COLUMNS) {
+    CONE_LOOP(0)
+}
+
+void pfx_sample_cone_n(size_t n, const double *const axis[3], bool one_axis, double spread,
+                       const double *u0, const double *u1, double *const out[3]) {
+    (one_axis ? cone_dirs_one_axis : cone_dirs_n)(
+        n, axis[0], axis[1], axis[2], cos_of_spread(spread), u0, u1, out[0], out[1], out[2]);
 }

@@ -156,7 +156,10 @@ void pfx_schedule_init(pfx_schedule *s, const pfx_emitter *em, uint64_t seed, ui
 }
 
 double pfx_schedule_peek(const pfx_schedule *s, const pfx_emitter *em) {
-    double tau = fmin(s->next, s->burst_left ? s->burst_time : INFINITY);
+    /* fmin(next, burst) without the libm call: neither is NaN, and on a
+     * tie both give the second (glibc's fmin is minsd) */
+    const double burst = s->burst_left ? s->burst_time : INFINITY;
+    double tau = s->next < burst ? s->next : burst;
     if (tau == INFINITY)
         return INFINITY;
     return em->start + period_start(s, em) + tau;
@@ -181,6 +184,33 @@ void pfx_schedule_pop(pfx_schedule *s, const pfx_emitter *em) {
         s->period++;
         start_period(s, em);
     }
+}
+
+uint32_t pfx_schedule_take(pfx_schedule *s, const pfx_emitter *em, double t, uint32_t max,
+                           double *times) {
+    const uint64_t period = s->period;
+    uint32_t n = 0;
+    while (n < max && s->period == period) {
+        if (s->burst_left > 1 && s->burst_time < s->next) {
+            /* A burst event's births but its last: one time, and popping
+             * them only counts down (pfx_schedule_pop). */
+            const double at = em->start + period_start(s, em) + s->burst_time;
+            if (!(at <= t))
+                break;
+            uint64_t k = s->burst_left - 1;
+            k = k < max - n ? k : max - n;
+            for (uint64_t c = 0; c < k; c++)
+                times[n++] = at;
+            s->burst_left -= k;
+            continue;
+        }
+        const double at = pfx_schedule_peek(s, em);
+        if (!(at <= t))
+            break;
+        pfx_schedule_pop(s, em);
+        times[n++] = at;
+    }
+    return n;
 }
 
 uint64_t pfx_schedule_skip_before(pfx_schedule *s, const pfx_emitter *em, double t) {

@@ -36,6 +36,14 @@ double pfx_schedule_peek(const pfx_schedule *s, const pfx_emitter *em);
 /* Consumes the birth pfx_schedule_peek returned. */
 void pfx_schedule_pop(pfx_schedule *s, const pfx_emitter *em);
 
+/* Takes the births due up to effect time t, at most max, in order, their
+ * times into times[]: as pfx_schedule_peek and pfx_schedule_pop one by
+ * one (a burst event's births at once), stopping after the birth that
+ * ends a loop period (the next period's draws start over). Returns how
+ * many it took. */
+uint32_t pfx_schedule_take(pfx_schedule *s, const pfx_emitter *em, double t, uint32_t max,
+                           double *times);
+
 /* Drops every birth due up to effect time t (a full pool, or births already
  * dead), without visiting each where the schedule allows, stopping at the
  * end of a loop period; returns how many births that was. */

@@ -39,10 +39,7 @@ static void init_emitters(pfx_sim *s) {
         uint64_t stream = pfx_rng_stream_for(em->name);
         pfx_rng_seed(&st->rng, e->seed, stream);
         st->rng_base = st->rng;
-        pfx_rng probe = st->rng;
-        birth_draws b;
-        pfx_birth_draw(em, 0, &probe, NULL, NULL, &b);
-        st->draws_per_birth = probe.draws - st->rng.draws;
+        st->draws_per_birth = 2 * pfx_birth_units(em); /* two outputs a unit */
         pfx_schedule_init(&st->sched, em, e->seed, stream);
         st->hit_key = pfx_mix64(e->seed ^ stream ^ 0xc011deULL);
         st->spawn_key = pfx_mix64(e->seed ^ stream ^ 0x5ba3ULL);
@@ -67,6 +64,7 @@ pfx_sim *pfx_sim_create(const pfx_effect *e, pfx_diags *d) {
     }
     s->block_flags = calloc(largest / PFX_SIM_BLOCK + 1, 1);
     s->block_stats = calloc(largest / PFX_SIM_BLOCK + 1, sizeof *s->block_stats);
+    s->births = calloc(1, sizeof *s->births);
     /* More threads than blocks of the largest pool would only sleep. */
     int threads = e->threads > 0 ? e->threads : pfx_workers_cores();
     if ((size_t)threads > largest / PFX_SIM_BLOCK + 1)
@@ -75,7 +73,7 @@ pfx_sim *pfx_sim_create(const pfx_effect *e, pfx_diags *d) {
     /* One block behind every pool; malloc aligns it for any column. */
     s->storage = malloc(bytes ? bytes : 1);
     if (!s->pools || !s->emitters || !s->plans || !s->storage || !s->block_flags ||
-        !s->block_stats || !s->workers || !pfx_spawn_queues_create(s)) {
+        !s->block_stats || !s->births || !s->workers || !pfx_spawn_queues_create(s)) {
         pfx_sim_destroy(s);
         return NULL;
     }
@@ -111,6 +109,7 @@ void pfx_sim_destroy(pfx_sim *s) {
     free(s->plans);
     free(s->block_flags);
     free(s->block_stats);
+    free(s->births);
     pfx_workers_destroy(s->workers);
     pfx_spawn_queues_destroy(s);
     pfx_sim_destroy(s->loop_start);

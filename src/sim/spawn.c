@@ -91,7 +91,6 @@ static spawn_record *queue_event(pfx_sim *s, const pfx_spawn *sp, double t, uint
     r->t = t;
     r->births = (uint32_t)births;
     r->parent.key = key;
-    r->parent.child = 0;
     return r;
 }
 

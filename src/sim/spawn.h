@@ -18,9 +18,8 @@ typedef struct pfx_parent {
     /* The event's key: a hash of the parent's emitter, the sub-emitter, the
      * parent's id and the event's number (its hit count, its trail index;
      * 0 for birth and death), all independent of the step. The children's
-     * ids and draws come from it and `child`, their index in the event. */
+     * ids and draws come from it and their index in the event. */
     uint64_t key;
-    uint32_t child;
 } pfx_parent;
 
 /* Ids of sub-emitter children have the top bit set (scheduled births
@@ -29,8 +28,8 @@ typedef struct pfx_parent {
  * sim.rate. Two live children of an emitter share an id with odds of
  * about n^2 / 2^32 for n alive. */
 #define PFX_CHILD_ID_BIT 0x80000000u
-static inline uint32_t pfx_child_id(const pfx_parent *parent) {
-    return PFX_CHILD_ID_BIT | (uint32_t)(pfx_mix64(parent->key + parent->child) >> 33);
+static inline uint32_t pfx_child_id(uint64_t key, uint32_t child) {
+    return PFX_CHILD_ID_BIT | (uint32_t)(pfx_mix64(key + child) >> 33);
 }
 
 /* One queued event that fired: what the children take from their parent,
@@ -61,12 +60,6 @@ typedef struct pfx_spawn_queue {
  * births of one step or hits up to PFX_COLLIDE_MAX_HITS deflectors), and
  * never more than the target's pool can take. 0: no sub-emitter feeds it. */
 size_t pfx_spawn_queue_capacity(const pfx_effect *e, size_t i);
-
-/* Creates one particle of emitter i born at tb (<= t1) and advanced to t1:
- * the draws, the partial step, the deflector sweep, and its own on_birth
- * events. `parent` is NULL for scheduled births. False when it is not
- * created (full pool: counted as dropped; or already dead at t1). */
-bool pfx_sim_make_particle(pfx_sim *s, size_t i, double tb, double t1, const pfx_parent *parent);
 
 /* Queues the sub-emitter events of kind `event` of particle j of emitter i,
  * at time t, position pos, velocity vel (and the hit normal, or NULL). */

@@ -74,6 +74,7 @@ typedef struct pfx_sim {
     struct pfx_workers *workers;    /* the threads the passes use (owned; NULL: one) */
     uint8_t *block_flags;           /* per block of the largest pool: sim/step.h's flags */
     pfx_collide_stats *block_stats; /* per block: a parallel collide pass's counters */
+    struct pfx_birth_block *births; /* the columns of a block of births (sim/birth.h) */
     bool failed;                    /* a state went non-finite or exploded: stop */
     pfx_diags *diags;               /* where a failure says what, where, when and the likely
                                        cause (not owned; may be NULL) */

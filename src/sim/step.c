@@ -71,15 +71,7 @@ static bool step_gravity(const pfx_emitter *em, pfx_pool *p, uint32_t first, uin
  * are at most 1; wrapping only moves it back), and its distance from the
  * origin within |x| + that speed times L. */
 bool pfx_step_may_run_away(const float x[3], const float v[3], const double a[3], double life) {
-    /* Far inside both bounds, without the square roots (12 % of a birth's
-     * time): the 1-norm bounds the 2-norm, and the factor 2 to the bounds
-     * below is far more than the rounding of either sum, so this never
-     * answers differently from the exact test. NaN and inf fall through. */
-    const double v1 = fabs((double)v[0]) + fabs((double)v[1]) + fabs((double)v[2]),
-                 a1 = fabs(a[0]) + fabs(a[1]) + fabs(a[2]),
-                 x1 = fabs((double)x[0]) + fabs((double)x[1]) + fabs((double)x[2]);
-    const double speed1 = v1 + a1 * life;
-    if (speed1 < 2.85e5 && x1 + speed1 * life < 0.25 * PFX_MOTION_MAX_POSITION)
+    if (pfx_step_far_inside(x, v, a, life))
         return false;
     double speed = sqrt((double)v[0] * v[0] + (double)v[1] * v[1] + (double)v[2] * v[2]) +
                    sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) * life;

@@ -3,6 +3,8 @@
 #ifndef PFX_SIM_STEP_H
 #define PFX_SIM_STEP_H
 
+#include <math.h>
+
 #include "sim/state.h"
 
 /* What the passes of a step know of a block (pfx_sim.block_flags), set by
@@ -25,6 +27,20 @@ uint32_t pfx_step_move(pfx_sim *s, size_t i, double t0, double t1, bool scan_dea
 /* Whether a newborn of a gravity-only emitter at (x, v) under acceleration
  * a, living `life` more seconds, could ever trip the state check. */
 bool pfx_step_may_run_away(const float x[3], const float v[3], const double a[3], double life);
+/* Its shortcut: true when the newborn is far inside both bounds, shown
+ * without square roots (they were 12 % of a birth's time): the 1-norm
+ * bounds the 2-norm, and the factor 2 to the bounds is far more than the
+ * rounding of either sum, so pfx_step_may_run_away never answers
+ * differently for it. NaN and inf give false. Branch-free (`&`), so a
+ * loop of it over a block of newborns vectorises. */
+static inline bool pfx_step_far_inside(const float x[3], const float v[3], const double a[3],
+                                       double life) {
+    const double v1 = fabs((double)v[0]) + fabs((double)v[1]) + fabs((double)v[2]),
+                 a1 = fabs(a[0]) + fabs(a[1]) + fabs(a[2]),
+                 x1 = fabs((double)x[0]) + fabs((double)x[1]) + fabs((double)x[2]);
+    const double speed1 = v1 + a1 * life;
+    return (speed1 < 2.85e5) & (x1 + speed1 * life < 0.25 * PFX_MOTION_MAX_POSITION);
+}
 /* The motion kernels' view of particles [first, first + n) of p. */
 pfx_motion_pool_f pfx_step_motion_view(const pfx_pool *p, uint32_t first, uint32_t n);
 

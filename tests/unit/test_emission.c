@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sim/schedule.h"
 #include "sim/sim.h"
 #include "test.h"
 #include "test_compile.h"
@@ -281,8 +282,68 @@ static void test_spin(void) {
     compiled_free(&c);
 }
 
+/* pfx_schedule_take (a block of births at once, a burst event's births
+ * together) takes the births peek and pop give one by one, in order, with
+ * the same times to the bit, stopping after the birth that ends a loop
+ * period, and leaves the schedule as they leave it: bursts of every kind
+ * (overlapping, cycled, probable, random counts) beside a rate, looping
+ * with bursts inside a step, and a rate curve, taken up to 1 to 64 at a
+ * time against steps of a few sizes. */
+static void test_schedule_take(void) {
+    static const char *const emitters[] = {
+        "    rate: 37\n    bursts: [{time: 0.1, count: 200, cycles: 3, interval: 0.3},"
+        " {time: 0.1, count: [5, 90]}, {time: 0.45, count: 70, probability: 0.5, cycles: 4,"
+        " interval: 0.05}]\n    duration: 2\n",
+        "    rate: 300\n    bursts: [{time: 0, count: 130}, {time: 0.2, count: 65}]\n"
+        "    duration: 0.25\n    loop: true\n",
+        "    rate: [{t: 0, value: 0}, {t: 1, value: 500}]\n    duration: 2\n",
+    };
+    for (size_t e = 0; e < sizeof emitters / sizeof *emitters; e++) {
+        char text[512];
+        snprintf(text, sizeof text, "pfx: 1\nemitters:\n  b:\n%s    lifetime: 1\n", emitters[e]);
+        compiled c;
+        if (!compile_text(&c, text))
+            continue;
+        const pfx_emitter *em = &c.e->emitters[0];
+        static pfx_schedule one, many;
+        pfx_schedule_init(&one, em, 5, 6);
+        many = one;
+        bool same = true;
+        int births = 0;
+        uint32_t max = 1;
+        for (double t1 = 0.013; t1 < 1.7 && same; t1 += 0.0071 * (1 + (births & 3))) {
+            for (;;) {
+                double times[64];
+                const uint64_t period = one.period;
+                uint32_t n = 0;
+                while (n < max && one.period == period) {
+                    const double at = pfx_schedule_peek(&one, em);
+                    if (!(at <= t1))
+                        break;
+                    pfx_schedule_pop(&one, em);
+                    times[n++] = at;
+                }
+                double got[64];
+                const uint32_t m = pfx_schedule_take(&many, em, t1, max, got);
+                same &= m == n && !memcmp(got, times, n * sizeof *times) &&
+                        !memcmp(&one, &many, sizeof one);
+                births += (int)n;
+                max = max % 64 + 1;
+                if (!n || !same)
+                    break;
+            }
+        }
+        if (!same)
+            fprintf(stderr, "  emitter %zu: take and peek/pop part after %d births\n", e, births);
+        CHECK(same);
+        CHECK(births > 300);
+        compiled_free(&c);
+    }
+}
+
 int main(void) {
     RUN(test_bursts);
+    RUN(test_schedule_take);
     RUN(test_rate_curve);
     RUN(test_reeves_windows);
     RUN(test_interval);

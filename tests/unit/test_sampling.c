@@ -91,6 +91,30 @@ static void test_pcg32_unit(void) {
 
 /* ---- Value sampling ---- */
 
+/* pfx_rng_units (the births' draws, taken 16 outputs at a time) gives
+ * the units n calls of pfx_rng_unit give, bit for bit, and leaves the
+ * generator (state and count of draws) where they leave it, for runs
+ * shorter than its lanes, across its chunks and between. */
+static void test_pcg32_units(void) {
+    static const size_t runs[] = {0, 1, 2, 7, 8, 15, 16, 17, 127, 128, 129, 1000, 3333};
+    static double want[3333], got[3333 + 1];
+    for (size_t k = 0; k < sizeof runs / sizeof *runs; k++) {
+        const size_t n = runs[k];
+        pfx_rng a, b;
+        pfx_rng_seed(&a, 0x853c49e6748fea9bULL + k, 0xda3e39cb94b95bdbULL ^ k);
+        pfx_rng_advance(&a, 3 * k);
+        b = a;
+        for (size_t i = 0; i < n; i++)
+            want[i] = pfx_rng_unit(&a);
+        got[n] = -1;
+        pfx_rng_units(&b, got, n);
+        CHECK(!memcmp(want, got, n * sizeof *got));
+        CHECK(got[n] == -1); /* nothing past the run */
+        CHECK(a.state == b.state && a.inc == b.inc && a.draws == b.draws);
+        CHECK(pfx_rng_next(&a) == pfx_rng_next(&b));
+    }
+}
+
 static void test_value_const(void) {
     pfx_value v = {.dist = PFX_DIST_CONST, .a = 2.5, .b = 99};
     pfx_rng r, before;
@@ -228,6 +252,73 @@ static void test_value_normal(void) {
     double plo = phi_cdf(-0.5), phi = 1 - phi_cdf(1.5);
     CHECK_NEAR(at_lo / n, plo, 5 * sqrt(plo * (1 - plo) / n));
     CHECK_NEAR(at_hi / n, phi, 5 * sqrt(phi * (1 - phi) / n));
+}
+
+/* ---- Blocks: the simulation's path ---- */
+
+#define BLOCK_N 3001
+
+/* The block forms births use (pfx_sample_cone_n, pfx_sample_value_n) give
+ * bit for bit what the one-sample forms tested above give, in blocks of 1
+ * to 64 ending anywhere in a vector: about one axis for all (an emitter's
+ * direction) or each its own (normal, radial, tangent directions), for
+ * spreads 0, 30 and 180 degrees, and values of each distribution. */
+static void test_blocks_match_one(void) {
+    static double u0[BLOCK_N], u1[BLOCK_N], ax[3][BLOCK_N], one[3][BLOCK_N], blk[3][BLOCK_N];
+    const double spreads[3] = {0, 30 * PI / 180, PI};
+    for (int sp = 0; sp < 3; sp++)
+        for (int one_axis = 0; one_axis < 2; one_axis++) {
+            pfx_rng r, axes;
+            pfx_rng_seed(&r, 3, 4);
+            pfx_rng_seed(&axes, 5, 6);
+            for (size_t k = 0; k < BLOCK_N; k++) {
+                double a[3] = {0.48, -0.6, 0.64}, o[3];
+                if (!one_axis)
+                    pfx_sample_direction(&axes, a);
+                for (int i = 0; i < 3; i++)
+                    ax[i][k] = a[i];
+                pfx_rng before = r;
+                pfx_sample_cone(a, spreads[sp], &r, o);
+                for (int i = 0; i < 3; i++)
+                    one[i][k] = o[i];
+                u0[k] = pfx_rng_unit(&before), u1[k] = pfx_rng_unit(&before);
+            }
+            for (size_t k0 = 0, len = 1; k0 < BLOCK_N; k0 += len, len = len % 64 + 1) {
+                size_t n = BLOCK_N - k0 < len ? BLOCK_N - k0 : len;
+                pfx_sample_cone_n(n, (const double *const[3]){ax[0] + k0, ax[1] + k0, ax[2] + k0},
+                                  one_axis, spreads[sp], u0 + k0, u1 + k0,
+                                  (double *const[3]){blk[0] + k0, blk[1] + k0, blk[2] + k0});
+            }
+            bool same = true;
+            for (int i = 0; i < 3; i++)
+                same &= !memcmp(one[i], blk[i], sizeof one[i]);
+            if (!same)
+                fprintf(stderr, "  spread %g rad, %s: block and one sample differ\n", spreads[sp],
+                        one_axis ? "one axis" : "an axis each");
+            CHECK(same);
+        }
+    const pfx_value values[3] = {
+        {.dist = PFX_DIST_CONST, .a = 2.5},
+        {.dist = PFX_DIST_UNIFORM, .a = -1.5, .b = 4},
+        {.dist = PFX_DIST_NORMAL, .a = 3, .b = 0.75, .lo = 2, .hi = 5},
+    };
+    for (int v = 0; v < 3; v++) {
+        pfx_rng r;
+        pfx_rng_seed(&r, 9, 10);
+        for (size_t k = 0; k < BLOCK_N; k++) {
+            pfx_rng before = r;
+            one[0][k] = pfx_sample_value(&values[v], &r);
+            unsigned units = pfx_sample_value_units(&values[v]);
+            CHECK(r.draws - before.draws == 2 * units);
+            u0[k] = units > 0 ? pfx_rng_unit(&before) : 0;
+            u1[k] = units > 1 ? pfx_rng_unit(&before) : 0;
+        }
+        for (size_t k0 = 0, len = 1; k0 < BLOCK_N; k0 += len, len = len % 64 + 1) {
+            size_t n = BLOCK_N - k0 < len ? BLOCK_N - k0 : len;
+            pfx_sample_value_n(&values[v], n, u0 + k0, u1 + k0, blk[0] + k0);
+        }
+        CHECK(!memcmp(one[0], blk[0], sizeof one[0]));
+    }
 }
 
 /* ---- Chi-square uniformity over equal-measure bins ---- */
@@ -587,6 +678,7 @@ int main(void) {
     RUN(test_pcg32_reference);
     RUN(test_pcg32_streams_differ);
     RUN(test_pcg32_unit);
+    RUN(test_pcg32_units);
     RUN(test_value_const);
     RUN(test_value_uniform);
     RUN(test_value_normal);
@@ -596,6 +688,7 @@ int main(void) {
     RUN(test_chi2_disc);
     RUN(test_chi2_cone);
     RUN(test_cone_spreads_alternate);
+    RUN(test_blocks_match_one);
     RUN(test_chi2_direction);
     RUN(test_gradient_lut);
     return TEST_EXIT();

@@ -861,11 +861,82 @@ static void test_obj_reader(void) {
     pfx_arena_free(&a);
 }
 
+/* ---- Blocks: the simulation's path ---- */
+
+#define BLOCK_N 4099 /* samples per shape: blocks of every size up to 64, odd ends */
+
+static bool same_bits(const double *a, const double *b, size_t n) {
+    return !memcmp(a, b, n * sizeof *a);
+}
+
+/* The block form (pfx_sample_shape_n, what births use) gives every shape's
+ * samples bit for bit as the one-sample form the uniformity tests above
+ * check, with and without normals, in blocks of 1 to 64 whose ends fall
+ * anywhere in a vector: so the simulation's samples are those tested. */
+static bool block_matches_one(const pfx_shape *s, const char *name) {
+    static double u[3][BLOCK_N], one[6][BLOCK_N], blk[6][BLOCK_N], pos_only[3][BLOCK_N];
+    const unsigned units = pfx_sample_shape_units(s);
+    pfx_rng a, b;
+    pfx_rng_seed(&a, 1234, 77);
+    b = a;
+    for (size_t k = 0; k < BLOCK_N; k++) {
+        double p[3], n[3];
+        pfx_sample_shape(s, &a, p, n);
+        for (int i = 0; i < 3; i++)
+            one[i][k] = p[i], one[3 + i][k] = n[i];
+        for (unsigned d = 0; d < 3; d++)
+            u[d][k] = d < units ? pfx_rng_unit(&b) : 0.25;
+    }
+    bool draws = a.draws == b.draws; /* units: as many as the sampler takes */
+    for (size_t k0 = 0, len = 1; k0 < BLOCK_N; k0 += len, len = len % 64 + 1) {
+        size_t n = BLOCK_N - k0 < len ? BLOCK_N - k0 : len;
+        const double *const cu[3] = {u[0] + k0, u[1] + k0, u[2] + k0};
+        pfx_sample_shape_n(s, n, cu, (double *const[3]){blk[0] + k0, blk[1] + k0, blk[2] + k0},
+                           (double *const[3]){blk[3] + k0, blk[4] + k0, blk[5] + k0});
+        pfx_sample_shape_n(s, n, cu,
+                           (double *const[3]){pos_only[0] + k0, pos_only[1] + k0, pos_only[2] + k0},
+                           NULL);
+    }
+    bool same = draws;
+    for (int i = 0; i < 6; i++)
+        same &= same_bits(one[i], blk[i], BLOCK_N);
+    for (int i = 0; i < 3; i++)
+        same &= same_bits(one[i], pos_only[i], BLOCK_N);
+    if (!same)
+        fprintf(stderr, "  %s: the block form differs from one sample at a time%s\n", name,
+                draws ? "" : " (unit count)");
+    return same;
+}
+
+static void test_blocks_match_one(void) {
+    static const char *const more[] = {
+        "{type: point}",
+        "{type: ellipse, radii: [2, 0.5], emit_from: edge}",
+        "{type: sphere, radius: 1, inner: 1e-100}",
+        "{type: cone, radius: 0.3, height: 0, angle: 90}",
+        "{type: mesh, file: shape_mesh_two_triangles.obj}",
+    };
+    char path[4200];
+    snprintf(path, sizeof path, "%s/tests/diag/inline.yaml", test_source_dir());
+    size_t ncases = sizeof cases / sizeof *cases, nmore = sizeof more / sizeof *more;
+    for (size_t i = 0; i < ncases + nmore; i++) {
+        const char *text = i < ncases ? cases[i].shape : more[i - ncases];
+        compiled cc;
+        const pfx_shape *s = compile_shape_text(&cc, text, path);
+        CHECK(s != NULL);
+        if (!s)
+            continue;
+        CHECK(block_matches_one(s, text));
+        compiled_free(&cc);
+    }
+}
+
 int main(void) {
     RUN(test_old_shapes_unchanged);
     RUN(test_shape_cases);
     RUN(test_ellipse_edge);
     RUN(test_mesh_surface);
+    RUN(test_blocks_match_one);
     RUN(test_direction_cap);
     RUN(test_obj_reader);
     return TEST_EXIT();
