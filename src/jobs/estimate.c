@@ -126,7 +126,8 @@ static void estimate_drawing(const pfx_effect *e, unsigned what, double image, p
             *fixed += PFX_RENDER_DRIVER_BYTES_PER_TEXTURED;
         }
     /* Textures: the decoded pixels and their copy in GL with mipmaps (4/3
-     * of the base level), once per file however many emitters name it (the
+     * of the base level, held as half floats or floats: twice the decoded
+     * bytes, render/mipmap.h), once per file however many emitters name it (the
      * compiler reads a file once, the renderer uploads its pixels once),
      * and while they are uploaded the two levels render/mipmap.c holds at
      * a time (1/4 + 1/16 of the base level at most). */
@@ -137,7 +138,7 @@ static void estimate_drawing(const pfx_effect *e, unsigned what, double image, p
                 continue;
             const double bytes = (double)maps[k]->width * maps[k]->height * 4 * (maps[k]->bits / 8);
             if (first_use(e, i, k, maps[k]->pixels))
-                out->bytes[PFX_MEMORY_TEXTURES] += (1 + 4.0 / 3 + 5.0 / 16) * bytes;
+                out->bytes[PFX_MEMORY_TEXTURES] += (1 + 2 * 4.0 / 3 + 5.0 / 16) * bytes;
         }
     }
     *fixed += out->bytes[PFX_MEMORY_FRAMEBUFFER] + out->bytes[PFX_MEMORY_TEXTURES];

@@ -65,6 +65,10 @@ void *pfx_mipmap_halve(const void *src, int w, int h, int bits, int *dw, int *dh
     return dst;
 }
 
+GLenum pfx_texture_format(const pfx_image *img) {
+    return img->bits == 16 ? GL_RGBA32F : GL_RGBA16F;
+}
+
 bool pfx_mipmap_upload(pfx_renderer *r, const pfx_image *img) {
     const bool wide = img->bits == 16;
     const void *level = img->pixels;
@@ -75,7 +79,7 @@ bool pfx_mipmap_upload(pfx_renderer *r, const pfx_image *img) {
         free(made);
         if (!next)
             return false;
-        r->gl.TexImage2D(GL_TEXTURE_2D, k, wide ? GL_RGBA16 : GL_RGBA8, w, h, 0, GL_RGBA,
+        r->gl.TexImage2D(GL_TEXTURE_2D, k, pfx_texture_format(img), w, h, 0, GL_RGBA,
                          wide ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE, next);
         level = made = next;
     }

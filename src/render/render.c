@@ -186,18 +186,18 @@ pfx_render_settings pfx_render_settings_plain(const float bg[4]) {
     return s;
 }
 
-/* One texture with mipmaps: 8- or 16-bit RGBA rows top first (so texture
- * t = 0 is the image's top row), linear between texels and mip levels
- * (sprites pass the level explicitly: render/shader.c), the levels made by
- * render/mipmap.c; 0 when out of memory for them. */
+/* One texture with mipmaps, held as floats (render/mipmap.h says why): 8- or 16-bit RGBA rows top
+ * first (so texture t = 0 is the image's top row), linear between texels and mip levels (sprites
+ * pass the level explicitly: render/shader.c), the levels made by render/mipmap.c; 0 when out of
+ * memory for them. */
 static GLuint upload_texture(pfx_renderer *r, const pfx_image *img) {
     GLuint t = 0;
     r->gl.GenTextures(1, &t);
     r->gl.BindTexture(GL_TEXTURE_2D, t);
     r->gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
     const bool wide = img->bits == 16;
-    r->gl.TexImage2D(GL_TEXTURE_2D, 0, wide ? GL_RGBA16 : GL_RGBA8, img->width, img->height, 0,
-                     GL_RGBA, wide ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE, img->pixels);
+    r->gl.TexImage2D(GL_TEXTURE_2D, 0, pfx_texture_format(img), img->width, img->height, 0, GL_RGBA,
+                     wide ? GL_UNSIGNED_SHORT : GL_UNSIGNED_BYTE, img->pixels);
     if (!pfx_mipmap_upload(r, img)) {
         r->gl.DeleteTextures(1, &t);
         return 0;

@@ -220,8 +220,11 @@ static const char *fragment_src =
     "    return (1.0 - d2) * (1.0 - d2);\n"
     "#endif\n"
     "}\n"
-    "vec2 cell_uv(float cell, vec2 uv) {\n"
-    "    float col = mod(cell, grid.x), row = floor(cell / grid.x);\n"
+    "vec2 cell_uv(float cell, vec2 uv) {\n" /* the row from a quotient half a cell off an
+                                                 integer: an approximate division (a GPU's)
+                                                 cannot land a row off, as floor(cell / cols)
+                                                 can */
+    "    float row = floor((cell + 0.5) / grid.x), col = cell - row * grid.x;\n"
     "    return (vec2(col, row) + uv) / grid;\n"
     "}\n"
     "#if TEXTURED\n"
@@ -231,7 +234,7 @@ static const char *fragment_src =
     "#if FRAME_BLEND\n"
     "    if (t <= 0.0) return x;\n"
     "    float b = a + 1.0;\n"
-    "    b = frame_loop ? mod(b, frames) : min(b, frames - 1.0);\n"
+    "    b = b < frames ? b : frame_loop ? 0.0 : frames - 1.0;\n"
     "    return mix(x, textureLod(tex, cell_uv(b, uv), v_lod.x), t);\n"
     "#else\n"
     "    return x;\n"
