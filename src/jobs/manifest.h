@@ -33,9 +33,11 @@
  *      at its midpoint where a region or inflow varies its rate; on_death
  *      and trail children from the parent's state at the event time, to
  *      second order; sphere, cone and spread sampling by fast_d.h's
- *      polynomial sincos and cube root (last bits of births); textured
- *      sprites read the mip level pfx computes, blended across half-way */
-#define PFX_RESULTS 4
+ *      polynomial sincos and cube root (last bits of births)
+ *   5  textured sprites and ribbons read the mip level pfx computes,
+ *      blended across half-way, from mipmaps pfx makes; textures held as
+ *      half floats (floats for 16-bit images), filtered in float */
+#define PFX_RESULTS 5
 
 typedef struct pfx_manifest pfx_manifest;
 
