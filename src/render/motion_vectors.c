@@ -47,6 +47,22 @@ static void point_ends(pfx_renderer *r, size_t first) {
     r->gl.BindBuffer(GL_ARRAY_BUFFER, r->instance_vbo);
 }
 
+/* The motion pass's program for a run (the motion variant of the
+ * material's), and the ends pointed at the run's first instance. */
+typedef struct motion_run {
+    const pfx_view *v;
+    const pfx_render_settings *s;
+    pfx_diags *d;
+} motion_run;
+
+static bool use_motion(pfx_renderer *r, const pfx_gpu_material *g, size_t first, void *ctx) {
+    const motion_run *m = ctx;
+    if (!pfx_shader_motion(r, m->v, m->s, g, m->d))
+        return false;
+    point_ends(r, first);
+    return true;
+}
+
 /* One instanced draw per run of one material, as the colour pass draws,
  * a chunk of the source at a time (at most two in flight, as there). The
  * blend sums (dx w, dy w, w) in RGB and keeps A = 1 - prod(1 - w), the
@@ -54,6 +70,7 @@ static void point_ends(pfx_renderer *r, size_t first) {
  * the drawing order but for rounding, and the order is the source's. */
 static bool draw_motion(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
                         const pfx_sprite_source *src, const pfx_sprite_ends *ends, pfx_diags *d) {
+    motion_run run = {v, s, d};
     r->gl.BindFramebuffer(GL_FRAMEBUFFER, r->mv_fbo);
     r->gl.Viewport(0, 0, r->width, r->height);
     r->gl.ClearColor(0, 0, 0, 0);
@@ -80,19 +97,7 @@ static bool draw_motion(pfx_renderer *r, const pfx_view *v, const pfx_render_set
         r->gl.BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(n * 4 * sizeof(float)), r->mv_ends,
                          GL_STREAM_DRAW);
         r->gl.BindBuffer(GL_ARRAY_BUFFER, r->instance_vbo);
-        for (size_t first = 0; ok && first < n;) {
-            const pfx_gpu_material *g = pfx_render_material_of(r, &sprites[first]);
-            size_t end = first + 1;
-            while (end < n && pfx_render_material_of(r, &sprites[end]) == g)
-                end++;
-            ok = pfx_shader_motion(r, v, s, g, d);
-            if (ok) {
-                pfx_render_point_instances(r, first);
-                point_ends(r, first);
-                r->gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)(end - first));
-            }
-            first = end;
-        }
+        ok = pfx_render_runs(r, sprites, n, use_motion, &run);
     }
     pfx_render_chunks_end(r, fences);
     pfx_render_point_instances(r, 0);

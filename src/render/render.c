@@ -441,20 +441,41 @@ static const pfx_gpu_material *material_of(const pfx_renderer *r, const pfx_spri
     return material_at(r, sp->material);
 }
 
-/* One instanced draw per run of sprites of one material, over sprites
- * [0, n) of the uploaded instance buffer. */
-static void draw_runs(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
-                      const pfx_sprite *sprites, size_t n) {
+bool pfx_render_runs(pfx_renderer *r, const pfx_sprite *sprites, size_t n, pfx_render_run_fn use,
+                     void *ctx) {
     for (size_t first = 0; first < n;) {
         const pfx_gpu_material *g = material_of(r, &sprites[first]);
         size_t end = first + 1;
         while (end < n && material_of(r, &sprites[end]) == g)
             end++;
-        pfx_shader_material(r, v, s, g);
+        if (!use(r, g, first, ctx))
+            return false;
         point_instances(r, first);
         r->gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, (GLsizei)(end - first));
         first = end;
     }
+    return true;
+}
+
+/* The colour pass's program for a run: the material's own. */
+typedef struct colour_run {
+    const pfx_view *v;
+    const pfx_render_settings *s;
+} colour_run;
+
+static bool use_colour(pfx_renderer *r, const pfx_gpu_material *g, size_t first, void *ctx) {
+    const colour_run *c = ctx;
+    (void)first;
+    pfx_shader_material(r, c->v, c->s, g);
+    return true;
+}
+
+/* One instanced draw per run of sprites of one material, over sprites
+ * [0, n) of the uploaded instance buffer. */
+static void draw_runs(pfx_renderer *r, const pfx_view *v, const pfx_render_settings *s,
+                      const pfx_sprite *sprites, size_t n) {
+    colour_run c = {v, s};
+    pfx_render_runs(r, sprites, n, use_colour, &c);
 }
 
 /* The ribbons: one draw of their triangles, under every sprite. */

@@ -235,6 +235,15 @@ bool pfx_render_view(const pfx_camera *cam, int width, int height, pfx_view *v, 
 bool pfx_render_make_current(pfx_renderer *r, pfx_diags *d);
 const pfx_gpu_material *pfx_render_material_of(const pfx_renderer *r, const pfx_sprite *sp);
 void pfx_render_point_instances(pfx_renderer *r, size_t first);
+/* render/render.c: one instanced draw per run of sprites of one material
+ * over sprites [0, n) of the uploaded instance buffer, the one loop of
+ * every sprite pass: `use` makes the run's program current (and points
+ * any attributes of its own at instance `first`); false from it stops the
+ * loop and is returned. */
+typedef bool (*pfx_render_run_fn)(pfx_renderer *r, const pfx_gpu_material *g, size_t first,
+                                  void *ctx);
+bool pfx_render_runs(pfx_renderer *r, const pfx_sprite *sprites, size_t n, pfx_render_run_fn use,
+                     void *ctx);
 
 /* render/shader.c: the ribbon program (world-space triangles, no
  * switches), into r->ribbon_program and its two uniforms. */
