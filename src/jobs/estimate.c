@@ -113,9 +113,10 @@ static void estimate_drawing(const pfx_effect *e, unsigned what, double image, p
         pfx_frame_queue_caller_bytes(e->width, e->height, PFX_FRAME_EXR) + scratch;
     out->bytes[PFX_MEMORY_ENCODER] = out->threads * out->per_thread_bytes + caller;
     *fixed += caller;
-    /* light: { shadows: true }: the sprite feed's volume (render/shadow.h)
-     * and its 3D texture, with the driver's copy of the upload. */
-    if (e->light_shadows) {
+    /* light: { shadows: true } over a lit sprite: the sprite feed's volume
+     * (render/shadow.h) and its 3D texture, with the driver's copy of the
+     * upload. */
+    if (pfx_sprites_shadowed(e)) {
         const double shadow = 3.0 * sizeof(pfx_shadow_volume);
         out->bytes[PFX_MEMORY_DRIVER] += shadow;
         *fixed += shadow;

@@ -10,6 +10,9 @@
 /* True when any emitter blends by alpha: then every sprite, of every
  * emitter, is drawn in one back-to-front order. Additive alone needs none. */
 bool pfx_sprites_need_sort(const pfx_effect *e);
+/* Whether frames need the opacity shadow map: the light casts shadows and
+ * some sprite emitter is lit (a look nobody lights reads no shadow). */
+bool pfx_sprites_shadowed(const pfx_effect *e);
 /* One material per emitter, in emitter order (sprites name them by
  * index), into out (room for e->emitter_count). */
 void pfx_sprites_materials(const pfx_effect *e, pfx_material *out);
@@ -31,7 +34,7 @@ size_t pfx_sprites_build(const pfx_sim *s, pfx_sprite *out);
 typedef struct pfx_sprite_feed {
     const pfx_sim *sim;
     size_t *start;
-    struct pfx_shadow_volume *shadow; /* light: { shadows: true } only */
+    struct pfx_shadow_volume *shadow; /* pfx_sprites_shadowed effects only */
 } pfx_sprite_feed;
 /* False when out of memory; the caller frees it with pfx_sprite_feed_free. */
 bool pfx_sprite_feed_init(pfx_sprite_feed *f, const pfx_effect *e);
@@ -41,7 +44,7 @@ void pfx_sprite_feed_free(pfx_sprite_feed *f);
  * call them from several threads at once. */
 pfx_sprite_source pfx_sprite_feed_source(pfx_sprite_feed *f, const pfx_sim *s);
 /* The opacity shadow map of state s (render/shadow.h), in f, until the
- * next call; NULL when the effect's light casts no shadows. */
+ * next call; NULL when nothing reads it (pfx_sprites_shadowed). */
 const struct pfx_shadow_volume *pfx_sprite_feed_shadow(pfx_sprite_feed *f, const pfx_sim *s);
 /* The emitter whose sprites hold sprite n of f's source: sprite n is
  * particle n - f->start[i] of emitter i's pool. */

@@ -18,6 +18,15 @@ bool pfx_sprites_need_sort(const pfx_effect *e) {
     return false;
 }
 
+/* Only a lit sprite reads the volume; the compiler warns when none is,
+ * and the frames would be the same without it. */
+bool pfx_sprites_shadowed(const pfx_effect *e) {
+    for (size_t i = 0; e->light_shadows && i < e->emitter_count; i++)
+        if (e->emitters[i].look.lit && e->emitters[i].look.draw == PFX_DRAW_SPRITE)
+            return true;
+    return false;
+}
+
 size_t pfx_sprites_capacity(const pfx_effect *e) {
     size_t n = 0;
     for (size_t i = 0; i < e->emitter_count; i++)
@@ -148,8 +157,9 @@ size_t pfx_sprites_build(const pfx_sim *s, pfx_sprite *out) {
 bool pfx_sprite_feed_init(pfx_sprite_feed *f, const pfx_effect *e) {
     f->sim = NULL;
     f->start = malloc((e->emitter_count + 1) * sizeof *f->start);
-    f->shadow = e->light_shadows ? malloc(sizeof *f->shadow) : NULL;
-    return f->start != NULL && (f->shadow || !e->light_shadows);
+    const bool shadowed = pfx_sprites_shadowed(e);
+    f->shadow = shadowed ? malloc(sizeof *f->shadow) : NULL;
+    return f->start != NULL && (f->shadow || !shadowed);
 }
 
 void pfx_sprite_feed_free(pfx_sprite_feed *f) {
