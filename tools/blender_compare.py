@@ -30,7 +30,10 @@ first count; errors under 3e-5 m, float32 rounding, count as equal), the
 target is its error; pfx's setting is the
 fastest of the four with the fewest force evaluations whose error is at
 most that. The ratio is Blender's time over pfx's, medians of --runs runs
-at each particle count (Blender and pfx in turns).
+at each particle count: each Blender bake is followed at once by the pfx
+runs of its target, from inside the same Blender process, so that both
+are timed under the same load; the ratio is the median of the runs'
+ratios.
 
 What is timed, on --threads cores (default 2; Blender -t N, pfx --threads N):
   Blender: time.perf_counter() around bpy.ops.ptcache.bake() inside
@@ -45,8 +48,8 @@ What is timed, on --threads cores (default 2; Blender -t N, pfx --threads N):
     compile, or the writing of the rows. A reader scheduled late can move
     the pause either way by up to a time slice on a loaded machine; hence
     the medians.
-Whole-process times of both are printed too (Blender's is mostly its
-start-up).
+Blender's start-up and exit, and a whole pfx bake process, are printed
+too.
 
 Blender is not a dependency of pfx or its tests: this script runs outside
 CI. Debian's Blender 3.4.1: `apt-get install -y blender`.
@@ -203,7 +206,10 @@ def blender_positions(ob, frame):
 
 def blender_job(job):
     """Runs job['runs'] (scene, n, integrator, subframes, all_frames) in
-    turn and prints one RESULT line of JSON."""
+    turn, each bake followed at once by the pfx settings of its "pfx" list
+    on the same scene (so that the two are timed seconds apart, under the
+    same load), and prints one RESULT line of JSON."""
+    start = time.perf_counter()
     out = []
     for r in job["runs"]:
         scene = SCENES[r["scene"]]
@@ -222,11 +228,19 @@ def blender_job(job):
             ex = exact(scene, scene["T"])
             res["count"] = len(last)
             res["end_error"] = max(math.hypot(x - ex[0], y - ex[1]) for x, y in last)
+        res["pfx"] = []
+        for st in r.get("pfx", []):
+            sim, whole, last = pfx_run(job["pfx_bin"], job["threads"], job["work"], "t", scene,
+                                       r["n"], tuple(st), False)
+            ex = exact(scene, scene["T"])
+            res["pfx"].append({"setting": st, "sim": sim, "whole": whole, "count": len(last),
+                               "end_error": max(math.hypot(x - ex[0], y - ex[1])
+                                                for x, y in last)})
         out.append(res)
         with bpy.context.temp_override(scene=bpy.context.scene, active_object=ob,
                                        point_cache=ps.point_cache):
             bpy.ops.ptcache.free_bake()
-    print("RESULT " + json.dumps(out), flush=True)
+    print("RESULT " + json.dumps({"runs": out, "job_s": time.perf_counter() - start}), flush=True)
 
 
 # ---------------------------------------------------------------- pfx side
@@ -263,7 +277,7 @@ def pfx_rows(data, frame):
     return rows
 
 
-def pfx_run(args, work, name, scene, n, setting, all_frames):
+def pfx_run(pfx, threads, work, name, scene, n, setting, all_frames):
     """One pfx bake of a setting: (simulation seconds, whole-process
     seconds, positions of the last frame, or every frame's of particle 0)."""
     integrator, rate, tolerance = setting
@@ -271,8 +285,7 @@ def pfx_run(args, work, name, scene, n, setting, all_frames):
     with open(path, "w") as f:
         f.write(pfx_effect(scene, n, integrator, rate, tolerance))
     frames = frames_of(scene)
-    cmd = [args.pfx, "bake", path, "-o", "-", "--format", "csv", "--threads", str(args.threads),
-           "-q"]
+    cmd = [pfx, "bake", path, "-o", "-", "--format", "csv", "--threads", str(threads), "-q"]
     if not all_frames:
         cmd += ["--frames", "0:%d:%d" % (frames, frames)]
     start = time.perf_counter()
@@ -306,9 +319,12 @@ def pfx_run(args, work, name, scene, n, setting, all_frames):
 
 # ---------------------------------------------------------------- the driver
 def run_blender(args, work, runs):
+    """Blender's results for runs, and its start-up and exit in seconds
+    (the process's wall time less the job's own)."""
     job = os.path.join(work, "job.json")
     with open(job, "w") as f:
-        json.dump({"runs": runs}, f)
+        json.dump({"runs": runs, "pfx_bin": os.path.abspath(args.pfx), "threads": args.threads,
+                   "work": work}, f)
     start = time.perf_counter()
     p = subprocess.run([args.blender, "-b", "--factory-startup", "-t", str(args.threads),
                         "--python", os.path.abspath(__file__), "--", job],
@@ -316,7 +332,8 @@ def run_blender(args, work, runs):
     whole = time.perf_counter() - start
     for line in p.stdout.splitlines():
         if line.startswith("RESULT "):
-            return json.loads(line[7:]), whole
+            res = json.loads(line[7:])
+            return res["runs"], whole - res["job_s"]
     sys.exit("blender failed:\n" + p.stdout[-3000:])
 
 
@@ -374,7 +391,7 @@ def main():
             bl_err = {(r["integrator"], r["subframes"]): error_of(scene, r["traj"]) for r in bl_acc}
             px_err = {}
             for k, st in enumerate(pfx_settings()):
-                _, _, traj = pfx_run(args, work, "acc%d" % k, scene, 1, st, True)
+                _, _, traj = pfx_run(args.pfx, args.threads, work, "acc%d" % k, scene, 1, st, True)
                 px_err[st] = error_of(scene, traj)
             print("\n== %s: error (m, largest over %d frames) ==" % (sname, frames_of(scene) + 1))
             for (i, s), e in sorted(bl_err.items()):
@@ -403,29 +420,28 @@ def main():
                                 key=pfx_cost)
                     cands[t] = ok[:4]
                 times_b = {t: [] for t in targets}
-                times_p = {}
+                times_p = {t: {} for t in targets}
                 wholes_b, wholes_p = [], []
                 ends_b, ends_p = {}, {}
                 for _ in range(args.runs):
                     runs = [{"scene": sname, "n": n, "integrator": t[0], "subframes": t[1],
-                             "all_frames": False} for t in targets]
-                    res, whole = run_blender(args, work, runs)
-                    wholes_b.append(whole)
+                             "all_frames": False, "pfx": cands[t]} for t in targets]
+                    res, startup = run_blender(args, work, runs)
+                    wholes_b.append(startup)
                     for r in res:
                         t = (r["integrator"], r["subframes"])
                         times_b[t].append(r["seconds"])
                         ends_b[t] = r["end_error"]
                         assert r["count"] == n, r["count"]
-                    for st in {s for c in cands.values() for s in c}:
-                        sim, whole, last = pfx_run(args, work, "t", scene, n, st, False)
-                        assert len(last) == n, len(last)
-                        ex = exact(scene, scene["T"])
-                        ends_p[st] = max(math.hypot(x - ex[0], y - ex[1]) for x, y in last)
-                        times_p.setdefault(st, []).append(sim)
-                        wholes_p.append(whole)
+                        for q in r["pfx"]:
+                            st = tuple(q["setting"])
+                            assert q["count"] == n, q["count"]
+                            ends_p[st] = q["end_error"]
+                            times_p[t].setdefault(st, []).append(q["sim"])
+                            wholes_p.append(q["whole"])
                 rows = []
-                print("\n== %s, %d particles, %d threads: medians of %d runs ==" %
-                      (sname, n, args.threads, args.runs))
+                print("\n== %s, %d particles, %d threads: medians of %d runs (ratio: the median "
+                      "of the runs' ratios) ==" % (sname, n, args.threads, args.runs))
                 print("  %-22s %10s %10s  %-26s %10s %10s %8s" %
                       ("blender", "error m", "s", "pfx", "error m", "s", "ratio"))
                 for t in targets:
@@ -434,21 +450,22 @@ def main():
                         print("  %-22s %10.3g %10.4f  no pfx setting reaches it" %
                               ("%s %d" % t, bl_err[t], tb))
                         continue
-                    best = min(cands[t], key=lambda s: statistics.median(times_p[s]))
-                    tp = statistics.median(times_p[best])
+                    best = min(cands[t], key=lambda s: statistics.median(times_p[t][s]))
+                    tp = statistics.median(times_p[t][best])
+                    ratio = statistics.median(b / p for b, p in zip(times_b[t], times_p[t][best]))
                     rows.append({"blender": "%s subframes %d" % t, "blender_error": bl_err[t],
                                  "blender_end_error_n": ends_b[t], "blender_s": tb,
                                  "blender_runs_s": times_b[t], "pfx": name_of_pfx(best),
                                  "pfx_error": px_err[best], "pfx_end_error_n": ends_p[best],
-                                 "pfx_s": tp, "pfx_runs_s": times_p[best], "ratio": tb / tp})
+                                 "pfx_s": tp, "pfx_runs_s": times_p[t][best], "ratio": ratio})
                     print("  %-22s %10.3g %10.4f  %-26s %10.3g %10.5f %7.0fx" %
                           ("%s %d" % t, bl_err[t], tb, name_of_pfx(best), px_err[best], tp,
-                           tb / tp))
-                print("  whole processes (start-up included), medians: blender %.2f s "
-                      "(all %d front settings), pfx %.3f s (one setting)" %
-                      (statistics.median(wholes_b), len(targets), statistics.median(wholes_p)))
+                           ratio))
+                print("  not timed above, medians: Blender's start-up and exit %.2f s a process; "
+                      "a whole pfx bake process %.3f s" %
+                      (statistics.median(wholes_b), statistics.median(wholes_p)))
                 sc_report["counts"][str(n)] = {"rows": rows,
-                                               "blender_whole_s": statistics.median(wholes_b),
+                                               "blender_startup_s": statistics.median(wholes_b),
                                                "pfx_whole_s": statistics.median(wholes_p)}
     if args.json:
         with open(args.json, "w") as f:
