@@ -299,7 +299,7 @@ def pfx_run(pfx, threads, work, name, scene, n, setting, all_frames):
             break
         chunks.append(b)
     if p.wait() != 0:
-        sys.exit("pfx bake failed on %s" % path)
+        sys.exit("blender_compare: pfx bake failed on '%s'" % path)
     whole = time.perf_counter() - start
     data = b"".join(chunks)
     if all_frames:
@@ -326,15 +326,19 @@ def run_blender(args, work, runs):
         json.dump({"runs": runs, "pfx_bin": os.path.abspath(args.pfx), "threads": args.threads,
                    "work": work}, f)
     start = time.perf_counter()
-    p = subprocess.run([args.blender, "-b", "--factory-startup", "-t", str(args.threads),
-                        "--python", os.path.abspath(__file__), "--", job],
-                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        p = subprocess.run([args.blender, "-b", "--factory-startup", "-t", str(args.threads),
+                            "--python", os.path.abspath(__file__), "--", job],
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    except OSError as e:
+        sys.exit("blender_compare: cannot run '%s': %s (Debian: apt-get install -y blender)" %
+                 (args.blender, e.strerror))
     whole = time.perf_counter() - start
     for line in p.stdout.splitlines():
         if line.startswith("RESULT "):
             res = json.loads(line[7:])
             return res["runs"], whole - res["job_s"]
-    sys.exit("blender failed:\n" + p.stdout[-3000:])
+    sys.exit("blender_compare: blender failed:\n" + p.stdout[-3000:])
 
 
 def pfx_settings():
