@@ -129,6 +129,36 @@ static void radius_levels(pfx_motion_plan *p, const pfx_motion *m) {
             p->radius_radial = false;
 }
 
+/* Whether the forces are unregioned gravities followed by one unregioned
+ * drag (operators anywhere): their sum is then (0 + g1 + g2 ...) - (k + c
+ * |u|) u in the order accel adds it, which the fused kernels repeat. */
+static void gravity_drag(pfx_motion_plan *p) {
+    size_t drags = 0;
+    p->gravity_drag = false;
+    for (size_t i = 0; i < p->force_count; i++) {
+        const pfx_motion_force *f = &p->forces[i];
+        const bool whole = f->region.kind == PFX_REGION_NONE;
+        switch (f->kind) {
+        case PFX_MOTION_GRAVITY:
+            if (!whole || drags)
+                return;
+            break;
+        case PFX_MOTION_DRAG:
+            if (!whole || drags++)
+                return;
+            p->gd_drag = i;
+            break;
+        case PFX_MOTION_VORTEX:
+        case PFX_MOTION_SPIRAL:
+        case PFX_MOTION_SPEED_LIMIT:
+            break;
+        default:
+            return;
+        }
+    }
+    p->gravity_drag = drags == 1;
+}
+
 void pfx_motion_plan_init(pfx_motion_plan *p, const pfx_motion *m) {
     memset(p, 0, sizeof *p);
     p->model = m;
@@ -148,6 +178,7 @@ void pfx_motion_plan_init(pfx_motion_plan *p, const pfx_motion *m) {
     if (p->scheme == PFX_SCHEME_SPLIT)
         fold_split(p);
     radius_levels(p, m);
+    gravity_drag(p);
     /* Across steps, where it pays: a turbulence evaluation (two octaves,
      * some 20 ns a particle) costs far more than reading and writing 12
      * bytes; an attractor's (about 3 ns) does not. Not with substeps per

@@ -39,10 +39,15 @@ typedef struct pfx_motion_plan {
                               kick's acceleration (ax, ay, az) for the next step's opening
                               one, where a force costs more than that column's traffic */
     bool uniform_rotation; /* split: B unregioned, so one Omega unless charge/mass vary */
-    double omega[3];       /* its -(q/m) B sum with the forces' constants */
-    double drift_k;        /* split drift: sum of unregioned linear drag */
-    double drift_wind[3];  /* its k-weighted wind */
-    double drift_g[3];     /* split drift: sum of unregioned gravity */
+    /* Forces: unregioned gravities, then one unregioned drag (operators
+     * aside), the sky of most effects: the general schemes then run each
+     * particle's whole step in registers (motion_impl.h, FN(gd_accel)). */
+    bool gravity_drag;
+    size_t gd_drag;                     /* that drag's index in forces */
+    double omega[3];                    /* its -(q/m) B sum with the forces' constants */
+    double drift_k;                     /* split drift: sum of unregioned linear drag */
+    double drift_wind[3];               /* its k-weighted wind */
+    double drift_g[3];                  /* split drift: sum of unregioned gravity */
     bool folded[PFX_MOTION_MAX_FORCES]; /* split: handled by the drift, not kicked */
     /* Substeps per particle (the model's choice.radius), for a full step
      * of dt: level k < radius_top runs 2^k substeps where a particle's

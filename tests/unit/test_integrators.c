@@ -600,6 +600,74 @@ static void test_operators(void) {
     CHECK_NEAR(s.v, 1 * sc, 1e-12);
 }
 
+/* Unregioned gravities and one unregioned drag (plan gravity_drag) run the
+ * fused kernels of motion_impl.h: the same bits as the general path (the
+ * plan with the flag cleared), in float and double, for midpoint, Verlet
+ * and RK4 with substeps, operators beside them and a drag with k, c and a
+ * wind; and the flag is off where the order or a region forbids it. */
+#define FUSED_N 300
+static void test_gravity_drag_fused(void) {
+    const pfx_integrator which[] = {PFX_INTEGRATOR_MIDPOINT, PFX_INTEGRATOR_VERLET,
+                                    PFX_INTEGRATOR_RK4, PFX_INTEGRATOR_AUTO};
+    for (int i = 0; i < 4; i++) {
+        pfx_motion m = make(which[i]);
+        m.substeps = 3;
+        pfx_motion_force *f = add(&m, PFX_MOTION_GRAVITY);
+        f->accel[1] = -9.81;
+        f = add(&m, PFX_MOTION_VORTEX);
+        f->axis[1] = 1, f->strength = 90, f->radius = 2;
+        f = add(&m, PFX_MOTION_GRAVITY);
+        f->accel[0] = 0.5, f->accel[1] = 0.25, f->accel[2] = -0.125;
+        f = add(&m, PFX_MOTION_DRAG);
+        f->k = 0.1, f->c = 0.7, f->wind[0] = 0.3, f->wind[1] = -0.2;
+        pfx_motion_plan fused = plan_of(&m, 1.0 / 30), general = fused;
+        CHECK(fused.gravity_drag && fused.scheme != PFX_SCHEME_SPLIT);
+        general.gravity_drag = false;
+        static float xf[2][6][FUSED_N];
+        static double xd[2][6][FUSED_N];
+        for (int c = 0; c < 6; c++)
+            for (int j = 0; j < FUSED_N; j++) {
+                double val = sin(0.37 * j + c) * (c < 3 ? 2 : 9);
+                xf[0][c][j] = xf[1][c][j] = (float)val;
+                xd[0][c][j] = xd[1][c][j] = val;
+            }
+        for (int k = 0; k < 2; k++) {
+            const pfx_motion_plan *plan = k ? &general : &fused;
+            pfx_motion_pool_f pf = {.count = FUSED_N,
+                                    .px = xf[k][0],
+                                    .py = xf[k][1],
+                                    .pz = xf[k][2],
+                                    .vx = xf[k][3],
+                                    .vy = xf[k][4],
+                                    .vz = xf[k][5]};
+            pfx_motion_pool_d pd = {.count = FUSED_N,
+                                    .px = xd[k][0],
+                                    .py = xd[k][1],
+                                    .pz = xd[k][2],
+                                    .vx = xd[k][3],
+                                    .vy = xd[k][4],
+                                    .vz = xd[k][5]};
+            for (int s = 0; s < 10; s++) {
+                pfx_motion_step_f(plan, &pf, s / 30.0);
+                pfx_motion_step_d(plan, &pd, s / 30.0);
+            }
+        }
+        CHECK(memcmp(xf[0], xf[1], sizeof xf[0]) == 0);
+        CHECK(memcmp(xd[0], xd[1], sizeof xd[0]) == 0);
+        CHECK(xf[0][4][7] != (float)sin(0.37 * 7 + 4) * 9); /* it moved */
+    }
+    /* a gravity after the drag, or a drag in a region: the general path */
+    pfx_motion m = make(PFX_INTEGRATOR_RK4);
+    add(&m, PFX_MOTION_DRAG)->c = 0.2;
+    add(&m, PFX_MOTION_GRAVITY)->accel[1] = -9.81;
+    CHECK(!plan_of(&m, 0.1).gravity_drag);
+    m = make(PFX_INTEGRATOR_RK4);
+    add(&m, PFX_MOTION_GRAVITY)->accel[1] = -9.81;
+    pfx_motion_force *d = add(&m, PFX_MOTION_DRAG);
+    d->c = 0.2, d->region.kind = PFX_REGION_SPHERE, d->region.radius = 1;
+    CHECK(!plan_of(&m, 0.1).gravity_drag);
+}
+
 int main(void) {
     RUN(test_orders);
     RUN(test_split_velocity_kicks);
@@ -615,5 +683,6 @@ int main(void) {
     RUN(test_curl_noise);
     RUN(test_fast_float);
     RUN(test_operators);
+    RUN(test_gravity_drag_fused);
     return TEST_EXIT();
 }
