@@ -324,10 +324,10 @@ static void collide_one_rest(const ctx *c, uint32_t i, body *b) {
     }
 }
 
-/* The exact pass over particles [i0, i0 + m) where near (indexed from i0)
- * marks them near a surface or stuck, in index order: the hits draw from
- * one stream. */
-static void exact_pass(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *near) {
+/* The exact pass of each particle of [i0, i0 + m) that near (indexed from
+ * i0) marks near a surface or stuck, in index order (so are the hit
+ * events). */
+static void exact_range(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *near) {
     const pfx_collide_pool *pool = c->pool;
     body b;
     /* Eight marks at a time: most particles are far from every surface and
@@ -352,6 +352,27 @@ static void exact_pass(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *nea
             else
                 collide_one(c, i, &b);
         }
+    }
+}
+
+/* The exact pass over particles [i0, i0 + m) where near (indexed from i0)
+ * marks them: a chunk at a time, the sliding ones all together where the
+ * deflectors allow (collide_slide.c: the same bits), then the rest one by
+ * one. A sliding particle raises no event, so the events keep their
+ * order. */
+static void exact_pass(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *near) {
+    if (!pfx_collide_slide_applies(c)) {
+        exact_range(c, i0, m, near);
+        return;
+    }
+    uint8_t todo[BROAD_CHUNK];
+    for (uint32_t k0 = 0; k0 < m; k0 += BROAD_CHUNK) {
+        const uint32_t mk = m - k0 < BROAD_CHUNK ? m - k0 : (uint32_t)BROAD_CHUNK;
+        memcpy(todo, near + k0, mk);
+        const uint64_t contacts = pfx_collide_slide(c, i0 + k0, mk, todo);
+        if (c->stats)
+            c->stats->contacts += contacts;
+        exact_range(c, i0 + k0, mk, todo);
     }
 }
 

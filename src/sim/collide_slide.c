@@ -1,0 +1,183 @@
+/* Sliding contact on one infinite plane, many particles at once: the exact
+ * pass of a particle that starts the step on the plane, pressed against it
+ * and not moving into it, is always the same walk (a contact at s = 0, the
+ * normal parts removed, one slide with Coulomb friction to the end of the
+ * step). This file runs that walk as straight-line double arithmetic over a
+ * chunk of such particles, the very operations in the very order of
+ * collide.c and collide_resolve.c, so the bits are theirs; a particle that
+ * strays from the walk anywhere (a hop, a stop within the step, an impact,
+ * a nudge at the store) is left to the general pass untouched. It does not
+ * handle other shapes, several deflectors, or kill and stick responses. */
+#include "sim/collide_internal.h"
+
+#include <float.h>
+#include <string.h>
+
+#include "base/clones.h"
+
+/* Particles a chunk of the walk holds (the broad phase's chunk). */
+enum { SLIDE_CHUNK = 256 };
+
+bool pfx_collide_slide_applies(const ctx *c) {
+    return c->nd == 1 && c->pr[0].shape == PFX_DEFLECTOR_PLANE && !c->pr[0].thin &&
+           c->defl[0].response == PFX_DEFLECT_BOUNCE;
+}
+
+/* The chunk's particles as doubles, gathered: start state, the integrator's
+ * end state; out: the walk's end state and whether the walk held. */
+typedef struct slide_chunk {
+    double x0[3][SLIDE_CHUNK], v0[3][SLIDE_CHUNK], x1[3][SLIDE_CHUNK], v1[3][SLIDE_CHUNK];
+    double xe[3][SLIDE_CHUNK], ve[3][SLIDE_CHUNK];
+    uint8_t ok[SLIDE_CHUNK];
+} slide_chunk;
+
+/* The walk of m gathered particles on plane p (point P, unit normal n),
+ * step dt. Each line names the function of the general pass whose
+ * arithmetic it repeats; ok[k] is 0 where that pass would branch
+ * elsewhere. Straight-line and branch-free: the particles' independent
+ * chains of division and square root overlap in the pipeline (GCC 12 does
+ * not vectorise it; were it to, correctly rounded lanes give the same
+ * bits). The clones give it AVX-512's 32 registers. */
+PFX_CLONES static void slide_walk(const prep *p, double dt, uint32_t m, slide_chunk *restrict s) {
+    const double P[3] = {p->p[0], p->p[1], p->p[2]}, n[3] = {p->n[0], p->n[1], p->n[2]};
+    const double mu = p->mu_slide;
+    for (uint32_t k = 0; k < m; k++) {
+        double x0[3], v0[3], x1[3], a[3];
+        for (int j = 0; j < 3; j++) {
+            x0[j] = s->x0[j][k], v0[j] = s->v0[j][k], x1[j] = s->x1[j][k];
+            a[j] = (s->v1[j][k] - v0[j]) / dt; /* collide_one */
+        }
+        /* within_reach is certain for finite inputs starting within touch
+         * of the plane on its front (reach >= 1e-6 (1 + |x|_1) > touch) */
+        const double fin = fabs(x0[0]) + fabs(x0[1]) + fabs(x0[2]) + fabs(v0[0]) + fabs(v0[1]) +
+                           fabs(v0[2]) + fabs(x1[0]) + fabs(x1[1]) + fabs(x1[2]) + fabs(a[0]) +
+                           fabs(a[1]) + fabs(a[2]);
+        const double q0[3] = {x0[0] - P[0], x0[1] - P[1], x0[2] - P[2]};
+        const double g0 = dot(q0, n); /* start_side: side 1 when g0 >= 0 */
+        /* earliest_hit and detect_plane from x0 over dt */
+        const double touch = TOUCH * (1 + dmax(fabs(x0[0]), dmax(fabs(x0[1]), fabs(x0[2]))));
+        double b = dot(v0, n), A = 0.5 * dot(a, n);
+        /* (| and &, not || and &&: no branch in the loop) */
+        b = (b == 0) | (fabs(b) <= NOISE * sqrt(dot(v0, v0))) ? 0 : b;
+        A = (A == 0) | (fabs(A) <= NOISE * sqrt(dot(a, a))) ? 0 : A;
+        /* crossings(A, b, 0, dt): a hit at s = 0 when the first of b, A
+         * is negative (and no later one with b = 0) */
+        int ok = (fin <= DBL_MAX) & (g0 >= 0) & (g0 <= touch) & (b == 0) & (A < 0);
+        /* advance 0 seconds, then pfx_collide_snap */
+        double x[3], v[3];
+        pos_at(x0, v0, a, 0, x);
+        for (int j = 0; j < 3; j++)
+            v[j] = v0[j] + a[j] * 0;
+        const double q[3] = {x[0] - P[0], x[1] - P[1], x[2] - P[2]};
+        const double d = dot(q, n);
+        for (int j = 0; j < 3; j++)
+            x[j] -= d * n[j];
+        /* respond: a contact (w < |a_N| dt), the normal parts removed */
+        const double vn = dot(v, n), an = dot(a, n);
+        const double pressed = -an * dt;
+        const double w = vn < 0 ? -vn : 0, thr = an < 0 ? pressed : 0;
+        ok &= w < thr;
+        for (int j = 0; j < 3; j++)
+            v[j] = v[j] - vn * n[j];
+        const double fric = 0 + mu * -an; /* rest */
+        const double an2 = dot(a, n);
+        for (int j = 0; j < 3; j++)
+            a[j] -= an2 * n[j];
+        /* slide_accel over the rest of the step, T = dt - 0 */
+        const double T = dt - 0;
+        const double vm = sqrt(dot(v, v)), am = sqrt(dot(a, a));
+        double u[3], ae[3];
+        for (int j = 0; j < 3; j++) {
+            u[j] = v[j] / vm;
+            const double sliding = a[j] - fric * u[j];
+            const double scaled = a[j] - fric * a[j] / am; /* (divided first: no branch) */
+            const double held = am <= fric ? 0 : scaled;
+            ae[j] = !(fric > 0) ? a[j] : vm > 0 ? sliding : held;
+        }
+        const double along = dot(ae, u);
+        const double reached = vm / -along;
+        const double stop = (fric > 0) & (vm > 0) & (along < 0) ? reached : INFINITY;
+        ok &= !(stop <= T); /* no stop within the step */
+        const double horizon = dmin(T, stop);
+        /* detect_plane from the contact: no crossing, by the cull or by
+         * c, b, A all zero (then crossings finds none) */
+        const double touch2 = TOUCH * (1 + dmax(fabs(x[0]), dmax(fabs(x[1]), fabs(x[2]))));
+        const double q2[3] = {x[0] - P[0], x[1] - P[1], x[2] - P[2]};
+        const double c2 = dot(q2, n);
+        double b2 = dot(v, n), A2 = 0.5 * dot(ae, n);
+        const bool culled = fabs(c2) > (fabs(b2) + fabs(A2) * horizon) * horizon + touch2;
+        b2 = (b2 == 0) | (fabs(b2) <= NOISE * sqrt(dot(v, v))) ? 0 : b2;
+        A2 = (A2 == 0) | (fabs(A2) <= NOISE * sqrt(dot(ae, ae))) ? 0 : A2;
+        ok &= culled | ((c2 <= touch2) & (b2 == 0) & (A2 == 0));
+        /* advance to the end of the step */
+        pos_at(x, v, ae, horizon, x);
+        for (int j = 0; j < 3; j++) {
+            v[j] += ae[j] * horizon;
+            s->xe[j][k] = x[j], s->ve[j][k] = v[j];
+        }
+        s->ok[k] = (uint8_t)ok;
+    }
+}
+
+uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo) {
+    const pfx_collide_pool *pool = c->pool;
+    const prep *p = &c->pr[0];
+    const pfx_deflector *d = &c->defl[0];
+    static _Thread_local slide_chunk s; /* 43 KiB: not on a worker's stack */
+    uint32_t idx[SLIDE_CHUNK];
+    uint64_t contacts = 0;
+    for (uint32_t j0 = 0; j0 < m; j0 += SLIDE_CHUNK) {
+        const uint32_t end = m - j0 < SLIDE_CHUNK ? m : j0 + SLIDE_CHUNK;
+        uint32_t count = 0;
+        for (uint32_t j = j0; j < end; j++) {
+            const uint32_t i = i0 + j;
+            if (!todo[j] || (pool->stuck && pool->stuck[i]) ||
+                !pfx_deflector_affects(d, pool->id ? pool->id[i] : i))
+                continue;
+            s.x0[0][count] = pool->px0[i], s.x0[1][count] = pool->py0[i];
+            s.x0[2][count] = pool->pz0[i], s.v0[0][count] = pool->vx0[i];
+            s.v0[1][count] = pool->vy0[i], s.v0[2][count] = pool->vz0[i];
+            s.x1[0][count] = pool->px[i], s.x1[1][count] = pool->py[i];
+            s.x1[2][count] = pool->pz[i], s.v1[0][count] = pool->vx[i];
+            s.v1[1][count] = pool->vy[i], s.v1[2][count] = pool->vz[i];
+            idx[count++] = j;
+        }
+        if (!count)
+            continue;
+        slide_walk(p, c->dt, count, &s);
+        for (uint32_t k = 0; k < count; k++) {
+            if (!s.ok[k])
+                continue;
+            /* pfx_collide_store: a float point behind the plane would be
+             * nudged; the general pass does that. (Through a volatile:
+             * GCC 12's SLP pass here took (double)(float)x for x.) */
+            volatile float round[3] = {(float)s.xe[0][k], (float)s.xe[1][k], (float)s.xe[2][k]};
+            const float xf[3] = {round[0], round[1], round[2]};
+            const double xd[3] = {xf[0], xf[1], xf[2]};
+            double nn[3];
+            if (!(pfx_collide_constraint(p, 1, xd, nn) >= 0))
+                continue;
+            const uint32_t j = idx[k], i = i0 + j;
+            const float vf[3] = {(float)s.ve[0][k], (float)s.ve[1][k], (float)s.ve[2][k]};
+            if (pool->rest) { /* collide_one_rest: still when no bit moved */
+                const float start[6] = {pool->px0[i], pool->py0[i], pool->pz0[i],
+                                        pool->vx0[i], pool->vy0[i], pool->vz0[i]};
+                const bool still =
+                    !memcmp(xf, start, sizeof xf) && !memcmp(vf, start + 3, sizeof vf);
+                pool->rest[i] = still ? (uint8_t)(2 | 0x80) : 0;
+                if (still) {
+                    pool->rest_px[i] = pool->px[i], pool->rest_py[i] = pool->py[i];
+                    pool->rest_pz[i] = pool->pz[i], pool->rest_vx[i] = pool->vx[i];
+                    pool->rest_vy[i] = pool->vy[i], pool->rest_vz[i] = pool->vz[i];
+                }
+            }
+            pool->px[i] = xf[0], pool->py[i] = xf[1], pool->pz[i] = xf[2];
+            pool->vx[i] = vf[0], pool->vy[i] = vf[1], pool->vz[i] = vf[2];
+            if (pool->ax)
+                pool->ax[i] = NAN;
+            todo[j] = 0;
+            contacts++;
+        }
+    }
+    return contacts;
+}
