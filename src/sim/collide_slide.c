@@ -34,10 +34,10 @@ typedef struct slide_chunk {
 /* The walk of m gathered particles on plane p (point P, unit normal n),
  * step dt. Each line names the function of the general pass whose
  * arithmetic it repeats; ok[k] is 0 where that pass would branch
- * elsewhere. Straight-line and branch-free: the particles' independent
- * chains of division and square root overlap in the pipeline (GCC 12 does
- * not vectorise it; were it to, correctly rounded lanes give the same
- * bits). The clones give it AVX-512's 32 registers. */
+ * elsewhere. Straight-line and branch-free, so the clones run it four
+ * particles to a vector (with the file's -fno-trapping-math and
+ * -fno-tree-pre, CMakeLists.txt): division and square root are correctly
+ * rounded in every lane, so the bits do not depend on the width. */
 PFX_CLONES static void slide_walk(const prep *p, double dt, uint32_t m, slide_chunk *restrict s) {
     const double P[3] = {p->p[0], p->p[1], p->p[2]}, n[3] = {p->n[0], p->n[1], p->n[2]};
     const double mu = p->mu_slide;
@@ -132,7 +132,7 @@ uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo)
         for (uint32_t j = j0; j < end; j++) {
             const uint32_t i = i0 + j;
             if (!todo[j] || (pool->stuck && pool->stuck[i]) ||
-                !pfx_deflector_affects(d, pool->id ? pool->id[i] : i))
+                (d->chance < 1 && !pfx_deflector_affects(d, pool->id ? pool->id[i] : i)))
                 continue;
             s.x0[0][count] = pool->px0[i], s.x0[1][count] = pool->py0[i];
             s.x0[2][count] = pool->pz0[i], s.v0[0][count] = pool->vx0[i];
@@ -153,9 +153,10 @@ uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo)
              * GCC 12's SLP pass here took (double)(float)x for x.) */
             volatile float round[3] = {(float)s.xe[0][k], (float)s.xe[1][k], (float)s.xe[2][k]};
             const float xf[3] = {round[0], round[1], round[2]};
-            const double xd[3] = {xf[0], xf[1], xf[2]};
-            double nn[3];
-            if (!(pfx_collide_constraint(p, 1, xd, nn) >= 0))
+            /* pfx_collide_constraint of a plane on side 1, inline */
+            const double q[3] = {(double)xf[0] - p->p[0], (double)xf[1] - p->p[1],
+                                 (double)xf[2] - p->p[2]};
+            if (!(1 * dot(q, p->n) >= 0))
                 continue;
             const uint32_t j = idx[k], i = i0 + j;
             const float vf[3] = {(float)s.ve[0][k], (float)s.ve[1][k], (float)s.ve[2][k]};
