@@ -31,6 +31,13 @@ typedef struct slide_chunk {
     uint8_t ok[SLIDE_CHUNK];
 } slide_chunk;
 
+/* noise_test: the general pass compares a normal part N with NOISE
+ * sqrt(w.w), w a vector of three doubles. Rounding moves the computed
+ * sqrt(w.w) and |w|_1 by a few ulps, and |w|_1 / sqrt(3) <= |w|_2 <= |w|_1,
+ * so |N| > 2 NOISE |w|_1 is surely not noise and |N| <= NOISE |w|_1 / 2
+ * surely is, by the same comparison the general pass makes; the walk
+ * leaves the rare lane between the two to it. */
+
 /* The walk of m gathered particles on plane p (point P, unit normal n),
  * step dt. Each line names the function of the general pass whose
  * arithmetic it repeats; ok[k] is 0 where that pass would branch
@@ -56,13 +63,17 @@ PFX_CLONES static void slide_walk(const prep *p, double dt, uint32_t m, slide_ch
         const double g0 = dot(q0, n); /* start_side: side 1 when g0 >= 0 */
         /* earliest_hit and detect_plane from x0 over dt */
         const double touch = TOUCH * (1 + dmax(fabs(x0[0]), dmax(fabs(x0[1]), fabs(x0[2]))));
-        double b = dot(v0, n), A = 0.5 * dot(a, n);
-        /* (| and &, not || and &&: no branch in the loop) */
-        b = (b == 0) | (fabs(b) <= NOISE * sqrt(dot(v0, v0))) ? 0 : b;
-        A = (A == 0) | (fabs(A) <= NOISE * sqrt(dot(a, a))) ? 0 : A;
+        /* The normal parts b, A as the general pass zeroes them when they
+         * are rounding noise (below NOISE times |v|, |a|): the walk takes
+         * only b exactly 0 and an A surely not noise, so it needs neither
+         * square root (sureness: see noise_test). */
+        const double b = dot(v0, n), A = 0.5 * dot(a, n);
+        const double a1 = fabs(a[0]) + fabs(a[1]) + fabs(a[2]);
         /* crossings(A, b, 0, dt): a hit at s = 0 when the first of b, A
-         * is negative (and no later one with b = 0) */
-        int ok = (fin <= DBL_MAX) & (g0 >= 0) & (g0 <= touch) & (b == 0) & (A < 0);
+         * is negative (and no later one with b = 0). (| and &, not || and
+         * &&: no branch in the loop.) */
+        int ok = (fin <= DBL_MAX) & (g0 >= 0) & (g0 <= touch) & (b == 0) & (A < 0) &
+                 (fabs(A) > 2 * NOISE * a1);
         /* advance 0 seconds, then pfx_collide_snap */
         double x[3], v[3];
         pos_at(x0, v0, a, 0, x);
@@ -85,14 +96,15 @@ PFX_CLONES static void slide_walk(const prep *p, double dt, uint32_t m, slide_ch
             a[j] -= an2 * n[j];
         /* slide_accel over the rest of the step, T = dt - 0 */
         const double T = dt - 0;
-        const double vm = sqrt(dot(v, v)), am = sqrt(dot(a, a));
+        const double vm = sqrt(dot(v, v));
+        /* a particle held by static friction (vm = 0) is left to the
+         * general pass: it is at rest, and flagged there for the restore */
+        ok &= !(fric > 0) | (vm > 0);
         double u[3], ae[3];
         for (int j = 0; j < 3; j++) {
             u[j] = v[j] / vm;
             const double sliding = a[j] - fric * u[j];
-            const double scaled = a[j] - fric * a[j] / am; /* (divided first: no branch) */
-            const double held = am <= fric ? 0 : scaled;
-            ae[j] = !(fric > 0) ? a[j] : vm > 0 ? sliding : held;
+            ae[j] = !(fric > 0) ? a[j] : sliding;
         }
         const double along = dot(ae, u);
         const double reached = vm / -along;
@@ -104,11 +116,15 @@ PFX_CLONES static void slide_walk(const prep *p, double dt, uint32_t m, slide_ch
         const double touch2 = TOUCH * (1 + dmax(fabs(x[0]), dmax(fabs(x[1]), fabs(x[2]))));
         const double q2[3] = {x[0] - P[0], x[1] - P[1], x[2] - P[2]};
         const double c2 = dot(q2, n);
-        double b2 = dot(v, n), A2 = 0.5 * dot(ae, n);
-        const bool culled = fabs(c2) > (fabs(b2) + fabs(A2) * horizon) * horizon + touch2;
-        b2 = (b2 == 0) | (fabs(b2) <= NOISE * sqrt(dot(v, v))) ? 0 : b2;
-        A2 = (A2 == 0) | (fabs(A2) <= NOISE * sqrt(dot(ae, ae))) ? 0 : A2;
-        ok &= culled | ((c2 <= touch2) & (b2 == 0) & (A2 == 0));
+        const double b2 = dot(v, n), A2 = 0.5 * dot(ae, n);
+        const int culled = fabs(c2) > (fabs(b2) + fabs(A2) * horizon) * horizon + touch2;
+        /* noise: b2 against sqrt(v.v), which is vm; A2 against |ae|,
+         * surely noise below half the NOISE of |ae|_1 (else, unless surely
+         * not, left to the general pass: the walk needs A2 zeroed) */
+        const int b2_zero = (b2 == 0) | (fabs(b2) <= NOISE * vm);
+        const int A2_zero =
+            (A2 == 0) | (fabs(A2) <= 0.5 * NOISE * (fabs(ae[0]) + fabs(ae[1]) + fabs(ae[2])));
+        ok &= culled | ((c2 <= touch2) & b2_zero & A2_zero);
         /* advance to the end of the step */
         pos_at(x, v, ae, horizon, x);
         for (int j = 0; j < 3; j++) {
