@@ -144,26 +144,41 @@ uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo)
     uint64_t contacts = 0;
     for (uint32_t j0 = 0; j0 < m; j0 += SLIDE_CHUNK) {
         const uint32_t end = m - j0 < SLIDE_CHUNK ? m : j0 + SLIDE_CHUNK;
+        /* The candidates, compacted without a branch on each mark (they
+         * fall at random: a branch mispredicted half of them), then
+         * gathered. */
         uint32_t count = 0;
+        const uint8_t *stuck = pool->stuck ? pool->stuck + i0 : NULL;
         for (uint32_t j = j0; j < end; j++) {
-            const uint32_t i = i0 + j;
-            if (!todo[j] || (pool->stuck && pool->stuck[i]) ||
-                (d->chance < 1 && !pfx_deflector_affects(d, pool->id ? pool->id[i] : i)))
-                continue;
-            s.x0[0][count] = pool->px0[i], s.x0[1][count] = pool->py0[i];
-            s.x0[2][count] = pool->pz0[i], s.v0[0][count] = pool->vx0[i];
-            s.v0[1][count] = pool->vy0[i], s.v0[2][count] = pool->vz0[i];
-            s.x1[0][count] = pool->px[i], s.x1[1][count] = pool->py[i];
-            s.x1[2][count] = pool->pz[i], s.v1[0][count] = pool->vx[i];
-            s.v1[1][count] = pool->vy[i], s.v1[2][count] = pool->vz[i];
-            idx[count++] = j;
+            idx[count] = j;
+            count += (todo[j] != 0) & (stuck ? stuck[j] == 0 : 1);
+        }
+        if (d->chance < 1) { /* those the chance lets pass take no part */
+            uint32_t kept = 0;
+            for (uint32_t k = 0; k < count; k++) {
+                const uint32_t i = i0 + idx[k];
+                idx[kept] = idx[k];
+                kept += pfx_deflector_affects(d, pool->id ? pool->id[i] : i);
+            }
+            count = kept;
+        }
+        for (uint32_t k = 0; k < count; k++) {
+            const uint32_t i = i0 + idx[k];
+            s.x0[0][k] = pool->px0[i], s.x0[1][k] = pool->py0[i], s.x0[2][k] = pool->pz0[i];
+            s.v0[0][k] = pool->vx0[i], s.v0[1][k] = pool->vy0[i], s.v0[2][k] = pool->vz0[i];
+            s.x1[0][k] = pool->px[i], s.x1[1][k] = pool->py[i], s.x1[2][k] = pool->pz[i];
+            s.v1[0][k] = pool->vx[i], s.v1[1][k] = pool->vy[i], s.v1[2][k] = pool->vz[i];
         }
         if (!count)
             continue;
         slide_walk(p, c->dt, count, &s);
+        uint32_t done[SLIDE_CHUNK], n_done = 0; /* the walks that held, compacted */
         for (uint32_t k = 0; k < count; k++) {
-            if (!s.ok[k])
-                continue;
+            done[n_done] = k;
+            n_done += s.ok[k];
+        }
+        for (uint32_t e = 0; e < n_done; e++) {
+            const uint32_t k = done[e];
             /* pfx_collide_store: a float point behind the plane would be
              * nudged; the general pass does that. (Through a volatile:
              * GCC 12's SLP pass here took (double)(float)x for x.) */
