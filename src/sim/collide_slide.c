@@ -28,7 +28,7 @@ bool pfx_collide_slide_applies(const ctx *c) {
 typedef struct slide_chunk {
     double x0[3][SLIDE_CHUNK], v0[3][SLIDE_CHUNK], x1[3][SLIDE_CHUNK], v1[3][SLIDE_CHUNK];
     double xe[3][SLIDE_CHUNK], ve[3][SLIDE_CHUNK];
-    uint8_t ok[SLIDE_CHUNK];
+    uint8_t ok[SLIDE_CHUNK]; /* the walk held (slide_walk: slid; flight_walk: no hit) */
 } slide_chunk;
 
 /* noise_test: the general pass compares a normal part N with NOISE
@@ -135,6 +135,92 @@ PFX_CLONES static void slide_walk(const prep *p, double dt, uint32_t m, slide_ch
     }
 }
 
+/* The other verdict, for the m gathered particles whose walk did not
+ * hold: collide_one leaves a particle as the integrator did when it starts
+ * behind the plane (side 0), or when detect_plane finds no downward
+ * crossing off the plane (culled, or none among crossings(A, b, c, dt)
+ * with c > touch) and the end point x1 is not behind the plane (no
+ * fallback); ok[k] says so. Apart from slide_walk, so that a slider does
+ * not pay for the roots. */
+PFX_CLONES static void flight_walk(const prep *p, double dt, uint32_t m, slide_chunk *restrict s) {
+    const double P[3] = {p->p[0], p->p[1], p->p[2]}, n[3] = {p->n[0], p->n[1], p->n[2]};
+    for (uint32_t k = 0; k < m; k++) {
+        double x0[3], v0[3], x1[3], a[3];
+        for (int j = 0; j < 3; j++) {
+            x0[j] = s->x0[j][k], v0[j] = s->v0[j][k], x1[j] = s->x1[j][k];
+            a[j] = (s->v1[j][k] - v0[j]) / dt; /* collide_one */
+        }
+        const double fin = fabs(x0[0]) + fabs(x0[1]) + fabs(x0[2]) + fabs(v0[0]) + fabs(v0[1]) +
+                           fabs(v0[2]) + fabs(x1[0]) + fabs(x1[1]) + fabs(x1[2]) + fabs(a[0]) +
+                           fabs(a[1]) + fabs(a[2]);
+        const double q0[3] = {x0[0] - P[0], x0[1] - P[1], x0[2] - P[2]};
+        const double g0 = dot(q0, n); /* start_side: side 1 when g0 >= 0 */
+        const double touch = TOUCH * (1 + dmax(fabs(x0[0]), dmax(fabs(x0[1]), fabs(x0[2]))));
+        const double b = dot(v0, n), A = 0.5 * dot(a, n);
+        /* detect_plane over dt: the cull, then crossings' roots (in every
+         * lane) and directions */
+        const int culled = fabs(g0) > (fabs(b) + fabs(A) * dt) * dt + touch;
+        const double lin = -g0 / b;
+        const double disc = b * b - 4 * A * g0;
+        const double qq = -0.5 * (b + copysign(sqrt(disc), b));
+        const double r1 = qq / A, r2 = g0 / qq;
+        const double lo = r1 > r2 ? r2 : r1, hi = r1 > r2 ? r1 : r2;
+        const int down_first = A > 0; /* d1 = -1: the first root is a downward crossing */
+        const int hit_lin = (b < 0) & (lin > 0) & (lin <= dt);
+        const int hit_quad = (disc > 0) & (((lo > 0) & (lo <= dt) & down_first) |
+                                           ((hi > 0) & (hi <= dt) & (1 - down_first)));
+        const int hit = (1 - culled) & (A == 0 ? hit_lin : hit_quad);
+        const double q1[3] = {x1[0] - P[0], x1[1] - P[1], x1[2] - P[2]};
+        const int behind = dot(q1, n) < 0; /* fallback */
+        /* (1 - x, not !x or x == 0: GCC 12 does not vectorise those as
+         * _Bool here) */
+        s->ok[k] = (uint8_t)((1 - (g0 >= 0)) | ((fin <= DBL_MAX) & (culled | (g0 > touch)) &
+                                                (1 - hit) & (1 - behind)));
+    }
+}
+
+/* pfx_collide_store and collide_one_rest for the particles whose slide
+ * held (done[0..n) of the chunk's idx): the end state stored as floats,
+ * flagged at rest where no bit moved, the todo mark cleared; a point the
+ * store would nudge off the plane is left to the general pass. */
+static void store_slides(const ctx *c, uint32_t i0, const slide_chunk *s, const uint32_t *idx,
+                         const uint32_t *done, uint32_t n, uint8_t *todo, uint64_t *contacts) {
+    const pfx_collide_pool *pool = c->pool;
+    const prep *p = &c->pr[0];
+    for (uint32_t e = 0; e < n; e++) {
+        const uint32_t k = done[e];
+        /* pfx_collide_store: a float point behind the plane would be
+         * nudged; the general pass does that. (Through a volatile:
+         * GCC 12's SLP pass here took (double)(float)x for x.) */
+        volatile float round[3] = {(float)s->xe[0][k], (float)s->xe[1][k], (float)s->xe[2][k]};
+        const float xf[3] = {round[0], round[1], round[2]};
+        /* pfx_collide_constraint of a plane on side 1, inline */
+        const double q[3] = {(double)xf[0] - p->p[0], (double)xf[1] - p->p[1],
+                             (double)xf[2] - p->p[2]};
+        if (!(1 * dot(q, p->n) >= 0))
+            continue;
+        const uint32_t j = idx[k], i = i0 + j;
+        const float vf[3] = {(float)s->ve[0][k], (float)s->ve[1][k], (float)s->ve[2][k]};
+        if (pool->rest) { /* collide_one_rest: still when no bit moved */
+            const float start[6] = {pool->px0[i], pool->py0[i], pool->pz0[i],
+                                    pool->vx0[i], pool->vy0[i], pool->vz0[i]};
+            const bool still = !memcmp(xf, start, sizeof xf) && !memcmp(vf, start + 3, sizeof vf);
+            pool->rest[i] = still ? (uint8_t)(2 | 0x80) : 0;
+            if (still) {
+                pool->rest_px[i] = pool->px[i], pool->rest_py[i] = pool->py[i];
+                pool->rest_pz[i] = pool->pz[i], pool->rest_vx[i] = pool->vx[i];
+                pool->rest_vy[i] = pool->vy[i], pool->rest_vz[i] = pool->vz[i];
+            }
+        }
+        pool->px[i] = xf[0], pool->py[i] = xf[1], pool->pz[i] = xf[2];
+        pool->vx[i] = vf[0], pool->vy[i] = vf[1], pool->vz[i] = vf[2];
+        if (pool->ax)
+            pool->ax[i] = NAN;
+        todo[j] = 0;
+        (*contacts)++;
+    }
+}
+
 uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo) {
     const pfx_collide_pool *pool = c->pool;
     const prep *p = &c->pr[0];
@@ -172,43 +258,40 @@ uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo)
         if (!count)
             continue;
         slide_walk(p, c->dt, count, &s);
-        uint32_t done[SLIDE_CHUNK], n_done = 0; /* the walks that held, compacted */
+        /* the walks that held, and the others, compacted */
+        uint32_t done[SLIDE_CHUNK], n_done = 0, left[SLIDE_CHUNK], n_left = 0;
         for (uint32_t k = 0; k < count; k++) {
-            done[n_done] = k;
-            n_done += s.ok[k];
+            done[n_done] = k, left[n_left] = k;
+            n_done += s.ok[k], n_left += 1u - s.ok[k];
         }
-        for (uint32_t e = 0; e < n_done; e++) {
-            const uint32_t k = done[e];
-            /* pfx_collide_store: a float point behind the plane would be
-             * nudged; the general pass does that. (Through a volatile:
-             * GCC 12's SLP pass here took (double)(float)x for x.) */
-            volatile float round[3] = {(float)s.xe[0][k], (float)s.xe[1][k], (float)s.xe[2][k]};
-            const float xf[3] = {round[0], round[1], round[2]};
-            /* pfx_collide_constraint of a plane on side 1, inline */
-            const double q[3] = {(double)xf[0] - p->p[0], (double)xf[1] - p->p[1],
-                                 (double)xf[2] - p->p[2]};
-            if (!(1 * dot(q, p->n) >= 0))
+        store_slides(c, i0, &s, idx, done, n_done, todo, &contacts);
+        /* the others packed to the front (left[e] >= e), for flight_walk */
+        for (uint32_t e = 0; e < n_left; e++) {
+            const uint32_t k = left[e];
+            for (int j = 0; j < 3; j++) {
+                s.x0[j][e] = s.x0[j][k], s.v0[j][e] = s.v0[j][k];
+                s.x1[j][e] = s.x1[j][k], s.v1[j][e] = s.v1[j][k];
+            }
+            idx[e] = idx[k];
+        }
+        flight_walk(p, c->dt, n_left, &s);
+        for (uint32_t e = 0; e < n_left; e++) {
+            if (!s.ok[e])
                 continue;
-            const uint32_t j = idx[k], i = i0 + j;
-            const float vf[3] = {(float)s.ve[0][k], (float)s.ve[1][k], (float)s.ve[2][k]};
-            if (pool->rest) { /* collide_one_rest: still when no bit moved */
+            const uint32_t j = idx[e], i = i0 + j;
+            if (pool->rest) { /* collide_one_rest: still when the step moved no bit */
                 const float start[6] = {pool->px0[i], pool->py0[i], pool->pz0[i],
                                         pool->vx0[i], pool->vy0[i], pool->vz0[i]};
-                const bool still =
-                    !memcmp(xf, start, sizeof xf) && !memcmp(vf, start + 3, sizeof vf);
-                pool->rest[i] = still ? (uint8_t)(2 | 0x80) : 0;
+                const float end[6] = {pool->px[i], pool->py[i], pool->pz[i],
+                                      pool->vx[i], pool->vy[i], pool->vz[i]};
+                const bool still = !memcmp(start, end, sizeof end);
+                pool->rest[i] = still ? 1 : 0;
                 if (still) {
-                    pool->rest_px[i] = pool->px[i], pool->rest_py[i] = pool->py[i];
-                    pool->rest_pz[i] = pool->pz[i], pool->rest_vx[i] = pool->vx[i];
-                    pool->rest_vy[i] = pool->vy[i], pool->rest_vz[i] = pool->vz[i];
+                    pool->rest_px[i] = end[0], pool->rest_py[i] = end[1], pool->rest_pz[i] = end[2];
+                    pool->rest_vx[i] = end[3], pool->rest_vy[i] = end[4], pool->rest_vz[i] = end[5];
                 }
             }
-            pool->px[i] = xf[0], pool->py[i] = xf[1], pool->pz[i] = xf[2];
-            pool->vx[i] = vf[0], pool->vy[i] = vf[1], pool->vz[i] = vf[2];
-            if (pool->ax)
-                pool->ax[i] = NAN;
             todo[j] = 0;
-            contacts++;
         }
     }
     return contacts;
