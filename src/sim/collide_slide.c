@@ -2,12 +2,15 @@
  * pass of a particle that starts the step on the plane, pressed against it
  * and not moving into it, is always the same walk (a contact at s = 0, the
  * normal parts removed, one slide with Coulomb friction to the end of the
- * step). This file runs that walk as straight-line double arithmetic over a
- * chunk of such particles, the very operations in the very order of
- * collide.c and collide_resolve.c, so the bits are theirs; a particle that
- * strays from the walk anywhere (a hop, a stop within the step, an impact,
- * a nudge at the store) is left to the general pass untouched. It does not
- * handle other shapes, several deflectors, or kill and stick responses. */
+ * step); that of a particle near the plane that reaches nothing is to
+ * leave it as the integrator did. This file runs both verdicts as
+ * straight-line double arithmetic over a chunk of particles in vector
+ * lanes, the very operations in the very order of collide.c,
+ * collide_shape.c and collide_resolve.c, so the bits are theirs; a
+ * particle that strays from them anywhere (a hop, an impact, a stop within
+ * the step, a nudge at the store, a fallback) is left to the general pass
+ * untouched. It does not handle other shapes, several deflectors, or kill
+ * and stick responses. */
 #include "sim/collide_internal.h"
 
 #include <float.h>

@@ -575,12 +575,13 @@ static void test_marks_given(void) {
     tpool_free(b);
 }
 
-/* Sliding particles on one plane take collide_slide.c's chunked walk; with a
- * second plane that no particle can reach they take the general pass. Both
- * must store the same bits, step after step, for sliders at every speed
- * (stopping, resting, -0 components, a hair above the plane) on a level
- * and a tilted plane, with and without friction, beside particles that
- * bounce and fly. */
+/* Sliding particles on one plane take collide_slide.c's chunked walk (and
+ * those that hit nothing its flight verdict); with a second plane that no
+ * particle can reach they take the general pass. Both must store the same
+ * bits, step after step, for sliders at every speed (stopping, resting,
+ * -0 components, a hair above the plane) on a level and a tilted plane,
+ * with and without friction, beside particles that bounce, fly, and rise
+ * from behind the plane. */
 static void test_slide_same_bits(void) {
     const double tilt[3] = {0.3, 1, 0.1};
     for (int variant = 0; variant < 4; variant++) {
@@ -598,7 +599,7 @@ static void test_slide_same_bits(void) {
             /* on the plane (level: exactly; tilted: its float rounding) */
             double y = tilted ? -0.2 - (tilt[0] * x + tilt[2] * z) / tilt[1] : 0;
             double vy = 0, uu = u, ww = w;
-            switch (i % 6) {
+            switch (i % 7) {
             case 0: /* at rest */
                 uu = ww = 0;
                 break;
@@ -613,6 +614,9 @@ static void test_slide_same_bits(void) {
                 break;
             case 4: /* slow enough to stop within a few steps */
                 uu *= 0.01, ww *= 0.01;
+                break;
+            case 5: /* behind the plane, rising through it */
+                y -= 0.002 * (i % 11), vy = 0.3;
                 break;
             default:
                 break;
