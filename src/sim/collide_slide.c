@@ -48,7 +48,8 @@ typedef struct slide_chunk {
  * particles to a vector (with the file's -fno-trapping-math and
  * -fno-tree-pre, CMakeLists.txt): division and square root are correctly
  * rounded in every lane, so the bits do not depend on the width. */
-PFX_CLONES static void slide_walk(const prep *p, double dt, uint32_t m, slide_chunk *restrict s) {
+static inline __attribute__((always_inline)) void walk(const prep *p, double dt, uint32_t m,
+                                                       slide_chunk *restrict s, const bool held) {
     const double P[3] = {p->p[0], p->p[1], p->p[2]}, n[3] = {p->n[0], p->n[1], p->n[2]};
     const double mu = p->mu_slide;
     for (uint32_t k = 0; k < m; k++) {
@@ -100,14 +101,25 @@ PFX_CLONES static void slide_walk(const prep *p, double dt, uint32_t m, slide_ch
         /* slide_accel over the rest of the step, T = dt - 0 */
         const double T = dt - 0;
         const double vm = sqrt(dot(v, v));
-        /* a particle held by static friction (vm = 0) is left to the
-         * general pass: it is at rest, and flagged there for the restore */
-        ok &= !(fric > 0) | (vm > 0);
-        double u[3], ae[3];
+        /* Sliding (vm > 0: friction against the velocity), or `held` by
+         * static friction (vm = 0: friction against the push, up to fric;
+         * its square root and divisions only in held_walk's lanes). */
+        double u[3], ae[3], am = 0;
+        if (held) {
+            ok &= (fric > 0) & (1 - (vm > 0));
+            am = sqrt(dot(a, a));
+        } else {
+            ok &= (1 - (fric > 0)) | (vm > 0);
+        }
         for (int j = 0; j < 3; j++) {
             u[j] = v[j] / vm;
-            const double sliding = a[j] - fric * u[j];
-            ae[j] = !(fric > 0) ? a[j] : sliding;
+            if (held) {
+                const double scaled = a[j] - fric * a[j] / am;
+                ae[j] = am <= fric ? 0 : scaled;
+            } else {
+                const double sliding = a[j] - fric * u[j];
+                ae[j] = !(fric > 0) ? a[j] : sliding;
+            }
         }
         const double along = dot(ae, u);
         const double reached = vm / -along;
@@ -136,6 +148,17 @@ PFX_CLONES static void slide_walk(const prep *p, double dt, uint32_t m, slide_ch
         }
         s->ok[k] = (uint8_t)ok;
     }
+}
+
+/* The walk of a sliding particle, and of one held at rest by static
+ * friction (a newborn at rest, or one that stopped: the general pass
+ * would flag it for the restore), in separate loops: a slider does not
+ * pay for the held branch's square root and divisions. */
+PFX_CLONES static void slide_walk(const prep *p, double dt, uint32_t m, slide_chunk *restrict s) {
+    walk(p, dt, m, s, false);
+}
+PFX_CLONES static void held_walk(const prep *p, double dt, uint32_t m, slide_chunk *restrict s) {
+    walk(p, dt, m, s, true);
 }
 
 /* The other verdict, for the m gathered particles whose walk did not
@@ -224,6 +247,19 @@ static void store_slides(const ctx *c, uint32_t i0, const slide_chunk *s, const 
     }
 }
 
+/* Moves the gathered particles list[0..n) (ascending, list[e] >= e) to
+ * the front of the chunk, with their indices. */
+static void pack(slide_chunk *s, uint32_t *idx, const uint32_t *list, uint32_t n) {
+    for (uint32_t e = 0; e < n; e++) {
+        const uint32_t k = list[e];
+        for (int j = 0; j < 3; j++) {
+            s->x0[j][e] = s->x0[j][k], s->v0[j][e] = s->v0[j][k];
+            s->x1[j][e] = s->x1[j][k], s->v1[j][e] = s->v1[j][k];
+        }
+        idx[e] = idx[k];
+    }
+}
+
 uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo) {
     const pfx_collide_pool *pool = c->pool;
     const prep *p = &c->pr[0];
@@ -268,14 +304,25 @@ uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo)
             n_done += s.ok[k], n_left += 1u - s.ok[k];
         }
         store_slides(c, i0, &s, idx, done, n_done, todo, &contacts);
-        /* the others packed to the front (left[e] >= e), for flight_walk */
+        /* the others packed to the front (left[e] >= e), for held_walk
+         * those that start still (its only candidates), then the rest for
+         * flight_walk */
+        uint32_t n_still = 0;
         for (uint32_t e = 0; e < n_left; e++) {
             const uint32_t k = left[e];
-            for (int j = 0; j < 3; j++) {
-                s.x0[j][e] = s.x0[j][k], s.v0[j][e] = s.v0[j][k];
-                s.x1[j][e] = s.x1[j][k], s.v1[j][e] = s.v1[j][k];
+            n_still += (s.v0[0][k] == 0) & (s.v0[1][k] == 0) & (s.v0[2][k] == 0);
+        }
+        pack(&s, idx, left, n_left);
+        if (n_still) {
+            held_walk(p, c->dt, n_left, &s);
+            uint32_t n_held = 0, n_other = 0;
+            for (uint32_t k = 0; k < n_left; k++) {
+                done[n_held] = k, left[n_other] = k;
+                n_held += s.ok[k], n_other += 1u - s.ok[k];
             }
-            idx[e] = idx[k];
+            store_slides(c, i0, &s, idx, done, n_held, todo, &contacts);
+            pack(&s, idx, left, n_other);
+            n_left = n_other;
         }
         flight_walk(p, c->dt, n_left, &s);
         for (uint32_t e = 0; e < n_left; e++) {
