@@ -207,6 +207,7 @@ void pfx_estimate_run(const pfx_effect *e, long first, long last, unsigned what,
             out->sprite_pixels += frames * em->capacity * fmin(image, fmax(1, side * side));
         }
     }
+    queue_bytes += (double)pfx_sim_hit_buffer_bytes(e); /* the blocks' on_hit events */
     out->particle_steps = out->steps * particles;
     out->spawn_events = out->steps * events;
     out->work = out->particle_steps + out->spawn_events;

@@ -255,6 +255,42 @@ static inline uint32_t bits(float f) {
     return u;
 }
 
+/* *f = the float whose bits are u. */
+static inline void put(float *f, uint32_t u) { memcpy(f, &u, sizeof u); }
+
+/* The lanes of rest_chunk: k = the particle's flag is set and its end
+ * state (x..w) is bit for bit the flagged one (kx..kw); then the start
+ * state's bits (x0..w0) replace the end state's. The arrays are restrict
+ * parameters of a function not inlined, so that GCC 12 believes them
+ * apart: with locals, or inlined, it wanted over 100 run-time alias
+ * checks and gave up vectorising. & and | stand for && and ||, which it
+ * leaves as branches. */
+PFX_CLONES __attribute__((noinline)) static uint32_t
+rest_lanes(uint32_t m, const uint8_t *restrict rest, const uint8_t *restrict near,
+           uint8_t *restrict todo, uint8_t *restrict keep, float *restrict x, float *restrict y,
+           float *restrict z, float *restrict u, float *restrict v, float *restrict w,
+           const float *restrict x0, const float *restrict y0, const float *restrict z0,
+           const float *restrict u0, const float *restrict v0, const float *restrict w0,
+           const float *restrict kx, const float *restrict ky, const float *restrict kz,
+           const float *restrict ku, const float *restrict kv, const float *restrict kw) {
+    uint32_t contacts = 0; /* (at most 126 a particle of 256) */
+    for (uint32_t j = 0; j < m; j++) {
+        const uint32_t X = bits(x[j]), Y = bits(y[j]), Z = bits(z[j]), U = bits(u[j]),
+                       V = bits(v[j]), W = bits(w[j]);
+        const uint32_t diff = (X ^ bits(kx[j])) | (Y ^ bits(ky[j])) | (Z ^ bits(kz[j])) |
+                              (U ^ bits(ku[j])) | (V ^ bits(kv[j])) | (W ^ bits(kw[j]));
+        const uint32_t r = rest[j], k = (uint32_t)(r != 0) & (uint32_t)(diff == 0);
+        keep[j] = (uint8_t)k;
+        todo[j] = (uint8_t)((uint32_t)(near[j] != 0) & (k ^ 1u));
+        const uint32_t all = 0u - k; /* selects of loaded words */
+        put(&x[j], (bits(x0[j]) & all) | (X & ~all)), put(&y[j], (bits(y0[j]) & all) | (Y & ~all));
+        put(&z[j], (bits(z0[j]) & all) | (Z & ~all)), put(&u[j], (bits(u0[j]) & all) | (U & ~all));
+        put(&v[j], (bits(v0[j]) & all) | (V & ~all)), put(&w[j], (bits(w0[j]) & all) | (W & ~all));
+        contacts += ((r & 0x7fu) - 1u) & all;
+    }
+    return contacts;
+}
+
 /* The resting particles of [i0, i0 + m) (m <= BROAD_CHUNK), a chunk at a
  * time in straight loops (an AVX2 or AVX-512 clone): one flagged at rest
  * whose integrator end state is bit for bit the flagged one is put back
@@ -264,32 +300,17 @@ static inline uint32_t bits(float f) {
  * contacts the kept ones count. */
 PFX_CLONES static uint64_t rest_chunk(const pfx_collide_pool *pool, uint32_t i0, uint32_t m,
                                       const uint8_t *restrict near, uint8_t *restrict todo) {
-    const uint8_t *restrict rest = pool->rest + i0;
-    const float *restrict kx = pool->rest_px + i0, *restrict ky = pool->rest_py + i0,
-                          *restrict kz = pool->rest_pz + i0, *restrict ku = pool->rest_vx + i0,
-                          *restrict kv = pool->rest_vy + i0, *restrict kw = pool->rest_vz + i0;
-    const float *restrict x0 = pool->px0 + i0, *restrict y0 = pool->py0 + i0,
-                          *restrict z0 = pool->pz0 + i0, *restrict u0 = pool->vx0 + i0,
-                          *restrict v0 = pool->vy0 + i0, *restrict w0 = pool->vz0 + i0;
-    float *restrict x = pool->px + i0, *restrict y = pool->py + i0, *restrict z = pool->pz + i0;
-    float *restrict u = pool->vx + i0, *restrict v = pool->vy + i0, *restrict w = pool->vz + i0;
+    const uint8_t *rest = pool->rest + i0;
     uint8_t keep[BROAD_CHUNK];
-    uint64_t contacts = 0;
-    for (uint32_t j = 0; j < m; j++) {
-        const uint32_t diff = (bits(x[j]) ^ bits(kx[j])) | (bits(y[j]) ^ bits(ky[j])) |
-                              (bits(z[j]) ^ bits(kz[j])) | (bits(u[j]) ^ bits(ku[j])) |
-                              (bits(v[j]) ^ bits(kv[j])) | (bits(w[j]) ^ bits(kw[j]));
-        const bool k = rest[j] != 0 && diff == 0;
-        keep[j] = k;
-        todo[j] = near[j] && !k;
-        x[j] = k ? x0[j] : x[j], y[j] = k ? y0[j] : y[j], z[j] = k ? z0[j] : z[j];
-        u[j] = k ? u0[j] : u[j], v[j] = k ? v0[j] : v[j], w[j] = k ? w0[j] : w[j];
-        contacts += k ? (rest[j] & 0x7fu) - 1u : 0u;
-    }
+    const uint32_t contacts = rest_lanes(
+        m, rest, near, todo, keep, pool->px + i0, pool->py + i0, pool->pz + i0, pool->vx + i0,
+        pool->vy + i0, pool->vz + i0, pool->px0 + i0, pool->py0 + i0, pool->pz0 + i0,
+        pool->vx0 + i0, pool->vy0 + i0, pool->vz0 + i0, pool->rest_px + i0, pool->rest_py + i0,
+        pool->rest_pz + i0, pool->rest_vx + i0, pool->rest_vy + i0, pool->rest_vz + i0);
     if (pool->ax) {
         float *restrict ax = pool->ax + i0;
         for (uint32_t j = 0; j < m; j++)
-            ax[j] = keep[j] && (rest[j] & 0x80) ? NAN : ax[j];
+            ax[j] = (keep[j] & (rest[j] >> 7)) ? NAN : ax[j];
     }
     return contacts;
 }
@@ -324,10 +345,10 @@ static void collide_one_rest(const ctx *c, uint32_t i, body *b) {
     }
 }
 
-/* The exact pass over particles [i0, i0 + m) where near (indexed from i0)
- * marks them near a surface or stuck, in index order: the hits draw from
- * one stream. */
-static void exact_pass(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *near) {
+/* The exact pass of each particle of [i0, i0 + m) that near (indexed from
+ * i0) marks near a surface or stuck, in index order (so are the hit
+ * events). */
+static void exact_range(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *near) {
     const pfx_collide_pool *pool = c->pool;
     body b;
     /* Eight marks at a time: most particles are far from every surface and
@@ -352,6 +373,27 @@ static void exact_pass(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *nea
             else
                 collide_one(c, i, &b);
         }
+    }
+}
+
+/* The exact pass over particles [i0, i0 + m) where near (indexed from i0)
+ * marks them: a chunk at a time, the sliding ones all together where the
+ * deflectors allow (collide_slide.c: the same bits), then the rest one by
+ * one. A sliding particle raises no event, so the events keep their
+ * order. */
+static void exact_pass(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *near) {
+    if (!pfx_collide_slide_applies(c)) {
+        exact_range(c, i0, m, near);
+        return;
+    }
+    uint8_t todo[BROAD_CHUNK];
+    for (uint32_t k0 = 0; k0 < m; k0 += BROAD_CHUNK) {
+        const uint32_t mk = m - k0 < BROAD_CHUNK ? m - k0 : (uint32_t)BROAD_CHUNK;
+        memcpy(todo, near + k0, mk);
+        const uint64_t contacts = pfx_collide_slide(c, i0 + k0, mk, todo);
+        if (c->stats)
+            c->stats->contacts += contacts;
+        exact_range(c, i0 + k0, mk, todo);
     }
 }
 

@@ -90,6 +90,16 @@ bool pfx_collide_detect(const prep *p, int side, const double x[3], const double
                         const double a[3], double T, double touch, hit *h);
 void pfx_collide_snap(const prep *p, const hit *h, double x[3], double n[3]);
 
+/* collide_slide.c: the sliding particles of a chunk at once. Whether the
+ * pass's deflectors are the one kind it handles (one infinite plane that
+ * bounces); then, of particles [i0, i0 + m) where todo (indexed from i0)
+ * is set, each that starts on the plane and slides through the step is
+ * resolved and stored exactly as collide_one would, and each that hits
+ * nothing is left as it would leave it (both flagged at rest as
+ * collide_one_rest would), its todo cleared; returns the contacts. */
+bool pfx_collide_slide_applies(const ctx *c);
+uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo);
+
 /* collide_resolve.c: one particle through one step. */
 int pfx_collide_resolve(const ctx *c, body *b);
 void pfx_collide_store(const ctx *c, body *b);

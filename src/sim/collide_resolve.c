@@ -33,14 +33,18 @@ static void rest(const ctx *c, body *b, size_t k, const double n[3], double fric
     b->fric += fric;
     if (c->pr[k].shape == PFX_DEFLECTOR_SPHERE && c->pr[k].inside)
         b->slide = (long)k;
-    double L[3] = {b->cn[1] * n[2] - b->cn[2] * n[1], b->cn[2] * n[0] - b->cn[0] * n[2],
-                   b->cn[0] * n[1] - b->cn[1] * n[0]};
-    double l = sqrt(dot(L, L));
-    if (b->contacts == 0 || b->ck == k || (b->contacts == 1 && l < 1e-6)) {
+    const bool first = b->contacts == 0 || b->ck == k;
+    double L[3] = {0, 0, 0}, l = 0;
+    if (!first) { /* the crease line, only for a second surface */
+        L[0] = b->cn[1] * n[2] - b->cn[2] * n[1], L[1] = b->cn[2] * n[0] - b->cn[0] * n[2];
+        L[2] = b->cn[0] * n[1] - b->cn[1] * n[0];
+        l = sqrt(dot(L, L));
+    }
+    if (first || (b->contacts == 1 && l < 1e-6)) {
         double an = dot(b->a, n);
         for (int j = 0; j < 3; j++)
             b->a[j] -= an * n[j];
-        if (b->contacts == 0 || b->ck == k)
+        if (first)
             memcpy(b->cn, n, sizeof b->cn), b->ck = k, b->contacts = b->contacts ? b->contacts : 1;
         return;
     }

@@ -305,9 +305,9 @@ static bool detect_plane(const prep *p, int side, const double x[3], const doubl
          * normal was removed (1e-16 of the whole) are no motion; they
          * would otherwise report the same contact again at s = 0. */
         c = 0;
-        if (fabs(b) <= NOISE * sqrt(dot(v, v)))
+        if (b == 0 || fabs(b) <= NOISE * sqrt(dot(v, v))) /* (no square root for a 0) */
             b = 0;
-        if (fabs(A) <= NOISE * sqrt(dot(a, a)))
+        if (A == 0 || fabs(A) <= NOISE * sqrt(dot(a, a)))
             A = 0;
     }
     int m = crossings(A, b, c, T, s, dir);
@@ -339,9 +339,9 @@ static bool detect_sphere(const prep *p, const double x[3], const double v[3], c
     double c[5] = {sg * (dot(q, q) - p->r * p->r), 0, 0, sg * dot(v, a), sg * 0.25 * dot(a, a)};
     if (c[0] <= 2 * p->r * touch) { /* on it: as for planes */
         c[0] = 0;
-        if (fabs(qv) <= NOISE * lq * sqrt(dot(v, v)))
+        if (qv == 0 || fabs(qv) <= NOISE * lq * sqrt(dot(v, v)))
             qv = 0;
-        if (fabs(qa) <= NOISE * lq * sqrt(dot(a, a)))
+        if (qa == 0 || fabs(qa) <= NOISE * lq * sqrt(dot(a, a)))
             qa = 0;
     }
     c[1] = sg * 2 * qv;

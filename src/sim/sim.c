@@ -29,6 +29,17 @@ size_t pfx_sim_scratch_bytes_per_particle(const pfx_effect *e, size_t i) {
     return pfx_pool_scratch_bytes_per_particle(&e->emitters[i]);
 }
 
+size_t pfx_sim_hit_buffer_bytes(const pfx_effect *e) {
+    size_t largest = 0;
+    bool hits = false;
+    for (size_t i = 0; i < e->emitter_count; i++) {
+        const pfx_emitter *em = &e->emitters[i];
+        largest = em->capacity > largest ? em->capacity : largest;
+        hits |= em->deflector_count && pfx_spawn_has(em, PFX_SPAWN_HIT);
+    }
+    return hits ? (largest / PFX_SIM_BLOCK + 1) * sizeof(pfx_hit_buffer) : 0;
+}
+
 /* Seeds every emitter's streams and schedule: the state at time 0. */
 static void init_emitters(pfx_sim *s) {
     const pfx_effect *e = s->effect;
@@ -65,6 +76,8 @@ pfx_sim *pfx_sim_create(const pfx_effect *e, pfx_diags *d) {
     s->block_flags = calloc(largest / PFX_SIM_BLOCK + 1, 1);
     s->block_stats = calloc(largest / PFX_SIM_BLOCK + 1, sizeof *s->block_stats);
     s->births = calloc(1, sizeof *s->births);
+    const size_t hit_bytes = pfx_sim_hit_buffer_bytes(e);
+    s->hit_buffers = hit_bytes ? malloc(hit_bytes) : NULL;
     /* More threads than blocks of the largest pool would only sleep. */
     int threads = e->threads > 0 ? e->threads : pfx_workers_cores();
     if ((size_t)threads > largest / PFX_SIM_BLOCK + 1)
@@ -73,7 +86,8 @@ pfx_sim *pfx_sim_create(const pfx_effect *e, pfx_diags *d) {
     /* One block behind every pool; malloc aligns it for any column. */
     s->storage = malloc(bytes ? bytes : 1);
     if (!s->pools || !s->emitters || !s->plans || !s->storage || !s->block_flags ||
-        !s->block_stats || !s->births || !s->workers || !pfx_spawn_queues_create(s)) {
+        !s->block_stats || !s->births || (hit_bytes && !s->hit_buffers) || !s->workers ||
+        !pfx_spawn_queues_create(s)) {
         pfx_sim_destroy(s);
         return NULL;
     }
@@ -110,6 +124,7 @@ void pfx_sim_destroy(pfx_sim *s) {
     free(s->block_flags);
     free(s->block_stats);
     free(s->births);
+    free(s->hit_buffers);
     pfx_workers_destroy(s->workers);
     pfx_spawn_queues_destroy(s);
     pfx_sim_destroy(s->loop_start);

@@ -103,39 +103,66 @@ void pfx_spawn_queues_destroy(pfx_sim *s) {
     s->queues = NULL;
 }
 
-void pfx_spawn_event_of(pfx_sim *s, size_t i, pfx_spawn_event event, uint32_t j, double t,
-                        const double pos[3], const double vel[3], const double normal[3]) {
+void pfx_spawn_capture(const pfx_sim *s, size_t i, pfx_spawn_event event, uint32_t j, double t,
+                       const double pos[3], const double vel[3], const double normal[3],
+                       pfx_spawn_source *src) {
     const pfx_emitter *em = &s->effect->emitters[i];
     const pfx_pool *p = &s->pools[i];
-    float generation = p->generation ? p->generation[j] : 0;
+    src->t = t;
+    memcpy(src->pos, pos, sizeof src->pos);
+    memcpy(src->vel, vel, sizeof src->vel);
+    src->has_normal = normal != NULL;
+    if (normal)
+        memcpy(src->normal, normal, sizeof src->normal);
+    src->generation = p->generation ? p->generation[j] : 0;
     /* a hit's number: the impacts before it (collide_resolve.c raises the
      * count after on_hit) */
-    const uint64_t number = event == PFX_SPAWN_HIT && p->hits ? p->hits[j] : 0;
+    src->number = event == PFX_SPAWN_HIT && p->hits ? p->hits[j] : 0;
+    src->id = p->id[j];
+    bool color = false, size = false;
+    for (size_t k = 0; k < em->spawn_count; k++)
+        if (em->spawns[k].event == event)
+            color |= em->spawns[k].inherit_color, size |= em->spawns[k].inherit_size;
+    if (color) {
+        float c[4];
+        pfx_particle_color(em, p, j, c);
+        src->color[0] = c[0], src->color[1] = c[1], src->color[2] = c[2];
+    }
+    src->size = size ? pfx_particle_size(em, p, j) : 1;
+}
+
+void pfx_spawn_queue_source(pfx_sim *s, size_t i, pfx_spawn_event event,
+                            const pfx_spawn_source *src) {
+    const pfx_emitter *em = &s->effect->emitters[i];
     for (size_t k = 0; k < em->spawn_count; k++) {
         const pfx_spawn *sp = &em->spawns[k];
-        if (sp->event != event || (sp->depth && generation >= (float)sp->depth))
+        if (sp->event != event || (sp->depth && src->generation >= (float)sp->depth))
             continue;
-        spawn_record *r = queue_event(s, sp, t, event_key(s, i, k, p->id[j], number));
+        spawn_record *r = queue_event(s, sp, src->t, event_key(s, i, k, src->id, src->number));
         if (!r)
             continue;
         pfx_parent *pa = &r->parent;
-        memcpy(pa->pos, pos, sizeof pa->pos);
-        memcpy(pa->vel, vel, sizeof pa->vel);
-        pa->has_normal = normal != NULL;
-        if (normal)
-            memcpy(pa->normal, normal, sizeof pa->normal);
+        memcpy(pa->pos, src->pos, sizeof pa->pos);
+        memcpy(pa->vel, src->vel, sizeof pa->vel);
+        pa->has_normal = src->has_normal;
+        if (src->has_normal)
+            memcpy(pa->normal, src->normal, sizeof pa->normal);
         pa->inherit_velocity = sp->inherit_velocity;
         pa->inherit_color = sp->inherit_color;
         pa->inherit_size = sp->inherit_size;
-        pa->generation = generation;
-        pa->id = p->id[j];
-        if (sp->inherit_color) {
-            float c[4];
-            pfx_particle_color(em, p, j, c);
-            pa->color[0] = c[0], pa->color[1] = c[1], pa->color[2] = c[2];
-        }
-        pa->size = sp->inherit_size ? pfx_particle_size(em, p, j) : 1;
+        pa->generation = src->generation;
+        pa->id = src->id;
+        if (sp->inherit_color)
+            memcpy(pa->color, src->color, sizeof pa->color);
+        pa->size = sp->inherit_size ? src->size : 1;
     }
+}
+
+void pfx_spawn_event_of(pfx_sim *s, size_t i, pfx_spawn_event event, uint32_t j, double t,
+                        const double pos[3], const double vel[3], const double normal[3]) {
+    pfx_spawn_source src;
+    pfx_spawn_capture(s, i, event, j, t, pos, vel, normal, &src);
+    pfx_spawn_queue_source(s, i, event, &src);
 }
 
 void pfx_spawn_trails(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double t1) {

@@ -66,6 +66,26 @@ size_t pfx_spawn_queue_capacity(const pfx_effect *e, size_t i);
 void pfx_spawn_event_of(pfx_sim *s, size_t i, pfx_spawn_event event, uint32_t j, double t,
                         const double pos[3], const double vel[3], const double normal[3]);
 
+/* What an event takes from its particle at the moment it happens: the two
+ * halves of pfx_spawn_event_of, so that a thread can take the particle's
+ * part while it owns the particle and the queues (shared) take the events
+ * later in a fixed order, with the same result. */
+typedef struct pfx_spawn_source {
+    double t, pos[3], vel[3], normal[3];
+    bool has_normal;
+    uint64_t number; /* the event's number (a hit's: the impacts before it) */
+    uint32_t id;
+    float generation, color[3], size;
+} pfx_spawn_source;
+
+/* Reads particle j of emitter i into *src (pure: reads the pool only). */
+void pfx_spawn_capture(const pfx_sim *s, size_t i, pfx_spawn_event event, uint32_t j, double t,
+                       const double pos[3], const double vel[3], const double normal[3],
+                       pfx_spawn_source *src);
+/* Queues the events of kind `event` of emitter i that *src describes. */
+void pfx_spawn_queue_source(pfx_sim *s, size_t i, pfx_spawn_event event,
+                            const pfx_spawn_source *src);
+
 /* Queues the trail births of particles [first, first + n) of emitter i in
  * the step from t0 (or their birth, if later) to t1, whose end state they
  * hold: one per trail time, whatever the step rate. */

@@ -78,6 +78,8 @@ typedef struct pfx_sim {
     bool failed;                    /* a state went non-finite or exploded: stop */
     pfx_diags *diags;               /* where a failure says what, where, when and the likely
                                        cause (not owned; may be NULL) */
+    /* per block: its on_hit events (sim/step.h); NULL where no emitter has on_hit */
+    struct pfx_hit_buffer *hit_buffers;
 } pfx_sim;
 
 /* Particle i's age at the pool's time, seconds. */

@@ -286,12 +286,14 @@ uint32_t pfx_step_move(pfx_sim *s, size_t i, double t0, double t1, bool scan_dea
 }
 
 /* A deflector hit of particle `first + index` becomes an on_hit event at
- * the exact time and place, with the surface normal. */
+ * the exact time and place, with the surface normal: queued at once, or
+ * held in the block's buffer for the merge (pfx_hit_buffer). */
 typedef struct hit_context {
     pfx_sim *s;
     size_t emitter;
     uint32_t first;
     double t0;
+    pfx_hit_buffer *held; /* NULL: queue at once */
 } hit_context;
 
 static void on_hit(void *user, uint32_t index, size_t deflector, const double pos[3],
@@ -301,15 +303,21 @@ static void on_hit(void *user, uint32_t index, size_t deflector, const double po
     const pfx_pool *p = &h->s->pools[h->emitter];
     uint32_t j = h->first + index;
     const double vel[3] = {p->vx[j], p->vy[j], p->vz[j]};
+    if (h->held) { /* room is certain: see collide_block */
+        pfx_spawn_capture(h->s, h->emitter, PFX_SPAWN_HIT, j, h->t0 + t_hit, pos, vel, normal,
+                          &h->held->items[h->held->count++]);
+        return;
+    }
     pfx_spawn_event_of(h->s, h->emitter, PFX_SPAWN_HIT, j, h->t0 + t_hit, pos, vel, normal);
 }
 
 /* Deflectors for particles [first, first + n) over the step of length dt
  * just integrated: each path is swept from its start state, so nothing
  * tunnels, and hits are resolved at their exact times (src/sim/collide.c).
- * near: the move pass's marks, or NULL; the counters go to stats. */
+ * near: the move pass's marks, or NULL; the counters go to stats; the
+ * on_hit events to `held`, or (NULL) the queues. */
 static void collide_range(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double dt,
-                          const uint8_t *near, pfx_collide_stats *stats) {
+                          const uint8_t *near, pfx_collide_stats *stats, pfx_hit_buffer *held) {
     const pfx_emitter *em = &s->effect->emitters[i];
     pfx_collide_pool view = collide_view(&s->pools[i], first, n);
     view.key = s->emitters[i].hit_key;
@@ -318,59 +326,76 @@ static void collide_range(pfx_sim *s, size_t i, uint32_t first, uint32_t n, doub
     if (!near)
         view.rest = NULL;
     view.rest_valid = (float)dt == s->emitters[i].rest_dt;
-    hit_context hc = {s, i, first, t0};
+    hit_context hc = {s, i, first, t0, held};
     bool hits = em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_HIT);
     pfx_collide(em->deflectors, em->deflector_count, dt, &view, near, hits ? on_hit : NULL, &hc,
                 stats);
 }
 
 void pfx_step_collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double dt) {
-    collide_range(s, i, first, n, t0, dt, NULL, &s->emitters[i].collisions);
-}
-
-/* Whether emitter em's collide pass may run its blocks on any thread: no
- * hit starts a particle, so each particle's result depends on its own
- * state alone (random responses are keyed by the particle and its hit
- * number, not drawn from a stream in order), and the counters are sums. */
-static bool collide_order_free(const pfx_emitter *em) {
-    return !(em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_HIT));
+    collide_range(s, i, first, n, t0, dt, NULL, &s->emitters[i].collisions, NULL);
 }
 
 typedef struct collide_job {
     pfx_sim *s;
     size_t emitter;
     double t0, dt;
-    bool ordered; /* in pool order, on one thread: the emitter's stream and counters */
+    bool hits; /* the emitter's hits start particles: events held per block */
 } collide_job;
 
 /* Block b of the collide pass, when the move pass noted it near a
  * surface; noted as holding a death after (a deflector may kill or shorten
- * a life). Unordered, with no stream and the block's own counters. */
+ * a life). Its own counters; with hits, its events held in runs of
+ * particles whose events surely fit, up to where the next would not. */
 static void collide_block(void *arg, size_t b) {
     const collide_job *j = arg;
     pfx_sim *s = j->s;
-    pfx_emitter_state *st = &s->emitters[j->emitter];
-    pfx_collide_stats *stats = j->ordered ? &st->collisions : &s->block_stats[b];
-    if (j->ordered) /* the move pass's count of the block's particles at rest */
-        stats->contacts += s->block_stats[b].contacts;
+    const pfx_pool *p = &s->pools[j->emitter];
+    const uint32_t first = (uint32_t)(b * PFX_SIM_BLOCK), n = block_size(p, b);
+    const uint8_t *near = p->near + first;
+    pfx_collide_stats *stats = &s->block_stats[b];
+    pfx_hit_buffer *held = j->hits ? &s->hit_buffers[b] : NULL;
+    if (held)
+        held->count = 0, held->resume = n;
     if (!(s->block_flags[b] & PFX_BLOCK_NEAR))
         return;
-    const pfx_pool *p = &s->pools[j->emitter];
-    const uint32_t first = (uint32_t)(b * PFX_SIM_BLOCK);
-    collide_range(s, j->emitter, first, block_size(p, b), j->t0, j->dt, p->near + first, stats);
     s->block_flags[b] |= PFX_BLOCK_DEATH;
+    if (!held) {
+        collide_range(s, j->emitter, first, n, j->t0, j->dt, near, stats, NULL);
+        return;
+    }
+    uint32_t from = 0;
+    while (from < n) {
+        const uint32_t room = (PFX_BLOCK_HIT_EVENTS - held->count) / PFX_COLLIDE_MAX_HITS;
+        uint32_t to = from, marked = 0;
+        while (to < n && (marked < room || !near[to]))
+            marked += near[to++] != 0;
+        if (to == from)
+            break; /* the next marked particle might not fit */
+        collide_range(s, j->emitter, first + from, to - from, j->t0, j->dt, near + from, stats,
+                      held);
+        from = to;
+    }
+    held->resume = from;
 }
 
 void pfx_step_collide_moved(pfx_sim *s, size_t i, double t0, double dt) {
-    const size_t blocks = block_count(&s->pools[i]);
-    collide_job job = {s, i, t0, dt, !collide_order_free(&s->effect->emitters[i])};
-    if (job.ordered) {
-        for (size_t b = 0; b < blocks; b++)
-            collide_block(&job, b);
-        s->emitters[i].rest_dt = (float)dt;
-        return;
-    }
+    const pfx_pool *p = &s->pools[i];
+    const size_t blocks = block_count(p);
+    const pfx_emitter *em = &s->effect->emitters[i];
+    collide_job job = {s, i, t0, dt, em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_HIT)};
     pfx_workers_run(s->workers, blocks, collide_block, &job);
+    /* In block order, as a pass over the pool: each block's held events,
+     * then the particles it left, their events queued as they come. */
+    for (size_t b = 0; job.hits && b < blocks; b++) {
+        const pfx_hit_buffer *held = &s->hit_buffers[b];
+        for (uint32_t k = 0; k < held->count; k++)
+            pfx_spawn_queue_source(s, i, PFX_SPAWN_HIT, &held->items[k]);
+        const uint32_t first = (uint32_t)(b * PFX_SIM_BLOCK), n = block_size(p, b);
+        if (held->resume < n)
+            collide_range(s, i, first + held->resume, n - held->resume, t0, dt,
+                          p->near + first + held->resume, &s->block_stats[b], NULL);
+    }
     s->emitters[i].rest_dt = (float)dt; /* every flag is now of this dt */
     pfx_collide_stats *sum = &s->emitters[i].collisions;
     for (size_t b = 0; b < blocks; b++) {

@@ -5,6 +5,7 @@
 
 #include <math.h>
 
+#include "sim/spawn.h"
 #include "sim/state.h"
 
 /* What the passes of a step know of a block (pfx_sim.block_flags), set by
@@ -67,9 +68,23 @@ void pfx_step_collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t
  * t1), dt the step's length as a float, from the marks it left: only the
  * blocks it noted near a surface, which are noted as holding a death too
  * (a deflector may kill or shorten a life), so pfx_step_kill_flagged stays
- * exact. Spread over the threads where no response is random and no hit
- * starts a particle; otherwise in pool order on this one. */
+ * exact. Spread over the threads: each particle's result is its own, and
+ * on_hit events are held per block (pfx_hit_buffer) and queued in block
+ * order, the order of a pass over the pool. */
 void pfx_step_collide_moved(pfx_sim *s, size_t i, double t0, double dt);
+
+/* The on_hit events a block of the parallel collide pass holds. A block
+ * takes its particles in runs whose events surely fit (each particle hits
+ * at most PFX_COLLIDE_MAX_HITS times a step) and stops where the next
+ * would not; the serial merge queues what it holds, then runs the block's
+ * rest from `resume` with its events queued at once: the same events in
+ * the same order, whatever the threads, with a fixed buffer. */
+#define PFX_BLOCK_HIT_EVENTS 512
+typedef struct pfx_hit_buffer {
+    uint32_t count;  /* events held */
+    uint32_t resume; /* the first particle (from the block's start) left to the merge */
+    pfx_spawn_source items[PFX_BLOCK_HIT_EVENTS];
+} pfx_hit_buffer;
 /* Deaths at age >= lifetime at t1 (on_death events queued); the last live
  * particle fills each hole. */
 void pfx_step_kill_expired(pfx_sim *s, size_t i, double t1);

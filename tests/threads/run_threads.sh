@@ -4,8 +4,9 @@
 # blocks of the threaded passes) under a force set with an operator, a
 # deflector with random response and on_hit births, kill rules, on_death
 # births and trails, with 1, 2 and 7 threads (--threads and PFX_THREADS).
-# A different --seed must change the bake, which shows the comparison can
-# fail; a bad thread count is a usage error.
+# A downpour whose hits start more particles than a block's buffer holds
+# does too. A different --seed must change the bake, which shows the
+# comparison can fail; a bad thread count is a usage error.
 #
 # usage: bash run_threads.sh PATH-TO-PFX SOURCE-DIR
 set -u
@@ -24,6 +25,22 @@ rows=$(awk -F, 'NR > 1 { n[$1]++ } END { m = 0; for (f in n) if (n[f] > m) m = n
 ((rows > 20000)) || flunk "only $rows particles in the fullest frame"
 for t in 2 7; do
     cmp -s "$work/bake_1.csv" "$work/bake_$t.csv" || flunk "$t threads differ from 1 ($lines lines)"
+done
+end
+
+# Hits that start particles run on every thread, each block holding its
+# on_hit events and the merge queueing them in pool order; the downpour
+# raises more events in a block than it holds, so the merge also runs the
+# rest of each block itself.
+for t in 1 2 7; do
+    run "downpour $t threads" "$pfx" bake "$src/tests/threads/downpour.yaml" \
+        -o "$work/rain_$t.csv" --threads "$t" -q
+done
+begin "downpour: 1, 2 and 7 threads give the same bytes, splashes included"
+splashes=$(awk -F, '$3 == "splash"' "$work/rain_1.csv" | wc -l)
+((splashes > 100000)) || flunk "only $splashes splash rows"
+for t in 2 7; do
+    cmp -s "$work/rain_1.csv" "$work/rain_$t.csv" || flunk "$t threads differ from 1"
 done
 end
 

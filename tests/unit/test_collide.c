@@ -2,7 +2,8 @@
  * unsnapped hit times, friction (1 - mu)^n, resting contact without jitter,
  * no tunnelling at 10 km/s, the chance statistics, kill/stick/lifetime loss,
  * the move pass's marks giving the same result as the pass's own broad
- * phase, and a randomized stress test that no particle ever ends a step on the
+ * phase, sliders giving the same bits on the chunked walk as on the general
+ * pass, and a randomized stress test that no particle ever ends a step on the
  * wrong side of a surface. The integrator here is the exact constant-
  * acceleration update, as the simulation's gravity kernel. */
 #include "test.h"
@@ -574,6 +575,70 @@ static void test_marks_given(void) {
     tpool_free(b);
 }
 
+/* Sliding particles on one plane take collide_slide.c's chunked walk (and
+ * those that hit nothing its flight verdict); with a second plane that no
+ * particle can reach they take the general pass. Both must store the same
+ * bits, step after step, for sliders at every speed (stopping, resting,
+ * -0 components, a hair above the plane) on a level and a tilted plane,
+ * with and without friction, beside particles that bounce, fly, and rise
+ * from behind the plane. */
+static void test_slide_same_bits(void) {
+    const double tilt[3] = {0.3, 1, 0.1};
+    for (int variant = 0; variant < 4; variant++) {
+        const bool tilted = variant & 1;
+        pfx_deflector one[2] = {tilted ? plane(0, -0.2, 0, tilt[0], tilt[1], tilt[2])
+                                       : plane(0, 0, 0, 0, 1, 0),
+                                plane(0, -1000, 0, 0, 1, 0)};
+        one[0].resilience[0] = 0.3, one[0].resilience[1] = 0.6;
+        one[0].friction[0] = variant & 2 ? 0 : 0.05, one[0].friction[1] = variant & 2 ? 0 : 0.3;
+        const uint32_t n = 3000;
+        tpool *a = tpool_new(n, false), *b = tpool_new(n, false);
+        for (uint32_t i = 0; i < n; i++) {
+            const double u = (double)(i % 101) / 50 - 1, w = (double)(i % 37) / 18 - 1;
+            const double x = 0.01 * (i % 53), z = -0.02 * (i % 29);
+            /* on the plane (level: exactly; tilted: its float rounding) */
+            double y = tilted ? -0.2 - (tilt[0] * x + tilt[2] * z) / tilt[1] : 0;
+            double vy = 0, uu = u, ww = w;
+            switch (i % 7) {
+            case 0: /* at rest */
+                uu = ww = 0;
+                break;
+            case 1: /* -0 components */
+                uu = -0.0, vy = -0.0;
+                break;
+            case 2: /* a hair above it */
+                y += 1e-7;
+                break;
+            case 3: /* falling onto it */
+                y += 0.05 * (i % 7), vy = -1;
+                break;
+            case 4: /* slow enough to stop within a few steps */
+                uu *= 0.01, ww *= 0.01;
+                break;
+            case 5: /* behind the plane, rising through it */
+                y -= 0.002 * (i % 11), vy = 0.3;
+                break;
+            default:
+                break;
+            }
+            set(a, i, x, y, z, uu, vy, ww);
+            set(b, i, x, y, z, uu, vy, ww);
+        }
+        pfx_collide_stats sa = {0}, sb = {0};
+        bool same = true;
+        for (int k = 0; k < 240 && same; k++) {
+            step(a, gravity, 1.0 / 120, one, 1, NULL, NULL, &sa);
+            step(b, gravity, 1.0 / 120, one, 2, NULL, NULL, &sb);
+            for (int c = 0; c < 6; c++)
+                same = same && !memcmp(a->x[c], b->x[c], n * sizeof(float));
+            same = same && !memcmp(a->hits, b->hits, n * sizeof(uint32_t));
+        }
+        CHECK(same);
+        CHECK(sa.contacts == sb.contacts && sa.impacts == sb.impacts && sa.contacts > 0);
+        tpool_free(a), tpool_free(b);
+    }
+}
+
 static uint32_t stress_n = 100000;
 
 static void test_stress(void) {
@@ -634,6 +699,7 @@ int main(int argc, char **argv) {
     RUN(test_kill_stick_loss);
     RUN(test_untouched_and_fallback);
     RUN(test_marks_given);
+    RUN(test_slide_same_bits);
     RUN(test_stress);
     return TEST_EXIT();
 }

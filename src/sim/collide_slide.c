@@ -1,0 +1,348 @@
+/* Sliding contact on one infinite plane, many particles at once: the exact
+ * pass of a particle that starts the step on the plane, pressed against it
+ * and not moving into it, is always the same walk (a contact at s = 0, the
+ * normal parts removed, one slide with Coulomb friction to the end of the
+ * step); that of a particle near the plane that reaches nothing is to
+ * leave it as the integrator did. This file runs both verdicts as
+ * straight-line double arithmetic over a chunk of particles in vector
+ * lanes, the very operations in the very order of collide.c,
+ * collide_shape.c and collide_resolve.c, so the bits are theirs; a
+ * particle that strays from them anywhere (a hop, an impact, a stop within
+ * the step, a nudge at the store, a fallback) is left to the general pass
+ * untouched. It does not handle other shapes, several deflectors, or kill
+ * and stick responses. */
+#include "sim/collide_internal.h"
+
+#include <float.h>
+#include <string.h>
+
+#include "base/clones.h"
+
+/* Particles a chunk of the walk holds (the broad phase's chunk). */
+enum { SLIDE_CHUNK = 256 };
+
+bool pfx_collide_slide_applies(const ctx *c) {
+    return c->nd == 1 && c->pr[0].shape == PFX_DEFLECTOR_PLANE && !c->pr[0].thin &&
+           c->defl[0].response == PFX_DEFLECT_BOUNCE;
+}
+
+/* The chunk's particles as doubles, gathered: start state, the integrator's
+ * end state; out: the walk's end state and whether the walk held. */
+typedef struct slide_chunk {
+    double x0[3][SLIDE_CHUNK], v0[3][SLIDE_CHUNK], x1[3][SLIDE_CHUNK], v1[3][SLIDE_CHUNK];
+    double xe[3][SLIDE_CHUNK], ve[3][SLIDE_CHUNK];
+    uint8_t ok[SLIDE_CHUNK]; /* the walk held (slide_walk: slid; flight_walk: no hit) */
+} slide_chunk;
+
+/* noise_test: the general pass compares a normal part N with NOISE
+ * sqrt(w.w), w a vector of three doubles. Rounding moves the computed
+ * sqrt(w.w) and |w|_1 by a few ulps, and |w|_1 / sqrt(3) <= |w|_2 <= |w|_1,
+ * so |N| > 2 NOISE |w|_1 is surely not noise and |N| <= NOISE |w|_1 / 2
+ * surely is, by the same comparison the general pass makes; the walk
+ * leaves the rare lane between the two to it. */
+
+/* The walk of m gathered particles on plane p (point P, unit normal n),
+ * step dt. Each line names the function of the general pass whose
+ * arithmetic it repeats; ok[k] is 0 where that pass would branch
+ * elsewhere. Straight-line and branch-free, so the clones run it four
+ * particles to a vector (with the file's -fno-trapping-math and
+ * -fno-tree-pre, CMakeLists.txt): division and square root are correctly
+ * rounded in every lane, so the bits do not depend on the width. */
+static inline __attribute__((always_inline)) void walk(const prep *p, double dt, uint32_t m,
+                                                       slide_chunk *restrict s, const bool held) {
+    const double P[3] = {p->p[0], p->p[1], p->p[2]}, n[3] = {p->n[0], p->n[1], p->n[2]};
+    const double mu = p->mu_slide;
+    for (uint32_t k = 0; k < m; k++) {
+        double x0[3], v0[3], x1[3], a[3];
+        for (int j = 0; j < 3; j++) {
+            x0[j] = s->x0[j][k], v0[j] = s->v0[j][k], x1[j] = s->x1[j][k];
+            a[j] = (s->v1[j][k] - v0[j]) / dt; /* collide_one */
+        }
+        /* within_reach is certain for finite inputs starting within touch
+         * of the plane on its front (reach >= 1e-6 (1 + |x|_1) > touch) */
+        const double fin = fabs(x0[0]) + fabs(x0[1]) + fabs(x0[2]) + fabs(v0[0]) + fabs(v0[1]) +
+                           fabs(v0[2]) + fabs(x1[0]) + fabs(x1[1]) + fabs(x1[2]) + fabs(a[0]) +
+                           fabs(a[1]) + fabs(a[2]);
+        const double q0[3] = {x0[0] - P[0], x0[1] - P[1], x0[2] - P[2]};
+        const double g0 = dot(q0, n); /* start_side: side 1 when g0 >= 0 */
+        /* earliest_hit and detect_plane from x0 over dt */
+        const double touch = TOUCH * (1 + dmax(fabs(x0[0]), dmax(fabs(x0[1]), fabs(x0[2]))));
+        /* The normal parts b, A as the general pass zeroes them when they
+         * are rounding noise (below NOISE times |v|, |a|): the walk takes
+         * only b exactly 0 and an A surely not noise, so it needs neither
+         * square root (sureness: see noise_test). */
+        const double b = dot(v0, n), A = 0.5 * dot(a, n);
+        const double a1 = fabs(a[0]) + fabs(a[1]) + fabs(a[2]);
+        /* crossings(A, b, 0, dt): a hit at s = 0 when the first of b, A
+         * is negative (and no later one with b = 0). (| and &, not || and
+         * &&: no branch in the loop.) */
+        int ok = (fin <= DBL_MAX) & (g0 >= 0) & (g0 <= touch) & (b == 0) & (A < 0) &
+                 (fabs(A) > 2 * NOISE * a1);
+        /* advance 0 seconds, then pfx_collide_snap */
+        double x[3], v[3];
+        pos_at(x0, v0, a, 0, x);
+        for (int j = 0; j < 3; j++)
+            v[j] = v0[j] + a[j] * 0;
+        const double q[3] = {x[0] - P[0], x[1] - P[1], x[2] - P[2]};
+        const double d = dot(q, n);
+        for (int j = 0; j < 3; j++)
+            x[j] -= d * n[j];
+        /* respond: a contact (w < |a_N| dt), the normal parts removed */
+        const double vn = dot(v, n), an = dot(a, n);
+        const double pressed = -an * dt;
+        const double w = vn < 0 ? -vn : 0, thr = an < 0 ? pressed : 0;
+        ok &= w < thr;
+        for (int j = 0; j < 3; j++)
+            v[j] = v[j] - vn * n[j];
+        const double fric = 0 + mu * -an; /* rest */
+        const double an2 = dot(a, n);
+        for (int j = 0; j < 3; j++)
+            a[j] -= an2 * n[j];
+        /* slide_accel over the rest of the step, T = dt - 0 */
+        const double T = dt - 0;
+        const double vm = sqrt(dot(v, v));
+        /* Sliding (vm > 0: friction against the velocity), or `held` by
+         * static friction (vm = 0: friction against the push, up to fric;
+         * its square root and divisions only in held_walk's lanes). */
+        double u[3], ae[3], am = 0;
+        if (held) {
+            ok &= (fric > 0) & (1 - (vm > 0));
+            am = sqrt(dot(a, a));
+        } else {
+            ok &= (1 - (fric > 0)) | (vm > 0);
+        }
+        for (int j = 0; j < 3; j++) {
+            u[j] = v[j] / vm;
+            if (held) {
+                const double scaled = a[j] - fric * a[j] / am;
+                ae[j] = am <= fric ? 0 : scaled;
+            } else {
+                const double sliding = a[j] - fric * u[j];
+                ae[j] = !(fric > 0) ? a[j] : sliding;
+            }
+        }
+        const double along = dot(ae, u);
+        const double reached = vm / -along;
+        const double stop = (fric > 0) & (vm > 0) & (along < 0) ? reached : INFINITY;
+        ok &= !(stop <= T); /* no stop within the step */
+        const double horizon = dmin(T, stop);
+        /* detect_plane from the contact: no crossing, by the cull or by
+         * c, b, A all zero (then crossings finds none) */
+        const double touch2 = TOUCH * (1 + dmax(fabs(x[0]), dmax(fabs(x[1]), fabs(x[2]))));
+        const double q2[3] = {x[0] - P[0], x[1] - P[1], x[2] - P[2]};
+        const double c2 = dot(q2, n);
+        const double b2 = dot(v, n), A2 = 0.5 * dot(ae, n);
+        const int culled = fabs(c2) > (fabs(b2) + fabs(A2) * horizon) * horizon + touch2;
+        /* noise: b2 against sqrt(v.v), which is vm; A2 against |ae|,
+         * surely noise below half the NOISE of |ae|_1 (else, unless surely
+         * not, left to the general pass: the walk needs A2 zeroed) */
+        const int b2_zero = (b2 == 0) | (fabs(b2) <= NOISE * vm);
+        const int A2_zero =
+            (A2 == 0) | (fabs(A2) <= 0.5 * NOISE * (fabs(ae[0]) + fabs(ae[1]) + fabs(ae[2])));
+        ok &= culled | ((c2 <= touch2) & b2_zero & A2_zero);
+        /* advance to the end of the step */
+        pos_at(x, v, ae, horizon, x);
+        for (int j = 0; j < 3; j++) {
+            v[j] += ae[j] * horizon;
+            s->xe[j][k] = x[j], s->ve[j][k] = v[j];
+        }
+        s->ok[k] = (uint8_t)ok;
+    }
+}
+
+/* The walk of a sliding particle, and of one held at rest by static
+ * friction (a newborn at rest, or one that stopped: the general pass
+ * would flag it for the restore), in separate loops: a slider does not
+ * pay for the held branch's square root and divisions. */
+PFX_CLONES static void slide_walk(const prep *p, double dt, uint32_t m, slide_chunk *restrict s) {
+    walk(p, dt, m, s, false);
+}
+PFX_CLONES static void held_walk(const prep *p, double dt, uint32_t m, slide_chunk *restrict s) {
+    walk(p, dt, m, s, true);
+}
+
+/* The other verdict, for the m gathered particles whose walk did not
+ * hold: collide_one leaves a particle as the integrator did when it starts
+ * behind the plane (side 0), or when detect_plane finds no downward
+ * crossing off the plane (culled, or none among crossings(A, b, c, dt)
+ * with c > touch) and the end point x1 is not behind the plane (no
+ * fallback); ok[k] says so. Apart from slide_walk, so that a slider does
+ * not pay for the roots. */
+PFX_CLONES static void flight_walk(const prep *p, double dt, uint32_t m, slide_chunk *restrict s) {
+    const double P[3] = {p->p[0], p->p[1], p->p[2]}, n[3] = {p->n[0], p->n[1], p->n[2]};
+    for (uint32_t k = 0; k < m; k++) {
+        double x0[3], v0[3], x1[3], a[3];
+        for (int j = 0; j < 3; j++) {
+            x0[j] = s->x0[j][k], v0[j] = s->v0[j][k], x1[j] = s->x1[j][k];
+            a[j] = (s->v1[j][k] - v0[j]) / dt; /* collide_one */
+        }
+        const double fin = fabs(x0[0]) + fabs(x0[1]) + fabs(x0[2]) + fabs(v0[0]) + fabs(v0[1]) +
+                           fabs(v0[2]) + fabs(x1[0]) + fabs(x1[1]) + fabs(x1[2]) + fabs(a[0]) +
+                           fabs(a[1]) + fabs(a[2]);
+        const double q0[3] = {x0[0] - P[0], x0[1] - P[1], x0[2] - P[2]};
+        const double g0 = dot(q0, n); /* start_side: side 1 when g0 >= 0 */
+        const double touch = TOUCH * (1 + dmax(fabs(x0[0]), dmax(fabs(x0[1]), fabs(x0[2]))));
+        const double b = dot(v0, n), A = 0.5 * dot(a, n);
+        /* detect_plane over dt: the cull, then crossings' roots (in every
+         * lane) and directions */
+        const int culled = fabs(g0) > (fabs(b) + fabs(A) * dt) * dt + touch;
+        const double lin = -g0 / b;
+        const double disc = b * b - 4 * A * g0;
+        const double qq = -0.5 * (b + copysign(sqrt(disc), b));
+        const double r1 = qq / A, r2 = g0 / qq;
+        const double lo = r1 > r2 ? r2 : r1, hi = r1 > r2 ? r1 : r2;
+        const int down_first = A > 0; /* d1 = -1: the first root is a downward crossing */
+        const int hit_lin = (b < 0) & (lin > 0) & (lin <= dt);
+        const int hit_quad = (disc > 0) & (((lo > 0) & (lo <= dt) & down_first) |
+                                           ((hi > 0) & (hi <= dt) & (1 - down_first)));
+        const int hit = (1 - culled) & (A == 0 ? hit_lin : hit_quad);
+        const double q1[3] = {x1[0] - P[0], x1[1] - P[1], x1[2] - P[2]};
+        const int behind = dot(q1, n) < 0; /* fallback */
+        /* (1 - x, not !x or x == 0: GCC 12 does not vectorise those as
+         * _Bool here) */
+        s->ok[k] = (uint8_t)((1 - (g0 >= 0)) | ((fin <= DBL_MAX) & (culled | (g0 > touch)) &
+                                                (1 - hit) & (1 - behind)));
+    }
+}
+
+/* pfx_collide_store and collide_one_rest for the particles whose slide
+ * held (done[0..n) of the chunk's idx): the end state stored as floats,
+ * flagged at rest where no bit moved, the todo mark cleared; a point the
+ * store would nudge off the plane is left to the general pass. */
+static void store_slides(const ctx *c, uint32_t i0, const slide_chunk *s, const uint32_t *idx,
+                         const uint32_t *done, uint32_t n, uint8_t *todo, uint64_t *contacts) {
+    const pfx_collide_pool *pool = c->pool;
+    const prep *p = &c->pr[0];
+    for (uint32_t e = 0; e < n; e++) {
+        const uint32_t k = done[e];
+        /* pfx_collide_store: a float point behind the plane would be
+         * nudged; the general pass does that. (Through a volatile:
+         * GCC 12's SLP pass here took (double)(float)x for x.) */
+        volatile float round[3] = {(float)s->xe[0][k], (float)s->xe[1][k], (float)s->xe[2][k]};
+        const float xf[3] = {round[0], round[1], round[2]};
+        /* pfx_collide_constraint of a plane on side 1, inline */
+        const double q[3] = {(double)xf[0] - p->p[0], (double)xf[1] - p->p[1],
+                             (double)xf[2] - p->p[2]};
+        if (!(1 * dot(q, p->n) >= 0))
+            continue;
+        const uint32_t j = idx[k], i = i0 + j;
+        const float vf[3] = {(float)s->ve[0][k], (float)s->ve[1][k], (float)s->ve[2][k]};
+        if (pool->rest) { /* collide_one_rest: still when no bit moved */
+            const float start[6] = {pool->px0[i], pool->py0[i], pool->pz0[i],
+                                    pool->vx0[i], pool->vy0[i], pool->vz0[i]};
+            const bool still = !memcmp(xf, start, sizeof xf) && !memcmp(vf, start + 3, sizeof vf);
+            pool->rest[i] = still ? (uint8_t)(2 | 0x80) : 0;
+            if (still) {
+                pool->rest_px[i] = pool->px[i], pool->rest_py[i] = pool->py[i];
+                pool->rest_pz[i] = pool->pz[i], pool->rest_vx[i] = pool->vx[i];
+                pool->rest_vy[i] = pool->vy[i], pool->rest_vz[i] = pool->vz[i];
+            }
+        }
+        pool->px[i] = xf[0], pool->py[i] = xf[1], pool->pz[i] = xf[2];
+        pool->vx[i] = vf[0], pool->vy[i] = vf[1], pool->vz[i] = vf[2];
+        if (pool->ax)
+            pool->ax[i] = NAN;
+        todo[j] = 0;
+        (*contacts)++;
+    }
+}
+
+/* Moves the gathered particles list[0..n) (ascending, list[e] >= e) to
+ * the front of the chunk, with their indices. */
+static void pack(slide_chunk *s, uint32_t *idx, const uint32_t *list, uint32_t n) {
+    for (uint32_t e = 0; e < n; e++) {
+        const uint32_t k = list[e];
+        for (int j = 0; j < 3; j++) {
+            s->x0[j][e] = s->x0[j][k], s->v0[j][e] = s->v0[j][k];
+            s->x1[j][e] = s->x1[j][k], s->v1[j][e] = s->v1[j][k];
+        }
+        idx[e] = idx[k];
+    }
+}
+
+uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo) {
+    const pfx_collide_pool *pool = c->pool;
+    const prep *p = &c->pr[0];
+    const pfx_deflector *d = &c->defl[0];
+    static _Thread_local slide_chunk s; /* 43 KiB: not on a worker's stack */
+    uint32_t idx[SLIDE_CHUNK];
+    uint64_t contacts = 0;
+    for (uint32_t j0 = 0; j0 < m; j0 += SLIDE_CHUNK) {
+        const uint32_t end = m - j0 < SLIDE_CHUNK ? m : j0 + SLIDE_CHUNK;
+        /* The candidates, compacted without a branch on each mark (they
+         * fall at random: a branch mispredicted half of them), then
+         * gathered. */
+        uint32_t count = 0;
+        const uint8_t *stuck = pool->stuck ? pool->stuck + i0 : NULL;
+        for (uint32_t j = j0; j < end; j++) {
+            idx[count] = j;
+            count += (todo[j] != 0) & (stuck ? stuck[j] == 0 : 1);
+        }
+        if (d->chance < 1) { /* those the chance lets pass take no part */
+            uint32_t kept = 0;
+            for (uint32_t k = 0; k < count; k++) {
+                const uint32_t i = i0 + idx[k];
+                idx[kept] = idx[k];
+                kept += pfx_deflector_affects(d, pool->id ? pool->id[i] : i);
+            }
+            count = kept;
+        }
+        for (uint32_t k = 0; k < count; k++) {
+            const uint32_t i = i0 + idx[k];
+            s.x0[0][k] = pool->px0[i], s.x0[1][k] = pool->py0[i], s.x0[2][k] = pool->pz0[i];
+            s.v0[0][k] = pool->vx0[i], s.v0[1][k] = pool->vy0[i], s.v0[2][k] = pool->vz0[i];
+            s.x1[0][k] = pool->px[i], s.x1[1][k] = pool->py[i], s.x1[2][k] = pool->pz[i];
+            s.v1[0][k] = pool->vx[i], s.v1[1][k] = pool->vy[i], s.v1[2][k] = pool->vz[i];
+        }
+        if (!count)
+            continue;
+        slide_walk(p, c->dt, count, &s);
+        /* the walks that held, and the others, compacted */
+        uint32_t done[SLIDE_CHUNK], n_done = 0, left[SLIDE_CHUNK], n_left = 0;
+        for (uint32_t k = 0; k < count; k++) {
+            done[n_done] = k, left[n_left] = k;
+            n_done += s.ok[k], n_left += 1u - s.ok[k];
+        }
+        store_slides(c, i0, &s, idx, done, n_done, todo, &contacts);
+        /* the others packed to the front (left[e] >= e), for held_walk
+         * those that start still (its only candidates), then the rest for
+         * flight_walk */
+        uint32_t n_still = 0;
+        for (uint32_t e = 0; e < n_left; e++) {
+            const uint32_t k = left[e];
+            n_still += (s.v0[0][k] == 0) & (s.v0[1][k] == 0) & (s.v0[2][k] == 0);
+        }
+        pack(&s, idx, left, n_left);
+        if (n_still) {
+            held_walk(p, c->dt, n_left, &s);
+            uint32_t n_held = 0, n_other = 0;
+            for (uint32_t k = 0; k < n_left; k++) {
+                done[n_held] = k, left[n_other] = k;
+                n_held += s.ok[k], n_other += 1u - s.ok[k];
+            }
+            store_slides(c, i0, &s, idx, done, n_held, todo, &contacts);
+            pack(&s, idx, left, n_other);
+            n_left = n_other;
+        }
+        flight_walk(p, c->dt, n_left, &s);
+        for (uint32_t e = 0; e < n_left; e++) {
+            if (!s.ok[e])
+                continue;
+            const uint32_t j = idx[e], i = i0 + j;
+            if (pool->rest) { /* collide_one_rest: still when the step moved no bit */
+                const float start[6] = {pool->px0[i], pool->py0[i], pool->pz0[i],
+                                        pool->vx0[i], pool->vy0[i], pool->vz0[i]};
+                const float end[6] = {pool->px[i], pool->py[i], pool->pz[i],
+                                      pool->vx[i], pool->vy[i], pool->vz[i]};
+                const bool still = !memcmp(start, end, sizeof end);
+                pool->rest[i] = still ? 1 : 0;
+                if (still) {
+                    pool->rest_px[i] = end[0], pool->rest_py[i] = end[1], pool->rest_pz[i] = end[2];
+                    pool->rest_vx[i] = end[3], pool->rest_vy[i] = end[4], pool->rest_vz[i] = end[5];
+                }
+            }
+            todo[j] = 0;
+        }
+    }
+    return contacts;
+}
