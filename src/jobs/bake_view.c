@@ -29,9 +29,16 @@ static bool sort_pool(pfx_bake_view *v, const pfx_pool *p) {
         v->order = o;
         v->order_cap = p->count;
     }
-    for (uint32_t j = 0; j < p->count; j++)
+    bool sorted = true;
+    for (uint32_t j = 0; j < p->count; j++) {
         v->order[j] = (struct pfx_bake_order){p->id[j], j};
-    if (p->count > 1)
+        sorted &= j == 0 || p->id[j - 1] <= p->id[j];
+    }
+    /* A pool no death has reordered is in id order already (births take
+     * ascending ids at its end): sorting it anyway was most of a bake's
+     * time between frames at 1e5 particles. glibc's qsort is a stable
+     * merge sort, so equal ids keep pool order either way. */
+    if (p->count > 1 && !sorted)
         qsort(v->order, p->count, sizeof *v->order, by_id);
     return true;
 }
