@@ -13,14 +13,6 @@
 #include "sim/pool.h"
 #include "sim/spawn.h"
 
-/* One axis of the exact constant-acceleration step, position and
- * velocity, with ga the particle's acceleration and h = dt^2 / 2: written
- * once, so that gravity_step and held_lanes give the same bits. */
-static inline float drift(float x, float v, float ga, float dt, float h) {
-    return x + (v * dt + ga * h);
-}
-static inline float kick(float v, float ga, float dt) { return v + ga * dt; }
-
 /* The exact constant-acceleration step of particles [0, n), x += v dt + a
  * dt^2/2, v += a dt, with the per-emitter acceleration hoisted, or a per
  * particle gravity_scale g times it. With `check` it also returns whether
@@ -37,32 +29,17 @@ gravity_step(uint32_t n, float *restrict px, float *restrict py, float *restrict
     int alarm = 0;
     for (uint32_t i = 0; i < n; i++) {
         const float g = gs ? gs[i] : 1.0f;
-        px[i] = drift(px[i], vx[i], g * ax, dt, h);
-        py[i] = drift(py[i], vy[i], g * ay, dt, h);
-        pz[i] = drift(pz[i], vz[i], g * az, dt, h);
-        vx[i] = kick(vx[i], g * ax, dt);
-        vy[i] = kick(vy[i], g * ay, dt);
-        vz[i] = kick(vz[i], g * az, dt);
+        px[i] += vx[i] * dt + g * ax * h;
+        py[i] += vy[i] * dt + g * ay * h;
+        pz[i] += vz[i] * dt + g * az * h;
+        vx[i] += g * ax * dt;
+        vy[i] += g * ay * dt;
+        vz[i] += g * az * dt;
         if (check)
             alarm |= !(fabsf(vx[i]) <= vlim) | !(fabsf(vy[i]) <= vlim) | !(fabsf(vz[i]) <= vlim) |
                      !(fabsf(px[i]) <= xlim) | !(fabsf(py[i]) <= xlim) | !(fabsf(pz[i]) <= xlim);
     }
     return alarm;
-}
-
-/* The acceleration a of a gravity-only emitter's kernel and the scales
- * of particles first.. that multiply it, or NULL where the emitter's one
- * scale is folded into a (then the step is one multiply-add chain). */
-static const float *gravity_of(const pfx_emitter *em, const pfx_pool *p, uint32_t first,
-                               float a[3]) {
-    if (p->gravity_scale) {
-        for (int k = 0; k < 3; k++)
-            a[k] = (float)em->accel[k];
-        return p->gravity_scale + first;
-    }
-    for (int k = 0; k < 3; k++)
-        a[k] = (float)(em->accel[k] * em->gravity_scale.a);
-    return NULL;
 }
 
 /* Exact constant-acceleration motion over dt for particles [first, first +
@@ -74,11 +51,16 @@ static const float *gravity_of(const pfx_emitter *em, const pfx_pool *p, uint32_
 static bool step_gravity(const pfx_emitter *em, pfx_pool *p, uint32_t first, uint32_t n, float dt) {
     float *px = p->px + first, *py = p->py + first, *pz = p->pz + first;
     float *vx = p->vx + first, *vy = p->vy + first, *vz = p->vz + first;
-    float a[3];
-    const float *gs = gravity_of(em, p, first, a);
-    if (!gs)
+    if (!p->gravity_scale) {
+        /* The scale folded into the acceleration: one multiply-add chain. */
+        const double gs = em->gravity_scale.a;
+        const float a[3] = {(float)(em->accel[0] * gs), (float)(em->accel[1] * gs),
+                            (float)(em->accel[2] * gs)};
         return p->may_run_away ? gravity_step(n, px, py, pz, vx, vy, vz, NULL, a, dt, true)
                                : gravity_step(n, px, py, pz, vx, vy, vz, NULL, a, dt, false);
+    }
+    const float a[3] = {(float)em->accel[0], (float)em->accel[1], (float)em->accel[2]};
+    const float *gs = p->gravity_scale + first;
     return p->may_run_away ? gravity_step(n, px, py, pz, vx, vy, vz, gs, a, dt, true)
                            : gravity_step(n, px, py, pz, vx, vy, vz, gs, a, dt, false);
 }
@@ -246,90 +228,41 @@ PFX_CLONES static bool block_has_death(const pfx_pool *p, uint32_t first, uint32
  * A particle flagged at rest (pfx_collide_pool.rest) whose integrator end
  * state is bit for bit its flagged one ends the step exactly where it
  * began, its broad-phase mark cleared (pfx_collide_rest). Under gravity
- * alone that end state is six multiply-adds of the particle's state, so a
- * chunk of particles is tested without writing anything: the end states
- * computed in registers and compared with the flags' keys. Where every
- * particle of the chunk is held, the chunk is done: no start state saved,
- * no end state stored and put back, no broad phase (a held particle
- * starts where its flag was made, so its mark would be the one that sent
- * it to the exact pass then: near, which pfx_collide_rest clears). A chunk
- * with one particle awake takes the whole path, which decides the same
- * for each of its particles. */
+ * alone that end state is a function of the particle's state, its
+ * gravity scale (fixed at birth), the emitter's acceleration (fixed) and
+ * dt alone; and a flagged particle's state is the one its flag was made
+ * in (whatever else moves a particle clears its flag: collide.h), with a
+ * dt the same (rest_dt). So its end state is its flagged one, and the flag
+ * alone says it is held: nothing of it needs reading. Where every flag of
+ * a chunk is set, the chunk is done: no start state saved, no end state
+ * computed, stored and put back, no broad phase (the mark a held particle
+ * would get is the one that sent it to the exact pass when its flag was
+ * made: near, which pfx_collide_rest clears). A chunk with one particle
+ * awake takes the whole path, which decides the same for each of its
+ * particles. */
 enum { HELD_CHUNK = 256 };
 
-static inline uint32_t bits(float f) {
-    uint32_t u;
-    memcpy(&u, &f, sizeof u);
-    return u;
-}
-
-/* held_lanes: how many of the m particles are flagged at rest (rest) with
- * their gravity_step end state (a times gs[j], or a alone without gs) bit
- * for bit the flagged one (kx..kw); *contacts: the contacts their flags
- * count. Reads only. Inlined with a constant `scaled`, so that each loop
- * is straight; the arrays are parameters of a function not inlined, as
- * collide.c's rest_lanes, so that GCC believes them apart and vectorises
- * (& for &&: no branch). */
-static inline __attribute__((always_inline)) uint32_t
-held_count(uint32_t m, const uint8_t *restrict rest, const float *restrict x,
-           const float *restrict y, const float *restrict z, const float *restrict u,
-           const float *restrict v, const float *restrict w, const float *restrict kx,
-           const float *restrict ky, const float *restrict kz, const float *restrict ku,
-           const float *restrict kv, const float *restrict kw, const float *restrict gs,
-           const float a[3], float dt, uint32_t *contacts, const bool scaled) {
-    const float h = 0.5f * dt * dt, ax = a[0], ay = a[1], az = a[2];
-    uint32_t held = 0, counted = 0;
+/* The sum of the m flags' (rest & 0x7f), 0 when one of them is not set
+ * (then the chunk is not held). Straight and branch-free, so that the
+ * clones run it at their width. */
+PFX_CLONES static uint32_t held_flags(const uint8_t *restrict rest, uint32_t m) {
+    uint32_t sum = 0, awake = 0;
     for (uint32_t j = 0; j < m; j++) {
-        const float g = scaled ? gs[j] : 1.0f;
-        const uint32_t diff = (bits(drift(x[j], u[j], g * ax, dt, h)) ^ bits(kx[j])) |
-                              (bits(drift(y[j], v[j], g * ay, dt, h)) ^ bits(ky[j])) |
-                              (bits(drift(z[j], w[j], g * az, dt, h)) ^ bits(kz[j])) |
-                              (bits(kick(u[j], g * ax, dt)) ^ bits(ku[j])) |
-                              (bits(kick(v[j], g * ay, dt)) ^ bits(kv[j])) |
-                              (bits(kick(w[j], g * az, dt)) ^ bits(kw[j]));
-        const uint32_t r = rest[j], k = (uint32_t)(r != 0) & (uint32_t)(diff == 0);
-        held += k;
-        counted += ((r & 0x7fu) - 1u) & (0u - k);
+        sum += rest[j] & 0x7fu;
+        awake |= rest[j] == 0;
     }
-    *contacts = counted;
-    return held;
-}
-
-PFX_CLONES __attribute__((noinline)) static uint32_t
-held_lanes(uint32_t m, const uint8_t *restrict rest, const float *restrict x,
-           const float *restrict y, const float *restrict z, const float *restrict u,
-           const float *restrict v, const float *restrict w, const float *restrict kx,
-           const float *restrict ky, const float *restrict kz, const float *restrict ku,
-           const float *restrict kv, const float *restrict kw, const float *restrict gs,
-           const float a[3], float dt, uint32_t *contacts) {
-    return gs ? held_count(m, rest, x, y, z, u, v, w, kx, ky, kz, ku, kv, kw, gs, a, dt, contacts,
-                           true)
-              : held_count(m, rest, x, y, z, u, v, w, kx, ky, kz, ku, kv, kw, NULL, a, dt, contacts,
-                           false);
+    return awake ? 0 : sum;
 }
 
 /* Whether every particle of [first, first + m) of a gravity-only emitter
- * is held at rest over this step of dt (their flags are of this dt); then
- * their marks are cleared and *contacts is what pfx_collide_rest would
- * have counted for them. */
-static bool chunk_held(const pfx_emitter *em, pfx_pool *p, uint32_t first, uint32_t m, float dt,
-                       uint32_t *contacts) {
-    /* The flags alone first: a chunk with a particle awake (bouncing,
-     * sliding, newborn) is turned away for the price of reading them. */
-    const uint8_t *restrict rest = p->rest + first;
-    uint8_t all = 0xff;
-    for (uint32_t k = 0; k < m; k++)
-        all &= (uint8_t)(0u - (rest[k] != 0));
-    if (!all)
+ * is held at rest over this step (their flags are of its dt); then their
+ * marks are cleared and *contacts is what pfx_collide_rest would have
+ * counted for them ((rest & 0x7f) - 1 each). */
+static bool chunk_held(pfx_pool *p, uint32_t first, uint32_t m, uint32_t *contacts) {
+    const uint32_t sum = held_flags(p->rest + first, m);
+    if (!sum)
         return false;
-    float a[3];
-    const float *gs = gravity_of(em, p, first, a);
-    const uint32_t held = held_lanes(
-        m, p->rest + first, p->px + first, p->py + first, p->pz + first, p->vx + first,
-        p->vy + first, p->vz + first, p->rest_px + first, p->rest_py + first, p->rest_pz + first,
-        p->rest_vx + first, p->rest_vy + first, p->rest_vz + first, gs, a, dt, contacts);
-    if (held < m)
-        return false;
+    *contacts = sum - m;
     memset(p->near + first, 0, m);
     return true;
 }
@@ -400,7 +333,7 @@ static void move_block(void *arg, size_t b) {
         for (uint32_t c = 0; c < n; c += HELD_CHUNK) {
             const uint32_t m = n - c < HELD_CHUNK ? n - c : HELD_CHUNK;
             uint32_t contacts;
-            if (chunk_held(em, p, first + c, m, dt, &contacts))
+            if (chunk_held(p, first + c, m, &contacts))
                 s->block_stats[b].contacts += contacts;
             else
                 move_range(j, b, first + c, m, &bad, &any_near);
