@@ -48,11 +48,11 @@ typedef struct slide_chunk {
  * particles to a vector (with the file's -fno-trapping-math and
  * -fno-tree-pre, CMakeLists.txt): division and square root are correctly
  * rounded in every lane, so the bits do not depend on the width. */
-static inline __attribute__((always_inline)) void
-walk(const prep *p, double dt, uint32_t k0, uint32_t m, slide_chunk *restrict s, const bool held) {
+static inline __attribute__((always_inline)) void walk(const prep *p, double dt, uint32_t m,
+                                                       slide_chunk *restrict s, const bool held) {
     const double P[3] = {p->p[0], p->p[1], p->p[2]}, n[3] = {p->n[0], p->n[1], p->n[2]};
     const double mu = p->mu_slide;
-    for (uint32_t k = k0; k < m; k++) {
+    for (uint32_t k = 0; k < m; k++) {
         double x0[3], v0[3], x1[3], a[3];
         for (int j = 0; j < 3; j++) {
             x0[j] = s->x0[j][k], v0[j] = s->v0[j][k], x1[j] = s->x1[j][k];
@@ -152,19 +152,13 @@ walk(const prep *p, double dt, uint32_t k0, uint32_t m, slide_chunk *restrict s,
 
 /* The walk of a sliding particle, and of one held at rest by static
  * friction (a newborn at rest, or one that stopped: the general pass
- * would flag it for the restore), of the gathered particles [k0, m), in
- * separate loops: a slider does not pay for the held branch's square root
- * and divisions. The two verdicts exclude each other (a slide holds only
- * without friction or when moving along the plane, a hold only with
- * friction and still), and only a particle whose velocity is 0 can be
- * held. */
-PFX_CLONES static void slide_walk(const prep *p, double dt, uint32_t k0, uint32_t m,
-                                  slide_chunk *restrict s) {
-    walk(p, dt, k0, m, s, false);
+ * would flag it for the restore), in separate loops: a slider does not
+ * pay for the held branch's square root and divisions. */
+PFX_CLONES static void slide_walk(const prep *p, double dt, uint32_t m, slide_chunk *restrict s) {
+    walk(p, dt, m, s, false);
 }
-PFX_CLONES static void held_walk(const prep *p, double dt, uint32_t k0, uint32_t m,
-                                 slide_chunk *restrict s) {
-    walk(p, dt, k0, m, s, true);
+PFX_CLONES static void held_walk(const prep *p, double dt, uint32_t m, slide_chunk *restrict s) {
+    walk(p, dt, m, s, true);
 }
 
 /* The other verdict, for the m gathered particles whose walk did not
@@ -277,34 +271,21 @@ uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo)
         const uint32_t end = m - j0 < SLIDE_CHUNK ? m : j0 + SLIDE_CHUNK;
         /* The candidates, compacted without a branch on each mark (they
          * fall at random: a branch mispredicted half of them), then
-         * gathered: those that start still first (n_still: held_walk's
-         * only candidates, and seldom slide_walk's), then the moving ones
-         * (slide_walk's). */
-        uint32_t count = 0, cand[SLIDE_CHUNK];
+         * gathered. */
+        uint32_t count = 0;
         const uint8_t *stuck = pool->stuck ? pool->stuck + i0 : NULL;
         for (uint32_t j = j0; j < end; j++) {
-            cand[count] = j;
+            idx[count] = j;
             count += (todo[j] != 0) & (stuck ? stuck[j] == 0 : 1);
         }
         if (d->chance < 1) { /* those the chance lets pass take no part */
             uint32_t kept = 0;
             for (uint32_t k = 0; k < count; k++) {
-                const uint32_t i = i0 + cand[k];
-                cand[kept] = cand[k];
+                const uint32_t i = i0 + idx[k];
+                idx[kept] = idx[k];
                 kept += pfx_deflector_affects(d, pool->id ? pool->id[i] : i);
             }
             count = kept;
-        }
-        uint32_t n_still = 0;
-        for (uint32_t k = 0; k < count; k++) {
-            const uint32_t i = i0 + cand[k];
-            idx[n_still] = cand[k];
-            n_still += (pool->vx0[i] == 0) & (pool->vy0[i] == 0) & (pool->vz0[i] == 0);
-        }
-        for (uint32_t k = 0, e = n_still; k < count; k++) {
-            const uint32_t i = i0 + cand[k];
-            idx[e] = cand[k];
-            e += 1u - ((pool->vx0[i] == 0) & (pool->vy0[i] == 0) & (pool->vz0[i] == 0));
         }
         for (uint32_t k = 0; k < count; k++) {
             const uint32_t i = i0 + idx[k];
@@ -315,30 +296,31 @@ uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo)
         }
         if (!count)
             continue;
-        if (n_still)
-            held_walk(p, c->dt, 0, n_still, &s);
-        slide_walk(p, c->dt, n_still, count, &s);
+        slide_walk(p, c->dt, count, &s);
         /* the walks that held, and the others, compacted */
-        uint32_t done[SLIDE_CHUNK], n_done = 0, left[SLIDE_CHUNK], n_left = 0, n_retry = 0;
+        uint32_t done[SLIDE_CHUNK], n_done = 0, left[SLIDE_CHUNK], n_left = 0;
         for (uint32_t k = 0; k < count; k++) {
             done[n_done] = k, left[n_left] = k;
             n_done += s.ok[k], n_left += 1u - s.ok[k];
-            n_retry += (k < n_still) & (1u - s.ok[k]);
         }
         store_slides(c, i0, &s, idx, done, n_done, todo, &contacts);
-        /* the others packed to the front (left[e] >= e): first the still
-         * ones that were not held, for slide_walk (frictionless), then the
-         * rest for flight_walk */
+        /* the others packed to the front (left[e] >= e), for held_walk
+         * those that start still (its only candidates), then the rest for
+         * flight_walk */
+        uint32_t n_still = 0;
+        for (uint32_t e = 0; e < n_left; e++) {
+            const uint32_t k = left[e];
+            n_still += (s.v0[0][k] == 0) & (s.v0[1][k] == 0) & (s.v0[2][k] == 0);
+        }
         pack(&s, idx, left, n_left);
-        if (n_retry) {
-            slide_walk(p, c->dt, 0, n_retry, &s);
-            uint32_t n_slid = 0, n_other = 0;
+        if (n_still) {
+            held_walk(p, c->dt, n_left, &s);
+            uint32_t n_held = 0, n_other = 0;
             for (uint32_t k = 0; k < n_left; k++) {
-                const uint32_t slid = (k < n_retry) & s.ok[k];
-                done[n_slid] = k, left[n_other] = k;
-                n_slid += slid, n_other += 1u - slid;
+                done[n_held] = k, left[n_other] = k;
+                n_held += s.ok[k], n_other += 1u - s.ok[k];
             }
-            store_slides(c, i0, &s, idx, done, n_slid, todo, &contacts);
+            store_slides(c, i0, &s, idx, done, n_held, todo, &contacts);
             pack(&s, idx, left, n_other);
             n_left = n_other;
         }
