@@ -259,6 +259,8 @@ PFX_CLONES static uint32_t held_flags(const uint8_t *restrict rest, uint32_t m) 
  * marks are cleared and *contacts is what pfx_collide_rest would have
  * counted for them ((rest & 0x7f) - 1 each). */
 static bool chunk_held(pfx_pool *p, uint32_t first, uint32_t m, uint32_t *contacts) {
+    if (!p->rest[first]) /* most chunks with one awake (rows that rest nowhere) */
+        return false;
     const uint32_t sum = held_flags(p->rest + first, m);
     if (!sum)
         return false;
