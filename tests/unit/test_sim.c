@@ -681,7 +681,11 @@ static void test_carried_accel(void) {
  * every step. The cases wake resting particles every way there is: a
  * force_over_life that switches on (and a curve that keeps changing), a
  * region a wind moves in and out of, a wrap, a bounce onto them, friction
- * slides, sticks. */
+ * slides, sticks. Under gravity alone, where a chunk of particles all at
+ * rest is held by a test that writes nothing (src/sim/step.c): a pile with
+ * per-particle scales beside a second deflector (the general exact pass
+ * flags them), and particles held by static friction under a tilted
+ * gravity (the sliders' lanes flag them). */
 static size_t forget_rest(pfx_sim *s) {
     size_t flagged = 0;
     for (size_t i = 0; i < s->effect->emitter_count; i++)
@@ -771,6 +775,17 @@ static void test_rest_state(void) {
          "    on_hit: { emit: f, count: 1 }\n"
          "  f:\n    rate: 0\n    speed: 1\n    spread: 180\n    lifetime: 0.3\n"
          "    deflectors: []\n"},
+        {"gravity alone, a pile by a crate",
+         REST_FLOOR "  crate: { type: box, center: [1.5, 0.2, 0], size: [0.8, 0.4, 0.8], "
+                    "friction: 0.5 }\nforces:\n  g: { type: gravity }\n"
+                    "emitters:\n  e:\n    position: [0, 0.6, 0]\n    shape: { type: rect, size: "
+                    "[2, 2] }\n    speed: 0\n    bursts: [{ time: 0, count: 4000 }, { time: 1.5, "
+                    "count: 1000 }]\n    lifetime: [2.5, 5]\n"
+                    "    gravity_scale: [0.5, 1.5]\n"},
+        {"gravity alone, tilted, held",
+         REST_FLOOR "forces:\n  g: { type: gravity, accel: [0.5, -9.81, 0.2] }\n"
+                    "emitters:\n  e:\n    shape: { type: rect, size: [2, 2] }\n    speed: 0\n"
+                    "    rate: 3000\n    lifetime: [1, 2]\n    gravity_scale: 0.7\n"},
         {"bounces, slides, sticks",
          "pfx: 1\nseed: 4\nsim: { rate: 60 }\nforces:\n  g: { type: gravity }\n"
          "deflectors:\n  floor: { type: plane, resilience: [0, 0.5], friction: [0.2, 1] }\n"
