@@ -41,6 +41,27 @@ typedef struct slide_chunk {
  * surely is, by the same comparison the general pass makes; the walk
  * leaves the rare lane between the two to it. */
 
+/* What both walks read of lane k first, as collide_one and its callers
+ * compute it: the start and end states, the step's acceleration a, the
+ * sum of magnitudes that is finite only for finite inputs (fin), the
+ * signed distance g0 from the plane (start_side: side 1 when g0 >= 0),
+ * the touch tolerance from x0 (earliest_hit, detect_plane) and the
+ * normal parts b of v0 and A of a / 2. A macro, so that each walk's
+ * loop keeps its lanes in registers as one straight-line body. */
+#define LANE_START(P, n, dt, s, k)                                                                 \
+    double x0[3], v0[3], x1[3], a[3];                                                              \
+    for (int j = 0; j < 3; j++) {                                                                  \
+        x0[j] = (s)->x0[j][k], v0[j] = (s)->v0[j][k], x1[j] = (s)->x1[j][k];                       \
+        a[j] = ((s)->v1[j][k] - v0[j]) / (dt); /* collide_one */                                   \
+    }                                                                                              \
+    const double fin = fabs(x0[0]) + fabs(x0[1]) + fabs(x0[2]) + fabs(v0[0]) + fabs(v0[1]) +       \
+                       fabs(v0[2]) + fabs(x1[0]) + fabs(x1[1]) + fabs(x1[2]) + fabs(a[0]) +        \
+                       fabs(a[1]) + fabs(a[2]);                                                    \
+    const double q0[3] = {x0[0] - (P)[0], x0[1] - (P)[1], x0[2] - (P)[2]};                         \
+    const double g0 = dot(q0, (n));                                                                \
+    const double touch = TOUCH * (1 + dmax(fabs(x0[0]), dmax(fabs(x0[1]), fabs(x0[2]))));          \
+    const double b = dot(v0, (n)), A = 0.5 * dot(a, (n))
+
 /* The walk of m gathered particles on plane p (point P, unit normal n),
  * step dt. Each line names the function of the general pass whose
  * arithmetic it repeats; ok[k] is 0 where that pass would branch
@@ -53,25 +74,13 @@ static inline __attribute__((always_inline)) void walk(const prep *p, double dt,
     const double P[3] = {p->p[0], p->p[1], p->p[2]}, n[3] = {p->n[0], p->n[1], p->n[2]};
     const double mu = p->mu_slide;
     for (uint32_t k = 0; k < m; k++) {
-        double x0[3], v0[3], x1[3], a[3];
-        for (int j = 0; j < 3; j++) {
-            x0[j] = s->x0[j][k], v0[j] = s->v0[j][k], x1[j] = s->x1[j][k];
-            a[j] = (s->v1[j][k] - v0[j]) / dt; /* collide_one */
-        }
+        LANE_START(P, n, dt, s, k);
         /* within_reach is certain for finite inputs starting within touch
-         * of the plane on its front (reach >= 1e-6 (1 + |x|_1) > touch) */
-        const double fin = fabs(x0[0]) + fabs(x0[1]) + fabs(x0[2]) + fabs(v0[0]) + fabs(v0[1]) +
-                           fabs(v0[2]) + fabs(x1[0]) + fabs(x1[1]) + fabs(x1[2]) + fabs(a[0]) +
-                           fabs(a[1]) + fabs(a[2]);
-        const double q0[3] = {x0[0] - P[0], x0[1] - P[1], x0[2] - P[2]};
-        const double g0 = dot(q0, n); /* start_side: side 1 when g0 >= 0 */
-        /* earliest_hit and detect_plane from x0 over dt */
-        const double touch = TOUCH * (1 + dmax(fabs(x0[0]), dmax(fabs(x0[1]), fabs(x0[2]))));
-        /* The normal parts b, A as the general pass zeroes them when they
+         * of the plane on its front (reach >= 1e-6 (1 + |x|_1) > touch).
+         * The normal parts b, A as the general pass zeroes them when they
          * are rounding noise (below NOISE times |v|, |a|): the walk takes
          * only b exactly 0 and an A surely not noise, so it needs neither
          * square root (sureness: see noise_test). */
-        const double b = dot(v0, n), A = 0.5 * dot(a, n);
         const double a1 = fabs(a[0]) + fabs(a[1]) + fabs(a[2]);
         /* crossings(A, b, 0, dt): a hit at s = 0 when the first of b, A
          * is negative (and no later one with b = 0). (| and &, not || and
@@ -171,18 +180,7 @@ PFX_CLONES static void held_walk(const prep *p, double dt, uint32_t m, slide_chu
 PFX_CLONES static void flight_walk(const prep *p, double dt, uint32_t m, slide_chunk *restrict s) {
     const double P[3] = {p->p[0], p->p[1], p->p[2]}, n[3] = {p->n[0], p->n[1], p->n[2]};
     for (uint32_t k = 0; k < m; k++) {
-        double x0[3], v0[3], x1[3], a[3];
-        for (int j = 0; j < 3; j++) {
-            x0[j] = s->x0[j][k], v0[j] = s->v0[j][k], x1[j] = s->x1[j][k];
-            a[j] = (s->v1[j][k] - v0[j]) / dt; /* collide_one */
-        }
-        const double fin = fabs(x0[0]) + fabs(x0[1]) + fabs(x0[2]) + fabs(v0[0]) + fabs(v0[1]) +
-                           fabs(v0[2]) + fabs(x1[0]) + fabs(x1[1]) + fabs(x1[2]) + fabs(a[0]) +
-                           fabs(a[1]) + fabs(a[2]);
-        const double q0[3] = {x0[0] - P[0], x0[1] - P[1], x0[2] - P[2]};
-        const double g0 = dot(q0, n); /* start_side: side 1 when g0 >= 0 */
-        const double touch = TOUCH * (1 + dmax(fabs(x0[0]), dmax(fabs(x0[1]), fabs(x0[2]))));
-        const double b = dot(v0, n), A = 0.5 * dot(a, n);
+        LANE_START(P, n, dt, s, k);
         /* detect_plane over dt: the cull, then crossings' roots (in every
          * lane) and directions */
         const int culled = fabs(g0) > (fabs(b) + fabs(A) * dt) * dt + touch;
