@@ -184,7 +184,8 @@ if command -v script >/dev/null 2>&1; then
     grep -q 'pfx: frame 2 of 0-2' "$work/out" || flunk "no progress line on a terminal"
     timeout 60 script -qec "$(q "$pfx" render "$FIRE" -o "$work/tty" "${TINY[@]}" -q) 2>&1" /dev/null \
         </dev/null >"$work/out" 2>"$work/err"
-    [ -z "$(tr -d '\r\n' <"$work/out")" ] || flunk "output on a terminal with -q"
+    [ -z "$(tr -d '\r\n' <"$work/out")" ] ||
+        flunk "output on a terminal with -q: $(head -c 600 "$work/out" | tr -d '\r' | cat -v)"
     end
 fi
 
