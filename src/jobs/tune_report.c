@@ -116,6 +116,17 @@ static double shown_error(const pfx_chart *c, const pfx_tune_run *r) {
     return r->err_max_px > c->y0 ? r->err_max_px : c->y0;
 }
 
+/* idx[0 .. n) in order of cost (insertion sort, stable: n is small). */
+static void by_cost(const pfx_tune_result *res, size_t *idx, size_t n) {
+    for (size_t a = 1; a < n; a++)
+        for (size_t b = a;
+             b > 0 && res->runs[idx[b]].seconds_per_s < res->runs[idx[b - 1]].seconds_per_s; b--) {
+            size_t t = idx[b];
+            idx[b] = idx[b - 1];
+            idx[b - 1] = t;
+        }
+}
+
 /* The Pareto front: runs within no other run's reach (cheaper and more
  * accurate), in order of cost. Returns how many went into idx. */
 static size_t pareto(const pfx_tune_result *res, size_t *idx) {
@@ -134,13 +145,7 @@ static size_t pareto(const pfx_tune_result *res, size_t *idx) {
         if (!dominated)
             idx[n++] = i;
     }
-    for (size_t a = 1; a < n; a++) /* insertion sort by cost: n is small */
-        for (size_t b = a;
-             b > 0 && res->runs[idx[b]].seconds_per_s < res->runs[idx[b - 1]].seconds_per_s; b--) {
-            size_t t = idx[b];
-            idx[b] = idx[b - 1];
-            idx[b - 1] = t;
-        }
+    by_cost(res, idx, n);
     return n;
 }
 
@@ -153,13 +158,7 @@ static int integrator_runs(const pfx_tune_result *res, pfx_integrator in, size_t
         if (r->integrator == in && r->compiled && !r->reference && !r->blew_up && !r->current)
             idx[n++] = i;
     }
-    for (int a = 1; a < n; a++) /* insertion sort: n is small */
-        for (int b = a;
-             b > 0 && res->runs[idx[b]].seconds_per_s < res->runs[idx[b - 1]].seconds_per_s; b--) {
-            size_t t = idx[b];
-            idx[b] = idx[b - 1];
-            idx[b - 1] = t;
-        }
+    by_cost(res, idx, (size_t)n);
     return n;
 }
 

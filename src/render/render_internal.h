@@ -81,7 +81,6 @@
     X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                                             \
     X(PFNGLTEXIMAGE3DPROC, TexImage3D)                                                             \
     X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                                       \
-    X(PFNGLGENERATEMIPMAPPROC, GenerateMipmap)                                                     \
     X(PFNGLBLENDFUNCSEPARATEPROC, BlendFuncSeparate)
 
 typedef struct pfx_gl {

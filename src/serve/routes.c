@@ -10,12 +10,10 @@
 
 #include "serve/page_assets.h"
 
-enum MHD_Result pfx_route_text(struct MHD_Connection *conn, unsigned status, const char *type,
-                               const char *text) {
-    struct MHD_Response *r =
-        MHD_create_response_from_buffer(strlen(text), (void *)text, MHD_RESPMEM_MUST_COPY);
-    if (!r)
-        return MHD_NO;
+/* Every answer: its type, never cached, never sniffed as another type;
+ * queued, and the reference dropped (libmicrohttpd keeps its own). */
+static enum MHD_Result queue(struct MHD_Connection *conn, unsigned status, struct MHD_Response *r,
+                             const char *type) {
     MHD_add_response_header(r, "Content-Type", type);
     MHD_add_response_header(r, "Cache-Control", "no-store");
     MHD_add_response_header(r, "X-Content-Type-Options", "nosniff");
@@ -24,20 +22,26 @@ enum MHD_Result pfx_route_text(struct MHD_Connection *conn, unsigned status, con
     return ret;
 }
 
-/* A malloc'd body, handed to libmicrohttpd, which frees it. */
+enum MHD_Result pfx_route_text(struct MHD_Connection *conn, unsigned status, const char *type,
+                               const char *text) {
+    struct MHD_Response *r =
+        MHD_create_response_from_buffer(strlen(text), (void *)text, MHD_RESPMEM_MUST_COPY);
+    return r ? queue(conn, status, r, type) : MHD_NO;
+}
+
+/* A response owning a malloc'd body (libmicrohttpd frees it); the body
+ * freed here when there is none. */
+static struct MHD_Response *owned(void *body, size_t len) {
+    struct MHD_Response *r = MHD_create_response_from_buffer(len, body, MHD_RESPMEM_MUST_FREE);
+    if (!r)
+        free(body);
+    return r;
+}
+
 static enum MHD_Result send_owned(struct MHD_Connection *conn, const char *type, void *body,
                                   size_t len) {
-    struct MHD_Response *r = MHD_create_response_from_buffer(len, body, MHD_RESPMEM_MUST_FREE);
-    if (!r) {
-        free(body);
-        return MHD_NO;
-    }
-    MHD_add_response_header(r, "Content-Type", type);
-    MHD_add_response_header(r, "Cache-Control", "no-store");
-    MHD_add_response_header(r, "X-Content-Type-Options", "nosniff");
-    enum MHD_Result ret = MHD_queue_response(conn, MHD_HTTP_OK, r);
-    MHD_destroy_response(r);
-    return ret;
+    struct MHD_Response *r = owned(body, len);
+    return r ? queue(conn, MHD_HTTP_OK, r, type) : MHD_NO;
 }
 
 static enum MHD_Result send_asset(struct MHD_Connection *conn, const pfx_page_asset *a,
@@ -46,17 +50,13 @@ static enum MHD_Result send_asset(struct MHD_Connection *conn, const pfx_page_as
         MHD_create_response_from_buffer(a->len, (void *)a->bytes, MHD_RESPMEM_PERSISTENT);
     if (!r)
         return MHD_NO;
-    MHD_add_response_header(r, "Content-Type", a->type);
-    MHD_add_response_header(r, "Cache-Control", "no-store");
     if (set_cookie)
         MHD_add_response_header(r, "Set-Cookie", set_cookie);
     /* The page loads nothing from elsewhere: no CDN, no inline script. */
     MHD_add_response_header(r, "Content-Security-Policy",
                             "default-src 'self'; img-src 'self' blob: data:; "
                             "connect-src 'self'; frame-ancestors 'none'");
-    enum MHD_Result ret = MHD_queue_response(conn, MHD_HTTP_OK, r);
-    MHD_destroy_response(r);
-    return ret;
+    return queue(conn, MHD_HTTP_OK, r, a->type);
 }
 
 static enum MHD_Result route_index(const pfx_route_ctx *c, struct MHD_Connection *conn,
@@ -223,19 +223,13 @@ static enum MHD_Result route_frame(const pfx_route_ctx *c, struct MHD_Connection
     if (got < 0)
         return pfx_route_text(conn, MHD_HTTP_SERVICE_UNAVAILABLE, "text/plain",
                               "pfx: the frame could not be rendered\n");
-    struct MHD_Response *r = MHD_create_response_from_buffer(len, png, MHD_RESPMEM_MUST_FREE);
-    if (!r) {
-        free(png);
+    struct MHD_Response *r = owned(png, len);
+    if (!r)
         return MHD_NO;
-    }
     char v[16];
     snprintf(v, sizeof v, "%u", version);
-    MHD_add_response_header(r, "Content-Type", "image/png");
-    MHD_add_response_header(r, "Cache-Control", "no-store");
     MHD_add_response_header(r, "X-Pfx-Version", v);
-    enum MHD_Result ret = MHD_queue_response(conn, MHD_HTTP_OK, r);
-    MHD_destroy_response(r);
-    return ret;
+    return queue(conn, MHD_HTTP_OK, r, "image/png");
 }
 
 /* The emitters under a pixel; with ?variant=compare, the comparison's
@@ -298,11 +292,7 @@ static enum MHD_Result route_events(const pfx_route_ctx *c, struct MHD_Connectio
         free(es);
         return MHD_NO;
     }
-    MHD_add_response_header(r, "Content-Type", "text/event-stream");
-    MHD_add_response_header(r, "Cache-Control", "no-store");
-    enum MHD_Result ret = MHD_queue_response(conn, MHD_HTTP_OK, r);
-    MHD_destroy_response(r);
-    return ret;
+    return queue(conn, MHD_HTTP_OK, r, "text/event-stream");
 }
 
 /* A path pattern: exact, or a prefix and a suffix around digits. */
