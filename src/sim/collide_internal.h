@@ -94,9 +94,11 @@ void pfx_collide_snap(const prep *p, const hit *h, double x[3], double n[3]);
  * pass's deflectors are the one kind it handles (one infinite plane that
  * bounces); then, of particles [i0, i0 + m) where todo (indexed from i0)
  * is set, each that starts on the plane and slides through the step is
- * resolved and stored exactly as collide_one would, and each that hits
- * nothing is left as it would leave it (both flagged at rest as
- * collide_one_rest would), its todo cleared; returns the contacts. */
+ * resolved and stored exactly as collide_one would, each that hits
+ * nothing is left as it would leave it, and (where the response draws
+ * nothing and raises no event) each that strikes it once from the air is
+ * resolved likewise (all flagged at rest as collide_one_rest would), its
+ * todo cleared; returns the contacts (the impacts go to c->stats). */
 bool pfx_collide_slide_applies(const ctx *c);
 uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo);
 

@@ -9,8 +9,11 @@
  * collide_shape.c and collide_resolve.c, so the bits are theirs; a
  * particle that strays from them anywhere (a hop, an impact, a stop within
  * the step, a nudge at the store, a fallback) is left to the general pass
- * untouched. It does not handle other shapes, several deflectors, or kill
- * and stick responses. */
+ * untouched. A third verdict is a particle in flight that strikes the
+ * plane once within the step, where the response draws nothing and raises
+ * no event: the impact, the bounce or the landing, and the rest of the
+ * step in the air or sliding. It does not handle other shapes, several
+ * deflectors, or kill and stick responses. */
 #include "sim/collide_internal.h"
 
 #include <float.h>
@@ -31,7 +34,8 @@ bool pfx_collide_slide_applies(const ctx *c) {
 typedef struct slide_chunk {
     double x0[3][SLIDE_CHUNK], v0[3][SLIDE_CHUNK], x1[3][SLIDE_CHUNK], v1[3][SLIDE_CHUNK];
     double xe[3][SLIDE_CHUNK], ve[3][SLIDE_CHUNK];
-    uint8_t ok[SLIDE_CHUNK]; /* the walk held (slide_walk: slid; flight_walk: no hit) */
+    uint8_t ok[SLIDE_CHUNK];     /* the walk held (slide_walk: slid; flight_walk: no hit) */
+    uint8_t impact[SLIDE_CHUNK]; /* impact_walk: the strike was an impact, not a contact */
 } slide_chunk;
 
 /* noise_test: the general pass compares a normal part N with NOISE
@@ -203,12 +207,133 @@ PFX_CLONES static void flight_walk(const prep *p, double dt, uint32_t m, slide_c
     }
 }
 
-/* pfx_collide_store and collide_one_rest for the particles whose slide
+/* Whether impact_walk may take this pass's strikes: a constant resilience
+ * and friction (respond's draws return the range's one value), no lifetime
+ * loss and no on_hit event (its order is the general pass's). */
+static bool impacts_apply(const ctx *c) {
+    const pfx_deflector *d = &c->defl[0];
+    return !c->on_hit && d->resilience[0] == d->resilience[1] && d->friction[0] == d->friction[1] &&
+           !(d->lifetime_loss > 0);
+}
+
+/* The third verdict, for the m gathered particles flight_walk did not
+ * take: one that starts in flight in front of the plane, in reach
+ * (within_reach), and whose parabola crosses it downward within the step
+ * (detect_plane's roots, as flight_walk) is moved to the crossing and
+ * snapped onto the plane (advance, pfx_collide_snap); respond's impact
+ * (the constant eps and mu of the deflector) or contact follows, and with
+ * it the rebound or the rest (rest(): the normal part of a gone, friction
+ * mu_slide |a_N|); then the rest of the step (slide_accel, then
+ * detect_plane from the contact, which must find nothing, and advance).
+ * ok[k] is 0 where the general pass would go elsewhere: a second strike or
+ * a slide that stops within the step, a start on or behind the plane, no
+ * crossing. impact[k]: the strike was an impact (it counts in the hits
+ * column and in the stats), not a contact. */
+PFX_CLONES static void impact_walk(const prep *p, double dt, double eps, double mu, uint32_t m,
+                                   slide_chunk *restrict s) {
+    const double P[3] = {p->p[0], p->p[1], p->p[2]}, n[3] = {p->n[0], p->n[1], p->n[2]};
+    const double mu_slide = p->mu_slide;
+    for (uint32_t k = 0; k < m; k++) {
+        LANE_START(P, n, dt, s, k);
+        /* within_reach: side 1 (g0 >= 0), the constraint within reach */
+        const double speed = sqrt(dot(v0, v0)), accel = sqrt(dot(a, a));
+        const double dx[3] = {x1[0] - x0[0], x1[1] - x0[1], x1[2] - x0[2]};
+        double reach = dmax(speed * dt + 0.5 * accel * dt * dt, sqrt(dot(dx, dx)));
+        reach += 1e-6 * (1 + fabs(x0[0]) + fabs(x0[1]) + fabs(x0[2]));
+        int ok = (fin <= DBL_MAX) & (g0 > touch) & (fabs(g0) <= reach);
+        /* detect_plane over dt from off the plane: the cull, then
+         * crossings' first downward root */
+        const int culled = fabs(g0) > (fabs(b) + fabs(A) * dt) * dt + touch;
+        const double lin = -g0 / b;
+        const double disc = b * b - 4 * A * g0;
+        const double qq = -0.5 * (b + copysign(sqrt(disc), b));
+        const double r1 = qq / A, r2 = g0 / qq;
+        const double lo = r1 > r2 ? r2 : r1, hi = r1 > r2 ? r1 : r2;
+        const int down_first = A > 0;
+        const int hit_lin = (b < 0) & (lin > 0) & (lin <= dt);
+        const int hit_quad = (disc > 0) & (((lo > 0) & (lo <= dt) & down_first) |
+                                           ((hi > 0) & (hi <= dt) & (1 - down_first)));
+        ok &= (1 - culled) & (A == 0 ? hit_lin : hit_quad);
+        const double s1 = A == 0 ? lin : (down_first ? lo : hi);
+        /* advance to the strike, then pfx_collide_snap */
+        double x[3], v[3];
+        pos_at(x0, v0, a, s1, x);
+        for (int j = 0; j < 3; j++)
+            v[j] = v0[j] + a[j] * s1;
+        const double q[3] = {x[0] - P[0], x[1] - P[1], x[2] - P[2]};
+        const double d = dot(q, n);
+        for (int j = 0; j < 3; j++)
+            x[j] -= d * n[j];
+        /* respond: an impact (w >= |a_N| dt) rebounds at eps w, the
+         * tangent kept at 1 - mu, and rests when the rebound is below
+         * |a_N| dt; a contact rests */
+        const double vn = dot(v, n), an = dot(a, n);
+        const double w = vn < 0 ? -vn : 0, thr = an < 0 ? -an * dt : 0;
+        const int contact = w < thr;
+        double vt[3], vb[3];
+        for (int j = 0; j < 3; j++) {
+            vt[j] = v[j] - vn * n[j];
+            const double kept = vt[j] * (1 - mu);
+            vb[j] = kept + eps * w * n[j];
+            vt[j] = contact ? vt[j] : kept;
+        }
+        const int rests = contact | ((an < 0) & (eps * w < thr));
+        /* rest(): the acceleration loses its normal part; friction */
+        const double fric = rests ? 0 + mu_slide * -an : 0;
+        double af[3];
+        for (int j = 0; j < 3; j++) {
+            v[j] = rests ? vt[j] : vb[j];
+            af[j] = rests ? a[j] - an * n[j] : a[j];
+        }
+        /* the rest of the step: slide_accel */
+        const double T = dt - s1;
+        ok &= T > 0;
+        const double vm = sqrt(dot(v, v)), am = sqrt(dot(af, af));
+        double u[3], ae[3];
+        for (int j = 0; j < 3; j++) {
+            u[j] = v[j] / vm;
+            const double sliding = af[j] - fric * u[j];
+            const double held = am <= fric ? 0 : af[j] - fric * af[j] / am;
+            ae[j] = !(fric > 0) ? af[j] : (vm > 0 ? sliding : held);
+        }
+        const double along = dot(ae, u);
+        const double reached = vm / -along;
+        const double stop = (fric > 0) & (vm > 0) & (along < 0) ? reached : INFINITY;
+        ok &= !(stop <= T);
+        const double horizon = dmin(T, stop);
+        /* detect_plane from the strike: culled, or on the plane with the
+         * noise zeroed and no crossing (crossings with c = 0) */
+        const double touch2 = TOUCH * (1 + dmax(fabs(x[0]), dmax(fabs(x[1]), fabs(x[2]))));
+        const double q2[3] = {x[0] - P[0], x[1] - P[1], x[2] - P[2]};
+        const double c2 = dot(q2, n);
+        const double b2 = dot(v, n), A2 = 0.5 * dot(ae, n);
+        const int culled2 = fabs(c2) > (fabs(b2) + fabs(A2) * horizon) * horizon + touch2;
+        const double bz = (b2 == 0) | (fabs(b2) <= NOISE * vm) ? 0 : b2;
+        const double Az = (A2 == 0) | (fabs(A2) <= NOISE * sqrt(dot(ae, ae))) ? 0 : A2;
+        const double first = bz != 0 ? bz : Az;
+        const double back = -bz / Az; /* when it comes back to the plane */
+        const int again = (first < 0) | ((bz > 0) & (Az < 0) & (back <= horizon));
+        ok &= culled2 | ((c2 <= touch2) & (1 - again));
+        /* advance to the end of the step */
+        pos_at(x, v, ae, horizon, x);
+        for (int j = 0; j < 3; j++) {
+            v[j] += ae[j] * horizon;
+            s->xe[j][k] = x[j], s->ve[j][k] = v[j];
+        }
+        s->ok[k] = (uint8_t)ok;
+        s->impact[k] = (uint8_t)(1 - contact);
+    }
+}
+
+/* pfx_collide_store and collide_one_rest for the particles whose walk
  * held (done[0..n) of the chunk's idx): the end state stored as floats,
- * flagged at rest where no bit moved, the todo mark cleared; a point the
- * store would nudge off the plane is left to the general pass. */
+ * flagged at rest where no bit moved and nothing but a contact happened,
+ * the todo mark cleared; a point the store would nudge off the plane is
+ * left to the general pass. With `impacts`, s->impact says which struck
+ * (respond: counted there and in the hits column, never at rest). */
 static void store_slides(const ctx *c, uint32_t i0, const slide_chunk *s, const uint32_t *idx,
-                         const uint32_t *done, uint32_t n, uint8_t *todo, uint64_t *contacts) {
+                         const uint32_t *done, uint32_t n, uint8_t *todo, uint64_t *contacts,
+                         uint64_t *impacts) {
     const pfx_collide_pool *pool = c->pool;
     const prep *p = &c->pr[0];
     for (uint32_t e = 0; e < n; e++) {
@@ -225,10 +350,17 @@ static void store_slides(const ctx *c, uint32_t i0, const slide_chunk *s, const 
             continue;
         const uint32_t j = idx[k], i = i0 + j;
         const float vf[3] = {(float)s->ve[0][k], (float)s->ve[1][k], (float)s->ve[2][k]};
+        const bool impact = impacts && s->impact[k];
+        if (impact) {
+            (*impacts)++;
+            if (pool->hits)
+                pool->hits[i]++;
+        }
         if (pool->rest) { /* collide_one_rest: still when no bit moved */
             const float start[6] = {pool->px0[i], pool->py0[i], pool->pz0[i],
                                     pool->vx0[i], pool->vy0[i], pool->vz0[i]};
-            const bool still = !memcmp(xf, start, sizeof xf) && !memcmp(vf, start + 3, sizeof vf);
+            const bool still =
+                !impact && !memcmp(xf, start, sizeof xf) && !memcmp(vf, start + 3, sizeof vf);
             pool->rest[i] = still ? (uint8_t)(2 | 0x80) : 0;
             if (still) {
                 pool->rest_px[i] = pool->px[i], pool->rest_py[i] = pool->py[i];
@@ -241,7 +373,7 @@ static void store_slides(const ctx *c, uint32_t i0, const slide_chunk *s, const 
         if (pool->ax)
             pool->ax[i] = NAN;
         todo[j] = 0;
-        (*contacts)++;
+        *contacts += !impact;
     }
 }
 
@@ -258,18 +390,128 @@ static void pack(slide_chunk *s, uint32_t *idx, const uint32_t *list, uint32_t n
     }
 }
 
-uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo) {
+/* Gathers particles i0 + idx[0..n) into the chunk as doubles. */
+static void gather(const pfx_collide_pool *pool, uint32_t i0, const uint32_t *idx, uint32_t n,
+                   slide_chunk *s) {
+    for (uint32_t k = 0; k < n; k++) {
+        const uint32_t i = i0 + idx[k];
+        s->x0[0][k] = pool->px0[i], s->x0[1][k] = pool->py0[i], s->x0[2][k] = pool->pz0[i];
+        s->v0[0][k] = pool->vx0[i], s->v0[1][k] = pool->vy0[i], s->v0[2][k] = pool->vz0[i];
+        s->x1[0][k] = pool->px[i], s->x1[1][k] = pool->py[i], s->x1[2][k] = pool->pz[i];
+        s->v1[0][k] = pool->vx[i], s->v1[1][k] = pool->vy[i], s->v1[2][k] = pool->vz[i];
+    }
+}
+
+/* The candidates idx[0..n) that start on the plane (LANE_START's g0 within
+ * [0, touch]: the only ones slide_walk and held_walk can take) to on[],
+ * the others (only flight_walk and impact_walk can take them) to off[];
+ * *n_on of them on. */
+static void split_on_plane(const pfx_collide_pool *pool, const prep *p, uint32_t i0,
+                           const uint32_t *idx, uint32_t n, uint32_t *on, uint32_t *off,
+                           uint32_t *n_on) {
+    const double P[3] = {p->p[0], p->p[1], p->p[2]}, nn[3] = {p->n[0], p->n[1], p->n[2]};
+    uint32_t a = 0, b = 0;
+    for (uint32_t k = 0; k < n; k++) {
+        const uint32_t i = i0 + idx[k];
+        const double x0[3] = {pool->px0[i], pool->py0[i], pool->pz0[i]};
+        const double q0[3] = {x0[0] - P[0], x0[1] - P[1], x0[2] - P[2]};
+        const double g0 = dot(q0, nn);
+        const double touch = TOUCH * (1 + dmax(fabs(x0[0]), dmax(fabs(x0[1]), fabs(x0[2]))));
+        const uint32_t is_on = (g0 >= 0) & (g0 <= touch);
+        on[a] = idx[k], off[b] = idx[k];
+        a += is_on, b += 1u - is_on;
+    }
+    *n_on = a;
+}
+
+/* The walks of the candidates idx[0..n) that start on the plane: a slide,
+ * or held by static friction; the others stay marked for the general
+ * pass. */
+static void walk_on_plane(const ctx *c, uint32_t i0, slide_chunk *s, uint32_t *idx, uint32_t n,
+                          uint8_t *todo, uint64_t *contacts) {
+    const prep *p = &c->pr[0];
+    gather(c->pool, i0, idx, n, s);
+    slide_walk(p, c->dt, n, s);
+    /* the walks that held, and the others, compacted */
+    uint32_t done[SLIDE_CHUNK], n_done = 0, left[SLIDE_CHUNK], n_left = 0;
+    for (uint32_t k = 0; k < n; k++) {
+        done[n_done] = k, left[n_left] = k;
+        n_done += s->ok[k], n_left += 1u - s->ok[k];
+    }
+    store_slides(c, i0, s, idx, done, n_done, todo, contacts, NULL);
+    /* held_walk for the others, if one of them starts still (its only
+     * candidates), packed to the front (left[e] >= e) */
+    uint32_t n_still = 0;
+    for (uint32_t e = 0; e < n_left; e++) {
+        const uint32_t k = left[e];
+        n_still += (s->v0[0][k] == 0) & (s->v0[1][k] == 0) & (s->v0[2][k] == 0);
+    }
+    if (!n_still)
+        return;
+    pack(s, idx, left, n_left);
+    held_walk(p, c->dt, n_left, s);
+    uint32_t n_held = 0;
+    for (uint32_t k = 0; k < n_left; k++) {
+        done[n_held] = k;
+        n_held += s->ok[k];
+    }
+    store_slides(c, i0, s, idx, done, n_held, todo, contacts, NULL);
+}
+
+/* The walks of the candidates idx[0..n) that start off the plane: those
+ * that reach nothing are left as the integrator did; with `strikes`, those
+ * that strike it take impact_walk; the others stay marked. */
+static void walk_off_plane(const ctx *c, uint32_t i0, slide_chunk *s, uint32_t *idx, uint32_t n,
+                           uint8_t *todo, uint64_t *contacts, uint64_t *impacts, bool strikes) {
     const pfx_collide_pool *pool = c->pool;
     const prep *p = &c->pr[0];
     const pfx_deflector *d = &c->defl[0];
+    gather(pool, i0, idx, n, s);
+    flight_walk(p, c->dt, n, s);
+    uint32_t struck[SLIDE_CHUNK], n_struck = 0;
+    for (uint32_t e = 0; e < n; e++) {
+        struck[n_struck] = e;
+        n_struck += 1u - s->ok[e];
+        if (!s->ok[e])
+            continue;
+        const uint32_t j = idx[e], i = i0 + j;
+        if (pool->rest) { /* collide_one_rest: still when the step moved no bit */
+            const float start[6] = {pool->px0[i], pool->py0[i], pool->pz0[i],
+                                    pool->vx0[i], pool->vy0[i], pool->vz0[i]};
+            const float end[6] = {pool->px[i], pool->py[i], pool->pz[i],
+                                  pool->vx[i], pool->vy[i], pool->vz[i]};
+            const bool still = !memcmp(start, end, sizeof end);
+            pool->rest[i] = still ? 1 : 0;
+            if (still) {
+                pool->rest_px[i] = end[0], pool->rest_py[i] = end[1], pool->rest_pz[i] = end[2];
+                pool->rest_vx[i] = end[3], pool->rest_vy[i] = end[4], pool->rest_vz[i] = end[5];
+            }
+        }
+        todo[j] = 0;
+    }
+    if (!n_struck || !strikes)
+        return;
+    pack(s, idx, struck, n_struck);
+    impact_walk(p, c->dt, d->resilience[0], d->friction[0], n_struck, s);
+    uint32_t done[SLIDE_CHUNK], n_walked = 0;
+    for (uint32_t k = 0; k < n_struck; k++) {
+        done[n_walked] = k;
+        n_walked += s->ok[k];
+    }
+    store_slides(c, i0, s, idx, done, n_walked, todo, contacts, impacts);
+}
+
+uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo) {
+    const pfx_collide_pool *pool = c->pool;
+    const pfx_deflector *d = &c->defl[0];
     static _Thread_local slide_chunk s; /* 43 KiB: not on a worker's stack */
-    uint32_t idx[SLIDE_CHUNK];
-    uint64_t contacts = 0;
+    uint32_t idx[SLIDE_CHUNK], on[SLIDE_CHUNK], off[SLIDE_CHUNK];
+    uint64_t contacts = 0, impacts = 0;
+    const bool strikes = impacts_apply(c);
     for (uint32_t j0 = 0; j0 < m; j0 += SLIDE_CHUNK) {
         const uint32_t end = m - j0 < SLIDE_CHUNK ? m : j0 + SLIDE_CHUNK;
         /* The candidates, compacted without a branch on each mark (they
-         * fall at random: a branch mispredicted half of them), then
-         * gathered. */
+         * fall at random: a branch mispredicted half of them). */
         uint32_t count = 0;
         const uint8_t *stuck = pool->stuck ? pool->stuck + i0 : NULL;
         for (uint32_t j = j0; j < end; j++) {
@@ -285,62 +527,16 @@ uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo)
             }
             count = kept;
         }
-        for (uint32_t k = 0; k < count; k++) {
-            const uint32_t i = i0 + idx[k];
-            s.x0[0][k] = pool->px0[i], s.x0[1][k] = pool->py0[i], s.x0[2][k] = pool->pz0[i];
-            s.v0[0][k] = pool->vx0[i], s.v0[1][k] = pool->vy0[i], s.v0[2][k] = pool->vz0[i];
-            s.x1[0][k] = pool->px[i], s.x1[1][k] = pool->py[i], s.x1[2][k] = pool->pz[i];
-            s.v1[0][k] = pool->vx[i], s.v1[1][k] = pool->vy[i], s.v1[2][k] = pool->vz[i];
-        }
         if (!count)
             continue;
-        slide_walk(p, c->dt, count, &s);
-        /* the walks that held, and the others, compacted */
-        uint32_t done[SLIDE_CHUNK], n_done = 0, left[SLIDE_CHUNK], n_left = 0;
-        for (uint32_t k = 0; k < count; k++) {
-            done[n_done] = k, left[n_left] = k;
-            n_done += s.ok[k], n_left += 1u - s.ok[k];
-        }
-        store_slides(c, i0, &s, idx, done, n_done, todo, &contacts);
-        /* the others packed to the front (left[e] >= e), for held_walk
-         * those that start still (its only candidates), then the rest for
-         * flight_walk */
-        uint32_t n_still = 0;
-        for (uint32_t e = 0; e < n_left; e++) {
-            const uint32_t k = left[e];
-            n_still += (s.v0[0][k] == 0) & (s.v0[1][k] == 0) & (s.v0[2][k] == 0);
-        }
-        pack(&s, idx, left, n_left);
-        if (n_still) {
-            held_walk(p, c->dt, n_left, &s);
-            uint32_t n_held = 0, n_other = 0;
-            for (uint32_t k = 0; k < n_left; k++) {
-                done[n_held] = k, left[n_other] = k;
-                n_held += s.ok[k], n_other += 1u - s.ok[k];
-            }
-            store_slides(c, i0, &s, idx, done, n_held, todo, &contacts);
-            pack(&s, idx, left, n_other);
-            n_left = n_other;
-        }
-        flight_walk(p, c->dt, n_left, &s);
-        for (uint32_t e = 0; e < n_left; e++) {
-            if (!s.ok[e])
-                continue;
-            const uint32_t j = idx[e], i = i0 + j;
-            if (pool->rest) { /* collide_one_rest: still when the step moved no bit */
-                const float start[6] = {pool->px0[i], pool->py0[i], pool->pz0[i],
-                                        pool->vx0[i], pool->vy0[i], pool->vz0[i]};
-                const float end[6] = {pool->px[i], pool->py[i], pool->pz[i],
-                                      pool->vx[i], pool->vy[i], pool->vz[i]};
-                const bool still = !memcmp(start, end, sizeof end);
-                pool->rest[i] = still ? 1 : 0;
-                if (still) {
-                    pool->rest_px[i] = end[0], pool->rest_py[i] = end[1], pool->rest_pz[i] = end[2];
-                    pool->rest_vx[i] = end[3], pool->rest_vy[i] = end[4], pool->rest_vz[i] = end[5];
-                }
-            }
-            todo[j] = 0;
-        }
+        uint32_t n_on;
+        split_on_plane(pool, &c->pr[0], i0, idx, count, on, off, &n_on);
+        if (n_on)
+            walk_on_plane(c, i0, &s, on, n_on, todo, &contacts);
+        if (count - n_on)
+            walk_off_plane(c, i0, &s, off, count - n_on, todo, &contacts, &impacts, strikes);
     }
+    if (c->stats)
+        c->stats->impacts += impacts;
     return contacts;
 }

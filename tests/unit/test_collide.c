@@ -581,16 +581,20 @@ static void test_marks_given(void) {
  * bits, step after step, for sliders at every speed (stopping, resting,
  * -0 components, a hair above the plane) on a level and a tilted plane,
  * with and without friction, beside particles that bounce, fly, and rise
- * from behind the plane. */
+ * from behind the plane. With a constant resilience and friction the
+ * particles that strike the plane from the air take the walk too (a
+ * bounce, a landing, a rest, a second strike within the step), dropped
+ * from heights up to 1.2 m, straight down or at an angle. */
 static void test_slide_same_bits(void) {
     const double tilt[3] = {0.3, 1, 0.1};
-    for (int variant = 0; variant < 4; variant++) {
-        const bool tilted = variant & 1;
+    for (int variant = 0; variant < 8; variant++) {
+        const bool tilted = variant & 1, constant = variant & 4;
         pfx_deflector one[2] = {tilted ? plane(0, -0.2, 0, tilt[0], tilt[1], tilt[2])
                                        : plane(0, 0, 0, 0, 1, 0),
                                 plane(0, -1000, 0, 0, 1, 0)};
-        one[0].resilience[0] = 0.3, one[0].resilience[1] = 0.6;
-        one[0].friction[0] = variant & 2 ? 0 : 0.05, one[0].friction[1] = variant & 2 ? 0 : 0.3;
+        one[0].resilience[0] = constant ? 0.5 : 0.3, one[0].resilience[1] = constant ? 0.5 : 0.6;
+        one[0].friction[0] = variant & 2 ? 0 : constant ? 0.1 : 0.05;
+        one[0].friction[1] = variant & 2 ? 0 : constant ? 0.1 : 0.3;
         const uint32_t n = 3000;
         tpool *a = tpool_new(n, false), *b = tpool_new(n, false);
         for (uint32_t i = 0; i < n; i++) {
@@ -611,6 +615,12 @@ static void test_slide_same_bits(void) {
                 break;
             case 3: /* falling onto it */
                 y += 0.05 * (i % 7), vy = -1;
+                break;
+            case 6: /* half of them dropped from up to 1.2 m, some straight down */
+                if (i % 2)
+                    break;
+                y += 0.1 * (i % 13), vy = -0.1 * (i % 5);
+                uu = i % 3 ? uu : 0, ww = i % 3 ? ww : 0;
                 break;
             case 4: /* slow enough to stop within a few steps */
                 uu *= 0.01, ww *= 0.01;
