@@ -104,6 +104,10 @@ uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo)
 
 /* collide_resolve.c: one particle through one step. */
 int pfx_collide_resolve(const ctx *c, body *b);
+/* The resilience (which 0) or friction (1) of particle i's next impact on
+ * deflector d, drawn from `range` (see its body). */
+double pfx_collide_draw(const ctx *c, const pfx_deflector *d, uint32_t i, uint64_t which,
+                        const double range[2]);
 void pfx_collide_store(const ctx *c, body *b);
 
 #endif

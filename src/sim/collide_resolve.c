@@ -13,8 +13,8 @@
  * n-th bounce draws the same numbers whatever the step, the order of the
  * pool or the thread (a stream drawn in pool order gave another particle
  * each draw when sim.rate changed). A constant range draws nothing. */
-static double draw(const ctx *c, const pfx_deflector *d, uint32_t i, uint64_t which,
-                   const double range[2]) {
+double pfx_collide_draw(const ctx *c, const pfx_deflector *d, uint32_t i, uint64_t which,
+                        const double range[2]) {
     if (range[0] == range[1])
         return range[0];
     const pfx_collide_pool *pool = c->pool;
@@ -97,7 +97,8 @@ static int respond(const ctx *c, body *b, const hit *h, const double n[3], doubl
     for (int j = 0; j < 3; j++)
         vt[j] = b->v[j] - vn * n[j];
     if (!contact) {
-        double eps = draw(c, d, b->i, 0, d->resilience), mu = draw(c, d, b->i, 1, d->friction);
+        double eps = pfx_collide_draw(c, d, b->i, 0, d->resilience),
+               mu = pfx_collide_draw(c, d, b->i, 1, d->friction);
         if (d->lifetime_loss > 0) {
             float *life = &pool->lifetime[b->i];
             *life -= (float)(d->lifetime_loss * *life);

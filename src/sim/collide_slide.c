@@ -10,9 +10,9 @@
  * particle that strays from them anywhere (a hop, an impact, a stop within
  * the step, a nudge at the store, a fallback) is left to the general pass
  * untouched. A third verdict is a particle in flight that strikes the
- * plane once within the step, where the response draws nothing and raises
- * no event: the impact, the bounce or the landing, and the rest of the
- * step in the air or sliding. It does not handle other shapes, several
+ * plane once within the step, where the response raises no event (its
+ * order is the general pass's): the impact, the bounce or the landing,
+ * and the rest of the step in the air or sliding. It does not handle other shapes, several
  * deflectors, or kill and stick responses. */
 #include "sim/collide_internal.h"
 
@@ -36,6 +36,7 @@ typedef struct slide_chunk {
     double xe[3][SLIDE_CHUNK], ve[3][SLIDE_CHUNK];
     uint8_t ok[SLIDE_CHUNK];     /* the walk held (slide_walk: slid; flight_walk: no hit) */
     uint8_t impact[SLIDE_CHUNK]; /* impact_walk: the strike was an impact, not a contact */
+    double eps[SLIDE_CHUNK], mu[SLIDE_CHUNK]; /* impact_walk: the impact's draws */
 } slide_chunk;
 
 /* noise_test: the general pass compares a normal part N with NOISE
@@ -207,21 +208,12 @@ PFX_CLONES static void flight_walk(const prep *p, double dt, uint32_t m, slide_c
     }
 }
 
-/* Whether impact_walk may take this pass's strikes: a constant resilience
- * and friction (respond's draws return the range's one value), no lifetime
- * loss and no on_hit event (its order is the general pass's). */
-static bool impacts_apply(const ctx *c) {
-    const pfx_deflector *d = &c->defl[0];
-    return !c->on_hit && d->resilience[0] == d->resilience[1] && d->friction[0] == d->friction[1] &&
-           !(d->lifetime_loss > 0);
-}
-
 /* The third verdict, for the m gathered particles flight_walk did not
  * take: one that starts in flight in front of the plane, in reach
  * (within_reach), and whose parabola crosses it downward within the step
  * (detect_plane's roots, as flight_walk) is moved to the crossing and
  * snapped onto the plane (advance, pfx_collide_snap); respond's impact
- * (the constant eps and mu of the deflector) or contact follows, and with
+ * (eps[k] and mu[k], respond's draws) or contact follows, and with
  * it the rebound or the rest (rest(): the normal part of a gone, friction
  * mu_slide |a_N|); then the rest of the step (slide_accel, then
  * detect_plane from the contact, which must find nothing, and advance).
@@ -229,12 +221,12 @@ static bool impacts_apply(const ctx *c) {
  * a slide that stops within the step, a start on or behind the plane, no
  * crossing. impact[k]: the strike was an impact (it counts in the hits
  * column and in the stats), not a contact. */
-PFX_CLONES static void impact_walk(const prep *p, double dt, double eps, double mu, uint32_t m,
-                                   slide_chunk *restrict s) {
+PFX_CLONES static void impact_walk(const prep *p, double dt, uint32_t m, slide_chunk *restrict s) {
     const double P[3] = {p->p[0], p->p[1], p->p[2]}, n[3] = {p->n[0], p->n[1], p->n[2]};
     const double mu_slide = p->mu_slide;
     for (uint32_t k = 0; k < m; k++) {
         LANE_START(P, n, dt, s, k);
+        const double eps = s->eps[k], mu = s->mu[k];
         /* within_reach: side 1 (g0 >= 0), the constraint within reach */
         const double speed = sqrt(dot(v0, v0)), accel = sqrt(dot(a, a));
         const double dx[3] = {x1[0] - x0[0], x1[1] - x0[1], x1[2] - x0[2]};
@@ -351,7 +343,12 @@ static void store_slides(const ctx *c, uint32_t i0, const slide_chunk *s, const 
         const uint32_t j = idx[k], i = i0 + j;
         const float vf[3] = {(float)s->ve[0][k], (float)s->ve[1][k], (float)s->ve[2][k]};
         const bool impact = impacts && s->impact[k];
-        if (impact) {
+        if (impact) { /* respond */
+            const pfx_deflector *d = &c->defl[0];
+            if (d->lifetime_loss > 0) {
+                float *life = &pool->lifetime[i];
+                *life -= (float)(d->lifetime_loss * *life);
+            }
             (*impacts)++;
             if (pool->hits)
                 pool->hits[i]++;
@@ -459,10 +456,10 @@ static void walk_on_plane(const ctx *c, uint32_t i0, slide_chunk *s, uint32_t *i
 }
 
 /* The walks of the candidates idx[0..n) that start off the plane: those
- * that reach nothing are left as the integrator did; with `strikes`, those
- * that strike it take impact_walk; the others stay marked. */
+ * that reach nothing are left as the integrator did; without on_hit
+ * events, those that strike it take impact_walk; the others stay marked. */
 static void walk_off_plane(const ctx *c, uint32_t i0, slide_chunk *s, uint32_t *idx, uint32_t n,
-                           uint8_t *todo, uint64_t *contacts, uint64_t *impacts, bool strikes) {
+                           uint8_t *todo, uint64_t *contacts, uint64_t *impacts) {
     const pfx_collide_pool *pool = c->pool;
     const prep *p = &c->pr[0];
     const pfx_deflector *d = &c->defl[0];
@@ -489,10 +486,14 @@ static void walk_off_plane(const ctx *c, uint32_t i0, slide_chunk *s, uint32_t *
         }
         todo[j] = 0;
     }
-    if (!n_struck || !strikes)
+    if (!n_struck || c->on_hit)
         return;
     pack(s, idx, struck, n_struck);
-    impact_walk(p, c->dt, d->resilience[0], d->friction[0], n_struck, s);
+    for (uint32_t k = 0; k < n_struck; k++) { /* respond's draws, in case it is an impact */
+        s->eps[k] = pfx_collide_draw(c, d, i0 + idx[k], 0, d->resilience);
+        s->mu[k] = pfx_collide_draw(c, d, i0 + idx[k], 1, d->friction);
+    }
+    impact_walk(p, c->dt, n_struck, s);
     uint32_t done[SLIDE_CHUNK], n_walked = 0;
     for (uint32_t k = 0; k < n_struck; k++) {
         done[n_walked] = k;
@@ -507,7 +508,6 @@ uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo)
     static _Thread_local slide_chunk s; /* 43 KiB: not on a worker's stack */
     uint32_t idx[SLIDE_CHUNK], on[SLIDE_CHUNK], off[SLIDE_CHUNK];
     uint64_t contacts = 0, impacts = 0;
-    const bool strikes = impacts_apply(c);
     for (uint32_t j0 = 0; j0 < m; j0 += SLIDE_CHUNK) {
         const uint32_t end = m - j0 < SLIDE_CHUNK ? m : j0 + SLIDE_CHUNK;
         /* The candidates, compacted without a branch on each mark (they
@@ -534,7 +534,7 @@ uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo)
         if (n_on)
             walk_on_plane(c, i0, &s, on, n_on, todo, &contacts);
         if (count - n_on)
-            walk_off_plane(c, i0, &s, off, count - n_on, todo, &contacts, &impacts, strikes);
+            walk_off_plane(c, i0, &s, off, count - n_on, todo, &contacts, &impacts);
     }
     if (c->stats)
         c->stats->impacts += impacts;

@@ -581,10 +581,11 @@ static void test_marks_given(void) {
  * bits, step after step, for sliders at every speed (stopping, resting,
  * -0 components, a hair above the plane) on a level and a tilted plane,
  * with and without friction, beside particles that bounce, fly, and rise
- * from behind the plane. With a constant resilience and friction the
- * particles that strike the plane from the air take the walk too (a
- * bounce, a landing, a rest, a second strike within the step), dropped
- * from heights up to 1.2 m, straight down or at an angle. */
+ * from behind the plane. Particles that strike the plane from the air
+ * take a walk too (a bounce, a landing, a rest, a second strike within
+ * the step), dropped from heights up to 1.2 m, straight down or at an
+ * angle, with a random and a constant resilience and friction, and with
+ * a lifetime loss. */
 static void test_slide_same_bits(void) {
     const double tilt[3] = {0.3, 1, 0.1};
     for (int variant = 0; variant < 8; variant++) {
@@ -595,6 +596,7 @@ static void test_slide_same_bits(void) {
         one[0].resilience[0] = constant ? 0.5 : 0.3, one[0].resilience[1] = constant ? 0.5 : 0.6;
         one[0].friction[0] = variant & 2 ? 0 : constant ? 0.1 : 0.05;
         one[0].friction[1] = variant & 2 ? 0 : constant ? 0.1 : 0.3;
+        one[0].lifetime_loss = variant >= 6 ? 0.1 : 0;
         const uint32_t n = 3000;
         tpool *a = tpool_new(n, false), *b = tpool_new(n, false);
         for (uint32_t i = 0; i < n; i++) {
@@ -642,6 +644,7 @@ static void test_slide_same_bits(void) {
             for (int c = 0; c < 6; c++)
                 same = same && !memcmp(a->x[c], b->x[c], n * sizeof(float));
             same = same && !memcmp(a->hits, b->hits, n * sizeof(uint32_t));
+            same = same && !memcmp(a->life, b->life, n * sizeof(float));
         }
         CHECK(same);
         CHECK(sa.contacts == sb.contacts && sa.impacts == sb.impacts && sa.contacts > 0);
