@@ -29,15 +29,35 @@ size_t pfx_sim_scratch_bytes_per_particle(const pfx_effect *e, size_t i) {
     return pfx_pool_scratch_bytes_per_particle(&e->emitters[i]);
 }
 
-size_t pfx_sim_hit_buffer_bytes(const pfx_effect *e) {
+/* The capacity of e's largest pool. */
+static size_t largest_pool(const pfx_effect *e) {
     size_t largest = 0;
+    for (size_t i = 0; i < e->emitter_count; i++)
+        largest = e->emitters[i].capacity > largest ? e->emitters[i].capacity : largest;
+    return largest;
+}
+
+/* The threads e's simulation runs on. */
+static int sim_threads(const pfx_effect *e) {
+    return e->threads > 0 ? e->threads : pfx_workers_cores();
+}
+
+uint32_t pfx_sim_block(const pfx_effect *e) {
+    const size_t largest = largest_pool(e);
+    const int threads = sim_threads(e);
+    uint32_t block = PFX_SIM_BLOCK_MAX;
+    while (threads > 1 && block > PFX_SIM_BLOCK_MIN && largest / block + 1 < 8 * (size_t)threads)
+        block /= 2;
+    return block;
+}
+
+size_t pfx_sim_hit_buffer_bytes(const pfx_effect *e) {
     bool hits = false;
     for (size_t i = 0; i < e->emitter_count; i++) {
         const pfx_emitter *em = &e->emitters[i];
-        largest = em->capacity > largest ? em->capacity : largest;
         hits |= em->deflector_count && pfx_spawn_has(em, PFX_SPAWN_HIT);
     }
-    return hits ? (largest / PFX_SIM_BLOCK + 1) * sizeof(pfx_hit_buffer) : 0;
+    return hits ? (largest_pool(e) / pfx_sim_block(e) + 1) * sizeof(pfx_hit_buffer) : 0;
 }
 
 /* Seeds every emitter's streams and schedule: the state at time 0. */
@@ -67,21 +87,20 @@ pfx_sim *pfx_sim_create(const pfx_effect *e, pfx_diags *d) {
     s->pools = calloc(e->emitter_count + 1, sizeof *s->pools);
     s->emitters = calloc(e->emitter_count + 1, sizeof *s->emitters);
     s->plans = calloc(e->emitter_count + 1, sizeof *s->plans);
-    size_t bytes = 0, largest = 0;
-    for (size_t i = 0; i < e->emitter_count; i++) {
+    size_t bytes = 0;
+    for (size_t i = 0; i < e->emitter_count; i++)
         bytes += pfx_pool_bytes(&e->emitters[i], e->emitters[i].capacity);
-        if (e->emitters[i].capacity > largest)
-            largest = e->emitters[i].capacity;
-    }
-    s->block_flags = calloc(largest / PFX_SIM_BLOCK + 1, 1);
-    s->block_stats = calloc(largest / PFX_SIM_BLOCK + 1, sizeof *s->block_stats);
+    const size_t largest = largest_pool(e);
+    s->block = pfx_sim_block(e);
+    s->block_flags = calloc(largest / s->block + 1, 1);
+    s->block_stats = calloc(largest / s->block + 1, sizeof *s->block_stats);
     s->births = calloc(1, sizeof *s->births);
     const size_t hit_bytes = pfx_sim_hit_buffer_bytes(e);
     s->hit_buffers = hit_bytes ? malloc(hit_bytes) : NULL;
     /* More threads than blocks of the largest pool would only sleep. */
-    int threads = e->threads > 0 ? e->threads : pfx_workers_cores();
-    if ((size_t)threads > largest / PFX_SIM_BLOCK + 1)
-        threads = (int)(largest / PFX_SIM_BLOCK + 1);
+    int threads = sim_threads(e);
+    if ((size_t)threads > largest / s->block + 1)
+        threads = (int)(largest / s->block + 1);
     s->workers = pfx_workers_create(threads);
     /* One block behind every pool; malloc aligns it for any column. */
     s->storage = malloc(bytes ? bytes : 1);

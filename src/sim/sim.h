@@ -27,6 +27,10 @@ size_t pfx_sim_scratch_bytes_per_particle(const pfx_effect *e, size_t i);
 /* Bytes of the on_hit event buffers of the collide pass's blocks
  * (sim/step.h), 0 where no emitter's hits start particles. */
 size_t pfx_sim_hit_buffer_bytes(const pfx_effect *e);
+/* Particles a block of e's threaded passes (sim/state.h): PFX_SIM_BLOCK_MAX,
+ * halved down to PFX_SIM_BLOCK_MIN while its largest pool would hold fewer
+ * than 8 blocks a thread. */
+uint32_t pfx_sim_block(const pfx_effect *e);
 
 /* Advances by one fixed step. Never allocates. After a step that left a
  * non-finite or exploding state, s->failed is set, the failure is in the

@@ -53,11 +53,16 @@ typedef struct pfx_emitter_state {
     uint64_t spawn_events;
 } pfx_emitter_state;
 
-/* Particles per block of the threaded passes: a multiple of the motion
- * kernels' PFX_MOTION_BLOCK, and fixed, so the blocks never depend on the
- * thread count (8192 particles of gravity are about 30 us of work, well
- * above the cost of waking a thread). */
-#define PFX_SIM_BLOCK 8192u
+/* Particles per block of the threaded passes (pfx_sim.block): a power of
+ * two between these, a multiple of the motion kernels' PFX_MOTION_BLOCK
+ * and of the resting chunks (256). 8192 particles of gravity are about
+ * 30 us of work, well above the cost of waking a thread; a pool too small
+ * for 8 blocks a thread at that size takes smaller ones (pfx_sim_block),
+ * so that two threads share 10^4 particles at all. No result depends on
+ * where the blocks fall: each particle's step is its own, and the events
+ * and deaths a block holds are taken in pool order. */
+#define PFX_SIM_BLOCK_MAX 8192u
+#define PFX_SIM_BLOCK_MIN 1024u
 
 typedef struct pfx_sim {
     const pfx_effect *effect;
@@ -72,6 +77,7 @@ typedef struct pfx_sim {
     pfx_motion_plan *plans;         /* per emitter with a motion model: what its kernels run */
     struct pfx_sim *loop_start;     /* a looping effect's state at frame 0, to wrap to */
     struct pfx_workers *workers;    /* the threads the passes use (owned; NULL: one) */
+    uint32_t block;                 /* particles a block (pfx_sim_block) */
     uint8_t *block_flags;           /* per block of the largest pool: sim/step.h's flags */
     pfx_collide_stats *block_stats; /* per block: a parallel collide pass's counters */
     struct pfx_birth_block *births; /* the columns of a block of births (sim/birth.h) */

@@ -157,15 +157,15 @@ void pfx_step_check_state(pfx_sim *s, size_t i, uint32_t first, double t) {
                    t, cause);
 }
 
-/* p's blocks of PFX_SIM_BLOCK particles, the last maybe short. */
-static size_t block_count(const pfx_pool *p) {
-    return ((size_t)p->count + PFX_SIM_BLOCK - 1) / PFX_SIM_BLOCK;
+/* p's blocks of s->block particles, the last maybe short. */
+static size_t block_count(const pfx_sim *s, const pfx_pool *p) {
+    return ((size_t)p->count + s->block - 1) / s->block;
 }
 
 /* Particles in block b of p's blocks. */
-static uint32_t block_size(const pfx_pool *p, size_t b) {
-    const uint32_t first = (uint32_t)(b * PFX_SIM_BLOCK);
-    return p->count - first < PFX_SIM_BLOCK ? p->count - first : PFX_SIM_BLOCK;
+static uint32_t block_size(const pfx_sim *s, const pfx_pool *p, size_t b) {
+    const uint32_t first = (uint32_t)(b * s->block);
+    return p->count - first < s->block ? p->count - first : s->block;
 }
 
 /* The collide pass's view of particles [first, first + n) of p. */
@@ -320,7 +320,7 @@ static void move_block(void *arg, size_t b) {
     pfx_sim *s = j->s;
     const pfx_emitter *em = &s->effect->emitters[j->emitter];
     pfx_pool *p = &s->pools[j->emitter];
-    const uint32_t first = (uint32_t)(b * PFX_SIM_BLOCK), n = block_size(p, b);
+    const uint32_t first = (uint32_t)(b * s->block), n = block_size(s, p, b);
     const float dt = (float)j->span;
     bool bad = false, any_near = false;
     if (em->deflector_count)
@@ -359,12 +359,12 @@ static void move_block(void *arg, size_t b) {
 
 uint32_t pfx_step_move(pfx_sim *s, size_t i, double t0, double t1, bool scan_deaths) {
     pfx_pool *p = &s->pools[i];
-    const size_t blocks = block_count(p);
+    const size_t blocks = block_count(s, p);
     move_job job = {s, i, t0, t1 - t0, t1, scan_deaths};
     pfx_workers_run(s->workers, blocks, move_block, &job);
     for (size_t b = 0; b < blocks; b++)
         if (s->block_flags[b] & PFX_BLOCK_BAD)
-            return (uint32_t)(b * PFX_SIM_BLOCK);
+            return (uint32_t)(b * s->block);
     return p->count;
 }
 
@@ -434,7 +434,7 @@ static void collide_block(void *arg, size_t b) {
     const collide_job *j = arg;
     pfx_sim *s = j->s;
     const pfx_pool *p = &s->pools[j->emitter];
-    const uint32_t first = (uint32_t)(b * PFX_SIM_BLOCK), n = block_size(p, b);
+    const uint32_t first = (uint32_t)(b * s->block), n = block_size(s, p, b);
     const uint8_t *near = p->near + first;
     pfx_collide_stats *stats = &s->block_stats[b];
     pfx_hit_buffer *held = j->hits ? &s->hit_buffers[b] : NULL;
@@ -464,7 +464,7 @@ static void collide_block(void *arg, size_t b) {
 
 void pfx_step_collide_moved(pfx_sim *s, size_t i, double t0, double dt) {
     const pfx_pool *p = &s->pools[i];
-    const size_t blocks = block_count(p);
+    const size_t blocks = block_count(s, p);
     const pfx_emitter *em = &s->effect->emitters[i];
     collide_job job = {s, i, t0, dt, em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_HIT)};
     pfx_workers_run(s->workers, blocks, collide_block, &job);
@@ -474,7 +474,7 @@ void pfx_step_collide_moved(pfx_sim *s, size_t i, double t0, double dt) {
         const pfx_hit_buffer *held = &s->hit_buffers[b];
         for (uint32_t k = 0; k < held->count; k++)
             pfx_spawn_queue_source(s, i, PFX_SPAWN_HIT, &held->items[k]);
-        const uint32_t first = (uint32_t)(b * PFX_SIM_BLOCK), n = block_size(p, b);
+        const uint32_t first = (uint32_t)(b * s->block), n = block_size(s, p, b);
         if (held->resume < n)
             collide_range(s, i, first + held->resume, n - held->resume, t0, dt,
                           p->near + first + held->resume, &s->block_stats[b], NULL);
@@ -542,9 +542,8 @@ void pfx_step_kill_expired(pfx_sim *s, size_t emitter, double t1) {
  * particles, in exactly the order, of the scan over every particle. */
 void pfx_step_kill_flagged(pfx_sim *s, size_t emitter, double t1) {
     const pfx_pool *p = &s->pools[emitter];
-    const size_t blocks = block_count(p);
-    for (size_t b = 0; b < blocks && b * PFX_SIM_BLOCK < p->count; b++)
+    const size_t blocks = block_count(s, p);
+    for (size_t b = 0; b < blocks && b * s->block < p->count; b++)
         if (s->block_flags[b] & PFX_BLOCK_DEATH)
-            kill_range(s, emitter, t1, (uint32_t)(b * PFX_SIM_BLOCK),
-                       (uint32_t)((b + 1) * PFX_SIM_BLOCK));
+            kill_range(s, emitter, t1, (uint32_t)(b * s->block), (uint32_t)((b + 1) * s->block));
 }

@@ -15,7 +15,7 @@
 enum { PFX_BLOCK_BAD = 1, PFX_BLOCK_DEATH = 2, PFX_BLOCK_NEAR = 4 };
 
 /* Emitter i's live particles moved from t0 to t1 (the gravity kernel or
- * the emitter's motion plan), in blocks of PFX_SIM_BLOCK spread over the
+ * the emitter's motion plan), in blocks of pfx_sim.block spread over the
  * simulation's threads, each block saving the start state its deflectors
  * sweep from, checking its own state and marking the particles a deflector
  * may touch (the broad phase, for pfx_step_collide_moved). With

@@ -14,7 +14,8 @@
 #include <time.h>
 
 /* Gravity only (the exact kernel), a split-step force set with operators,
- * and a deflector with random response, on_hit and on_death births. */
+ * and a deflector with random response, on_hit and on_death births; the
+ * last pool is small (its blocks shrink to share it among threads). */
 static const char *const effects[] = {
     "pfx: 1\nseed: 3\nforces:\n  g: { type: gravity }\n"
     "emitters:\n  e:\n    shape: { type: sphere, radius: 0.3 }\n    rate: 60000\n"
@@ -40,9 +41,16 @@ static const char *const effects[] = {
     "emitters:\n  e:\n    shape: { type: sphere, radius: 0.3 }\n    rate: 80000\n"
     "    speed: [1, 3]\n    spread: 40\n    lifetime: [0.4, 0.8]\n"
     "    gravity_scale: [0.5, 1.5]\n",
+    "pfx: 1\nseed: 7\nforces:\n  g: { type: gravity }\n"
+    "deflectors:\n  floor: { type: plane, resilience: [0.2, 0.7], friction: 0.3 }\n"
+    "emitters:\n  e:\n    shape: { type: sphere, radius: 0.3 }\n    position: [0, 0.4, 0]\n"
+    "    rate: 12000\n    speed: [1, 3]\n    spread: 60\n    lifetime: 0.8\n"
+    "    on_hit: { emit: c, count: 1, probability: 0.3 }\n"
+    "  c:\n    speed: [0, 1]\n    lifetime: 0.1\n    deflectors: []\n",
 };
 
-static uint64_t run_hash(const char *text, int threads, int steps, uint32_t *most) {
+static uint64_t run_hash(const char *text, int threads, int steps, uint32_t *most,
+                         uint32_t *block) {
     compiled c;
     pfx_compile_options opt = {.threads = threads};
     if (!compile_opt(&c, text, &opt))
@@ -53,6 +61,7 @@ static uint64_t run_hash(const char *text, int threads, int steps, uint32_t *mos
         return 0;
     /* (fewer where the pool has fewer blocks than threads) */
     CHECK((pfx_workers_count(s->workers) > 1) == (threads > 1));
+    *block = s->block;
     for (int k = 0; k < steps; k++) {
         pfx_sim_step(s);
         if (k % 5 == 0)
@@ -70,14 +79,15 @@ static uint64_t run_hash(const char *text, int threads, int steps, uint32_t *mos
 
 static void test_thread_counts(void) {
     for (size_t k = 0; k < sizeof effects / sizeof *effects; k++) {
-        uint32_t most = 0;
-        uint64_t one = run_hash(effects[k], 1, 60, &most);
-        /* Several blocks, or the threads have nothing to share. */
-        CHECK(most > 3 * PFX_SIM_BLOCK);
+        uint32_t most = 0, block = 0;
+        uint64_t one = run_hash(effects[k], 1, 60, &most, &block);
+        CHECK(block == PFX_SIM_BLOCK_MAX);
         const int counts[] = {2, 3, 7};
         for (int t = 0; t < 3; t++) {
             uint32_t m = 0;
-            uint64_t h = run_hash(effects[k], counts[t], 60, &m);
+            uint64_t h = run_hash(effects[k], counts[t], 60, &m, &block);
+            /* Several blocks, or the threads have nothing to share. */
+            CHECK(m > 3 * block);
             if (h != one)
                 fprintf(stderr, "  effect %zu: %d threads give %016llx, 1 gives %016llx\n", k,
                         counts[t], (unsigned long long)h, (unsigned long long)one);
