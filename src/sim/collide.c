@@ -43,7 +43,7 @@ static int8_t start_side(const prep *p, const body *b) {
  * margin far above float rounding (1e-4 of the coordinates' size), so every
  * particle the exact test would take is marked, and the results are the
  * same bits. */
-enum { BROAD_CHUNK = 256 };
+enum { BROAD_CHUNK = PFX_SLIDE_CHUNK }; /* (exact_pass hands the walks a chunk at a time) */
 
 /* reach[j]: how far particle j can get this step (the sweep bound), grown
  * by the margin; the same bound as the exact test's, in float. Inlined, as
@@ -360,6 +360,8 @@ static void exact_range(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *ne
         for (uint32_t j = j0; word && j < end; j++) {
             if (!near[j])
                 continue;
+            if (near[j] == PFX_TODO_WALKED && pfx_collide_slide_commit(c, i0, j))
+                continue; /* walked in lanes, stored now, in pool order */
             const uint32_t i = i0 + j;
             if (pool->stuck && pool->stuck[i]) { /* held where it stuck */
                 pool->px[i] = pool->px0[i], pool->py[i] = pool->py0[i], pool->pz[i] = pool->pz0[i];

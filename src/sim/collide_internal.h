@@ -95,12 +95,20 @@ void pfx_collide_snap(const prep *p, const hit *h, double x[3], double n[3]);
  * bounces); then, of particles [i0, i0 + m) where todo (indexed from i0)
  * is set, each that starts on the plane and slides through the step is
  * resolved and stored exactly as collide_one would, each that hits
- * nothing is left as it would leave it, and (where the response draws
- * nothing and raises no event) each that strikes it once from the air is
- * resolved likewise (all flagged at rest as collide_one_rest would), its
- * todo cleared; returns the contacts (the impacts go to c->stats). */
+ * nothing is left as it would leave it, and each that strikes it once
+ * from the air is resolved likewise (all flagged at rest as
+ * collide_one_rest would), its todo cleared; returns the contacts (the
+ * impacts go to c->stats). */
 bool pfx_collide_slide_applies(const ctx *c);
 uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo);
+/* Particles a chunk of the walks holds. With on_hit events a strike the
+ * walk resolved waits: pfx_collide_slide leaves its todo mark as
+ * PFX_TODO_WALKED (where m <= PFX_SLIDE_CHUNK), and the pass commits it
+ * in pool order with pfx_collide_slide_commit(c, i0, j) (the same i0,
+ * before the thread's next pfx_collide_slide): stored and its event
+ * raised, or false where the general pass must take it after all. */
+enum { PFX_SLIDE_CHUNK = 256, PFX_TODO_WALKED = 2 };
+bool pfx_collide_slide_commit(const ctx *c, uint32_t i0, uint32_t j);
 
 /* collide_resolve.c: one particle through one step. */
 int pfx_collide_resolve(const ctx *c, body *b);

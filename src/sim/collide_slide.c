@@ -7,13 +7,14 @@
  * straight-line double arithmetic over a chunk of particles in vector
  * lanes, the very operations in the very order of collide.c,
  * collide_shape.c and collide_resolve.c, so the bits are theirs; a
- * particle that strays from them anywhere (a hop, an impact, a stop within
+ * particle that strays from them anywhere (a second hit, a stop within
  * the step, a nudge at the store, a fallback) is left to the general pass
  * untouched. A third verdict is a particle in flight that strikes the
- * plane once within the step, where the response raises no event (its
- * order is the general pass's): the impact, the bounce or the landing,
- * and the rest of the step in the air or sliding. It does not handle other shapes, several
- * deflectors, or kill and stick responses. */
+ * plane once within the step: the impact (its draws, lifetime loss and
+ * on_hit event), the bounce or the landing, and the rest of the step in
+ * the air or sliding; an event waits for the general pass to reach its
+ * particle, so that events keep pool order. It does not handle other
+ * shapes, several deflectors, or kill and stick responses. */
 #include "sim/collide_internal.h"
 
 #include <float.h>
@@ -22,7 +23,7 @@
 #include "base/clones.h"
 
 /* Particles a chunk of the walk holds (the broad phase's chunk). */
-enum { SLIDE_CHUNK = 256 };
+enum { SLIDE_CHUNK = PFX_SLIDE_CHUNK };
 
 bool pfx_collide_slide_applies(const ctx *c) {
     return c->nd == 1 && c->pr[0].shape == PFX_DEFLECTOR_PLANE && !c->pr[0].thin &&
@@ -36,7 +37,9 @@ typedef struct slide_chunk {
     double xe[3][SLIDE_CHUNK], ve[3][SLIDE_CHUNK];
     uint8_t ok[SLIDE_CHUNK];     /* the walk held (slide_walk: slid; flight_walk: no hit) */
     uint8_t impact[SLIDE_CHUNK]; /* impact_walk: the strike was an impact, not a contact */
-    double eps[SLIDE_CHUNK], mu[SLIDE_CHUNK]; /* impact_walk: the impact's draws */
+    double eps[SLIDE_CHUNK], mu[SLIDE_CHUNK];   /* impact_walk: the impact's draws */
+    double xh[3][SLIDE_CHUNK], th[SLIDE_CHUNK]; /* impact_walk: the strike's point and time */
+    uint16_t lane[SLIDE_CHUNK]; /* with on_hit: particle j's walked lane (TODO_WALKED) */
 } slide_chunk;
 
 /* noise_test: the general pass compares a normal part N with NOISE
@@ -66,6 +69,67 @@ typedef struct slide_chunk {
     const double g0 = dot(q0, (n));                                                                \
     const double touch = TOUCH * (1 + dmax(fabs(x0[0]), dmax(fabs(x0[1]), fabs(x0[2]))));          \
     const double b = dot(v0, (n)), A = 0.5 * dot(a, (n))
+
+/* detect_plane over dt from g0 in front of the plane (side 1, off it:
+ * c = g0), with the normal parts b and A: the cull, then crossings' roots
+ * (computed in every lane) and their directions; hit: a downward crossing
+ * within (0, dt], the first at s. */
+typedef struct strike {
+    int culled, hit;
+    double s;
+} strike;
+
+static inline __attribute__((always_inline)) strike first_strike(double g0, double b, double A,
+                                                                 double dt, double touch) {
+    strike r;
+    r.culled = fabs(g0) > (fabs(b) + fabs(A) * dt) * dt + touch;
+    const double lin = -g0 / b;
+    const double disc = b * b - 4 * A * g0;
+    const double qq = -0.5 * (b + copysign(sqrt(disc), b));
+    const double r1 = qq / A, r2 = g0 / qq;
+    const double lo = r1 > r2 ? r2 : r1, hi = r1 > r2 ? r1 : r2;
+    const int down_first = A > 0; /* d1 = -1: the first root is a downward crossing */
+    const int hit_lin = (b < 0) & (lin > 0) & (lin <= dt);
+    const int hit_quad = (disc > 0) & (((lo > 0) & (lo <= dt) & down_first) |
+                                       ((hi > 0) & (hi <= dt) & (1 - down_first)));
+    r.hit = (1 - r.culled) & (A == 0 ? hit_lin : hit_quad);
+    r.s = A == 0 ? lin : (down_first ? lo : hi);
+    return r;
+}
+
+/* The last piece of a walk, from x on the plane with velocity v and
+ * acceleration ae (slide_accel's, with its speed vm along u and stop
+ * time), over the T seconds left: its horizon (to the stop, if sooner)
+ * and what detect_plane sees from there (c, b, A against touch; culled:
+ * the plane is out of reach). */
+typedef struct last_piece {
+    double horizon, touch, c, b, A;
+    int culled;
+} last_piece;
+
+static inline __attribute__((always_inline)) last_piece
+last_piece_from(const double P[3], const double n[3], const double x[3], const double v[3],
+                const double ae[3], double T, double stop) {
+    last_piece l;
+    l.horizon = dmin(T, stop);
+    l.touch = TOUCH * (1 + dmax(fabs(x[0]), dmax(fabs(x[1]), fabs(x[2]))));
+    const double q[3] = {x[0] - P[0], x[1] - P[1], x[2] - P[2]};
+    l.c = dot(q, n);
+    l.b = dot(v, n), l.A = 0.5 * dot(ae, n);
+    l.culled = fabs(l.c) > (fabs(l.b) + fabs(l.A) * l.horizon) * l.horizon + l.touch;
+    return l;
+}
+
+/* advance over the last piece; the end state to lane k. */
+static inline __attribute__((always_inline)) void finish_lane(slide_chunk *restrict s, uint32_t k,
+                                                              double x[3], double v[3],
+                                                              const double ae[3], double horizon) {
+    pos_at(x, v, ae, horizon, x);
+    for (int j = 0; j < 3; j++) {
+        v[j] += ae[j] * horizon;
+        s->xe[j][k] = x[j], s->ve[j][k] = v[j];
+    }
+}
 
 /* The walk of m gathered particles on plane p (point P, unit normal n),
  * step dt. Each line names the function of the general pass whose
@@ -139,27 +203,17 @@ static inline __attribute__((always_inline)) void walk(const prep *p, double dt,
         const double reached = vm / -along;
         const double stop = (fric > 0) & (vm > 0) & (along < 0) ? reached : INFINITY;
         ok &= !(stop <= T); /* no stop within the step */
-        const double horizon = dmin(T, stop);
         /* detect_plane from the contact: no crossing, by the cull or by
          * c, b, A all zero (then crossings finds none) */
-        const double touch2 = TOUCH * (1 + dmax(fabs(x[0]), dmax(fabs(x[1]), fabs(x[2]))));
-        const double q2[3] = {x[0] - P[0], x[1] - P[1], x[2] - P[2]};
-        const double c2 = dot(q2, n);
-        const double b2 = dot(v, n), A2 = 0.5 * dot(ae, n);
-        const int culled = fabs(c2) > (fabs(b2) + fabs(A2) * horizon) * horizon + touch2;
-        /* noise: b2 against sqrt(v.v), which is vm; A2 against |ae|,
+        const last_piece l = last_piece_from(P, n, x, v, ae, T, stop);
+        /* noise: b against sqrt(v.v), which is vm; A against |ae|,
          * surely noise below half the NOISE of |ae|_1 (else, unless surely
-         * not, left to the general pass: the walk needs A2 zeroed) */
-        const int b2_zero = (b2 == 0) | (fabs(b2) <= NOISE * vm);
-        const int A2_zero =
-            (A2 == 0) | (fabs(A2) <= 0.5 * NOISE * (fabs(ae[0]) + fabs(ae[1]) + fabs(ae[2])));
-        ok &= culled | ((c2 <= touch2) & b2_zero & A2_zero);
-        /* advance to the end of the step */
-        pos_at(x, v, ae, horizon, x);
-        for (int j = 0; j < 3; j++) {
-            v[j] += ae[j] * horizon;
-            s->xe[j][k] = x[j], s->ve[j][k] = v[j];
-        }
+         * not, left to the general pass: the walk needs A zeroed) */
+        const int b_zero = (l.b == 0) | (fabs(l.b) <= NOISE * vm);
+        const int A_zero =
+            (l.A == 0) | (fabs(l.A) <= 0.5 * NOISE * (fabs(ae[0]) + fabs(ae[1]) + fabs(ae[2])));
+        ok &= l.culled | ((l.c <= l.touch) & b_zero & A_zero);
+        finish_lane(s, k, x, v, ae, l.horizon);
         s->ok[k] = (uint8_t)ok;
     }
 }
@@ -186,25 +240,13 @@ PFX_CLONES static void flight_walk(const prep *p, double dt, uint32_t m, slide_c
     const double P[3] = {p->p[0], p->p[1], p->p[2]}, n[3] = {p->n[0], p->n[1], p->n[2]};
     for (uint32_t k = 0; k < m; k++) {
         LANE_START(P, n, dt, s, k);
-        /* detect_plane over dt: the cull, then crossings' roots (in every
-         * lane) and directions */
-        const int culled = fabs(g0) > (fabs(b) + fabs(A) * dt) * dt + touch;
-        const double lin = -g0 / b;
-        const double disc = b * b - 4 * A * g0;
-        const double qq = -0.5 * (b + copysign(sqrt(disc), b));
-        const double r1 = qq / A, r2 = g0 / qq;
-        const double lo = r1 > r2 ? r2 : r1, hi = r1 > r2 ? r1 : r2;
-        const int down_first = A > 0; /* d1 = -1: the first root is a downward crossing */
-        const int hit_lin = (b < 0) & (lin > 0) & (lin <= dt);
-        const int hit_quad = (disc > 0) & (((lo > 0) & (lo <= dt) & down_first) |
-                                           ((hi > 0) & (hi <= dt) & (1 - down_first)));
-        const int hit = (1 - culled) & (A == 0 ? hit_lin : hit_quad);
+        const strike h = first_strike(g0, b, A, dt, touch);
         const double q1[3] = {x1[0] - P[0], x1[1] - P[1], x1[2] - P[2]};
         const int behind = dot(q1, n) < 0; /* fallback */
         /* (1 - x, not !x or x == 0: GCC 12 does not vectorise those as
          * _Bool here) */
-        s->ok[k] = (uint8_t)((1 - (g0 >= 0)) | ((fin <= DBL_MAX) & (culled | (g0 > touch)) &
-                                                (1 - hit) & (1 - behind)));
+        s->ok[k] = (uint8_t)((1 - (g0 >= 0)) | ((fin <= DBL_MAX) & (h.culled | (g0 > touch)) &
+                                                (1 - h.hit) & (1 - behind)));
     }
 }
 
@@ -233,20 +275,11 @@ PFX_CLONES static void impact_walk(const prep *p, double dt, uint32_t m, slide_c
         double reach = dmax(speed * dt + 0.5 * accel * dt * dt, sqrt(dot(dx, dx)));
         reach += 1e-6 * (1 + fabs(x0[0]) + fabs(x0[1]) + fabs(x0[2]));
         int ok = (fin <= DBL_MAX) & (g0 > touch) & (fabs(g0) <= reach);
-        /* detect_plane over dt from off the plane: the cull, then
-         * crossings' first downward root */
-        const int culled = fabs(g0) > (fabs(b) + fabs(A) * dt) * dt + touch;
-        const double lin = -g0 / b;
-        const double disc = b * b - 4 * A * g0;
-        const double qq = -0.5 * (b + copysign(sqrt(disc), b));
-        const double r1 = qq / A, r2 = g0 / qq;
-        const double lo = r1 > r2 ? r2 : r1, hi = r1 > r2 ? r1 : r2;
-        const int down_first = A > 0;
-        const int hit_lin = (b < 0) & (lin > 0) & (lin <= dt);
-        const int hit_quad = (disc > 0) & (((lo > 0) & (lo <= dt) & down_first) |
-                                           ((hi > 0) & (hi <= dt) & (1 - down_first)));
-        ok &= (1 - culled) & (A == 0 ? hit_lin : hit_quad);
-        const double s1 = A == 0 ? lin : (down_first ? lo : hi);
+        /* detect_plane over dt from off the plane: the first downward
+         * root */
+        const strike h = first_strike(g0, b, A, dt, touch);
+        ok &= h.hit;
+        const double s1 = h.s;
         /* advance to the strike, then pfx_collide_snap */
         double x[3], v[3];
         pos_at(x0, v0, a, s1, x);
@@ -254,8 +287,11 @@ PFX_CLONES static void impact_walk(const prep *p, double dt, uint32_t m, slide_c
             v[j] = v0[j] + a[j] * s1;
         const double q[3] = {x[0] - P[0], x[1] - P[1], x[2] - P[2]};
         const double d = dot(q, n);
-        for (int j = 0; j < 3; j++)
+        for (int j = 0; j < 3; j++) {
             x[j] -= d * n[j];
+            s->xh[j][k] = x[j];
+        }
+        s->th[k] = s1; /* t = 0 + s1 */
         /* respond: an impact (w >= |a_N| dt) rebounds at eps w, the
          * tangent kept at 1 - mu, and rests when the rebound is below
          * |a_N| dt; a contact rests */
@@ -292,86 +328,87 @@ PFX_CLONES static void impact_walk(const prep *p, double dt, uint32_t m, slide_c
         const double reached = vm / -along;
         const double stop = (fric > 0) & (vm > 0) & (along < 0) ? reached : INFINITY;
         ok &= !(stop <= T);
-        const double horizon = dmin(T, stop);
         /* detect_plane from the strike: culled, or on the plane with the
          * noise zeroed and no crossing (crossings with c = 0) */
-        const double touch2 = TOUCH * (1 + dmax(fabs(x[0]), dmax(fabs(x[1]), fabs(x[2]))));
-        const double q2[3] = {x[0] - P[0], x[1] - P[1], x[2] - P[2]};
-        const double c2 = dot(q2, n);
-        const double b2 = dot(v, n), A2 = 0.5 * dot(ae, n);
-        const int culled2 = fabs(c2) > (fabs(b2) + fabs(A2) * horizon) * horizon + touch2;
-        const double bz = (b2 == 0) | (fabs(b2) <= NOISE * vm) ? 0 : b2;
-        const double Az = (A2 == 0) | (fabs(A2) <= NOISE * sqrt(dot(ae, ae))) ? 0 : A2;
+        const last_piece l = last_piece_from(P, n, x, v, ae, T, stop);
+        const double bz = (l.b == 0) | (fabs(l.b) <= NOISE * vm) ? 0 : l.b;
+        const double Az = (l.A == 0) | (fabs(l.A) <= NOISE * sqrt(dot(ae, ae))) ? 0 : l.A;
         const double first = bz != 0 ? bz : Az;
         const double back = -bz / Az; /* when it comes back to the plane */
-        const int again = (first < 0) | ((bz > 0) & (Az < 0) & (back <= horizon));
-        ok &= culled2 | ((c2 <= touch2) & (1 - again));
-        /* advance to the end of the step */
-        pos_at(x, v, ae, horizon, x);
-        for (int j = 0; j < 3; j++) {
-            v[j] += ae[j] * horizon;
-            s->xe[j][k] = x[j], s->ve[j][k] = v[j];
-        }
+        const int again = (first < 0) | ((bz > 0) & (Az < 0) & (back <= l.horizon));
+        ok &= l.culled | ((l.c <= l.touch) & (1 - again));
+        finish_lane(s, k, x, v, ae, l.horizon);
         s->ok[k] = (uint8_t)ok;
         s->impact[k] = (uint8_t)(1 - contact);
     }
 }
 
-/* pfx_collide_store and collide_one_rest for the particles whose walk
- * held (done[0..n) of the chunk's idx): the end state stored as floats,
- * flagged at rest where no bit moved and nothing but a contact happened,
- * the todo mark cleared; a point the store would nudge off the plane is
- * left to the general pass. With `impacts`, s->impact says which struck
- * (respond: counted there and in the hits column, never at rest). */
+/* pfx_collide_store and collide_one_rest for lane k of the chunk, particle
+ * i0 + j, whose walk held: the end state stored as floats, flagged at rest
+ * where no bit moved and nothing but a contact happened, the todo mark
+ * (*mark) cleared. A strike (with `impacts`, s->impact[k]) that was an impact does
+ * what respond does first: the lifetime loss, the count, the on_hit event
+ * (while the pool still holds the integrator's end state, as the general
+ * pass's event sees it; at the strike's point and time) and the hit count.
+ * False, with nothing done, where the store would nudge the point off the
+ * plane: the general pass does that. */
+static bool store_lane(const ctx *c, uint32_t i0, const slide_chunk *s, uint32_t k, uint32_t j,
+                       uint8_t *mark, uint64_t *contacts, uint64_t *impacts) {
+    const pfx_collide_pool *pool = c->pool;
+    const prep *p = &c->pr[0];
+    /* pfx_collide_store: a float point behind the plane would be nudged.
+     * (Through a volatile: GCC 12's SLP pass here took (double)(float)x
+     * for x.) */
+    volatile float round[3] = {(float)s->xe[0][k], (float)s->xe[1][k], (float)s->xe[2][k]};
+    const float xf[3] = {round[0], round[1], round[2]};
+    /* pfx_collide_constraint of a plane on side 1, inline */
+    const double q[3] = {(double)xf[0] - p->p[0], (double)xf[1] - p->p[1], (double)xf[2] - p->p[2]};
+    if (!(1 * dot(q, p->n) >= 0))
+        return false;
+    const uint32_t i = i0 + j;
+    const float vf[3] = {(float)s->ve[0][k], (float)s->ve[1][k], (float)s->ve[2][k]};
+    const bool impact = impacts && s->impact[k];
+    if (impact) { /* respond */
+        const pfx_deflector *d = &c->defl[0];
+        if (d->lifetime_loss > 0) {
+            float *life = &pool->lifetime[i];
+            *life -= (float)(d->lifetime_loss * *life);
+        }
+        (*impacts)++;
+        if (c->on_hit) {
+            const double x[3] = {s->xh[0][k], s->xh[1][k], s->xh[2][k]};
+            c->on_hit(c->user, i, 0, x, p->n, s->th[k]);
+        }
+        if (pool->hits)
+            pool->hits[i]++;
+    }
+    if (pool->rest) { /* collide_one_rest: still when no bit moved */
+        const float start[6] = {pool->px0[i], pool->py0[i], pool->pz0[i],
+                                pool->vx0[i], pool->vy0[i], pool->vz0[i]};
+        const bool still =
+            !impact && !memcmp(xf, start, sizeof xf) && !memcmp(vf, start + 3, sizeof vf);
+        pool->rest[i] = still ? (uint8_t)(2 | 0x80) : 0;
+        if (still) {
+            pool->rest_px[i] = pool->px[i], pool->rest_py[i] = pool->py[i];
+            pool->rest_pz[i] = pool->pz[i], pool->rest_vx[i] = pool->vx[i];
+            pool->rest_vy[i] = pool->vy[i], pool->rest_vz[i] = pool->vz[i];
+        }
+    }
+    pool->px[i] = xf[0], pool->py[i] = xf[1], pool->pz[i] = xf[2];
+    pool->vx[i] = vf[0], pool->vy[i] = vf[1], pool->vz[i] = vf[2];
+    if (pool->ax)
+        pool->ax[i] = NAN;
+    *mark = 0;
+    *contacts += !impact;
+    return true;
+}
+
+/* store_lane for the lanes done[0..n) of the chunk's idx. */
 static void store_slides(const ctx *c, uint32_t i0, const slide_chunk *s, const uint32_t *idx,
                          const uint32_t *done, uint32_t n, uint8_t *todo, uint64_t *contacts,
                          uint64_t *impacts) {
-    const pfx_collide_pool *pool = c->pool;
-    const prep *p = &c->pr[0];
-    for (uint32_t e = 0; e < n; e++) {
-        const uint32_t k = done[e];
-        /* pfx_collide_store: a float point behind the plane would be
-         * nudged; the general pass does that. (Through a volatile:
-         * GCC 12's SLP pass here took (double)(float)x for x.) */
-        volatile float round[3] = {(float)s->xe[0][k], (float)s->xe[1][k], (float)s->xe[2][k]};
-        const float xf[3] = {round[0], round[1], round[2]};
-        /* pfx_collide_constraint of a plane on side 1, inline */
-        const double q[3] = {(double)xf[0] - p->p[0], (double)xf[1] - p->p[1],
-                             (double)xf[2] - p->p[2]};
-        if (!(1 * dot(q, p->n) >= 0))
-            continue;
-        const uint32_t j = idx[k], i = i0 + j;
-        const float vf[3] = {(float)s->ve[0][k], (float)s->ve[1][k], (float)s->ve[2][k]};
-        const bool impact = impacts && s->impact[k];
-        if (impact) { /* respond */
-            const pfx_deflector *d = &c->defl[0];
-            if (d->lifetime_loss > 0) {
-                float *life = &pool->lifetime[i];
-                *life -= (float)(d->lifetime_loss * *life);
-            }
-            (*impacts)++;
-            if (pool->hits)
-                pool->hits[i]++;
-        }
-        if (pool->rest) { /* collide_one_rest: still when no bit moved */
-            const float start[6] = {pool->px0[i], pool->py0[i], pool->pz0[i],
-                                    pool->vx0[i], pool->vy0[i], pool->vz0[i]};
-            const bool still =
-                !impact && !memcmp(xf, start, sizeof xf) && !memcmp(vf, start + 3, sizeof vf);
-            pool->rest[i] = still ? (uint8_t)(2 | 0x80) : 0;
-            if (still) {
-                pool->rest_px[i] = pool->px[i], pool->rest_py[i] = pool->py[i];
-                pool->rest_pz[i] = pool->pz[i], pool->rest_vx[i] = pool->vx[i];
-                pool->rest_vy[i] = pool->vy[i], pool->rest_vz[i] = pool->vz[i];
-            }
-        }
-        pool->px[i] = xf[0], pool->py[i] = xf[1], pool->pz[i] = xf[2];
-        pool->vx[i] = vf[0], pool->vy[i] = vf[1], pool->vz[i] = vf[2];
-        if (pool->ax)
-            pool->ax[i] = NAN;
-        todo[j] = 0;
-        *contacts += !impact;
-    }
+    for (uint32_t e = 0; e < n; e++)
+        store_lane(c, i0, s, done[e], idx[done[e]], &todo[idx[done[e]]], contacts, impacts);
 }
 
 /* Moves the gathered particles list[0..n) (ascending, list[e] >= e) to
@@ -456,10 +493,10 @@ static void walk_on_plane(const ctx *c, uint32_t i0, slide_chunk *s, uint32_t *i
 }
 
 /* The walks of the candidates idx[0..n) that start off the plane: those
- * that reach nothing are left as the integrator did; without on_hit
- * events, those that strike it take impact_walk; the others stay marked. */
+ * that reach nothing are left as the integrator did; with `strikes`, those
+ * that strike it take impact_walk; the others stay marked. */
 static void walk_off_plane(const ctx *c, uint32_t i0, slide_chunk *s, uint32_t *idx, uint32_t n,
-                           uint8_t *todo, uint64_t *contacts, uint64_t *impacts) {
+                           uint8_t *todo, uint64_t *contacts, uint64_t *impacts, bool strikes) {
     const pfx_collide_pool *pool = c->pool;
     const prep *p = &c->pr[0];
     const pfx_deflector *d = &c->defl[0];
@@ -486,7 +523,7 @@ static void walk_off_plane(const ctx *c, uint32_t i0, slide_chunk *s, uint32_t *
         }
         todo[j] = 0;
     }
-    if (!n_struck || c->on_hit)
+    if (!n_struck || !strikes)
         return;
     pack(s, idx, struck, n_struck);
     for (uint32_t k = 0; k < n_struck; k++) { /* respond's draws, in case it is an impact */
@@ -499,15 +536,41 @@ static void walk_off_plane(const ctx *c, uint32_t i0, slide_chunk *s, uint32_t *
         done[n_walked] = k;
         n_walked += s->ok[k];
     }
-    store_slides(c, i0, s, idx, done, n_walked, todo, contacts, impacts);
+    if (!c->on_hit) {
+        store_slides(c, i0, s, idx, done, n_walked, todo, contacts, impacts);
+        return;
+    }
+    /* Events are raised in pool order: each walked particle is stored
+     * (and its event raised) when the general pass over this chunk
+     * reaches it (pfx_collide_slide_commit). */
+    for (uint32_t e = 0; e < n_walked; e++) {
+        todo[idx[done[e]]] = PFX_TODO_WALKED;
+        s->lane[idx[done[e]]] = (uint16_t)done[e];
+    }
+}
+
+/* The chunk of this thread's walks (on a worker's stack it would take 60
+ * KiB); with on_hit, its walked strikes wait here for their commit. */
+static _Thread_local slide_chunk s;
+
+bool pfx_collide_slide_commit(const ctx *c, uint32_t i0, uint32_t j) {
+    uint8_t mark = PFX_TODO_WALKED;
+    uint64_t contacts = 0, impacts = 0;
+    if (!store_lane(c, i0, &s, s.lane[j], j, &mark, &contacts, &impacts))
+        return false;
+    if (c->stats)
+        c->stats->contacts += contacts, c->stats->impacts += impacts;
+    return true;
 }
 
 uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo) {
     const pfx_collide_pool *pool = c->pool;
     const pfx_deflector *d = &c->defl[0];
-    static _Thread_local slide_chunk s; /* 43 KiB: not on a worker's stack */
     uint32_t idx[SLIDE_CHUNK], on[SLIDE_CHUNK], off[SLIDE_CHUNK];
     uint64_t contacts = 0, impacts = 0;
+    /* (a walked strike waiting for its commit holds its lane of s: one
+     * chunk a call) */
+    const bool strikes = !c->on_hit || m <= SLIDE_CHUNK;
     for (uint32_t j0 = 0; j0 < m; j0 += SLIDE_CHUNK) {
         const uint32_t end = m - j0 < SLIDE_CHUNK ? m : j0 + SLIDE_CHUNK;
         /* The candidates, compacted without a branch on each mark (they
@@ -534,7 +597,7 @@ uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo)
         if (n_on)
             walk_on_plane(c, i0, &s, on, n_on, todo, &contacts);
         if (count - n_on)
-            walk_off_plane(c, i0, &s, off, count - n_on, todo, &contacts, &impacts);
+            walk_off_plane(c, i0, &s, off, count - n_on, todo, &contacts, &impacts, strikes);
     }
     if (c->stats)
         c->stats->impacts += impacts;
