@@ -46,7 +46,7 @@ uint32_t pfx_sim_block(const pfx_effect *e) {
     const size_t largest = largest_pool(e);
     const int threads = sim_threads(e);
     uint32_t block = PFX_SIM_BLOCK_MAX;
-    while (threads > 1 && block > PFX_SIM_BLOCK_MIN && largest / block + 1 < 8 * (size_t)threads)
+    while (threads > 1 && block > PFX_SIM_BLOCK_MIN && largest / block + 1 < 4 * (size_t)threads)
         block /= 2;
     return block;
 }

@@ -57,7 +57,7 @@ typedef struct pfx_emitter_state {
  * two between these, a multiple of the motion kernels' PFX_MOTION_BLOCK
  * and of the resting chunks (256). 8192 particles of gravity are about
  * 30 us of work, well above the cost of waking a thread; a pool too small
- * for 8 blocks a thread at that size takes smaller ones (pfx_sim_block),
+ * for 4 blocks a thread at that size takes smaller ones (pfx_sim_block),
  * so that two threads share 10^4 particles at all. No result depends on
  * where the blocks fall: each particle's step is its own, and the events
  * and deaths a block holds are taken in pool order. */
