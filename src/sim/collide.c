@@ -14,6 +14,8 @@
 
 #include "base/clones.h"
 
+bool pfx_collide_lanes = true;
+
 bool pfx_deflector_affects(const pfx_deflector *d, uint32_t id) {
     if (d->chance >= 1)
         return true;
@@ -347,8 +349,10 @@ static void collide_one_rest(const ctx *c, uint32_t i, body *b) {
 
 /* The exact pass of each particle of [i0, i0 + m) that near (indexed from
  * i0) marks near a surface or stuck, in index order (so are the hit
- * events). */
-static void exact_range(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *near) {
+ * events); one the walks of the view `lanes` resolved (PFX_TODO_WALKED)
+ * is committed in its turn. */
+static void exact_range(const ctx *c, const ctx *lanes, uint32_t i0, uint32_t m,
+                        const uint8_t *near) {
     const pfx_collide_pool *pool = c->pool;
     body b;
     /* Eight marks at a time: most particles are far from every surface and
@@ -360,7 +364,7 @@ static void exact_range(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *ne
         for (uint32_t j = j0; word && j < end; j++) {
             if (!near[j])
                 continue;
-            if (near[j] == PFX_TODO_WALKED && pfx_collide_slide_commit(c, i0, j))
+            if (near[j] == PFX_TODO_WALKED && lanes && pfx_collide_slide_commit(lanes, i0, j))
                 continue; /* walked in lanes, stored now, in pool order */
             const uint32_t i = i0 + j;
             if (pool->stuck && pool->stuck[i]) { /* held where it stuck */
@@ -379,23 +383,44 @@ static void exact_range(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *ne
 }
 
 /* The exact pass over particles [i0, i0 + m) where near (indexed from i0)
- * marks them: a chunk at a time, the sliding ones all together where the
- * deflectors allow (collide_slide.c: the same bits), then the rest one by
- * one. A sliding particle raises no event, so the events keep their
- * order. */
+ * marks them, a chunk at a time: those near the first plane the walks take
+ * and near no other deflector are walked in lanes (collide_slide.c, with
+ * a view of that plane alone), then the rest one by one, in index order.
+ * With every other deflector out of reach (the broad phase's own
+ * conservative test, deflector by deflector), the general pass does for
+ * such a particle exactly what it does with that plane alone: no other
+ * surface is in reach, crossed, or near its stored point. */
 static void exact_pass(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *near) {
-    if (!pfx_collide_slide_applies(c)) {
-        exact_range(c, i0, m, near);
+    const int k = pfx_collide_lanes ? pfx_collide_lane_plane(c) : -1;
+    if (k < 0) {
+        exact_range(c, NULL, i0, m, near);
         return;
     }
-    uint8_t todo[BROAD_CHUNK];
+    ctx one = *c;
+    one.defl = c->defl + k, one.pr = c->pr + k, one.nd = 1, one.first = (size_t)k;
+    uint8_t todo[BROAD_CHUNK], others[BROAD_CHUNK], alone[BROAD_CHUNK];
+    float reach[BROAD_CHUNK];
     for (uint32_t k0 = 0; k0 < m; k0 += BROAD_CHUNK) {
         const uint32_t mk = m - k0 < BROAD_CHUNK ? m - k0 : (uint32_t)BROAD_CHUNK;
         memcpy(todo, near + k0, mk);
-        const uint64_t contacts = pfx_collide_slide(c, i0 + k0, mk, todo);
+        uint64_t contacts;
+        if (c->nd > 1) {
+            memset(others, 0, mk);
+            broad_reach(c->pool, i0 + k0, mk, (float)c->dt, reach);
+            for (size_t d = 0; d < c->nd; d++)
+                if (d != (size_t)k)
+                    broad_mark(&c->pr[d], c->pool, i0 + k0, mk, reach, others);
+            for (uint32_t j = 0; j < mk; j++)
+                alone[j] = others[j] ? 0 : todo[j];
+            contacts = pfx_collide_slide(&one, i0 + k0, mk, alone);
+            for (uint32_t j = 0; j < mk; j++)
+                todo[j] = others[j] ? todo[j] : alone[j];
+        } else {
+            contacts = pfx_collide_slide(&one, i0 + k0, mk, todo);
+        }
         if (c->stats)
             c->stats->contacts += contacts;
-        exact_range(c, i0 + k0, mk, todo);
+        exact_range(c, &one, i0 + k0, mk, todo);
     }
 }
 
@@ -429,7 +454,7 @@ void pfx_collide(const pfx_deflector *defl, size_t n_defl, double dt, const pfx_
     prep pr[PFX_COLLIDE_MAX_DEFLECTORS];
     for (size_t k = 0; k < n_defl; k++)
         pfx_collide_prepare(&defl[k], &pr[k]);
-    ctx c = {defl, pr, n_defl, dt, pool, on_hit, user, stats};
+    ctx c = {defl, pr, n_defl, dt, pool, on_hit, user, stats, 0};
     if (near) {
         exact_pass(&c, 0, pool->count, near);
         return;

@@ -49,6 +49,11 @@ typedef struct pfx_collide_pool {
     bool rest_valid; /* the flags were made with this call's dt */
 } pfx_collide_pool;
 
+/* Whether the collide pass may resolve particles near one plane in vector
+ * lanes (collide_slide.c); true, and the same bits either way: the tests
+ * turn it off to compare the two. */
+extern bool pfx_collide_lanes;
+
 /* Called for every impact and every kill or stick touch (not for resting
  * contact): particle index, deflector index into the array passed, hit point,
  * unit surface normal on the particle's side, and the time of the hit in

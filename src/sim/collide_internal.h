@@ -63,6 +63,7 @@ typedef struct ctx {
     pfx_hit_fn on_hit;
     void *user;
     pfx_collide_stats *stats;
+    size_t first; /* the pass's index of defl[0] (a view of one of its deflectors) */
 } ctx;
 
 typedef struct hit {
@@ -90,16 +91,17 @@ bool pfx_collide_detect(const prep *p, int side, const double x[3], const double
                         const double a[3], double T, double touch, hit *h);
 void pfx_collide_snap(const prep *p, const hit *h, double x[3], double n[3]);
 
-/* collide_slide.c: the sliding particles of a chunk at once. Whether the
- * pass's deflectors are the one kind it handles (one infinite plane that
- * bounces); then, of particles [i0, i0 + m) where todo (indexed from i0)
- * is set, each that starts on the plane and slides through the step is
+/* collide_slide.c: the particles of a chunk near one plane at once. The
+ * index of the first of c's deflectors of the one kind it handles (an
+ * infinite plane that bounces), or -1; then, for c a view of that one
+ * deflector, of particles [i0, i0 + m) where todo (indexed from i0) is
+ * set, each that starts on the plane and slides through the step is
  * resolved and stored exactly as collide_one would, each that hits
  * nothing is left as it would leave it, and each that strikes it once
  * from the air is resolved likewise (all flagged at rest as
  * collide_one_rest would), its todo cleared; returns the contacts (the
  * impacts go to c->stats). */
-bool pfx_collide_slide_applies(const ctx *c);
+int pfx_collide_lane_plane(const ctx *c);
 uint64_t pfx_collide_slide(const ctx *c, uint32_t i0, uint32_t m, uint8_t *todo);
 /* Particles a chunk of the walks holds. With on_hit events a strike the
  * walk resolved waits: pfx_collide_slide leaves its todo mark as

@@ -25,9 +25,12 @@
 /* Particles a chunk of the walk holds (the broad phase's chunk). */
 enum { SLIDE_CHUNK = PFX_SLIDE_CHUNK };
 
-bool pfx_collide_slide_applies(const ctx *c) {
-    return c->nd == 1 && c->pr[0].shape == PFX_DEFLECTOR_PLANE && !c->pr[0].thin &&
-           c->defl[0].response == PFX_DEFLECT_BOUNCE;
+int pfx_collide_lane_plane(const ctx *c) {
+    for (size_t k = 0; k < c->nd; k++)
+        if (c->pr[k].shape == PFX_DEFLECTOR_PLANE && !c->pr[k].thin &&
+            c->defl[k].response == PFX_DEFLECT_BOUNCE)
+            return (int)k;
+    return -1;
 }
 
 /* The chunk's particles as doubles, gathered: start state, the integrator's
@@ -377,7 +380,7 @@ static bool store_lane(const ctx *c, uint32_t i0, const slide_chunk *s, uint32_t
         (*impacts)++;
         if (c->on_hit) {
             const double x[3] = {s->xh[0][k], s->xh[1][k], s->xh[2][k]};
-            c->on_hit(c->user, i, 0, x, p->n, s->th[k]);
+            c->on_hit(c->user, i, c->first, x, p->n, s->th[k]);
         }
         if (pool->hits)
             pool->hits[i]++;

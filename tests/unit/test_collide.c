@@ -576,8 +576,9 @@ static void test_marks_given(void) {
 }
 
 /* Sliding particles on one plane take collide_slide.c's chunked walk (and
- * those that hit nothing its flight verdict); with a second plane that no
- * particle can reach they take the general pass. Both must store the same
+ * those that hit nothing its flight verdict), alone or beside a second
+ * plane no particle can reach; with pfx_collide_lanes off they take the
+ * general pass. Both must store the same
  * bits, step after step, for sliders at every speed (stopping, resting,
  * -0 components, a hair above the plane) on a level and a tilted plane,
  * with and without friction, beside particles that bounce, fly, and rise
@@ -588,7 +589,7 @@ static void test_marks_given(void) {
  * a lifetime loss; and with on_hit events, which must come in the same
  * order with the same point, normal, time and velocity. */
 typedef struct hit_record {
-    uint32_t index;
+    uint32_t index, deflector;
     double pos[3], normal[3], t;
     float vel[3], life;
     uint32_t hits;
@@ -603,7 +604,6 @@ typedef struct hit_log {
 /* An on_hit callback: what an event sees, as sim/step.c's reads it. */
 static void log_hit(void *user, uint32_t index, size_t deflector, const double pos[3],
                     const double normal[3], double t) {
-    (void)deflector;
     hit_log *h = user;
     if (h->n == h->cap) {
         h->cap = h->cap ? 2 * h->cap : 1024;
@@ -611,7 +611,8 @@ static void log_hit(void *user, uint32_t index, size_t deflector, const double p
     }
     hit_record *r = &h->e[h->n++];
     memset(r, 0, sizeof *r);
-    r->index = index, r->t = t, r->life = h->pool->life[index], r->hits = h->pool->hits[index];
+    r->index = index, r->deflector = (uint32_t)deflector, r->t = t, r->life = h->pool->life[index],
+    r->hits = h->pool->hits[index];
     for (int j = 0; j < 3; j++)
         r->pos[j] = pos[j], r->normal[j] = normal[j], r->vel[j] = h->pool->x[3 + j][index];
 }
@@ -619,8 +620,9 @@ static void log_hit(void *user, uint32_t index, size_t deflector, const double p
 static void test_slide_same_bits(void) {
     const double tilt[3] = {0.3, 1, 0.1};
     size_t events = 0;
-    for (int variant = 0; variant < 16; variant++) {
+    for (int variant = 0; variant < 32; variant++) {
         const bool tilted = variant & 1, constant = variant & 4, hits = variant & 8;
+        const size_t nd = variant & 16 ? 2 : 1;
         pfx_deflector one[2] = {tilted ? plane(0, -0.2, 0, tilt[0], tilt[1], tilt[2])
                                        : plane(0, 0, 0, 0, 1, 0),
                                 plane(0, -1000, 0, 0, 1, 0)};
@@ -671,8 +673,10 @@ static void test_slide_same_bits(void) {
         hit_log la = {a, NULL, 0, 0}, lb = {b, NULL, 0, 0};
         bool same = true;
         for (int k = 0; k < 240 && same; k++) {
-            step(a, gravity, 1.0 / 120, one, 1, hits ? log_hit : NULL, &la, &sa);
-            step(b, gravity, 1.0 / 120, one, 2, hits ? log_hit : NULL, &lb, &sb);
+            step(a, gravity, 1.0 / 120, one, nd, hits ? log_hit : NULL, &la, &sa);
+            pfx_collide_lanes = false;
+            step(b, gravity, 1.0 / 120, one, nd, hits ? log_hit : NULL, &lb, &sb);
+            pfx_collide_lanes = true;
             same = la.n == lb.n && !memcmp(la.e, lb.e, la.n * sizeof *la.e);
             for (int c = 0; c < 6; c++)
                 same = same && !memcmp(a->x[c], b->x[c], n * sizeof(float));
@@ -687,6 +691,52 @@ static void test_slide_same_bits(void) {
         tpool_free(a), tpool_free(b);
     }
     fprintf(stderr, "  %zu on_hit events, the same in both passes\n", events);
+}
+
+/* Beside a sphere and a box, the particles near the ground plane alone
+ * take the walks, those near the others the general pass: a fountain of
+ * 4000 particles (most bounce, slide and rest on the ground, some strike
+ * the sphere and the box, some rest on the box) stores the same bits and
+ * raises the same events, deflector indices included, with the lanes as
+ * without. */
+static void test_lanes_beside_others(void) {
+    pfx_deflector room[3] = {sphere(0.5, 0.4, 0, 0.3, false), plane(0, 0, 0, 0, 1, 0),
+                             box(-0.6, 0.2, 0, 0.4, 0.4, 0.4, false)};
+    room[1].resilience[0] = 0.3, room[1].resilience[1] = 0.6;
+    room[1].friction[0] = room[1].friction[1] = 0.2;
+    room[0].resilience[0] = room[2].resilience[0] = room[0].resilience[1] = room[2].resilience[1] =
+        0.4;
+    const uint32_t n = 4000;
+    tpool *a = tpool_new(n, false), *b = tpool_new(n, false);
+    for (uint32_t i = 0; i < n; i++) {
+        const double ang = 6.283185307179586 * (double)(i % 97) / 97, sp = 0.2 + 0.01 * (i % 61);
+        const double x = 0.02 * (double)(i % 41) - 0.4, y = 0.05 + 0.02 * (i % 53);
+        set(a, i, x, y, 0.01 * (i % 7), sp * cos(ang), 1 + 0.01 * (i % 89), sp * sin(ang));
+        set(b, i, x, y, 0.01 * (i % 7), sp * cos(ang), 1 + 0.01 * (i % 89), sp * sin(ang));
+    }
+    pfx_collide_stats sa = {0}, sb = {0};
+    hit_log la = {a, NULL, 0, 0}, lb = {b, NULL, 0, 0};
+    bool same = true;
+    for (int k = 0; k < 360 && same; k++) {
+        step(a, gravity, 1.0 / 120, room, 3, log_hit, &la, &sa);
+        pfx_collide_lanes = false;
+        step(b, gravity, 1.0 / 120, room, 3, log_hit, &lb, &sb);
+        pfx_collide_lanes = true;
+        same = la.n == lb.n && !memcmp(la.e, lb.e, la.n * sizeof *la.e);
+        for (int c = 0; c < 6; c++)
+            same = same && !memcmp(a->x[c], b->x[c], n * sizeof(float));
+        same = same && !memcmp(a->hits, b->hits, n * sizeof(uint32_t));
+    }
+    size_t on[3] = {0};
+    for (size_t e = 0; e < la.n; e++)
+        on[la.e[e].deflector]++;
+    fprintf(stderr, "  %zu events (sphere %zu, ground %zu, box %zu), %llu contacts\n", la.n, on[0],
+            on[1], on[2], (unsigned long long)sa.contacts);
+    CHECK(same);
+    CHECK(on[0] > 0 && on[1] > 0 && on[2] > 0 && sa.contacts > 0);
+    CHECK(memcmp(&sa, &sb, sizeof sa) == 0);
+    free(la.e), free(lb.e);
+    tpool_free(a), tpool_free(b);
 }
 
 static uint32_t stress_n = 100000;
@@ -750,6 +800,7 @@ int main(int argc, char **argv) {
     RUN(test_untouched_and_fallback);
     RUN(test_marks_given);
     RUN(test_slide_same_bits);
+    RUN(test_lanes_beside_others);
     RUN(test_stress);
     return TEST_EXIT();
 }
