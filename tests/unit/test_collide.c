@@ -677,7 +677,7 @@ static void test_slide_same_bits(void) {
             pfx_collide_lanes = false;
             step(b, gravity, 1.0 / 120, one, nd, hits ? log_hit : NULL, &lb, &sb);
             pfx_collide_lanes = true;
-            same = la.n == lb.n && !memcmp(la.e, lb.e, la.n * sizeof *la.e);
+            same = la.n == lb.n && (!la.n || !memcmp(la.e, lb.e, la.n * sizeof *la.e));
             for (int c = 0; c < 6; c++)
                 same = same && !memcmp(a->x[c], b->x[c], n * sizeof(float));
             same = same && !memcmp(a->hits, b->hits, n * sizeof(uint32_t));
@@ -722,7 +722,7 @@ static void test_lanes_beside_others(void) {
         pfx_collide_lanes = false;
         step(b, gravity, 1.0 / 120, room, 3, log_hit, &lb, &sb);
         pfx_collide_lanes = true;
-        same = la.n == lb.n && !memcmp(la.e, lb.e, la.n * sizeof *la.e);
+        same = la.n == lb.n && (!la.n || !memcmp(la.e, lb.e, la.n * sizeof *la.e));
         for (int c = 0; c < 6; c++)
             same = same && !memcmp(a->x[c], b->x[c], n * sizeof(float));
         same = same && !memcmp(a->hits, b->hits, n * sizeof(uint32_t));
