@@ -13,8 +13,10 @@
  * plane once within the step: the impact (its draws, lifetime loss and
  * on_hit event), the bounce or the landing, and the rest of the step in
  * the air or sliding; an event waits for the general pass to reach its
- * particle, so that events keep pool order. It does not handle other
- * shapes, several deflectors, or kill and stick responses. */
+ * particle, so that events keep pool order. It sees one plane (a view
+ * of the emitter's first bouncing plane: collide.c hands it only the
+ * particles near that plane and no other surface); other shapes, kill and
+ * stick responses stay with the general pass. */
 #include "sim/collide_internal.h"
 
 #include <float.h>
