@@ -153,6 +153,18 @@ PFX_CLONES static bool broad_phase(const prep *pr, size_t nd, float dt,
     return any;
 }
 
+/* others[j]: particle i0 + j may touch a deflector other than k this step
+ * (broad_phase's test, deflector by deflector). A clone, as broad_phase. */
+PFX_CLONES static void near_others(const prep *pr, size_t nd, size_t k, float dt,
+                                   const pfx_collide_pool *pool, uint32_t i0, uint32_t m,
+                                   float *reach, uint8_t *others) {
+    memset(others, 0, m);
+    broad_reach(pool, i0, m, dt, reach);
+    for (size_t d = 0; d < nd; d++)
+        if (d != k)
+            broad_mark(&pr[d], pool, i0, m, reach, others);
+}
+
 bool pfx_collide_near(const pfx_deflector *defl, size_t n_defl, double dt,
                       const pfx_collide_pool *pool, uint8_t *near) {
     assert(n_defl <= PFX_COLLIDE_MAX_DEFLECTORS);
@@ -405,11 +417,7 @@ static void exact_pass(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *nea
         memcpy(todo, near + k0, mk);
         uint64_t contacts;
         if (c->nd > 1) {
-            memset(others, 0, mk);
-            broad_reach(c->pool, i0 + k0, mk, (float)c->dt, reach);
-            for (size_t d = 0; d < c->nd; d++)
-                if (d != (size_t)k)
-                    broad_mark(&c->pr[d], c->pool, i0 + k0, mk, reach, others);
+            near_others(c->pr, c->nd, (size_t)k, (float)c->dt, c->pool, i0 + k0, mk, reach, others);
             for (uint32_t j = 0; j < mk; j++)
                 alone[j] = others[j] ? 0 : todo[j];
             contacts = pfx_collide_slide(&one, i0 + k0, mk, alone);
