@@ -465,6 +465,10 @@ static bool compile_emitters(compiler *c, const pfx_node *root, int errors_befor
     if (!emitters) {
         pfx_diag_add(d, PFX_SEV_WARNING, root->line, root->col, 1, PFX_RULE_EMPTY_EFFECT,
                      "the effect has no 'emitters': every frame will be empty");
+        /* Still a loop of its frames (a period of nothing): the frame
+         * count mod the period needs the period. */
+        if (e->loop)
+            pfx_compile_loop(c, root, pfx_node_get(root, "loop"), NULL);
     } else if (pfx_read_map(&c->r, emitters, "emitters") && emitters->count > PFX_MAX_EMITTERS) {
         /* Before compiling any: the cap bounds the work, not only the
          * result. */

@@ -496,6 +496,18 @@ for h in --help -h help; do
     stderr_empty
     end
 done
+# A looping effect with no emitters once crashed render and bake
+# (SIGFPE: the frame count mod a period of 0 frames, found by fuzz_sim).
+printf 'pfx: 1\nloop: true\n' > "$work/empty_loop.yaml"
+begin "a looping effect with no emitters renders and bakes"
+pfx_run render "$work/empty_loop.yaml" -o "$work/empty_loop" --frames 0:2 -q
+finished render && want_status 0
+[ -s "$work/empty_loop/empty_loop_0002.png" ] || flunk "no empty_loop_0002.png"
+pfx_run bake "$work/empty_loop.yaml" -o "$work/empty_loop.csv" -q
+finished bake && want_status 0
+pfx_run info "$work/empty_loop.yaml"
+stdout_has "(60 frames)"
+end
 begin "pfx render --help"
 pfx_run render --help
 want_status 0
