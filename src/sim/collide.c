@@ -403,18 +403,32 @@ static void exact_range(const ctx *c, const ctx *lanes, uint32_t i0, uint32_t m,
  * such a particle exactly what it does with that plane alone: no other
  * surface is in reach, crossed, or near its stored point. */
 static void exact_pass(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *near) {
-    const int k = pfx_collide_lanes ? pfx_collide_lane_plane(c) : -1;
+    /* A pass run from inside another's on_hit (on this thread) would
+     * overwrite the lanes the outer one has yet to commit: it takes the
+     * general pass. */
+    static _Thread_local bool walking;
+    const int k = pfx_collide_lanes && !walking ? pfx_collide_lane_plane(c) : -1;
     if (k < 0) {
         exact_range(c, NULL, i0, m, near);
         return;
     }
+    walking = true;
     ctx one = *c;
     one.defl = c->defl + k, one.pr = c->pr + k, one.nd = 1, one.first = (size_t)k;
     uint8_t todo[BROAD_CHUNK], others[BROAD_CHUNK], alone[BROAD_CHUNK];
     float reach[BROAD_CHUNK];
     for (uint32_t k0 = 0; k0 < m; k0 += BROAD_CHUNK) {
         const uint32_t mk = m - k0 < BROAD_CHUNK ? m - k0 : (uint32_t)BROAD_CHUNK;
-        memcpy(todo, near + k0, mk);
+        /* marks as 0 or 1 (a stuck column's value is a mark too), so that
+         * PFX_TODO_WALKED is only ever the walks' own; a chunk without
+         * one is done */
+        uint8_t any = 0;
+        for (uint32_t j = 0; j < mk; j++) {
+            todo[j] = near[k0 + j] != 0;
+            any |= todo[j];
+        }
+        if (!any)
+            continue;
         uint64_t contacts;
         if (c->nd > 1) {
             near_others(c->pr, c->nd, (size_t)k, (float)c->dt, c->pool, i0 + k0, mk, reach, others);
@@ -430,6 +444,7 @@ static void exact_pass(const ctx *c, uint32_t i0, uint32_t m, const uint8_t *nea
             c->stats->contacts += contacts;
         exact_range(c, &one, i0 + k0, mk, todo);
     }
+    walking = false;
 }
 
 uint64_t pfx_collide_rest(const pfx_collide_pool *pool, uint8_t *near, bool *any_near) {

@@ -55,9 +55,9 @@ typedef struct pfx_collide_pool {
 extern bool pfx_collide_lanes;
 
 /* Called for every impact and every kill or stick touch (not for resting
- * contact): particle index, deflector index into the array passed, hit point,
- * unit surface normal on the particle's side, and the time of the hit in
- * seconds after the start of the step. */
+ * contact; a pfx_collide run from inside it takes no vector lanes): particle index, deflector index
+ * into the array passed, hit point, unit surface normal on the particle's side, and the time of the
+ * hit in seconds after the start of the step. */
 typedef void (*pfx_hit_fn)(void *user, uint32_t index, size_t deflector, const double pos[3],
                            const double normal[3], double t_hit);
 

@@ -27,10 +27,19 @@
 /* Particles a chunk of the walk holds (the broad phase's chunk). */
 enum { SLIDE_CHUNK = PFX_SLIDE_CHUNK };
 
+/* Whether range lies within [0, 1]. */
+static bool unit_range(const double range[2]) {
+    return range[0] >= 0 && range[0] <= 1 && range[1] >= 0 && range[1] <= 1;
+}
+
 int pfx_collide_lane_plane(const ctx *c) {
+    /* (A rebound no faster than the impact keeps the rest of the step
+     * within the reach the broad phase measured, which the view beside
+     * other deflectors relies on; the compiler allows no other.) */
     for (size_t k = 0; k < c->nd; k++)
         if (c->pr[k].shape == PFX_DEFLECTOR_PLANE && !c->pr[k].thin &&
-            c->defl[k].response == PFX_DEFLECT_BOUNCE)
+            c->defl[k].response == PFX_DEFLECT_BOUNCE && unit_range(c->defl[k].resilience) &&
+            unit_range(c->defl[k].friction))
             return (int)k;
     return -1;
 }

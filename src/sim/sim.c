@@ -51,13 +51,18 @@ uint32_t pfx_sim_block(const pfx_effect *e) {
     return block;
 }
 
-size_t pfx_sim_hit_buffer_bytes(const pfx_effect *e) {
+/* The bytes of the on_hit buffers of blocks of `block` particles. */
+static size_t hit_buffer_bytes(const pfx_effect *e, uint32_t block) {
     bool hits = false;
     for (size_t i = 0; i < e->emitter_count; i++) {
         const pfx_emitter *em = &e->emitters[i];
         hits |= em->deflector_count && pfx_spawn_has(em, PFX_SPAWN_HIT);
     }
-    return hits ? (largest_pool(e) / pfx_sim_block(e) + 1) * sizeof(pfx_hit_buffer) : 0;
+    return hits ? (largest_pool(e) / block + 1) * sizeof(pfx_hit_buffer) : 0;
+}
+
+size_t pfx_sim_hit_buffer_bytes(const pfx_effect *e) {
+    return hit_buffer_bytes(e, pfx_sim_block(e));
 }
 
 /* Seeds every emitter's streams and schedule: the state at time 0. */
@@ -95,7 +100,9 @@ pfx_sim *pfx_sim_create(const pfx_effect *e, pfx_diags *d) {
     s->block_flags = calloc(largest / s->block + 1, 1);
     s->block_stats = calloc(largest / s->block + 1, sizeof *s->block_stats);
     s->births = calloc(1, sizeof *s->births);
-    const size_t hit_bytes = pfx_sim_hit_buffer_bytes(e);
+    /* (of this block size: another count of online processors would
+     * make another) */
+    const size_t hit_bytes = hit_buffer_bytes(e, s->block);
     s->hit_buffers = hit_bytes ? malloc(hit_bytes) : NULL;
     /* More threads than blocks of the largest pool would only sleep. */
     int threads = sim_threads(e);
