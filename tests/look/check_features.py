@@ -17,21 +17,13 @@ import sys
 import numpy as np
 from PIL import Image
 
+from looklib import check, failures, render_effect, rgba, write_effect
+
 PFX, WORK = sys.argv[1], sys.argv[2]
-failures = []
-
-
-def check(ok, what):
-    print(("ok   " if ok else "FAIL ") + what)
-    if not ok:
-        failures.append(what)
 
 
 def write(name, text):
-    path = os.path.join(WORK, name + ".yaml")
-    with open(path, "w") as f:
-        f.write(text)
-    return path
+    return write_effect(WORK, name, text)
 
 
 def bake(name, text):
@@ -47,11 +39,7 @@ def bake(name, text):
 
 def render(name, text, args=()):
     """{frame number: float array (H, W, 4) in 0..255}."""
-    out = os.path.join(WORK, name)
-    subprocess.run([PFX, "render", write(name, text), "-o", out, "-q", *args], check=True)
-    return {int(n[-8:-4]): np.asarray(Image.open(os.path.join(out, n)).convert("RGBA"),
-                                      dtype=np.float64)
-            for n in sorted(os.listdir(out)) if n.endswith(".png")}
+    return {k: rgba(p) for k, p in render_effect(PFX, WORK, name, text, args).items()}
 
 
 # ---- direction: tangent. A disc rim of radius 1 at (3, 1, -2) and one

@@ -5,21 +5,15 @@ compares pixels with a value worked out from the documented formula.
 
 usage: check_look.py PFX WORKDIR"""
 import os
-import subprocess
 import sys
 
 import numpy as np
 from PIL import Image
 
+from looklib import check, failures, render_effect, rgba
+
 PFX, WORK = sys.argv[1], sys.argv[2]
 PX_PER_M = 32.0
-failures = []
-
-
-def check(ok, what):
-    print(("ok   " if ok else "FAIL ") + what)
-    if not ok:
-        failures.append(what)
 
 
 HEAD = """pfx: 1
@@ -35,15 +29,9 @@ emitters:
 def render(name, emitters, fps=10, duration=1, background="#000000ff", image="", args=()):
     """Writes the effect, renders it, and returns its frames as float arrays
     (H, W, 4) in 0..255."""
-    path = os.path.join(WORK, name + ".yaml")
-    with open(path, "w") as f:
-        f.write(HEAD.format(duration=duration, fps=fps, background=background, image=image))
-        f.write(emitters)
-    out = os.path.join(WORK, name)
-    subprocess.run([PFX, "render", path, "-o", out, "-q", *args], check=True)
-    names = sorted(n for n in os.listdir(out) if n.endswith(".png"))
-    return [np.asarray(Image.open(os.path.join(out, n)).convert("RGBA"), dtype=np.float64)
-            for n in names]
+    text = HEAD.format(duration=duration, fps=fps, background=background, image=image)
+    frames = render_effect(PFX, WORK, name, text + emitters, args)
+    return [rgba(frames[k]) for k in sorted(frames)]
 
 
 def save_texture(name, cells):

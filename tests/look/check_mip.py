@@ -26,14 +26,9 @@ import sys
 import numpy as np
 from PIL import Image
 
+from looklib import check, failures, render_effect, rgba
+
 PFX, WORK = sys.argv[1], sys.argv[2]
-failures = []
-
-
-def check(ok, what):
-    print(("ok   " if ok else "FAIL ") + what)
-    if not ok:
-        failures.append(what)
 
 
 HEAD = """pfx: 1
@@ -59,13 +54,8 @@ emitters:
 def render(name, keys):
     """Renders the one sprite with `keys` added and returns frame 0 as an
     int array (H, W, 4)."""
-    path = os.path.join(WORK, name + ".yaml")
-    with open(path, "w") as f:
-        f.write(HEAD + "".join(f"    {k}\n" for k in keys))
-    out = os.path.join(WORK, name)
-    subprocess.run([PFX, "render", path, "-o", out, "-q", "--frames", "0:0"], check=True)
-    return np.asarray(Image.open(os.path.join(out, name + "_0000.png")).convert("RGBA"),
-                      dtype=np.int64)
+    text = HEAD + "".join(f"    {k}\n" for k in keys)
+    return rgba(render_effect(PFX, WORK, name, text, ["--frames", "0:0"])[0], np.int64)
 
 
 def bits_image(cells):

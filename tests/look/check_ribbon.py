@@ -7,22 +7,14 @@ x = 0 (the parent). A point laid at x is -x seconds old.
 
 usage: check_ribbon.py PFX WORKDIR"""
 import hashlib
-import os
-import subprocess
 import sys
 
 import numpy as np
-from PIL import Image
+
+from looklib import check, failures, render_effect, rgba
 
 PFX, WORK = sys.argv[1], sys.argv[2]
 PX_PER_M = 50.0
-failures = []
-
-
-def check(ok, what):
-    print(("ok   " if ok else "FAIL ") + what)
-    if not ok:
-        failures.append(what)
 
 
 HEAD = """pfx: 1
@@ -71,19 +63,12 @@ def ribbon(name="ribbon", sprite="square", size=0.4, color='"#ffffff"'):
 def render(name, emitters, args=()):
     """Writes the effect, renders it, and returns {frame number: float array
     (H, W, 4) in 0..255} and the PNG bytes' digests."""
-    path = os.path.join(WORK, name + ".yaml")
-    with open(path, "w") as f:
-        f.write(HEAD + emitters)
-    out = os.path.join(WORK, name + "".join(a.replace(":", "-") for a in args))
-    subprocess.run([PFX, "render", path, "-o", out, "-q", *args], check=True)
+    out = name + "".join(a.replace(":", "-") for a in args)
     frames, digests = {}, {}
-    for n in sorted(os.listdir(out)):
-        if n.endswith(".png"):
-            k = int(n[-8:-4])
-            frames[k] = np.asarray(Image.open(os.path.join(out, n)).convert("RGBA"),
-                                   dtype=np.float64)
-            with open(os.path.join(out, n), "rb") as f:
-                digests[k] = hashlib.sha256(f.read()).hexdigest()
+    for k, path in render_effect(PFX, WORK, name, HEAD + emitters, args, out).items():
+        frames[k] = rgba(path)
+        with open(path, "rb") as f:
+            digests[k] = hashlib.sha256(f.read()).hexdigest()
     return frames, digests
 
 
