@@ -1,10 +1,17 @@
 /* The thread set of workers.h: helpers sleep on a condition variable until
- * a job is posted, then take blocks with the caller from one atomic ticket
- * (the job's number in the high half, the next block in the low half, so a
- * helper that wakes late never takes a block of a later job); the caller
- * returns once every block is done, without waiting for helpers that have
- * not woken. It knows nothing of particles; the simulation decides what a
- * block is.
+ * a job is posted, then take blocks with the caller. Each thread of the set
+ * has its own share of a job's blocks, the same run of them for every job
+ * of that many blocks, and takes from it first, then from the others' (a
+ * thread that wakes late leaves its share to the rest): a simulation posts
+ * the same pool's blocks step after step, so each thread finds its share
+ * in its own caches. (With one shared ticket the blocks went to whichever
+ * thread came first, and 10^4 particles, 400 KB, moved between the two
+ * cores' caches every step: 2 threads took 6.1 us a step of gravity where
+ * one took 4.3.) A share's ticket holds the job's number in the high half
+ * and its next block in the low half, so a helper that wakes late never
+ * takes a block of a later job; the caller returns once every block is
+ * done, without waiting for helpers that have not woken. It knows nothing
+ * of particles; the simulation decides what a block is.
  *
  * Waking a sleeping thread is slow where the processors are virtual: on
  * the 2-core reference machine (a virtual machine) a helper began its
@@ -36,6 +43,13 @@
 
 #define PFX_WORKERS_SPIN_NS 50000
 
+/* A thread's share of the current job: generation << 32 | the next block
+ * to take of it; a cache line of its own, since it is written at every
+ * block taken. */
+typedef struct share {
+    _Alignas(64) atomic_uint_fast64_t ticket;
+} share;
+
 struct pfx_workers {
     pthread_mutex_t lock;
     pthread_cond_t posted;   /* helpers wait here for a new generation or stop */
@@ -47,10 +61,17 @@ struct pfx_workers {
     pfx_block_fn fn; /* the current job */
     void *ctx;
     size_t blocks;
-    atomic_uint_fast64_t ticket; /* generation << 32 | the next block to take */
-    atomic_size_t done;          /* blocks of the current job finished */
-    int64_t poll_ns;             /* PFX_WORKERS_SPIN_NS, or 0 when oversubscribed */
+    share *shares; /* one per thread, the caller's first */
+    struct helper_arg *args;
+    atomic_size_t done; /* blocks of the current job finished */
+    int64_t poll_ns;    /* PFX_WORKERS_SPIN_NS, or 0 when oversubscribed */
 };
+
+/* A helper's own argument: the set and its share's number. */
+typedef struct helper_arg {
+    pfx_workers *w;
+    int index;
+} helper_arg;
 
 /* The ticket's halves: the job it belongs to (the low 32 bits of the
  * generation) and the next block to take. */
@@ -62,23 +83,40 @@ int pfx_workers_cores(void) {
     return n > 0 ? (int)(n < 1024 ? n : 1024) : 1;
 }
 
-/* Takes blocks of job `gen` until none is left; the thread that finishes
- * the last block wakes the caller. */
-static void drain(pfx_workers *w, uint64_t gen, pfx_block_fn fn, void *ctx, size_t blocks) {
-    uint_fast64_t t = atomic_load_explicit(&w->ticket, memory_order_acquire);
-    for (;;) {
-        if (t >> 32 != ticket_job(gen) || ticket_block(t) >= blocks)
-            return;
-        if (!atomic_compare_exchange_weak_explicit(&w->ticket, &t, t + 1, memory_order_acq_rel,
-                                                   memory_order_acquire))
-            continue;
-        fn(ctx, (size_t)ticket_block(t));
-        if (atomic_fetch_add_explicit(&w->done, 1, memory_order_acq_rel) + 1 == blocks) {
-            pthread_mutex_lock(&w->lock);
-            pthread_cond_signal(&w->finished);
-            pthread_mutex_unlock(&w->lock);
+/* Threads in the set: the caller and its helpers. */
+static int members(const pfx_workers *w) { return w->helpers + 1; }
+
+/* The first block of share k of a job of `blocks` blocks (k == members:
+ * the end of the last share). */
+static size_t share_start(const pfx_workers *w, size_t blocks, int k) {
+    return blocks * (size_t)k / (size_t)members(w);
+}
+
+/* Takes blocks of job `gen` until none is left, from share `me` first,
+ * then from the others in turn; the thread that finishes the last block
+ * wakes the caller. */
+static void drain(pfx_workers *w, uint64_t gen, pfx_block_fn fn, void *ctx, size_t blocks, int me) {
+    const int n = members(w);
+    for (int step = 0; step < n; step++) {
+        const int k = (me + step) % n;
+        atomic_uint_fast64_t *ticket = &w->shares[k].ticket;
+        const size_t end = share_start(w, blocks, k + 1);
+        uint_fast64_t t = atomic_load_explicit(ticket, memory_order_acquire);
+        for (;;) {
+            if (t >> 32 != ticket_job(gen) || ticket_block(t) >= end)
+                break;
+            if (!atomic_compare_exchange_weak_explicit(ticket, &t, t + 1, memory_order_acq_rel,
+                                                       memory_order_acquire))
+                continue;
+            fn(ctx, (size_t)ticket_block(t));
+            if (atomic_fetch_add_explicit(&w->done, 1, memory_order_acq_rel) + 1 == blocks) {
+                pthread_mutex_lock(&w->lock);
+                pthread_cond_signal(&w->finished);
+                pthread_mutex_unlock(&w->lock);
+                return;
+            }
+            t = atomic_load_explicit(ticket, memory_order_acquire);
         }
-        t = atomic_load_explicit(&w->ticket, memory_order_acquire);
     }
 }
 
@@ -114,9 +152,10 @@ static bool spin_until(const pfx_workers *w, bool (*done)(const pfx_workers *, u
     }
 }
 
-/* Whether a job after `seen` was posted: the ticket's high half. */
+/* Whether a job after `seen` was posted: the high half of the caller's
+ * share's ticket. */
 static bool job_posted(const pfx_workers *w, uint64_t seen) {
-    const uint_fast64_t t = atomic_load_explicit(&w->ticket, memory_order_acquire);
+    const uint_fast64_t t = atomic_load_explicit(&w->shares[0].ticket, memory_order_acquire);
     return t >> 32 != ticket_job(seen);
 }
 
@@ -126,7 +165,8 @@ static bool blocks_done(const pfx_workers *w, uint64_t blocks) {
 }
 
 static void *helper_main(void *arg) {
-    pfx_workers *w = arg;
+    pfx_workers *w = ((helper_arg *)arg)->w;
+    const int me = ((helper_arg *)arg)->index;
     uint64_t seen = 0;
     pthread_mutex_lock(&w->lock);
     for (;;) {
@@ -145,7 +185,7 @@ static void *helper_main(void *arg) {
         void *ctx = w->ctx;
         size_t blocks = w->blocks;
         pthread_mutex_unlock(&w->lock);
-        drain(w, seen, fn, ctx, blocks);
+        drain(w, seen, fn, ctx, blocks, me);
         pthread_mutex_lock(&w->lock);
     }
     pthread_mutex_unlock(&w->lock);
@@ -156,21 +196,27 @@ pfx_workers *pfx_workers_create(int threads) {
     pfx_workers *w = calloc(1, sizeof *w);
     if (!w)
         return NULL;
-    atomic_init(&w->ticket, 0);
     atomic_init(&w->done, 0);
     if (threads <= 1)
         return w;
     w->poll_ns = threads <= pfx_workers_cores() ? PFX_WORKERS_SPIN_NS : 0;
     w->threads = calloc((size_t)threads - 1, sizeof *w->threads);
-    if (!w->threads || pthread_mutex_init(&w->lock, NULL) != 0) {
+    w->args = calloc((size_t)threads - 1, sizeof *w->args);
+    w->shares = aligned_alloc(_Alignof(share), (size_t)threads * sizeof *w->shares);
+    if (!w->threads || !w->args || !w->shares || pthread_mutex_init(&w->lock, NULL) != 0) {
         free(w->threads);
+        free(w->args);
+        free(w->shares);
         free(w);
         return NULL;
     }
+    for (int k = 0; k < threads; k++)
+        atomic_init(&w->shares[k].ticket, 0);
     pthread_cond_init(&w->posted, NULL);
     pthread_cond_init(&w->finished, NULL);
     for (int i = 0; i < threads - 1; i++) {
-        if (pthread_create(&w->threads[i], NULL, helper_main, w) != 0) {
+        w->args[i] = (helper_arg){w, i + 1};
+        if (pthread_create(&w->threads[i], NULL, helper_main, &w->args[i]) != 0) {
             pfx_workers_destroy(w);
             return NULL;
         }
@@ -193,6 +239,8 @@ void pfx_workers_destroy(pfx_workers *w) {
         pthread_cond_destroy(&w->finished);
         pthread_mutex_destroy(&w->lock);
         free(w->threads);
+        free(w->args);
+        free(w->shares);
     }
     free(w);
 }
@@ -212,10 +260,13 @@ void pfx_workers_run(pfx_workers *w, size_t blocks, pfx_block_fn fn, void *ctx) 
     w->generation++;
     const uint64_t gen = w->generation;
     atomic_store_explicit(&w->done, 0, memory_order_relaxed);
-    atomic_store_explicit(&w->ticket, ticket_job(gen) << 32, memory_order_release);
+    for (int k = members(w) - 1; k >= 0; k--) /* the caller's last: job_posted reads it */
+        atomic_store_explicit(&w->shares[k].ticket,
+                              ticket_job(gen) << 32 | share_start(w, blocks, k),
+                              memory_order_release);
     pthread_cond_broadcast(&w->posted);
     pthread_mutex_unlock(&w->lock);
-    drain(w, gen, fn, ctx, blocks);
+    drain(w, gen, fn, ctx, blocks, 0);
     if (spin_until(w, blocks_done, blocks))
         return;
     pthread_mutex_lock(&w->lock);
