@@ -3,6 +3,7 @@
  * column list of sim/columns.h. Nothing here knows what a column means. */
 #include "sim/pool.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "base/hash.h"
@@ -55,6 +56,7 @@ void pfx_pool_layout(pfx_pool *p, const pfx_emitter *em, void *block, uint32_t n
     }
     p->capacity = n;
     p->count = 0;
+    p->death_floor = INFINITY;
 }
 
 void pfx_pool_move(pfx_pool *p, uint32_t to, uint32_t from) {
@@ -74,6 +76,7 @@ void pfx_pool_copy(pfx_pool *dst, const pfx_pool *src) {
     dst->count = src->count;
     dst->time = src->time;
     dst->may_run_away = src->may_run_away;
+    dst->death_floor = src->death_floor;
 }
 
 pfx_pool pfx_pool_from(const pfx_pool *p, uint32_t from) {

@@ -82,6 +82,17 @@ static void init_emitters(pfx_sim *s) {
     }
 }
 
+/* Points every pool's columns into s->storage, one pool after another;
+ * every pool is empty after. */
+static void lay_out_pools(pfx_sim *s) {
+    unsigned char *next = s->storage;
+    for (size_t i = 0; i < s->effect->emitter_count; i++) {
+        const pfx_emitter *em = &s->effect->emitters[i];
+        pfx_pool_layout(&s->pools[i], em, next, em->capacity);
+        next += pfx_pool_bytes(em, em->capacity);
+    }
+}
+
 pfx_sim *pfx_sim_create(const pfx_effect *e, pfx_diags *d) {
     pfx_sim *s = calloc(1, sizeof *s);
     if (!s)
@@ -109,23 +120,20 @@ pfx_sim *pfx_sim_create(const pfx_effect *e, pfx_diags *d) {
     if ((size_t)threads > largest / s->block + 1)
         threads = (int)(largest / s->block + 1);
     s->workers = pfx_workers_create(threads);
+    s->batch = pfx_birth_batch_create(pfx_workers_count(s->workers), s->births);
     /* One block behind every pool; malloc aligns it for any column. */
     s->storage = malloc(bytes ? bytes : 1);
     if (!s->pools || !s->emitters || !s->plans || !s->storage || !s->block_flags ||
         !s->block_stats || !s->births || (hit_bytes && !s->hit_buffers) || !s->workers ||
-        !pfx_spawn_queues_create(s)) {
+        (pfx_workers_count(s->workers) > 1 && !s->batch) || !pfx_spawn_queues_create(s)) {
         pfx_sim_destroy(s);
         return NULL;
     }
     s->bytes = bytes;
-    unsigned char *next = s->storage;
-    for (size_t i = 0; i < e->emitter_count; i++) {
-        const pfx_emitter *em = &e->emitters[i];
-        pfx_pool_layout(&s->pools[i], em, next, em->capacity);
-        next += pfx_pool_bytes(em, em->capacity);
-        if (em->motion)
-            pfx_motion_plan_init(&s->plans[i], em->motion);
-    }
+    lay_out_pools(s);
+    for (size_t i = 0; i < e->emitter_count; i++)
+        if (e->emitters[i].motion)
+            pfx_motion_plan_init(&s->plans[i], e->emitters[i].motion);
     init_emitters(s);
     return s;
 }
@@ -133,7 +141,8 @@ pfx_sim *pfx_sim_create(const pfx_effect *e, pfx_diags *d) {
 void pfx_sim_reset(pfx_sim *s) {
     const pfx_effect *e = s->effect;
     for (size_t i = 0; i < e->emitter_count; i++)
-        s->pools[i].count = 0, s->pools[i].time = 0, s->pools[i].may_run_away = false;
+        s->pools[i].count = 0, s->pools[i].time = 0, s->pools[i].may_run_away = false,
+        s->pools[i].death_floor = INFINITY;
     init_emitters(s);
     s->step = 0;
     s->time = 0;
@@ -150,6 +159,7 @@ void pfx_sim_destroy(pfx_sim *s) {
     free(s->block_flags);
     free(s->block_stats);
     free(s->births);
+    pfx_birth_batch_destroy(s->batch);
     free(s->hit_buffers);
     pfx_workers_destroy(s->workers);
     pfx_spawn_queues_destroy(s);

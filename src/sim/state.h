@@ -27,6 +27,12 @@ typedef struct pfx_pool {
     double time;       /* the time the state is at: a particle's age is time - birth */
     bool may_run_away; /* gravity-only: some particle's bound at birth reaches the
                           state check's limits, so the kernel checks each step */
+    /* No particle dies before this time: the least birth + lifetime of
+     * those born, where nothing shortens a life after birth (no kill rule,
+     * no deflector that kills or takes life); -INFINITY where something
+     * may; INFINITY while empty. It lets the move pass skip its scan for
+     * deaths (pfx_step_move). */
+    double death_floor;
 #define PFX_POOL_FIELD(name, type, role, needed, what) type *name;
     PFX_POOL_COLUMNS(PFX_POOL_FIELD)
 #undef PFX_POOL_FIELD
@@ -64,6 +70,8 @@ typedef struct pfx_emitter_state {
 #define PFX_SIM_BLOCK_MAX 8192u
 #define PFX_SIM_BLOCK_MIN 1024u
 
+typedef struct pfx_birth_batch pfx_birth_batch;
+
 typedef struct pfx_sim {
     const pfx_effect *effect;
     double dt;
@@ -81,6 +89,7 @@ typedef struct pfx_sim {
     uint8_t *block_flags;           /* per block of the largest pool: sim/step.h's flags */
     pfx_collide_stats *block_stats; /* per block: a parallel collide pass's counters */
     struct pfx_birth_block *births; /* the columns of a block of births (sim/birth.h) */
+    struct pfx_birth_batch *batch;  /* scheduled births on the threads (sim/newborn.c) */
     bool failed;                    /* a state went non-finite or exploded: stop */
     pfx_diags *diags;               /* where a failure says what, where, when and the likely
                                        cause (not owned; may be NULL) */

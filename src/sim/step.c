@@ -212,6 +212,7 @@ typedef struct move_job {
     double t0, span;
     double t1;        /* the step's end, for the death scan */
     bool scan_deaths; /* no later pass changes a lifetime outside the blocks it notes */
+    bool none_die;    /* and no particle's death falls within the step: no scan */
 } move_job;
 
 /* Whether particles [first, first + n) hold one dead at t1 (age >=
@@ -355,7 +356,7 @@ static void move_block(void *arg, size_t b) {
     }
     /* Without the scan every block counts as holding a death, and the
      * serial pass looks at all of them. */
-    const bool death = !j->scan_deaths || block_has_death(p, first, n, j->t1);
+    const bool death = !j->scan_deaths || (!j->none_die && block_has_death(p, first, n, j->t1));
     s->block_flags[b] = (uint8_t)((bad ? PFX_BLOCK_BAD : 0) | (death ? PFX_BLOCK_DEATH : 0) |
                                   (any_near ? PFX_BLOCK_NEAR : 0));
 }
@@ -363,7 +364,11 @@ static void move_block(void *arg, size_t b) {
 uint32_t pfx_step_move(pfx_sim *s, size_t i, double t0, double t1, bool scan_deaths) {
     pfx_pool *p = &s->pools[i];
     const size_t blocks = block_count(s, p);
-    move_job job = {s, i, t0, t1 - t0, t1, scan_deaths};
+    /* The floor is a sum rounded once, the scan's test a difference: a
+     * margin far above either rounding. */
+    const double floor = p->death_floor;
+    const bool none_die = floor == INFINITY || t1 < floor - 1e-9 * (1 + fabs(floor));
+    move_job job = {s, i, t0, t1 - t0, t1, scan_deaths, none_die};
     pfx_workers_run(s->workers, blocks, move_block, &job);
     for (size_t b = 0; b < blocks; b++)
         if (s->block_flags[b] & PFX_BLOCK_BAD)
@@ -418,8 +423,9 @@ static void collide_range(pfx_sim *s, size_t i, uint32_t first, uint32_t n, doub
                 stats);
 }
 
-void pfx_step_collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double dt) {
-    collide_range(s, i, first, n, t0, dt, NULL, &s->emitters[i].collisions, NULL);
+void pfx_step_collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double dt,
+                      pfx_collide_stats *stats) {
+    collide_range(s, i, first, n, t0, dt, NULL, stats, NULL);
 }
 
 typedef struct collide_job {

@@ -62,8 +62,10 @@ void pfx_step_state_before(const pfx_sim *s, size_t i, uint32_t j, double t1, do
  * id, time and the likely cause. */
 void pfx_step_check_state(pfx_sim *s, size_t i, uint32_t first, double t);
 /* Deflectors for particles [first, first + n) of emitter i over the step of
- * length dt from t0 just integrated (on_hit events queued). */
-void pfx_step_collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double dt);
+ * length dt from t0 just integrated (on_hit events queued), counted in
+ * *stats. */
+void pfx_step_collide(pfx_sim *s, size_t i, uint32_t first, uint32_t n, double t0, double dt,
+                      pfx_collide_stats *stats);
 /* Deflectors for every particle of emitter i after pfx_step_move(s, i, t0,
  * t1), dt the step's length as a float, from the marks it left: only the
  * blocks it noted near a surface, which are noted as holding a death too

@@ -178,6 +178,51 @@ static void test_timeline(void) {
     }
 }
 
+/* A particle dies at the end of the step in which its age reaches its
+ * lifetime (age >= lifetime, pfx-effect(5)), also when that is exactly a
+ * step's end: bursts at 0 and at 0.5 s with lifetimes that are whole steps
+ * in binary (0.25 s at 20 and 32 steps a second, 0.5 s), 5000 particles
+ * each so that the births are made in batches on two threads. The move
+ * pass skips its scan for deaths while no particle can die (the pool's
+ * death floor): a floor one step late, or one that misses the exact end,
+ * keeps them a step longer. */
+static void test_death_on_step_end(void) {
+    const double rates[] = {20, 32};
+    const double lives[] = {0.25, 0.5};
+    for (size_t r = 0; r < 2; r++)
+        for (size_t l = 0; l < 2; l++)
+            for (int threads = 1; threads <= 2; threads++) {
+                char text[512];
+                snprintf(text, sizeof text,
+                         "pfx: 1\nsim: { rate: %g }\nforces:\n  g: { type: gravity }\n"
+                         "emitters:\n  e:\n    bursts: [{ time: 0, count: 5000 }, "
+                         "{ time: 0.5, count: 5000 }]\n    speed: 1\n    lifetime: %g\n",
+                         rates[r], lives[l]);
+                compiled c;
+                pfx_compile_options opt = {.threads = threads};
+                if (!compile_opt(&c, text, &opt))
+                    continue;
+                pfx_sim *s = pfx_sim_create(c.e, NULL);
+                int wrong = 0;
+                for (int k = 1; k <= (int)(1.5 * rates[r]); k++) {
+                    pfx_sim_step(s);
+                    const double t = s->time;
+                    uint32_t expect = 0;
+                    const double births[] = {0, 0.5};
+                    for (int b = 0; b < 2; b++)
+                        expect += t >= births[b] && t - births[b] < lives[l] ? 5000 : 0;
+                    if (s->pools[0].count != expect && wrong++ == 0)
+                        fprintf(stderr,
+                                "  %g steps/s, life %g, %d threads: %u alive at %g s, "
+                                "not %u\n",
+                                rates[r], lives[l], threads, s->pools[0].count, t, expect);
+                }
+                CHECK(wrong == 0);
+                pfx_sim_destroy(s);
+                compiled_free(&c);
+            }
+}
+
 /* Step-rate independence with random attributes: particle k's random
  * values (position on a disc, direction in a cone, speed, lifetime) must be
  * the same whatever the step rate, since the header promises "every sampler
@@ -1039,6 +1084,7 @@ int main(void) {
     RUN(test_exact_gravity);
     RUN(test_exact_gravity_scaled);
     RUN(test_timeline);
+    RUN(test_death_on_step_end);
     RUN(test_step_rate_independent_random);
     RUN(test_birth_counts);
     RUN(test_swap_remove);

@@ -15,7 +15,14 @@
 
 /* Gravity only (the exact kernel), a split-step force set with operators,
  * and a deflector with random response, on_hit and on_death births; the
- * last pool is small (its blocks shrink to share it among threads). */
+ * fifth pool is small (its blocks shrink to share it among threads). The
+ * last three have scheduled births made in batches on the threads
+ * (sim/newborn.c): bursts swept against a plane with random responses in
+ * their first part-step; a looping effect (each period's first birth
+ * restarts the stream) whose shortest lives leave some blocks of births
+ * dead at the step's end (those are made alone), with a lifetime loss on
+ * impact; and a pool that fills (max_particles), so that batches close
+ * short of it and the rest is dropped. */
 static const char *const effects[] = {
     "pfx: 1\nseed: 3\nforces:\n  g: { type: gravity }\n"
     "emitters:\n  e:\n    shape: { type: sphere, radius: 0.3 }\n    rate: 60000\n"
@@ -47,12 +54,27 @@ static const char *const effects[] = {
     "    rate: 12000\n    speed: [1, 3]\n    spread: 60\n    lifetime: 0.8\n"
     "    on_hit: { emit: c, count: 1, probability: 0.3 }\n"
     "  c:\n    speed: [0, 1]\n    lifetime: 0.1\n    deflectors: []\n",
+    "pfx: 1\nseed: 8\nforces:\n  g: { type: gravity }\n"
+    "deflectors:\n  floor: { type: plane, resilience: [0.2, 0.7], friction: [0, 0.4] }\n"
+    "emitters:\n  e:\n    shape: { type: sphere, radius: 0.3 }\n    position: [0, 0.05, 0]\n"
+    "    bursts: [{ time: 0, count: 30000 }, { time: 0.31, count: 9000, cycles: 3, "
+    "interval: 0.2 }]\n    speed: [1, 3]\n    spread: 120\n    direction: [0, -1, 0]\n"
+    "    lifetime: [0.5, 2]\n",
+    "pfx: 1\nseed: 9\nduration: 0.4\nloop: true\nforces:\n  g: { type: gravity }\n"
+    "deflectors:\n  floor: { type: plane, resilience: 0.5, lifetime_loss: 0.3 }\n"
+    "emitters:\n  e:\n    position: [0, 0.2, 0]\n    rate: 90000\n    speed: [0, 2]\n"
+    "    spread: 90\n    lifetime: [0.002, 0.3]\n",
+    "pfx: 1\nseed: 10\nforces:\n  g: { type: gravity }\n"
+    "emitters:\n  e:\n    shape: { type: box, size: [1, 1, 1] }\n    rate: 60000\n"
+    "    bursts: [{ time: 0.2, count: 3000 }]\n    speed: [1, 3]\n    lifetime: 1\n",
 };
+/* --max-particles of each effect (0: the default) */
+static const uint64_t max_particles[] = {0, 0, 0, 0, 0, 0, 0, 7000};
 
-static uint64_t run_hash(const char *text, int threads, int steps, uint32_t *most,
+static uint64_t run_hash(const char *text, uint64_t max, int threads, int steps, uint32_t *most,
                          uint32_t *block) {
     compiled c;
-    pfx_compile_options opt = {.threads = threads};
+    pfx_compile_options opt = {.threads = threads, .max_particles = max};
     if (!compile_opt(&c, text, &opt))
         return 0;
     pfx_sim *s = pfx_sim_create(c.e, NULL), *v = pfx_sim_create(c.e, NULL);
@@ -71,6 +93,14 @@ static uint64_t run_hash(const char *text, int threads, int steps, uint32_t *mos
     }
     CHECK(!s->failed && !v->failed);
     uint64_t h = pfx_sim_hash(s) ^ 31 * pfx_sim_hash(v);
+    /* the collision counters too, summed over blocks and batches */
+    for (size_t i = 0; i < c.e->emitter_count; i++) {
+        const pfx_collide_stats *st = &s->emitters[i].collisions;
+        const uint64_t counts[] = {st->impacts, st->contacts, st->kills,
+                                   st->sticks,  st->capped,   st->fallbacks};
+        for (int k = 0; k < 6; k++)
+            h = (h ^ counts[k]) * 0x100000001b3ULL;
+    }
     pfx_sim_destroy(v);
     pfx_sim_destroy(s);
     compiled_free(&c);
@@ -80,12 +110,12 @@ static uint64_t run_hash(const char *text, int threads, int steps, uint32_t *mos
 static void test_thread_counts(void) {
     for (size_t k = 0; k < sizeof effects / sizeof *effects; k++) {
         uint32_t most = 0, block = 0;
-        uint64_t one = run_hash(effects[k], 1, 60, &most, &block);
+        uint64_t one = run_hash(effects[k], max_particles[k], 1, 60, &most, &block);
         CHECK(block == PFX_SIM_BLOCK_MAX);
         const int counts[] = {2, 3, 7};
         for (int t = 0; t < 3; t++) {
             uint32_t m = 0;
-            uint64_t h = run_hash(effects[k], counts[t], 60, &m, &block);
+            uint64_t h = run_hash(effects[k], max_particles[k], counts[t], 60, &m, &block);
             /* Several blocks, or the threads have nothing to share. */
             CHECK(m > 3 * block);
             if (h != one)
@@ -94,6 +124,38 @@ static void test_thread_counts(void) {
             CHECK(h == one);
         }
     }
+}
+
+/* A particle that leaves the simulated space stops the simulation at the
+ * same step on any thread count: a burst of 6000 at 4e5 m/s (their bound
+ * at birth reaches the state check's 1e7 m, so each step checks them, a
+ * flag the births made on the threads must raise) passes 1e7 m after 25 s.
+ * (The second burst, never reached, leaves the pool room for a block more,
+ * so that every block of the first is made on the threads.) */
+static int runaway_step(int threads) {
+    compiled c;
+    pfx_compile_options opt = {.threads = threads};
+    if (!compile_opt(
+            &c,
+            "pfx: 1\nsim: { rate: 25 }\nforces:\n  g: { type: gravity }\n"
+            "emitters:\n  e:\n    bursts: [{ time: 0, count: 6000 }, { time: 900, count: 100 }]\n"
+            "    direction: [1, 0, 0]\n    speed: 400000\n    lifetime: 1000\n",
+            &opt))
+        return -1;
+    pfx_sim *s = pfx_sim_create(c.e, NULL);
+    int step = 0;
+    while (!s->failed && step < 1000)
+        pfx_sim_step(s), step++;
+    pfx_sim_destroy(s);
+    compiled_free(&c);
+    return step;
+}
+
+static void test_runaway_caught(void) {
+    const int one = runaway_step(1), two = runaway_step(2);
+    /* 1e7 m / 4e5 m/s = 25 s, step 625 at 25 steps a second */
+    CHECK(one == 626);
+    CHECK(two == one);
 }
 
 /* The thread set itself: every block runs exactly once, for any count of
@@ -133,5 +195,6 @@ static void test_workers(void) {
 int main(void) {
     RUN(test_workers);
     RUN(test_thread_counts);
+    RUN(test_runaway_caught);
     return TEST_EXIT();
 }
