@@ -274,8 +274,28 @@ uint64_t pfx_sim_hash(const pfx_sim *s) {
     return h;
 }
 
+/* Before s's first step, s and its view trade storage. Frame 0 of an
+ * effect with births at time 0 fills the view (a step of length zero),
+ * so the view's pages are in memory while s's have never been touched,
+ * and the first touch of a page is dear: about 1.1 us a 4 KB page on the
+ * 2-core reference machine, 1.4 ms of a 4.6 ms run of 50 steps of 10^5
+ * projectiles, spent again on the same births. s's pools are empty before
+ * its first step, and the view's contents are this function's scratch,
+ * made anew from s whenever it is returned, so nothing else changes. */
+static void take_warm_storage(pfx_sim *s, pfx_sim *view) {
+    if (s->step != 0 || view->effect != s->effect || view->bytes != s->bytes)
+        return;
+    void *mine = s->storage;
+    s->storage = view->storage;
+    view->storage = mine;
+    lay_out_pools(s);
+    lay_out_pools(view);
+}
+
 const pfx_sim *pfx_sim_frame(pfx_sim *s, pfx_sim *view, long frame) {
     double t = pfx_sim_frame_time(s->effect, frame);
+    if (t > s->time + 1e-12)
+        take_warm_storage(s, view);
     if (t < s->time - 1e-12) {
         /* A looping effect wrapped round: back to frame 0's state (kept when
          * first reached), not to time 0 and its whole warm-up again. */
