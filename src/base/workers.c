@@ -93,10 +93,13 @@ static size_t share_start(const pfx_workers *w, size_t blocks, int k) {
 }
 
 /* Takes blocks of job `gen` until none is left, from share `me` first,
- * then from the others in turn; the thread that finishes the last block
- * wakes the caller. */
+ * then from the others in turn, and counts them done once at the end (a
+ * count shared by every thread, written at every block, was a cache line
+ * passed between the cores at every block); the thread whose count
+ * completes the job wakes the caller. */
 static void drain(pfx_workers *w, uint64_t gen, pfx_block_fn fn, void *ctx, size_t blocks, int me) {
     const int n = members(w);
+    size_t ran = 0;
     for (int step = 0; step < n; step++) {
         const int k = (me + step) % n;
         atomic_uint_fast64_t *ticket = &w->shares[k].ticket;
@@ -109,14 +112,14 @@ static void drain(pfx_workers *w, uint64_t gen, pfx_block_fn fn, void *ctx, size
                                                        memory_order_acquire))
                 continue;
             fn(ctx, (size_t)ticket_block(t));
-            if (atomic_fetch_add_explicit(&w->done, 1, memory_order_acq_rel) + 1 == blocks) {
-                pthread_mutex_lock(&w->lock);
-                pthread_cond_signal(&w->finished);
-                pthread_mutex_unlock(&w->lock);
-                return;
-            }
+            ran++;
             t = atomic_load_explicit(ticket, memory_order_acquire);
         }
+    }
+    if (ran && atomic_fetch_add_explicit(&w->done, ran, memory_order_acq_rel) + ran == blocks) {
+        pthread_mutex_lock(&w->lock);
+        pthread_cond_signal(&w->finished);
+        pthread_mutex_unlock(&w->lock);
     }
 }
 

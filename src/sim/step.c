@@ -357,8 +357,13 @@ static void move_block(void *arg, size_t b) {
     /* Without the scan every block counts as holding a death, and the
      * serial pass looks at all of them. */
     const bool death = !j->scan_deaths || (!j->none_die && block_has_death(p, first, n, j->t1));
-    s->block_flags[b] = (uint8_t)((bad ? PFX_BLOCK_BAD : 0) | (death ? PFX_BLOCK_DEATH : 0) |
-                                  (any_near ? PFX_BLOCK_NEAR : 0));
+    const uint8_t flags = (uint8_t)((bad ? PFX_BLOCK_BAD : 0) | (death ? PFX_BLOCK_DEATH : 0) |
+                                    (any_near ? PFX_BLOCK_NEAR : 0));
+    /* Written only when they change: the flags of neighbouring blocks
+     * share a cache line, which two cores writing every step would pass
+     * back and forth (most steps change none). */
+    if (s->block_flags[b] != flags)
+        s->block_flags[b] = flags;
 }
 
 uint32_t pfx_step_move(pfx_sim *s, size_t i, double t0, double t1, bool scan_deaths) {
