@@ -438,9 +438,10 @@ static void pack(slide_chunk *s, uint32_t *idx, const uint32_t *list, uint32_t n
     }
 }
 
-/* Gathers particles i0 + idx[0..n) into the chunk as doubles (cloned: with
- * AVX-512's gathers the hit row of `pfx bench forces` went from 12.1-12.5
- * to 11.3-11.6 ns a particle step, one thread, the same bits). */
+/* Gathers particles i0 + idx[0..n) into the chunk as doubles (cloned:
+ * with AVX-512's gathers a fountain of 10^5 over a plane with hits, one
+ * thread, went from 12.1-12.5 to 11.3-11.6 ns a particle step, the same
+ * bits). */
 PFX_CLONES static void gather(const pfx_collide_pool *pool, uint32_t i0, const uint32_t *idx,
                               uint32_t n, slide_chunk *s) {
     for (uint32_t k = 0; k < n; k++) {
