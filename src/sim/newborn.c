@@ -236,29 +236,18 @@ static void collide_newborns(pfx_sim *s, size_t i, uint32_t j0, const pfx_birth_
     }
 }
 
-/* Whether a life can end only at birth + lifetime: no kill rule, and no
- * deflector that kills or takes life. */
-static bool lives_fixed(const pfx_emitter *em) {
-    if (em->kill)
-        return false;
-    for (size_t d = 0; d < em->deflector_count; d++)
-        if (em->deflectors[d].response == PFX_DEFLECT_KILL || em->deflectors[d].lifetime_loss > 0)
-            return false;
-    return true;
-}
-
-/* The earliest death of block b's births (pfx_pool.death_floor), as the
- * death scan reads them: birth time plus the lifetime stored as a float;
- * -INFINITY where a life may end sooner. */
-static double first_death(const pfx_emitter *em, const pfx_birth_block *b) {
-    if (!lives_fixed(em))
-        return -INFINITY;
-    double first = INFINITY;
+/* What block b's newborns at rows j0.. of p add to the pool's summaries:
+ * *floor lowered to their earliest death as the death scan reads it
+ * (birth time plus the lifetime stored as a float: pfx_pool.death_floor),
+ * and *run_away raised where one may run away (asked while it is not). */
+static void note_newborns(const pfx_emitter *em, const pfx_pool *p, uint32_t j0,
+                          const pfx_birth_block *b, double *floor, bool *run_away) {
     for (uint32_t r = 0; r < b->n; r++) {
         const double death = b->t[r] + (double)(float)b->life[r];
-        first = death < first ? death : first;
+        *floor = death < *floor ? death : *floor;
     }
-    return first;
+    if (!em->motion && !*run_away)
+        *run_away = newborns_may_run_away(em, p, j0, b);
 }
 
 /* The part of a block's creation that reads nothing of other blocks: its
@@ -294,10 +283,7 @@ static void make_particles(pfx_sim *s, size_t i, double t1, pfx_birth_block *b, 
     s->emitters[i].born += b->n;
     const uint32_t j0 = p->count, m = draw_and_write(s, i, j0, t1, b, ids, parents);
     p->count += m;
-    const double death = first_death(em, b);
-    p->death_floor = death < p->death_floor ? death : p->death_floor;
-    if (!em->motion && !p->may_run_away)
-        p->may_run_away = newborns_may_run_away(em, p, j0, b);
+    note_newborns(em, p, j0, b, &p->death_floor, &p->may_run_away);
     const bool trails = em->spawn_count && pfx_spawn_has(em, PFX_SPAWN_TRAIL);
     if (!em->spawn_count) {
         if (em->deflector_count)
@@ -418,8 +404,8 @@ typedef struct batch_job {
     pfx_sim *s;
     size_t emitter;
     double t1;
-    uint32_t per_task;  /* blocks a task takes */
-    bool runaway_known; /* the pool may run away already: no bound needed */
+    uint32_t per_task; /* blocks a task takes */
+    bool may_run_away; /* the pool's, before the batch */
 } batch_job;
 
 static void birth_task_run(void *arg, size_t k) {
@@ -431,7 +417,7 @@ static void birth_task_run(void *arg, size_t k) {
     birth_task *task = &batch->task[k];
     pfx_birth_block *b = task->block;
     task->collisions = (pfx_collide_stats){0};
-    task->may_run_away = false;
+    task->may_run_away = job->may_run_away; /* (then no block asks) */
     task->first_death = INFINITY;
     const uint32_t end = (uint32_t)(k + 1) * job->per_task;
     for (uint32_t q = (uint32_t)k * job->per_task; q < end && q < batch->blocks; q++) {
@@ -448,10 +434,7 @@ static void birth_task_run(void *arg, size_t k) {
         const uint32_t m = draw_and_write(s, i, j0, job->t1, b, ids, NULL);
         assert(m == bq->n);
         (void)m;
-        const double death = first_death(em, b);
-        task->first_death = death < task->first_death ? death : task->first_death;
-        if (!em->motion && !job->runaway_known && !task->may_run_away)
-            task->may_run_away = newborns_may_run_away(em, &s->pools[i], j0, b);
+        note_newborns(em, &s->pools[i], j0, b, &task->first_death, &task->may_run_away);
         if (em->deflector_count)
             collide_newborns(s, i, j0, b, job->t1, &task->collisions);
     }

@@ -56,6 +56,9 @@ void pfx_pool_layout(pfx_pool *p, const pfx_emitter *em, void *block, uint32_t n
     }
     p->capacity = n;
     p->count = 0;
+    p->newborn = 0;
+    p->time = 0;
+    p->may_run_away = false;
     p->death_floor = INFINITY;
 }
 

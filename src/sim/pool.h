@@ -13,7 +13,8 @@ size_t pfx_pool_scratch_bytes_per_particle(const pfx_emitter *em);
 /* Bytes of a pool of n particles, a multiple of 8. */
 size_t pfx_pool_bytes(const pfx_emitter *em, uint32_t n);
 /* Points p's columns into block (8-byte aligned, pfx_pool_bytes long) for
- * n particles; columns em does not keep are NULL. Empties the pool. */
+ * n particles; columns em does not keep are NULL. Empties the pool: no
+ * particle, at time 0, nothing that may run away, no death ahead. */
 void pfx_pool_layout(pfx_pool *p, const pfx_emitter *em, void *block, uint32_t n);
 /* Particle `from`'s state and carried columns copied over particle `to`
  * (swap-remove). */

@@ -79,6 +79,10 @@ static void init_emitters(pfx_sim *s) {
         pfx_schedule_init(&st->sched, em, e->seed, stream);
         st->hit_key = pfx_mix64(e->seed ^ stream ^ 0xc011deULL);
         st->spawn_key = pfx_mix64(e->seed ^ stream ^ 0x5ba3ULL);
+        st->lives_fixed = !em->kill;
+        for (size_t d = 0; d < em->deflector_count; d++)
+            st->lives_fixed &= em->deflectors[d].response != PFX_DEFLECT_KILL &&
+                               !(em->deflectors[d].lifetime_loss > 0);
     }
 }
 
@@ -106,10 +110,10 @@ pfx_sim *pfx_sim_create(const pfx_effect *e, pfx_diags *d) {
     size_t bytes = 0;
     for (size_t i = 0; i < e->emitter_count; i++)
         bytes += pfx_pool_bytes(&e->emitters[i], e->emitters[i].capacity);
-    const size_t largest = largest_pool(e);
     s->block = pfx_sim_block(e);
-    s->block_flags = calloc(largest / s->block + 1, 1);
-    s->block_stats = calloc(largest / s->block + 1, sizeof *s->block_stats);
+    const size_t blocks = largest_pool(e) / s->block + 1; /* of the largest pool, at most */
+    s->block_flags = calloc(blocks, 1);
+    s->block_stats = calloc(blocks, sizeof *s->block_stats);
     s->births = calloc(1, sizeof *s->births);
     /* (of this block size: another count of online processors would
      * make another) */
@@ -117,8 +121,8 @@ pfx_sim *pfx_sim_create(const pfx_effect *e, pfx_diags *d) {
     s->hit_buffers = hit_bytes ? malloc(hit_bytes) : NULL;
     /* More threads than blocks of the largest pool would only sleep. */
     int threads = sim_threads(e);
-    if ((size_t)threads > largest / s->block + 1)
-        threads = (int)(largest / s->block + 1);
+    if ((size_t)threads > blocks)
+        threads = (int)blocks;
     s->workers = pfx_workers_create(threads);
     s->batch = pfx_birth_batch_create(pfx_workers_count(s->workers), s->births);
     /* One block behind every pool; malloc aligns it for any column. */
@@ -139,10 +143,7 @@ pfx_sim *pfx_sim_create(const pfx_effect *e, pfx_diags *d) {
 }
 
 void pfx_sim_reset(pfx_sim *s) {
-    const pfx_effect *e = s->effect;
-    for (size_t i = 0; i < e->emitter_count; i++)
-        s->pools[i].count = 0, s->pools[i].time = 0, s->pools[i].may_run_away = false,
-        s->pools[i].death_floor = INFINITY;
+    lay_out_pools(s);
     init_emitters(s);
     s->step = 0;
     s->time = 0;

@@ -27,11 +27,10 @@ typedef struct pfx_pool {
     double time;       /* the time the state is at: a particle's age is time - birth */
     bool may_run_away; /* gravity-only: some particle's bound at birth reaches the
                           state check's limits, so the kernel checks each step */
-    /* No particle dies before this time: the least birth + lifetime of
-     * those born, where nothing shortens a life after birth (no kill rule,
-     * no deflector that kills or takes life); -INFINITY where something
-     * may; INFINITY while empty. It lets the move pass skip its scan for
-     * deaths (pfx_step_move). */
+    /* The least birth + lifetime of those born (INFINITY while none was):
+     * no particle dies of age before it, where nothing shortens a life
+     * (pfx_emitter_state.lives_fixed). It lets the move pass skip its scan
+     * for deaths (pfx_step_move). */
     double death_floor;
 #define PFX_POOL_FIELD(name, type, role, needed, what) type *name;
     PFX_POOL_COLUMNS(PFX_POOL_FIELD)
@@ -49,6 +48,8 @@ typedef struct pfx_emitter_state {
     uint64_t draws_per_birth; /* generator outputs one birth takes (fixed) */
     uint64_t hit_key;         /* salt of random resilience and friction (collide.h key) */
     uint64_t spawn_key;       /* salt of its particles' sub-emitter events (spawn.c) */
+    bool lives_fixed;         /* a life ends only at birth + lifetime: no kill rule, no deflector
+                                 that kills or takes life (so pfx_pool.death_floor holds) */
     pfx_collide_stats collisions;
     float rest_dt; /* the step the resting flags were made with (pfx_collide_pool.rest) */
     /* The work done, for comparing with jobs/estimate.c's bound: particles

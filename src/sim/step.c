@@ -372,7 +372,8 @@ uint32_t pfx_step_move(pfx_sim *s, size_t i, double t0, double t1, bool scan_dea
     /* The floor is a sum rounded once, the scan's test a difference: a
      * margin far above either rounding. */
     const double floor = p->death_floor;
-    const bool none_die = floor == INFINITY || t1 < floor - 1e-9 * (1 + fabs(floor));
+    const bool none_die =
+        s->emitters[i].lives_fixed && (floor == INFINITY || t1 < floor - 1e-9 * (1 + fabs(floor)));
     move_job job = {s, i, t0, t1 - t0, t1, scan_deaths, none_die};
     pfx_workers_run(s->workers, blocks, move_block, &job);
     for (size_t b = 0; b < blocks; b++)

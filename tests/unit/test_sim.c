@@ -223,6 +223,41 @@ static void test_death_on_step_end(void) {
             }
 }
 
+/* A life a deflector shortens ends then, though the pool's death floor
+ * (the least birth + lifetime at birth) lies far ahead: 5000 particles
+ * dropped from 1 m at rest (the plane reached at sqrt(2 / 9.81) = 0.4515
+ * s) with a lifetime of 10 s, of which the impact takes 95 %, leaving 0.5
+ * s: all die at the first step end at or after 0.5 s, while they are high
+ * above the plane again (resilience 1), where no deflector pass marks
+ * their block. */
+static void test_death_after_lifetime_loss(void) {
+    for (int threads = 1; threads <= 2; threads++) {
+        compiled c;
+        pfx_compile_options opt = {.threads = threads};
+        if (!compile_opt(&c,
+                         "pfx: 1\nsim: { rate: 60 }\nforces:\n  g: { type: gravity }\n"
+                         "deflectors:\n  floor: { type: plane, resilience: 1, friction: 0, "
+                         "lifetime_loss: 0.95 }\n"
+                         "emitters:\n  e:\n    position: [0, 1, 0]\n"
+                         "    bursts: [{ time: 0, count: 5000 }]\n    speed: 0\n"
+                         "    lifetime: 10\n",
+                         &opt))
+            continue;
+        pfx_sim *s = pfx_sim_create(c.e, NULL);
+        int wrong = 0;
+        for (int k = 1; k <= 60; k++) {
+            pfx_sim_step(s);
+            const uint32_t expect = s->time < 0.45 ? 5000 : s->time >= 0.5 ? 0 : s->pools[0].count;
+            if (s->pools[0].count != expect && wrong++ == 0)
+                fprintf(stderr, "  %d threads: %u alive at %g s, not %u\n", threads,
+                        s->pools[0].count, s->time, expect);
+        }
+        CHECK(wrong == 0);
+        pfx_sim_destroy(s);
+        compiled_free(&c);
+    }
+}
+
 /* Step-rate independence with random attributes: particle k's random
  * values (position on a disc, direction in a cone, speed, lifetime) must be
  * the same whatever the step rate, since the header promises "every sampler
@@ -1085,6 +1120,7 @@ int main(void) {
     RUN(test_exact_gravity_scaled);
     RUN(test_timeline);
     RUN(test_death_on_step_end);
+    RUN(test_death_after_lifetime_loss);
     RUN(test_step_rate_independent_random);
     RUN(test_birth_counts);
     RUN(test_swap_remove);
